@@ -1,0 +1,57 @@
+"""Shared symbolic set-up of a chain for the derivations: joint symbols, per-joint sin/cos
+symbols, and the link transforms written with them.
+
+For each revolute joint i the program starts with ``_c{i} = cos(theta_i + q_i)`` and
+``_s{i} = sin(theta_i + q_i)``, so each joint's trigonometric functions are computed once.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .kinematics import JointGeometry, joint_geometry, joint_motion, joint_symbols
+from .program import ProgramBuilder
+from .robot import Robot
+
+
+@dataclass
+class Chain:
+    """Working state of one derivation (not part of any result)."""
+
+    robot: Robot
+    q: tuple[sp.Symbol, ...]
+    qd: tuple[sp.Symbol, ...]
+    qdd: tuple[sp.Symbol, ...]
+    tau: tuple[sp.Symbol, ...]
+    builder: ProgramBuilder
+    geometry: list[JointGeometry]
+    transforms: list[sp.Matrix]  # ^{i-1}T_i written with the sin/cos symbols
+    trig: dict[sp.Symbol, sp.Expr]  # trig symbol -> cos/sin(theta + q)
+
+    @property
+    def n(self) -> int:
+        return self.robot.dof
+
+    @property
+    def gravity(self) -> sp.Matrix:
+        return sp.Matrix(self.robot.gravity)
+
+
+def make_chain(robot: Robot, prefix: str = "_") -> Chain:
+    q, qd, qdd, tau = joint_symbols(robot.dof)
+    builder = ProgramBuilder(prefix)
+    geometry, transforms, trig = [], [], {}
+    for i, link in enumerate(robot.links):
+        geo = joint_geometry(link, robot.convention)
+        cos_sin = None
+        if link.is_revolute:
+            angle = link.theta + q[i]
+            c = builder.define(f"c{i + 1}", sp.cos(angle))
+            s = builder.define(f"s{i + 1}", sp.sin(angle))
+            trig[c], trig[s] = sp.cos(angle), sp.sin(angle)
+            cos_sin = (c, s)
+        geometry.append(geo)
+        transforms.append(sp.Matrix(geo.pre) * joint_motion(link, q[i], cos_sin) * sp.Matrix(geo.post))
+    return Chain(robot, q, qd, qdd, tau, builder, geometry, transforms, trig)

@@ -1,0 +1,153 @@
+"""Recursive Newton-Euler equations (Table 3.2 of the notes), symbolic, for both DH conventions.
+
+Every vector is expressed in the frame of its own link (frame i), as in the efficient form of
+the recursion.  With ``T_i = Pre_i Joint_i(q_i) Post_i`` (see :mod:`symdyn.kinematics`):
+
+- ``R_i`` is the rotation of ``^{i-1}T_i``; ``z_i`` the joint axis in frame i (constant);
+- ``r1_i`` is the vector from O_{i-1} to the joint point J_i in frame i-1 (zero for standard DH),
+  ``r2_i`` the vector from J_i to O_i in frame i (zero for modified DH; it is p*_i of the notes);
+- ``s_i`` is the centre of mass of link i in frame i (s-bar_i of the notes).
+
+Forward recursion (i = 1..n), revolute joint::
+
+    omega_i    = R_i^T omega_{i-1} + z_i qd_i
+    omegad_i   = R_i^T omegad_{i-1} + (R_i^T omega_{i-1}) x z_i qd_i + z_i qdd_i
+    vd_i       = R_i^T (vd_{i-1} + omegad_{i-1} x r1_i + omega_{i-1} x (omega_{i-1} x r1_i))
+                 + omegad_i x r2_i + omega_i x (omega_i x r2_i)
+
+prismatic joint (p*_i = R_i^T times the translation of ^{i-1}T_i)::
+
+    omega_i = R_i^T omega_{i-1};  omegad_i = R_i^T omegad_{i-1}
+    vd_i    = R_i^T vd_{i-1} + omegad_i x p*_i + omega_i x (omega_i x p*_i)
+              + 2 omega_i x (z_i qd_i) + z_i qdd_i
+
+then ``abar_i = omegad_i x s_i + omega_i x (omega_i x s_i) + vd_i``, with ``vd_0 = -g`` (gravity
+enters as an upward acceleration of the base, the usual initial condition).  Backward
+recursion (i = n..1), forces and moments about O_i in frame i::
+
+    F_i = m_i abar_i
+    N_i = I_i omegad_i + omega_i x (I_i omega_i)
+    f_i = F_i + R_{i+1} f_{i+1}
+    n_i = N_i + s_i x F_i + R_{i+1} n_{i+1} + p_{i+1} x (R_{i+1} f_{i+1})
+    tau_i = z_i . (n_i + r2_i x f_i)   (revolute)      tau_i = z_i . f_i   (prismatic)
+
+where ``p_{i+1}`` is the position of O_{i+1} in frame i.  Viscous damping b_i qd_i, armature and
+Coulomb friction are added by :mod:`symdyn.equations`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Sequence
+
+import sympy as sp
+
+from .chain import Chain
+
+
+@dataclass
+class LinkState:
+    """Intermediate quantities of one link for one recursion (all in frame i)."""
+
+    omega: sp.Matrix
+    omegad: sp.Matrix
+    vd: sp.Matrix
+    abar: sp.Matrix
+    F: sp.Matrix
+    N: sp.Matrix
+    f: sp.Matrix | None = None
+    n: sp.Matrix | None = None
+    tau: sp.Expr | None = None
+
+
+def _skip_zero_cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
+    if a.is_zero_matrix or b.is_zero_matrix:
+        return sp.zeros(3, 1)
+    return a.cross(b)
+
+
+def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
+              gravity: sp.Matrix, tag: str) -> list[LinkState]:
+    """Run Table 3.2 for the given joint rates/accelerations and gravity vector (base frame).
+
+    Returns each link's state; ``state.tau`` is the joint force without friction or armature.
+    ``tag`` names the intermediate symbols of this run (shared sub-results are reused).
+    """
+    b = chain.builder
+    robot = chain.robot
+    omega = sp.zeros(3, 1)
+    omegad = sp.zeros(3, 1)
+    vd = -sp.Matrix(gravity)
+    states: list[LinkState] = []
+    for i, link in enumerate(robot.links):
+        k = i + 1
+        geo = chain.geometry[i]
+        T = chain.transforms[i]
+        R = T[:3, :3]
+        Rt = R.T
+        z = sp.Matrix(geo.post)[:3, :3].T * sp.Matrix([0, 0, 1])
+        if link.is_revolute:
+            w_rot = b.vector(f"Rw{k}{tag}", Rt * omega)
+            omega_i = b.vector(f"w{k}{tag}", w_rot + z * qd[i])
+            omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad + _skip_zero_cross(w_rot, z * qd[i]) + z * qdd[i])
+            r1 = sp.Matrix(geo.pre)[:3, 3]
+            post = sp.Matrix(geo.post)
+            r2 = post[:3, :3].T * post[:3, 3]
+            a_joint = vd + _skip_zero_cross(omegad, r1) + _skip_zero_cross(omega, _skip_zero_cross(omega, r1))
+            if not (r1.is_zero_matrix or (omega.is_zero_matrix and omegad.is_zero_matrix)):
+                a_joint = b.vector(f"aJ{k}{tag}", a_joint)
+            wr2 = b.vector(f"wr{k}{tag}", _skip_zero_cross(omega_i, r2))
+            vd_i = b.vector(f"vd{k}{tag}", Rt * a_joint + _skip_zero_cross(omegad_i, r2)
+                            + _skip_zero_cross(omega_i, wr2))
+        else:
+            omega_i = b.vector(f"w{k}{tag}", Rt * omega)
+            omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad)
+            p_star = b.vector(f"p{k}", Rt * T[:3, 3])
+            wp = b.vector(f"wp{k}{tag}", _skip_zero_cross(omega_i, p_star))
+            vd_i = b.vector(f"vd{k}{tag}", Rt * vd + _skip_zero_cross(omegad_i, p_star)
+                            + _skip_zero_cross(omega_i, wp)
+                            + 2 * _skip_zero_cross(omega_i, z * qd[i]) + z * qdd[i])
+        s = sp.Matrix(link.com)
+        ws = b.vector(f"ws{k}{tag}", _skip_zero_cross(omega_i, s))
+        abar = b.vector(f"a{k}{tag}", _skip_zero_cross(omegad_i, s) + _skip_zero_cross(omega_i, ws) + vd_i)
+        F = b.vector(f"F{k}{tag}", link.mass * abar)
+        inertia = sp.Matrix(link.inertia_matrix)
+        Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
+        N = b.vector(f"N{k}{tag}", inertia * omegad_i + _skip_zero_cross(omega_i, Iw))
+        states.append(LinkState(omega_i, omegad_i, vd_i, abar, F, N))
+        omega, omegad, vd = omega_i, omegad_i, vd_i
+
+    f_next = sp.zeros(3, 1)
+    n_next = sp.zeros(3, 1)
+    for i in reversed(range(robot.dof)):
+        k = i + 1
+        st = states[i]
+        link = robot.links[i]
+        s = sp.Matrix(link.com)
+        if i + 1 < robot.dof:
+            T_next = chain.transforms[i + 1]
+            f_rot = b.vector(f"Rf{k}{tag}", T_next[:3, :3] * f_next)
+            n_rot = T_next[:3, :3] * n_next
+            moment_next = n_rot + _skip_zero_cross(T_next[:3, 3], f_rot)
+        else:
+            f_rot = sp.zeros(3, 1)
+            moment_next = sp.zeros(3, 1)
+        st.f = b.vector(f"f{k}{tag}", st.F + f_rot)
+        st.n = b.vector(f"n{k}{tag}", st.N + _skip_zero_cross(s, st.F) + moment_next)
+        geo = chain.geometry[i]
+        post = sp.Matrix(geo.post)
+        z = post[:3, :3].T * sp.Matrix([0, 0, 1])
+        if link.is_revolute:
+            r2 = post[:3, :3].T * post[:3, 3]
+            moment = st.n + _skip_zero_cross(r2, st.f)
+            st.tau = b.define(f"tau{k}{tag}", (z.T * moment)[0])
+        else:
+            st.tau = b.define(f"tau{k}{tag}", (z.T * st.f)[0])
+        f_next, n_next = st.f, st.n
+    return states
+
+
+def joint_forces(chain: Chain, qd, qdd, gravity, tag: str) -> sp.Matrix:
+    """Column of joint forces/torques (n x 1) of one recursion, without friction and armature."""
+    states = recursion(chain, qd, qdd, gravity, tag)
+    return sp.Matrix([st.tau for st in states])

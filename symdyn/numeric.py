@@ -1,0 +1,95 @@
+"""Numeric evaluation of derived equations in Python (double precision, via ``math``).
+
+The straight-line program is translated once into a Python function per output; symbols are
+renamed to ``v0, v1, ...`` so that no name from a robot file ever appears in the source, and the
+source contains nothing but arithmetic on those variables.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Sequence
+
+import numpy as np
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+
+class _Printer(PythonCodePrinter):
+    def _print_sign(self, expr):
+        arg = self._print(expr.args[0])
+        return f"(({arg} > 0) - ({arg} < 0))"
+
+
+def compile_function(inputs: Sequence[Sequence[sp.Symbol]], program, outputs: sp.MatrixBase, name: str = "f"):
+    """A Python function ``f(*arrays) -> numpy array`` evaluating ``outputs`` (shape kept)."""
+    rename: dict[sp.Symbol, sp.Symbol] = {}
+    counter = 0
+
+    def fresh(sym):
+        nonlocal counter
+        new = sp.Symbol(f"v{counter}", real=True)
+        counter += 1
+        rename[sym] = new
+        return new
+
+    lines = [f"def {name}(" + ", ".join(f"a{k}" for k in range(len(inputs))) + "):"]
+    for k, group in enumerate(inputs):
+        for j, sym in enumerate(group):
+            lines.append(f"    {fresh(sym)} = a{k}[{j}]")
+    printer = _Printer({"fully_qualified_modules": True})
+    for sym, rhs in program.needed_for(list(outputs)):
+        expr = rhs.xreplace(rename)
+        lines.append(f"    {fresh(sym)} = {printer.doprint(expr)}")
+    rows, cols = outputs.shape
+    cells = [[printer.doprint(sp.sympify(outputs[r, c]).xreplace(rename)) for c in range(cols)] for r in range(rows)]
+    lines.append("    return [" + ", ".join("[" + ", ".join(row) + "]" for row in cells) + "]")
+    namespace = {"math": math}
+    exec(compile("\n".join(lines), f"<symdyn {name}>", "exec"), namespace)  # our own arithmetic only
+    raw = namespace[name]
+
+    def wrapped(*arrays):
+        return np.array(raw(*[np.asarray(a, dtype=float).ravel().tolist() for a in arrays]), dtype=float)
+    return wrapped
+
+
+class NumericEquations:
+    """Numeric functions of an :class:`~symdyn.equations.Equations`.
+
+    Each method takes numpy arrays of length n (``p`` of length ``len(parameters)`` when the
+    robot has runtime parameters) and returns numpy arrays: vectors of shape (n,), matrices
+    (n, n).
+    """
+
+    def __init__(self, eqs):
+        self.eqs = eqs
+        self._cache = {}
+
+    def _function(self, name):
+        if name not in self._cache:
+            from .equations import OUTPUT_INPUTS
+            groups = [getattr(self.eqs, arg) for arg in OUTPUT_INPUTS[name]] + [self.eqs.parameters]
+            self._cache[name] = compile_function(groups, self.eqs.program, self.eqs.output(name), name)
+        return self._cache[name]
+
+    def _call(self, name, args, p):
+        out = self._function(name)(*args, p if p is not None else [])
+        return out[:, 0] if out.shape[1] == 1 else out
+
+    def inverse_dynamics(self, q, qd, qdd, p=None):
+        return self._call("inverse_dynamics", (q, qd, qdd), p)
+
+    def mass_matrix(self, q, p=None):
+        return self._call("mass_matrix", (q,), p)
+
+    def coriolis(self, q, qd, p=None):
+        return self._call("coriolis", (q, qd), p)
+
+    def coriolis_matrix(self, q, qd, p=None):
+        return self._call("coriolis_matrix", (q, qd), p)
+
+    def gravity(self, q, p=None):
+        return self._call("gravity", (q,), p)
+
+    def forward_dynamics(self, q, qd, tau, p=None):
+        return self._call("forward_dynamics", (q, qd, tau), p)

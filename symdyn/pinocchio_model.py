@@ -1,0 +1,116 @@
+"""Build a Pinocchio model from a robot, to cross-check symdyn (requires the ``pin`` package).
+
+This module deliberately shares no kinematics code with the derivations: the DH transforms are
+written again here with plain numpy, so that a mistake in one shows up as a mismatch.
+
+Pinocchio frames: joint k's frame is where the joint's motion (Rz or Tz) happens.
+
+- standard DH ``A_k = Rz(theta_k + q_k) Tz(d_k) Tx(a_k) Rx(alpha_k)``: the joint frame is DH
+  frame k-1; the joint placement is the previous link's constant part and link k's inertia (given
+  in DH frame k) is placed by ``Tz(d) Tx(a) Rx(alpha)`` (with ``Rz(theta)`` for prismatic joints).
+- modified DH ``T_k = Rx(alpha_{k-1}) Tx(a_{k-1}) Rz(theta_k + q_k) Tz(d_k)``: the joint frame is
+  DH frame k (up to the revolute offset theta), the inertia sits in it directly.
+
+A revolute offset theta becomes part of the joint placement (a rotation about the joint axis),
+so q = 0 means the same pose in both codes.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+
+from .robot import Robot
+
+
+def _rx(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1.0]])
+
+
+def _rz(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0, 0], [s, c, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1.0]])
+
+
+def _t(x=0.0, y=0.0, z=0.0) -> np.ndarray:
+    out = np.eye(4)
+    out[:3, 3] = (x, y, z)
+    return out
+
+
+def _value(expr, what: str) -> float:
+    try:
+        return float(expr)
+    except TypeError:
+        raise ValueError(f"{what} is symbolic ({expr}); substitute numbers first "
+                         "(Robot.substitute) or pass them as values=") from None
+
+
+def numeric_links(robot: Robot) -> list[dict]:
+    """Every link's fields as floats (raises ValueError if anything is still symbolic)."""
+    rows = []
+    for k, link in enumerate(robot.links):
+        tag = f"link {k + 1} ('{link.name}')"
+        rows.append({
+            "revolute": link.is_revolute,
+            "a": _value(link.a, f"{tag} a"), "alpha": _value(link.alpha, f"{tag} alpha"),
+            "d": _value(link.d, f"{tag} d"), "theta": _value(link.theta, f"{tag} theta"),
+            "mass": _value(link.mass, f"{tag} mass"),
+            "com": np.array([_value(c, f"{tag} com") for c in link.com]),
+            "inertia": np.array([_value(c, f"{tag} inertia") for c in link.inertia]),
+            "armature": _value(link.armature, f"{tag} armature"),
+            "damping": _value(link.damping, f"{tag} damping"),
+            "coulomb": _value(link.coulomb, f"{tag} coulomb"),
+        })
+    return rows
+
+
+def build_model(robot: Robot, values: Mapping | None = None):
+    """A ``pinocchio.Model`` of the robot (revolute joints RZ, prismatic PZ).
+
+    ``values`` substitutes numbers for runtime parameters and free symbols first (by symbol or
+    name).  The model's ``armature`` is set from the robot, so ``crba`` returns
+    ``D + diag(armature)`` and ``rnea`` includes ``armature * qdd``; Pinocchio has no viscous or
+    Coulomb friction in ``rnea``: add ``damping * qd + coulomb * sign(qd)`` yourself.
+    Returns ``(model, info)`` where info holds the numeric damping and coulomb vectors.
+    """
+    import pinocchio as pin
+
+    if values:
+        robot = robot.substitute(values)
+    links = numeric_links(robot)
+    gravity = np.array([_value(g, "gravity") for g in robot.gravity])
+    model = pin.Model()
+    model.name = robot.name
+    model.gravity.linear = gravity
+    parent = 0
+    placement = np.eye(4)  # constant transform from the parent joint frame to this joint frame
+    for k, row in enumerate(links):
+        if robot.convention == "standard":
+            joint_placement = placement
+            if row["revolute"]:
+                joint_placement = joint_placement @ _rz(row["theta"])
+                body = _t(z=row["d"]) @ _t(x=row["a"]) @ _rx(row["alpha"])
+            else:
+                body = _rz(row["theta"]) @ _t(z=row["d"]) @ _t(x=row["a"]) @ _rx(row["alpha"])
+            next_placement = body
+        else:
+            joint_placement = placement @ _rx(row["alpha"]) @ _t(x=row["a"]) @ _rz(row["theta"]) @ _t(z=row["d"])
+            body = np.eye(4)
+            next_placement = np.eye(4)
+        joint = pin.JointModelRZ() if row["revolute"] else pin.JointModelPZ()
+        se3 = pin.SE3(joint_placement[:3, :3].copy(), joint_placement[:3, 3].copy())
+        joint_id = model.addJoint(parent, joint, se3, f"joint{k + 1}")
+        xx, yy, zz, xy, xz, yz = row["inertia"]
+        inertia_com = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        link_inertia = pin.Inertia(row["mass"], row["com"].copy(), inertia_com)
+        body_se3 = pin.SE3(body[:3, :3].copy(), body[:3, 3].copy())
+        model.appendBodyToJoint(joint_id, body_se3.act(link_inertia), pin.SE3.Identity())
+        parent = joint_id
+        placement = next_placement
+    model.armature = np.array([row["armature"] for row in links])
+    info = {"damping": np.array([row["damping"] for row in links]),
+            "coulomb": np.array([row["coulomb"] for row in links])}
+    return model, info

@@ -1,0 +1,137 @@
+"""Straight-line symbolic programs: ordered assignments of intermediate symbols.
+
+Derivations build their recursions with intermediate symbols as they go (as in Khalil's
+customized Newton-Euler), so that 6-7 joint robots derive in seconds and the generated code
+stays small.  A :class:`Program` is the immutable result: ``assignments`` in evaluation order,
+each right-hand side using only inputs and earlier symbols.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Iterable, Sequence
+
+import sympy as sp
+
+
+def is_trivial(expr: sp.Expr) -> bool:
+    """Whether ``expr`` is cheap enough to inline instead of naming it (atom or -atom)."""
+    if expr.is_Atom:
+        return True
+    if expr.is_Mul and len(expr.args) == 2 and expr.args[0] == -1 and expr.args[1].is_Atom:
+        return True
+    return expr.is_number and not expr.has(sp.Function)  # e.g. sqrt(2)/2
+
+
+@dataclass(frozen=True)
+class Program:
+    """Assignments ``(symbol, expression)`` in evaluation order."""
+
+    assignments: tuple[tuple[sp.Symbol, sp.Expr], ...] = ()
+
+    @property
+    def symbols(self) -> tuple[sp.Symbol, ...]:
+        return tuple(s for s, _ in self.assignments)
+
+    def needed_for(self, exprs: Iterable[sp.Expr]) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+        """The assignments the given expressions depend on, in order (dead code removed)."""
+        needed: set[sp.Symbol] = set()
+        for e in exprs:
+            needed |= sp.sympify(e).free_symbols
+        kept = []
+        for sym, rhs in reversed(self.assignments):
+            if sym in needed:
+                kept.append((sym, rhs))
+                needed |= rhs.free_symbols
+        return tuple(reversed(kept))
+
+    def expansion(self, exprs: Iterable[sp.Expr] | None = None) -> dict[sp.Symbol, sp.Expr]:
+        """Map each needed intermediate symbol to its expression in the inputs only."""
+        full: dict[sp.Symbol, sp.Expr] = {}
+        source = self.assignments if exprs is None else self.needed_for(exprs)
+        for sym, rhs in source:
+            full[sym] = rhs.xreplace(full)
+        return full
+
+    def expand(self, expr):
+        """``expr`` (expression or matrix) with every intermediate symbol substituted away."""
+        if isinstance(expr, sp.MatrixBase):
+            full = self.expansion(list(expr))
+            return expr.applyfunc(lambda e: e.xreplace(full))
+        return sp.sympify(expr).xreplace(self.expansion([expr]))
+
+    def __add__(self, other: "Program") -> "Program":
+        seen = {s for s, _ in self.assignments}
+        extra = tuple(a for a in other.assignments if a[0] not in seen)
+        return Program(self.assignments + extra)
+
+
+class ProgramBuilder:
+    """Collects assignments; identical right-hand sides share one symbol (hash-consing)."""
+
+    def __init__(self, prefix: str = "_x", start: Program | None = None):
+        self.prefix = prefix
+        self._assignments: list[tuple[sp.Symbol, sp.Expr]] = list(start.assignments) if start else []
+        self._by_expr: dict[sp.Expr, sp.Symbol] = {rhs: s for s, rhs in self._assignments}
+        self._names: set[str] = {s.name for s, _ in self._assignments}
+
+    def define(self, hint: str, expr: sp.Expr) -> sp.Expr:
+        """Name ``expr`` with a new intermediate symbol unless it is trivial or already named."""
+        expr = sp.sympify(expr)
+        if is_trivial(expr):
+            return expr
+        if expr in self._by_expr:
+            return self._by_expr[expr]
+        neg = -expr
+        if neg in self._by_expr:
+            return -self._by_expr[neg]
+        name = f"{self.prefix}{hint}"
+        if name in self._names:
+            k = 2
+            while f"{name}_{k}" in self._names:
+                k += 1
+            name = f"{name}_{k}"
+        sym = sp.Symbol(name, real=True)
+        self._names.add(name)
+        self._by_expr[expr] = sym
+        self._assignments.append((sym, expr))
+        return sym
+
+    def vector(self, hint: str, exprs: Sequence[sp.Expr]) -> sp.Matrix:
+        return sp.Matrix([self.define(f"{hint}_{k}", e) for k, e in enumerate(exprs)])
+
+    def matrix(self, hint: str, mat: sp.MatrixBase) -> sp.Matrix:
+        rows, cols = mat.shape
+        return sp.Matrix(rows, cols, lambda r, c: self.define(f"{hint}_{r}{c}", mat[r, c]))
+
+    def build(self) -> Program:
+        return Program(tuple(self._assignments))
+
+
+def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[sp.Symbol],
+                  builder: ProgramBuilder, hint: str) -> list[sp.Matrix]:
+    """Forward-mode derivatives of ``outputs`` with respect to each of ``variables``.
+
+    The chain rule runs through the program's intermediate symbols; new intermediate symbols
+    for the derivatives are added to ``builder``.  Returns one matrix (shape of ``outputs``)
+    per variable.
+    """
+    results = []
+    needed = program.needed_for(list(outputs))
+    for var in variables:
+        deriv: dict[sp.Symbol, sp.Expr] = {}
+
+        def d(expr: sp.Expr) -> sp.Expr:
+            total = sp.diff(expr, var)
+            for s in expr.free_symbols:
+                ds = deriv.get(s)
+                if ds is not None and ds != 0:
+                    total += sp.diff(expr, s) * ds
+            return total
+
+        for sym, rhs in needed:
+            ds = d(rhs)
+            if ds != 0:
+                deriv[sym] = builder.define(f"{hint}{sym.name.lstrip('_')}_d{var.name}", ds)
+        results.append(outputs.applyfunc(lambda e: builder.define(f"{hint}out_d{var.name}", d(e)) if not e.is_Atom else d(e)))
+    return results

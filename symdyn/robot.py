@@ -1,0 +1,425 @@
+"""Robot descriptions: the immutable model read from a robot file (format version 1).
+
+The file format is specified in ``docs/robot-format.md`` (a copy of the project contract).
+A :class:`Robot` is a *description*: every field is a SymPy expression, numbers are exact
+rationals, and names that stay inputs of the generated code (runtime parameters and free
+symbols) are real SymPy symbols listed in :attr:`Robot.parameters`.  Robots are frozen; every
+function that changes one returns a new value.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import re
+from dataclasses import dataclass, field, replace
+from typing import Any, Iterable, Mapping
+
+import numpy as np
+import sympy as sp
+import yaml
+
+from .errors import RobotFileError
+from .expr import NAME_PATTERN, ExpressionError, number_to_rational, parse_expression
+
+FORMAT_VERSION = 1
+CONVENTIONS = ("standard", "modified")
+JOINT_TYPES = ("revolute", "prismatic")
+ROBOT_NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
+# Names the derivation itself uses for joint variables; a parameter may not shadow them.
+_RESERVED_NAME = re.compile(r"^(q|qd|qdd|tau|p)[0-9]*$")
+_RESERVED_WORDS = frozenset({"pi", "e", "sin", "cos", "sqrt"})
+
+TOP_KEYS = ("format", "name", "convention", "gravity", "parameters", "links")
+LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "mass", "com", "inertia",
+             "armature", "damping", "coulomb")
+INERTIA_KEYS = ("xx", "yy", "zz", "xy", "xz", "yz")
+DEFAULT_GRAVITY = (0, 0, number_to_rational("-9.81"))
+
+
+@dataclass(frozen=True)
+class Link:
+    """One joint and the link it moves, as in one row of the DH table.
+
+    Lengths in m, angles in rad, mass in kg, inertia in kg m^2 about the centre of mass with
+    link-frame axes (tensor entries: ``xy`` is the (x, y) entry of the inertia matrix), COM in
+    m in link frame i.  ``a`` and ``alpha`` hold a_i/alpha_i (standard) or a_{i-1}/alpha_{i-1}
+    (modified).  ``armature`` is in kg m^2 (kg for prismatic joints), ``damping`` in N m s/rad
+    (N s/m), ``coulomb`` in N m (N).
+    """
+
+    name: str
+    joint: str
+    a: sp.Expr
+    alpha: sp.Expr
+    d: sp.Expr
+    theta: sp.Expr
+    mass: sp.Expr
+    com: tuple[sp.Expr, sp.Expr, sp.Expr]
+    inertia: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr]  # xx yy zz xy xz yz
+    armature: sp.Expr = sp.S.Zero
+    damping: sp.Expr = sp.S.Zero
+    coulomb: sp.Expr = sp.S.Zero
+
+    @property
+    def is_revolute(self) -> bool:
+        return self.joint == "revolute"
+
+    @property
+    def inertia_matrix(self) -> sp.ImmutableMatrix:
+        """3x3 inertia tensor about the COM, in link-frame axes (kg m^2)."""
+        xx, yy, zz, xy, xz, yz = self.inertia
+        return sp.ImmutableMatrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+    def expressions(self) -> tuple[sp.Expr, ...]:
+        return (self.a, self.alpha, self.d, self.theta, self.mass, *self.com, *self.inertia,
+                self.armature, self.damping, self.coulomb)
+
+    def subs(self, mapping: Mapping[sp.Symbol, sp.Expr]) -> "Link":
+        def s(e):
+            return sp.sympify(e).xreplace(mapping)
+        return replace(
+            self, a=s(self.a), alpha=s(self.alpha), d=s(self.d), theta=s(self.theta),
+            mass=s(self.mass), com=tuple(s(c) for c in self.com),
+            inertia=tuple(s(c) for c in self.inertia), armature=s(self.armature),
+            damping=s(self.damping), coulomb=s(self.coulomb))
+
+
+@dataclass(frozen=True)
+class Robot:
+    """A serial chain described by its DH table and inertial parameters.
+
+    Attributes
+    ----------
+    name : C identifier prefix of generated code.
+    convention : ``'standard'`` or ``'modified'`` DH.
+    gravity : gravity acceleration (m/s^2) in the base frame, 3 expressions.
+    links : the links, base to tip.
+    parameters : symbols that stay inputs (runtime parameters first, in file order, then free
+        symbols in order of first appearance); this is the order of the ``p`` array in C.
+    nominal : the value given for each runtime parameter (``None`` for free symbols).
+    source : the path the robot was read from (``'<memory>'`` if built in code).
+    source_hash : SHA-256 of the file's bytes (empty if built in code).
+    """
+
+    name: str
+    convention: str
+    gravity: tuple[sp.Expr, sp.Expr, sp.Expr]
+    links: tuple[Link, ...]
+    parameters: tuple[sp.Symbol, ...] = ()
+    nominal: tuple[sp.Expr | None, ...] = ()
+    source: str = "<memory>"
+    source_hash: str = ""
+    runtime_names: tuple[str, ...] = field(default=())  # parameters marked runtime: true
+
+    @property
+    def dof(self) -> int:
+        return len(self.links)
+
+    @property
+    def is_numeric(self) -> bool:
+        """True when no parameter remains symbolic."""
+        return not self.parameters
+
+    def nominal_values(self) -> dict[sp.Symbol, sp.Expr]:
+        """Nominal values of the runtime parameters that have one."""
+        return {s: v for s, v in zip(self.parameters, self.nominal) if v is not None}
+
+    def substitute(self, values: Mapping[sp.Symbol | str, Any]) -> "Robot":
+        """A new robot with the given parameters replaced by numbers (or expressions).
+
+        Keys are symbols or their names; unknown names raise ``KeyError``.
+        """
+        by_name = {s.name: s for s in self.parameters}
+        mapping: dict[sp.Symbol, sp.Expr] = {}
+        for key, value in values.items():
+            sym = by_name[key] if isinstance(key, str) else key
+            if sym not in self.parameters:
+                raise KeyError(f"{sym} is not a parameter of robot {self.name}")
+            mapping[sym] = _to_exact(value)
+        keep = [(s, v) for s, v in zip(self.parameters, self.nominal) if s not in mapping]
+        return replace(
+            self,
+            gravity=tuple(sp.sympify(g).xreplace(mapping) for g in self.gravity),
+            links=tuple(link.subs(mapping) for link in self.links),
+            parameters=tuple(s for s, _ in keep),
+            nominal=tuple(v for _, v in keep),
+            runtime_names=tuple(n for n in self.runtime_names if by_name.get(n) not in mapping),
+        )
+
+    def with_nominal_values(self) -> "Robot":
+        """Fold every runtime parameter that has a nominal value into the robot."""
+        return self.substitute(self.nominal_values())
+
+
+def _to_exact(value: Any) -> sp.Expr:
+    if isinstance(value, sp.Basic):
+        return value
+    if isinstance(value, bool):
+        raise TypeError("a boolean is not a number")
+    if isinstance(value, (int, np.integer)):
+        return sp.Integer(int(value))
+    if isinstance(value, (float, np.floating)):
+        return number_to_rational(repr(float(value)))
+    raise TypeError(f"cannot use {value!r} as a number")
+
+
+def parameter_symbol(name: str) -> sp.Symbol:
+    """The SymPy symbol used for a parameter or free symbol named ``name`` (real)."""
+    return sp.Symbol(name, real=True)
+
+
+# ---------------------------------------------------------------------------------------------
+# Loading
+
+
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """SafeLoader that rejects duplicate mapping keys instead of silently keeping the last."""
+
+
+def _construct_mapping(loader, node, deep=False):
+    seen = set()
+    for key_node, _ in node.value:
+        key = loader.construct_object(key_node, deep=deep)
+        if key in seen:
+            raise yaml.constructor.ConstructorError(
+                None, None, f"duplicate key '{key}'", key_node.start_mark)
+        seen.add(key)
+    return yaml.SafeLoader.construct_mapping(loader, node, deep=deep)
+
+
+_UniqueKeyLoader.add_constructor(
+    yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
+
+
+class _Reader:
+    """Turns the parsed YAML document into a Robot, tracking names in order of appearance."""
+
+    def __init__(self, path: str):
+        self.path = path
+        self.constants: dict[str, sp.Expr] = {}
+        self.runtime: dict[str, sp.Symbol] = {}
+        self.runtime_nominal: dict[str, sp.Expr | None] = {}
+        self.free: dict[str, sp.Symbol] = {}
+
+    def fail(self, reason: str, link: str | None = None, fld: str | None = None):
+        raise RobotFileError(self.path, reason, link=link, field=fld)
+
+    def check_name(self, name: str, link, fld, what="name"):
+        if not NAME_PATTERN.match(name) or name in _RESERVED_WORDS or _RESERVED_NAME.match(name):
+            self.fail(f"'{name}' cannot be used as a {what}: names are letters, digits and '_', "
+                      "start with a letter, and may not be pi, e, sin, cos, sqrt or a joint "
+                      "variable name (q1, qd1, qdd1, tau1, p...)", link, fld)
+
+    def resolver(self, link, fld, allow_free=True):
+        def resolve(name: str) -> sp.Expr:
+            if name in self.constants:
+                return self.constants[name]
+            if name in self.runtime:
+                return self.runtime[name]
+            if not allow_free:
+                raise ExpressionError(f"unknown name '{name}' (define it earlier under parameters)")
+            self.check_name(name, link, fld)
+            if name not in self.free:
+                self.free[name] = parameter_symbol(name)
+            return self.free[name]
+        return resolve
+
+    def number(self, value: Any, link: str | None, fld: str, allow_free: bool = True) -> sp.Expr:
+        if isinstance(value, bool) or value is None:
+            self.fail(f"expected a number or an expression, got {'nothing' if value is None else repr(value)}", link, fld)
+        if isinstance(value, int):
+            return sp.Integer(value)
+        if isinstance(value, float):
+            if not np.isfinite(value):
+                self.fail(f"expected a finite number, got {value}", link, fld)
+            return number_to_rational(repr(value))
+        if isinstance(value, str):
+            try:
+                return parse_expression(value, self.resolver(link, fld, allow_free))
+            except ExpressionError as exc:
+                self.fail(f"bad expression: {exc}", link, fld)
+        self.fail(f"expected a number or an expression, got a {type(value).__name__}", link, fld)
+
+    def vector(self, value: Any, size: int, link, fld) -> tuple[sp.Expr, ...]:
+        if not isinstance(value, (list, tuple)) or len(value) != size:
+            self.fail(f"expected a list of {size} numbers", link, fld)
+        return tuple(self.number(v, link, f"{fld}[{k}]") for k, v in enumerate(value))
+
+    def read_parameters(self, params: Any):
+        if params is None:
+            return
+        if not isinstance(params, dict):
+            self.fail("expected a mapping of names to values", None, "parameters")
+        for name, spec in params.items():
+            fld = f"parameters.{name}"
+            if not isinstance(name, str):
+                self.fail(f"parameter names must be text, got {name!r}", None, "parameters")
+            self.check_name(name, None, fld, "parameter name")
+            if name in self.free:
+                self.fail(f"parameter '{name}' is used before it is defined", None, fld)
+            runtime = False
+            if isinstance(spec, dict):
+                unknown = sorted(set(map(str, spec)) - {"value", "runtime"})
+                if unknown:
+                    self.fail(f"unknown key '{unknown[0]}' (allowed: value, runtime)", None, fld)
+                runtime = spec.get("runtime", False)
+                if not isinstance(runtime, bool):
+                    self.fail("'runtime' must be true or false", None, f"{fld}.runtime")
+                if "value" not in spec and not runtime:
+                    self.fail("a parameter needs a value (or runtime: true)", None, f"{fld}.value")
+                raw = spec.get("value")
+            else:
+                raw = spec
+            value = None if raw is None else self.number(raw, None, fld if not isinstance(spec, dict) else f"{fld}.value", allow_free=False)
+            if runtime:
+                if value is not None and value.free_symbols:
+                    self.fail("the value of a runtime parameter must be a number", None, f"{fld}.value")
+                self.runtime[name] = parameter_symbol(name)
+                self.runtime_nominal[name] = value
+            else:
+                self.constants[name] = value
+
+    def read_link(self, index: int, raw: Any, names_seen: set) -> Link:
+        label = f"link {index + 1}"
+        if not isinstance(raw, dict):
+            self.fail("expected a mapping with the link's fields", label, None)
+        name = raw.get("name", f"j{index + 1}")
+        if not isinstance(name, str) or not name.strip():
+            self.fail("the link name must be non-empty text", label, "name")
+        label = f"link {index + 1} ('{name}')"
+        if name in names_seen:
+            self.fail(f"duplicate link name '{name}'", label, "name")
+        names_seen.add(name)
+        for key in raw:
+            if key not in LINK_KEYS:
+                self.fail(f"unknown key '{key}' (allowed: {', '.join(LINK_KEYS)})", label, str(key))
+        joint = raw.get("joint")
+        if joint is None:
+            self.fail("missing required field", label, "joint")
+        if joint not in JOINT_TYPES:
+            self.fail(f"unknown joint type {joint!r} (expected revolute or prismatic)", label, "joint")
+        geometry = {}
+        for key in ("a", "alpha", "d", "theta"):
+            if key not in raw:
+                self.fail("missing required field", label, key)
+            geometry[key] = self.number(raw[key], label, key)
+        mass = self.number(raw.get("mass", 0), label, "mass")
+        if mass.is_number and mass < 0:
+            self.fail(f"mass must not be negative, got {float(mass):g}", label, "mass")
+        com = self.vector(raw.get("com", [0, 0, 0]), 3, label, "com")
+        inertia = self.read_inertia(raw.get("inertia", [0] * 6), label)
+        extras = {key: self.number(raw.get(key, 0), label, key) for key in ("armature", "damping", "coulomb")}
+        for key, value in extras.items():
+            if value.is_number and value < 0:
+                self.fail(f"{key} must not be negative, got {float(value):g}", label, key)
+        return Link(name=name, joint=joint, mass=mass, com=com, inertia=inertia, **geometry, **extras)
+
+    def read_inertia(self, raw: Any, label: str) -> tuple[sp.Expr, ...]:
+        if isinstance(raw, dict):
+            for key in raw:
+                if key not in INERTIA_KEYS:
+                    self.fail(f"unknown inertia component '{key}' (allowed: {', '.join(INERTIA_KEYS)})", label, f"inertia.{key}")
+            values = tuple(self.number(raw.get(k, 0), label, f"inertia.{k}") for k in INERTIA_KEYS)
+        elif isinstance(raw, (list, tuple)):
+            if len(raw) != 6:
+                self.fail("expected 6 values [xx, yy, zz, xy, xz, yz] or a mapping", label, "inertia")
+            values = tuple(self.number(v, label, f"inertia.{k}") for k, v in zip(INERTIA_KEYS, raw))
+        else:
+            self.fail("expected a mapping {xx, yy, zz, xy, xz, yz} or a list of 6 values", label, "inertia")
+        if all(v.is_number for v in values):
+            problem = inertia_problem([float(v) for v in values])
+            if problem:
+                self.fail(problem, label, "inertia")
+        return values
+
+
+def inertia_problem(values: Iterable[float]) -> str | None:
+    """Why a numeric inertia (xx, yy, zz, xy, xz, yz) about the COM is not physical, or None."""
+    xx, yy, zz, xy, xz, yz = values
+    matrix = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]], dtype=float)
+    scale = max(1.0, float(np.max(np.abs(matrix))))
+    tol = 1e-12 * scale
+    eig = np.linalg.eigvalsh(matrix)
+    if eig[0] < -tol:
+        return f"inertia is not positive semi-definite (smallest principal moment {eig[0]:.6g})"
+    for k in range(3):
+        others = eig.sum() - eig[k]
+        if eig[k] > others + tol:
+            return (f"principal moments {', '.join(f'{e:.6g}' for e in eig)} break the triangle "
+                    "inequality (each must be at most the sum of the other two)")
+    return None
+
+
+def loads(text: str, path: str = "<string>") -> Robot:
+    """Read a robot from the text of a robot file (YAML or JSON). ``path`` is used in errors."""
+    try:
+        doc = yaml.load(text, Loader=_UniqueKeyLoader)  # SafeLoader: builds plain data only
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark else ""
+        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
+        raise RobotFileError(path, f"not valid YAML{where}: {problem}") from None
+    reader = _Reader(path)
+    if not isinstance(doc, dict):
+        reader.fail("expected a mapping with format, name, convention and links")
+    for key in doc:
+        if key not in TOP_KEYS:
+            reader.fail(f"unknown key '{key}' (allowed: {', '.join(TOP_KEYS)})", None, str(key))
+    if "format" not in doc:
+        reader.fail("missing required field", None, "format")
+    if doc["format"] != FORMAT_VERSION or isinstance(doc["format"], bool):
+        reader.fail(f"unsupported format {doc['format']!r}; this symdyn reads format {FORMAT_VERSION}", None, "format")
+    name = doc.get("name")
+    if name is None:
+        reader.fail("missing required field", None, "name")
+    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name):
+        reader.fail(f"{name!r} is not a valid name: use lower-case letters, digits and '_', starting with a letter", None, "name")
+    convention = doc.get("convention")
+    if convention is None:
+        reader.fail("missing required field (standard or modified)", None, "convention")
+    if convention not in CONVENTIONS:
+        reader.fail(f"unknown convention {convention!r} (expected standard or modified)", None, "convention")
+    reader.read_parameters(doc.get("parameters"))
+    gravity = (reader.vector(doc["gravity"], 3, None, "gravity") if "gravity" in doc
+               else DEFAULT_GRAVITY)
+    links_raw = doc.get("links")
+    if links_raw is None:
+        reader.fail("missing required field", None, "links")
+    if not isinstance(links_raw, list):
+        reader.fail("expected a list of links", None, "links")
+    if not links_raw:
+        reader.fail("the chain is empty: give at least one link", None, "links")
+    names_seen: set = set()
+    links = tuple(reader.read_link(k, raw, names_seen) for k, raw in enumerate(links_raw))
+    runtime_syms = list(reader.runtime.values())
+    used = set().union(*(e.free_symbols for link in links for e in link.expressions()),
+                       *(sp.sympify(g).free_symbols for g in gravity))
+    parameters = tuple(runtime_syms) + tuple(reader.free.values())
+    nominal = tuple(reader.runtime_nominal[s.name] for s in runtime_syms) + (None,) * len(reader.free)
+    # Drop runtime parameters that nothing uses: they cannot affect any output.
+    keep = [(s, v) for s, v in zip(parameters, nominal) if s in used]
+    return Robot(
+        name=name, convention=convention, gravity=tuple(sp.sympify(g) for g in gravity),
+        links=links, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
+        source=path, source_hash=hashlib.sha256(text.encode("utf-8")).hexdigest(),
+        runtime_names=tuple(s.name for s in runtime_syms if s in used))
+
+
+def load(path: str | os.PathLike) -> Robot:
+    """Read a robot file (format version 1, YAML or JSON).
+
+    Raises :class:`RobotFileError` naming the file, link and field for any problem, including a
+    file that cannot be read.
+    """
+    path = os.fspath(path)
+    try:
+        with open(path, "rb") as handle:
+            data = handle.read()
+    except OSError as exc:
+        raise RobotFileError(path, f"cannot read the file: {exc.strerror or exc}") from None
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        raise RobotFileError(path, "the file is not UTF-8 text") from None
+    return loads(text, path)
