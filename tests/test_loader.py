@@ -1,0 +1,176 @@
+"""The robot file format: everything it allows is read; every mistake is named precisely."""
+
+import textwrap
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import symdyn
+from symdyn.errors import RobotFileError
+
+BASE = """\
+format: 1
+name: demo
+convention: standard
+links:
+  - name: first
+    joint: revolute
+    a: 0.5
+    alpha: pi/2
+    d: 0.1
+    theta: 0
+    mass: 2
+    com: [0.1, 0, 0]
+    inertia: {xx: 0.1, yy: 0.1, zz: 0.1, xy: 0, xz: 0, yz: 0}
+"""
+
+
+def load_text(tmp_path, text, name="robot.yaml"):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return symdyn.load(path)
+
+
+def test_full_format_is_read(tmp_path):
+    robot = load_text(tmp_path, """\
+        format: 1
+        name: full_demo
+        convention: modified
+        gravity: [0, 0, -9.80665]
+        parameters:
+          l2: 0.4318
+          half: l2/2
+          m_load: {value: 0.5, runtime: true}
+          b: {value: 1e-05}
+        links:
+          - {joint: revolute, a: 0, alpha: 0, d: 0.6718, theta: 0, mass: 1,
+             inertia: [0.1, 0.2, 0.25, 0, 0, 0], armature: 0.01, damping: b, coulomb: 0.2}
+          - {name: slider, joint: prismatic, a: l2, alpha: -pi/2, d: 1e-05, theta: pi/4,
+             mass: 2 + m_load, com: [half, 0, k1], inertia: {zz: 2*I3}}
+        """)
+    assert robot.name == "full_demo" and robot.convention == "modified" and robot.dof == 2
+    assert [s.name for s in robot.parameters] == ["m_load", "k1", "I3"]
+    assert robot.nominal == (sp.Rational(1, 2), None, None)
+    slider = robot.links[1]
+    assert slider.joint == "prismatic" and slider.name == "slider"
+    assert slider.a == sp.Rational(4318, 10000)
+    assert slider.d == sp.Rational(1, 100000)
+    assert slider.theta == sp.pi / 4
+    assert slider.com[0] == sp.Rational(4318, 20000)
+    assert robot.links[0].damping == sp.Rational(1, 100000)
+    assert robot.links[0].name == "j1"
+    assert robot.gravity[2] == sp.Rational(-980665, 100000)
+    # inertia as a list is [xx, yy, zz, xy, xz, yz]
+    assert robot.links[0].inertia == tuple(sp.nsimplify(v) for v in (0.1, 0.2, 0.25, 0, 0, 0))
+
+
+def test_default_gravity_and_zero_fields(tmp_path):
+    robot = load_text(tmp_path, """\
+        format: 1
+        name: bare
+        convention: standard
+        links:
+          - {joint: revolute, a: 1, alpha: 0, d: 0, theta: 0}
+        """)
+    assert robot.gravity == (0, 0, sp.Rational(-981, 100))
+    link = robot.links[0]
+    assert link.mass == 0 and link.com == (0, 0, 0) and link.inertia == (0,) * 6
+    assert link.armature == link.damping == link.coulomb == 0
+
+
+def test_json_is_accepted(tmp_path):
+    robot = load_text(tmp_path, '{"format": 1, "name": "j", "convention": "standard", '
+                      '"links": [{"joint": "prismatic", "a": 0, "alpha": 0, "d": 0, "theta": 0, "mass": 1}]}',
+                      name="robot.json")
+    assert robot.links[0].joint == "prismatic"
+
+
+def test_nothing_is_evaluated_as_code(tmp_path):
+    with pytest.raises(RobotFileError) as err:
+        load_text(tmp_path, BASE.replace("a: 0.5", "a: \"__import__('os').system('echo hi')\""))
+    assert "link 1 ('first')" in str(err.value) and "field 'a'" in str(err.value)
+    with pytest.raises(RobotFileError):
+        load_text(tmp_path, BASE.replace("a: 0.5", "a: sin(1)"))
+
+
+def test_substitute_and_nominal(tmp_path):
+    robot = load_text(tmp_path, BASE.replace("mass: 2", "mass: m1"))
+    assert robot.parameters == (sp.Symbol("m1", real=True),)
+    fixed = robot.substitute({"m1": 3.5})
+    assert fixed.parameters == () and fixed.links[0].mass == sp.Rational(7, 2)
+    assert robot.links[0].mass == sp.Symbol("m1", real=True)  # the original is unchanged
+
+
+CASES = [
+    # (replacement old -> new, expected fragments in the message)
+    (("format: 1", "format: 2"), ["field 'format'", "unsupported format 2"]),
+    (("format: 1\n", ""), ["field 'format'", "missing"]),
+    (("name: demo", "name: Demo-Robot"), ["field 'name'", "not a valid name"]),
+    (("convention: standard", "convention: craig"), ["field 'convention'", "unknown convention"]),
+    (("convention: standard\n", "convention: standard\ncolour: red\n"), ["field 'colour'", "unknown key"]),
+    (("    mass: 2", "    mass: 2\n    masss: 3"), ["link 1 ('first')", "field 'masss'", "unknown key"]),
+    (("    joint: revolute", "    joint: spherical"), ["link 1 ('first')", "field 'joint'", "unknown joint type"]),
+    (("    joint: revolute\n", ""), ["link 1 ('first')", "field 'joint'", "missing"]),
+    (("    alpha: pi/2\n", ""), ["link 1 ('first')", "field 'alpha'", "missing"]),
+    (("    d: 0.1", "    d: [0.1]"), ["link 1 ('first')", "field 'd'", "expected a number"]),
+    (("    d: 0.1", "    d: true"), ["link 1 ('first')", "field 'd'", "expected a number"]),
+    (("    d: 0.1", "    d: 0.1 +* 2"), ["link 1 ('first')", "field 'd'", "bad expression"]),
+    (("    d: 0.1", "    d: (0.1"), ["link 1 ('first')", "field 'd'", "bad expression"]),
+    (("    d: 0.1", "    d: 1/0"), ["link 1 ('first')", "field 'd'", "division by zero"]),
+    (("    d: 0.1", "    d: q1"), ["link 1 ('first')", "field 'd'", "cannot be used"]),
+    (("    mass: 2", "    mass: -2"), ["link 1 ('first')", "field 'mass'", "must not be negative"]),
+    (("    com: [0.1, 0, 0]", "    com: [0.1, 0]"), ["link 1 ('first')", "field 'com'", "list of 3"]),
+    (("xx: 0.1, yy: 0.1, zz: 0.1", "xx: 0.1, yy: 0.1, zz: 0.1, xw: 1"), ["field 'inertia.xw'", "unknown inertia"]),
+    (("xx: 0.1, yy: 0.1, zz: 0.1", "xx: -0.1, yy: 0.1, zz: 0.1"), ["field 'inertia'", "positive semi-definite"]),
+    (("xx: 0.1, yy: 0.1, zz: 0.1", "xx: 0.1, yy: 0.1, zz: 0.5"), ["field 'inertia'", "triangle inequality"]),
+    (("xx: 0.1, yy: 0.1, zz: 0.1, xy: 0", "xx: 0.1, yy: 0.1, zz: 0.1, xy: 0.2"), ["field 'inertia'", "positive semi-definite"]),
+    (("    inertia: {xx: 0.1, yy: 0.1, zz: 0.1, xy: 0, xz: 0, yz: 0}", "    inertia: [0.1, 0.1]"), ["field 'inertia'", "6 values"]),
+    (("    theta: 0\n", "    theta: 0\n    damping: -1\n"), ["link 1 ('first')", "field 'damping'", "must not be negative"]),
+    (("name: demo", "name: demo\nname: again"), ["duplicate key 'name'"]),
+    (("name: demo", "name: demo\nparameters: {pi: 3}"), ["field 'parameters.pi'", "cannot be used"]),
+    (("name: demo", "name: demo\nparameters: {k: {value: 2, runtime: maybe}}"), ["field 'parameters.k.runtime'"]),
+    (("name: demo", "name: demo\nparameters: {k: j + 1}"), ["field 'parameters.k'", "unknown name 'j'"]),
+    (("name: demo", "name: demo\nparameters: {k: {value: x, runtime: true}}"), ["field 'parameters.k.value'", "unknown name 'x'"]),
+    (("    a: 0.5", "    a: 0.5\n    name: again"), ["duplicate key 'name'"]),
+]
+
+
+@pytest.mark.parametrize("change,fragments", CASES, ids=[c[1][-1] + f"-{k}" for k, c in enumerate(CASES)])
+def test_rejections_name_file_link_and_field(tmp_path, change, fragments):
+    old, new = change
+    assert old in BASE
+    with pytest.raises(RobotFileError) as err:
+        load_text(tmp_path, BASE.replace(old, new, 1))
+    message = str(err.value)
+    assert message.startswith(str(tmp_path / "robot.yaml"))
+    for fragment in fragments:
+        assert fragment in message, message
+
+
+def test_unreadable_and_non_yaml_files(tmp_path):
+    with pytest.raises(RobotFileError, match="cannot read the file"):
+        symdyn.load(tmp_path / "missing.yaml")
+    with pytest.raises(RobotFileError, match="not valid YAML"):
+        load_text(tmp_path, "format: 1\nlinks: [\n")
+    with pytest.raises(RobotFileError, match="expected a mapping"):
+        load_text(tmp_path, "- just\n- a list\n")
+
+
+def test_empty_chain(tmp_path):
+    with pytest.raises(RobotFileError) as err:
+        load_text(tmp_path, "format: 1\nname: demo\nconvention: standard\nlinks: []\n")
+    assert "field 'links'" in str(err.value) and "empty" in str(err.value)
+
+
+def test_second_link_is_named_in_errors(tmp_path):
+    text = BASE + "  - {joint: revolute, a: 0, alpha: 0, d: 0, theta: 0, mass: x y}\n"
+    with pytest.raises(RobotFileError) as err:
+        load_text(tmp_path, text)
+    assert "link 2 ('j2')" in str(err.value) and "field 'mass'" in str(err.value)
+
+
+def test_numeric_inertia_about_com_is_validated_with_parameters_folded(tmp_path):
+    text = BASE.replace("name: demo", "name: demo\nparameters: {big: 5}").replace("zz: 0.1", "zz: big")
+    with pytest.raises(RobotFileError, match="triangle"):
+        load_text(tmp_path, text)
