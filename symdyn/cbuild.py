@@ -1,0 +1,88 @@
+"""Compile generated C with the system compiler and call it through ctypes (for ``verify``,
+tests and benchmarks)."""
+
+from __future__ import annotations
+
+import ctypes
+import os
+import shutil
+import subprocess
+import tempfile
+
+import numpy as np
+
+from .equations import OUTPUT_INPUTS
+from .errors import SymdynError
+
+WARNING_FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
+
+
+def find_compiler() -> str:
+    for name in (os.environ.get("CC"), "cc", "gcc", "clang"):
+        if name and shutil.which(name):
+            return name
+    raise SymdynError("no C compiler found (set CC or install gcc)")
+
+
+def compile_shared(c_file: str, out_dir: str, extra_flags=()) -> str:
+    """Compile ``c_file`` into a shared library in ``out_dir`` (strict warnings as errors)."""
+    lib = os.path.join(out_dir, os.path.splitext(os.path.basename(c_file))[0] + ".so")
+    cmd = [find_compiler(), *WARNING_FLAGS, "-O2", "-fPIC", "-shared", c_file, "-o", lib, "-lm", *extra_flags]
+    result = subprocess.run(cmd, capture_output=True, text=True)
+    if result.returncode != 0:
+        raise SymdynError(f"compiling {c_file} failed: {result.stderr.strip()[:2000]}")
+    return lib
+
+
+class CompiledDynamics:
+    """ctypes access to a compiled ``NAME_dynamics`` library; methods mirror
+    :class:`symdyn.numeric.NumericEquations` (numpy in, numpy out)."""
+
+    def __init__(self, library: str, prefix: str, dof: int, n_params: int, precision: str = "double"):
+        self.lib = ctypes.CDLL(library)
+        self.prefix, self.n, self.np = prefix, dof, n_params
+        self.ctype = ctypes.c_float if precision == "float" else ctypes.c_double
+        self.dtype = np.float32 if precision == "float" else np.float64
+
+    def _call(self, name, args, p, out_size):
+        fn = getattr(self.lib, f"{self.prefix}_{name}")
+        arrays = [np.ascontiguousarray(a, dtype=self.dtype) for a in args]
+        if self.np:
+            arrays.append(np.ascontiguousarray(p, dtype=self.dtype))
+        out = np.zeros(out_size, dtype=self.dtype)
+        pointer = ctypes.POINTER(self.ctype)
+        fn.restype = None
+        fn(*[a.ctypes.data_as(pointer) for a in arrays], out.ctypes.data_as(pointer))
+        return out
+
+    def inverse_dynamics(self, q, qd, qdd, p=None):
+        return self._call("inverse_dynamics", (q, qd, qdd), p, self.n)
+
+    def mass_matrix(self, q, p=None):
+        return self._call("mass_matrix", (q,), p, self.n * self.n).reshape(self.n, self.n)
+
+    def coriolis(self, q, qd, p=None):
+        return self._call("coriolis", (q, qd), p, self.n)
+
+    def coriolis_matrix(self, q, qd, p=None):
+        return self._call("coriolis_matrix", (q, qd), p, self.n * self.n).reshape(self.n, self.n)
+
+    def gravity(self, q, p=None):
+        return self._call("gravity", (q,), p, self.n)
+
+    def forward_dynamics(self, q, qd, tau, p=None):
+        return self._call("forward_dynamics", (q, qd, tau), p, self.n)
+
+
+def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, precision: str = "double",
+                   workdir: str | None = None) -> CompiledDynamics:
+    """Write generated ``files`` to ``workdir`` (a new temporary directory by default), compile and load."""
+    workdir = workdir or tempfile.mkdtemp(prefix="symdyn_")
+    for name, text in files.items():
+        with open(os.path.join(workdir, name), "w") as handle:
+            handle.write(text)
+    lib = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir)
+    return CompiledDynamics(lib, prefix, dof, n_params, precision)
+
+
+__all__ = ["compile_shared", "build_and_load", "CompiledDynamics", "find_compiler", "OUTPUT_INPUTS"]

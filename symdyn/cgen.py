@@ -1,0 +1,190 @@
+"""C99 emitter: lays the derived equations out as straight-line C through Jinja2 templates.
+
+This module derives nothing: it takes an :class:`~symdyn.equations.Equations`, keeps the
+intermediate assignments each function needs (dead code removed), eliminates further common
+subexpressions, folds constants, prints with :mod:`symdyn.cprinter` and renders the templates in
+``templates/`` (shipped in the wheel as ``symdyn.templates``).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass, field
+
+import jinja2
+import sympy as sp
+
+from ._version import __version__
+from .cprinter import CPrinter, count_operations, fold_constants
+from .equations import OUTPUT_INPUTS, OUTPUTS, Equations
+
+ARG_DOCS = {
+    "q": "joint positions, N (rad for revolute, m for prismatic joints)",
+    "qd": "joint velocities, N (rad/s or m/s)",
+    "qdd": "joint accelerations, N (rad/s^2 or m/s^2)",
+    "tau": "joint torques/forces, N (N m or N)",
+    "p": "runtime parameters, NP, in the order listed above",
+}
+
+OUTPUT_ARGS = {
+    "inverse_dynamics": ("tau", "joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)"),
+    "mass_matrix": ("D", "joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)"),
+    "coriolis": ("h", "Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)"),
+    "coriolis_matrix": ("C", "Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)"),
+    "gravity": ("c", "gravity vector c(q), N (N m or N)"),
+    "forward_dynamics": ("qdd", "joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N"),
+}
+
+SUMMARIES = {
+    "inverse_dynamics": "Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).",
+    "mass_matrix": "Mass (joint-space inertia) matrix D(q), without armature.",
+    "coriolis": "Coriolis and centrifugal torques h(q, qd).",
+    "coriolis_matrix": "Coriolis matrix C(q, qd), C qd = h.",
+    "gravity": "Gravity torques c(q).",
+    "forward_dynamics": "Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).",
+}
+
+
+@dataclass
+class CFunction:
+    name: str
+    summary: str
+    args: list[tuple[str, str, str, bool]]  # (c type, name, doc, is_output)
+    lines: list[str]
+    ops: Counter = field(default_factory=Counter)
+    unused: list[str] = field(default_factory=list)
+
+    @property
+    def signature_args(self) -> str:
+        return ", ".join(f"{ctype}{name}" for ctype, name, _, _ in self.args)
+
+    @property
+    def ops_text(self) -> str:
+        o = self.ops
+        text = f"{o['mul']} multiplications, {o['add']} additions/subtractions, {o['div']} divisions, {o['trig']} sin/cos"
+        if o["sqrt"]:
+            text += f", {o['sqrt']} square roots"
+        if o["other"]:
+            text += f", {o['other']} other (sign, pow)"
+        return text
+
+
+def _merge_cse(program_assigns, replacements):
+    """Interleave CSE replacements with program assignments so each follows its dependencies."""
+    index = {sym: k for k, (sym, _) in enumerate(program_assigns)}
+    slot: dict[sp.Symbol, int] = {}
+    buckets: dict[int, list] = {}
+    for sym, rhs in replacements:
+        deps = [index.get(s, slot.get(s, -1)) for s in rhs.free_symbols]
+        position = max(deps, default=-1)
+        slot[sym] = position
+        buckets.setdefault(position, []).append((sym, rhs))
+    merged = list(buckets.get(-1, []))
+    for k, item in enumerate(program_assigns):
+        merged.append(item)
+        merged.extend(buckets.get(k, []))
+    return merged
+
+
+def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CFunction:
+    """Straight-line C body of one output function."""
+    n = eqs.n
+    real = f"{prefix}_real"
+    matrix = eqs.output(name)
+    out_name, out_doc = OUTPUT_ARGS[name]
+    targets: list[tuple[str, sp.Expr]] = []
+    aliases: list[tuple[str, str]] = []
+    if matrix.shape[1] == 1:
+        targets = [(f"{out_name}[{i}]", matrix[i]) for i in range(n)]
+    else:
+        symmetric = name == "mass_matrix"
+        for i in range(n):
+            for j in range(n):
+                if symmetric and j < i:
+                    aliases.append((f"{out_name}[{i * n + j}]", f"{out_name}[{j * n + i}]"))
+                else:
+                    targets.append((f"{out_name}[{i * n + j}]", matrix[i, j]))
+    assigns = list(eqs.program.needed_for([e for _, e in targets]))
+    folded = [(s, fold_constants(r)) for s, r in assigns]
+    outputs = [fold_constants(sp.sympify(e)) for _, e in targets]
+    cse_symbols = sp.numbered_symbols("cse", real=True)
+    replacements, reduced = sp.cse([r for _, r in folded] + outputs, symbols=cse_symbols, order="none")
+    program = [(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])]
+    final_outputs = reduced[len(folded):]
+    statements = _merge_cse(program, replacements)
+
+    names: dict[sp.Symbol, str] = {}
+    inputs = OUTPUT_INPUTS[name]
+    for group in inputs:
+        for k, sym in enumerate(getattr(eqs, group)):
+            names[sym] = f"{group}[{k}]"
+    for k, sym in enumerate(eqs.parameters):
+        names[sym] = f"p[{k}]"
+    for sym, _ in statements:
+        names[sym] = sym.name.lstrip("_")
+    printer = CPrinter(names, precision)
+
+    lines, ops = [], Counter()
+    used = set()
+    for sym, rhs in statements:
+        lines.append(f"const {real} {names[sym]} = {printer.doprint(rhs)};")
+        ops += count_operations(rhs)
+        used |= rhs.free_symbols
+    for (target, _), expr in zip(targets, final_outputs):
+        lines.append(f"{target} = {printer.doprint(expr)};")
+        ops += count_operations(expr)
+        used |= sp.sympify(expr).free_symbols
+    for target, source in aliases:
+        lines.append(f"{target} = {source};")
+
+    args = [(f"const {real} *", group, ARG_DOCS[group], False) for group in inputs]
+    if eqs.parameters:
+        args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
+    args.append((f"{real} *", out_name, out_doc, True))
+    unused = [a for _, a, _, is_out in args if not is_out and not any(
+        names.get(s, "").startswith(a + "[") for s in used)]
+    return CFunction(name=name, summary=SUMMARIES[name], args=args, lines=lines, ops=ops, unused=unused)
+
+
+def _environment() -> jinja2.Environment:
+    from importlib.resources import files
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(files("symdyn.templates"))),
+        undefined=jinja2.StrictUndefined, keep_trailing_newline=True,
+        trim_blocks=True, lstrip_blocks=True, autoescape=False)
+
+
+def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
+               source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = ()) -> dict[str, str]:
+    """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` (or one header of static inline
+    functions when ``header_only``).  Returns ``{file name: text}``."""
+    functions = [f for f in OUTPUTS if f in (functions or OUTPUTS)]
+    prefix = eqs.robot.name
+    built = [build_function(eqs, f, precision, prefix) for f in functions]
+    robot = eqs.robot
+    context = {
+        "prefix": prefix,
+        "guard": f"{prefix.upper()}_DYNAMICS_H",
+        "version": __version__,
+        "source_name": source_name or robot.source,
+        "source_hash": source_hash or robot.source_hash,
+        "method": eqs.method,
+        "precision": precision,
+        "real": "float" if precision == "float" else "double",
+        "dof": robot.dof,
+        "convention": robot.convention,
+        "parameters": [(k, s.name, "runtime parameter" if s.name in robot.runtime_names else "free symbol",
+                        (repr(float(v)) if v is not None else None))
+                       for k, (s, v) in enumerate(zip(robot.parameters, robot.nominal))],
+        "joints": [(k + 1, link.name, link.joint) for k, link in enumerate(robot.links)],
+        "functions": built,
+        "header_only": header_only,
+        "notes": list(notes),
+        "math_header": True,
+    }
+    env = _environment()
+    header = env.get_template("dynamics.h.j2").render(**context)
+    files = {f"{prefix}_dynamics.h": header}
+    if not header_only:
+        files[f"{prefix}_dynamics.c"] = env.get_template("dynamics.c.j2").render(**context)
+    return files

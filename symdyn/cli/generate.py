@@ -1,0 +1,70 @@
+"""``symdyn generate``: robot file(s) in, C (header and source) out."""
+
+from __future__ import annotations
+
+import os
+
+from ..cache import derive_cached, write_atomic
+from ..cgen import generate_c
+from ..cprinter import PRECISIONS
+from ..errors import SymdynError
+from ..robot import load
+from .common import add_method_option, parse_functions
+
+HELP = "generate C code (NAME_dynamics.h/.c) for robot files"
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("generate", help=HELP, description=HELP + ". Output files are written "
+                       "atomically; on any error existing files are left untouched.")
+    p.add_argument("robots", nargs="+", metavar="ROBOT.yaml", help="robot file(s) (format version 1)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
+    p.add_argument("--precision", default="double", choices=PRECISIONS,
+                   help="scalar type of the generated code (float gives sinf/cosf and float literals)")
+    p.add_argument("--functions", metavar="LIST",
+                   help="comma-separated subset of: inverse_dynamics, mass_matrix, coriolis, "
+                        "coriolis_matrix, gravity, forward_dynamics (default: all)")
+    p.add_argument("--header-only", action="store_true",
+                   help="write one header of static inline functions instead of .h + .c")
+    add_method_option(p)
+    p.add_argument("--no-cache", action="store_true", help="do not read or write the derivation cache")
+    p.add_argument("--quiet", action="store_true", help="print nothing on success")
+    p.set_defaults(run=run)
+
+
+def generate_files(path: str, functions, precision: str, header_only: bool, method: str,
+                   use_cache: bool = True) -> dict[str, str]:
+    """Load, derive (cached) and emit; returns {file name: text} without writing anything."""
+    robot = load(path)
+    wanted = set(functions)
+    if "forward_dynamics" in wanted:
+        wanted |= {"mass_matrix"}
+    eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache)
+    return generate_c(eqs, functions, precision, header_only,
+                      source_name=os.path.basename(path), source_hash=robot.source_hash)
+
+
+def run(args) -> int:
+    functions = parse_functions(args.functions)
+    rendered = {}
+    for path in args.robots:
+        for name, text in generate_files(path, functions, args.precision, args.header_only,
+                                         args.method, not args.no_cache).items():
+            if name in rendered:
+                raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
+            rendered[name] = text
+    try:
+        os.makedirs(args.out, exist_ok=True)
+    except OSError as exc:
+        raise SymdynError(f"cannot create output directory {args.out}: {exc.strerror or exc}") from None
+    if not os.access(args.out, os.W_OK):
+        raise SymdynError(f"output directory {args.out} is not writable")
+    for name, text in rendered.items():
+        target = os.path.join(args.out, name)
+        try:
+            write_atomic(target, text.encode("utf-8"))
+        except OSError as exc:
+            raise SymdynError(f"cannot write {target}: {exc.strerror or exc}") from None
+        if not args.quiet:
+            print(f"wrote {target}")
+    return 0

@@ -1,0 +1,143 @@
+"""Printing SymPy expressions as C99 for generated code (double or float), and counting the
+operations the printed code performs.
+
+- integer powers become products (``x*x``), ``x**-1`` a division, ``x**(1/2)`` ``sqrt``;
+- every number is a floating literal of the chosen precision (``0.5`` or ``0.5F``): no integer
+  division can happen, and floats never promote to double;
+- ``sign(x)`` becomes the branch-free ``((x > 0) - (x < 0))``;
+- ``sin/cos/sqrt`` are ``sinf/cosf/sqrtf`` in float precision.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+
+import sympy as sp
+from sympy.printing.c import C99CodePrinter
+
+PRECISIONS = ("double", "float")
+
+
+def fold_constants(expr: sp.Expr, digits: int = 30) -> sp.Expr:
+    """Replace every symbol-free, non-rational subexpression (cos(2/5), sqrt(3)/2, pi/4) by a
+    Float of ``digits`` digits, so the generated code has no constant function calls."""
+    def is_const(e):
+        return (e.is_number and not e.is_Rational and not e.is_Float and not e.is_Atom) or e is sp.pi
+    return expr.replace(is_const, lambda e: sp.Float(sp.N(e, digits), digits))
+
+
+class CPrinter(C99CodePrinter):
+    """C99 printer with symdyn's conventions (see module docstring)."""
+
+    def __init__(self, names: dict[sp.Symbol, str], precision: str = "double"):
+        super().__init__()
+        if precision not in PRECISIONS:
+            raise ValueError(f"precision must be double or float, not {precision!r}")
+        self.names = names
+        self.precision = precision
+        self.suffix = "F" if precision == "float" else ""
+        self.real = "float" if precision == "float" else "double"
+
+    def literal(self, value) -> str:
+        text = repr(float(value))
+        if "e" not in text and "." not in text and "inf" not in text:
+            text += ".0"
+        return text + self.suffix
+
+    def _print_Symbol(self, expr):
+        if expr in self.names:
+            return self.names[expr]
+        raise KeyError(f"no C name for symbol {expr}")
+
+    def _print_Rational(self, expr):
+        return self.literal(expr)
+
+    def _print_Integer(self, expr):
+        return self.literal(expr)
+
+    def _print_Float(self, expr):
+        return self.literal(expr)
+
+    def _print_Pi(self, expr):
+        return self.literal(sp.pi.evalf(20))
+
+    def _print_sign(self, expr):
+        arg = self._print(expr.args[0])
+        return f"(({self.real})(({arg} > 0) - ({arg} < 0)))"
+
+    def _fn(self, name, expr):
+        suffix = "f" if self.precision == "float" else ""
+        return f"{name}{suffix}({self._print(expr.args[0])})"
+
+    def _print_sin(self, expr):
+        return self._fn("sin", expr)
+
+    def _print_cos(self, expr):
+        return self._fn("cos", expr)
+
+    def _print_Pow(self, expr):
+        base, exp = expr.args
+        if exp.is_Integer:
+            k = int(exp)
+            b = self.parenthesize(base, sp.printing.precedence.PRECEDENCE["Mul"] + 1)
+            if 1 <= k <= 6:
+                return "*".join([b] * k)
+            if -6 <= k <= -1:
+                den = "*".join([b] * (-k))
+                return f"{self.literal(1)}/({den})" if -k > 1 else f"{self.literal(1)}/{b}"
+        if exp == sp.S.Half:
+            return self._fn("sqrt", sp.sqrt(base))
+        if exp == -sp.S.Half:
+            return f"{self.literal(1)}/{self._fn('sqrt', sp.sqrt(base))}"
+        suffix = "f" if self.precision == "float" else ""
+        return f"pow{suffix}({self._print(base)}, {self._print(exp)})"
+
+
+def count_operations(expr: sp.Expr) -> Counter:
+    """Operations of the printed expression: ``add`` (additions and subtractions), ``mul``,
+    ``div``, ``trig`` (sin/cos), ``sqrt`` and ``other`` (sign, pow)."""
+    ops: Counter = Counter()
+
+    def visit(e):
+        if e.is_Atom:
+            return
+        if e.is_Add:
+            ops["add"] += len(e.args) - 1
+        elif e.is_Mul:
+            factors = [a for a in e.args if not (a.is_Number and abs(a) == 1)]
+            dens = [a for a in factors if a.is_Pow and a.exp.is_number and a.exp.is_negative]
+            nums = len(factors) - len(dens)
+            ops["mul"] += max(nums - 1, 0)
+            ops["div"] += len(dens)
+            for d in dens:
+                k = -d.exp
+                if k.is_Integer and k > 1:
+                    ops["mul"] += int(k) - 1
+                visit(d.base)
+            for f in factors:
+                if f not in dens:
+                    visit(f)
+            return
+        elif e.is_Pow:
+            k = e.exp
+            if k.is_Integer and 1 <= k <= 6:
+                ops["mul"] += int(k) - 1
+            elif k.is_Integer and -6 <= k <= -1:
+                ops["div"] += 1
+                ops["mul"] += int(-k) - 1
+            elif abs(k) == sp.S.Half:
+                ops["sqrt"] += 1
+                ops["div"] += 1 if k < 0 else 0
+            else:
+                ops["other"] += 1
+            visit(e.base)
+            return
+        elif isinstance(e, (sp.sin, sp.cos)):
+            ops["trig"] += 1
+        else:
+            ops["other"] += 1
+        for a in e.args:
+            visit(a)
+
+    visit(expr)
+    return ops
