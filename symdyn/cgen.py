@@ -113,25 +113,32 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     final_outputs = reduced[len(folded):]
     statements = _merge_cse(program, replacements)
 
+    # Forward dynamics solves with D, whose condition number can reach 1e4-1e5 (chain12): in
+    # float precision the rounding of D and of the right-hand side alone then costs ~1e-3.
+    # Its internals are therefore computed in double, with float inputs and outputs.
+    internal = "double" if (precision == "float" and name == "forward_dynamics") else precision
+    local_type = real if internal == precision else internal
+    cast = "(double)" if internal != precision else ""
     names: dict[sp.Symbol, str] = {}
     inputs = OUTPUT_INPUTS[name]
     for group in inputs:
         for k, sym in enumerate(getattr(eqs, group)):
-            names[sym] = f"{group}[{k}]"
+            names[sym] = f"{cast}{group}[{k}]"
     for k, sym in enumerate(eqs.parameters):
-        names[sym] = f"p[{k}]"
+        names[sym] = f"{cast}p[{k}]"
     for sym, _ in statements:
         names[sym] = sym.name.lstrip("_")
-    printer = CPrinter(names, precision)
+    printer = CPrinter(names, internal)
 
     lines, ops = [], Counter()
     used = set()
     for sym, rhs in statements:
-        lines.append(f"const {real} {names[sym]} = {printer.doprint(rhs)};")
+        lines.append(f"const {local_type} {names[sym]} = {printer.doprint(rhs)};")
         ops += count_operations(rhs)
         used |= rhs.free_symbols
+    store = f"({real})" if internal != precision else ""
     for (target, _), expr in zip(targets, final_outputs):
-        lines.append(f"{target} = {printer.doprint(expr)};")
+        lines.append(f"{target} = {store}({printer.doprint(expr)});" if store else f"{target} = {printer.doprint(expr)};")
         ops += count_operations(expr)
         used |= sp.sympify(expr).free_symbols
     for target, source in aliases:
@@ -142,8 +149,11 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
         args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
     args.append((f"{real} *", out_name, out_doc, True))
     unused = [a for _, a, _, is_out in args if not is_out and not any(
-        names.get(s, "").startswith(a + "[") for s in used)]
-    return CFunction(name=name, summary=SUMMARIES[name], args=args, lines=lines, ops=ops, unused=unused)
+        names.get(s, "").startswith(cast + a + "[") for s in used)]
+    summary = SUMMARIES[name]
+    if internal != precision:
+        summary += " Computed internally in double precision (float inputs and outputs): D can be ill-conditioned, and float rounding of D alone would cost up to ~1e-3."
+    return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused)
 
 
 def _environment() -> jinja2.Environment:

@@ -1,0 +1,102 @@
+/*
+ * chain12_dynamics — equations of motion of robot 'chain12' (12 joints, modified DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : chain12.yaml
+ *   sha256    : 1aa9009c929e2fd0d86ff36cae8f4e88189c8724cd2d728ecf32e27db1c90d31
+ */
+#ifndef CHAIN12_DYNAMICS_H
+#define CHAIN12_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double chain12_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define chain12_DOF 12
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define chain12_NP 0
+
+/*
+ * Joints (index: name, type):
+ *   1: j1, revolute
+ *   2: j2, revolute
+ *   3: j3, prismatic
+ *   4: j4, revolute
+ *   5: j5, revolute
+ *   6: j6, prismatic
+ *   7: j7, revolute
+ *   8: j8, revolute
+ *   9: j9, revolute
+ *   10: j10, prismatic
+ *   11: j11, revolute
+ *   12: j12, revolute
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 914 multiplications, 722 additions/subtractions, 0 divisions, 18 sin/cos.
+ */
+void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *qdd, chain12_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 2759 multiplications, 2282 additions/subtractions, 0 divisions, 16 sin/cos.
+ */
+void chain12_mass_matrix(const chain12_real *q, chain12_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 887 multiplications, 682 additions/subtractions, 0 divisions, 16 sin/cos.
+ */
+void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 5369 multiplications, 4253 additions/subtractions, 0 divisions, 16 sin/cos.
+ */
+void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chain12_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 268 multiplications, 202 additions/subtractions, 0 divisions, 18 sin/cos.
+ */
+void chain12_gravity(const chain12_real *q, chain12_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 4259 multiplications, 3402 additions/subtractions, 12 divisions, 18 sin/cos.
+ */
+void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CHAIN12_DYNAMICS_H */

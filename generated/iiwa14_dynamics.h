@@ -1,0 +1,97 @@
+/*
+ * iiwa14_dynamics — equations of motion of robot 'iiwa14' (7 joints, standard DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : iiwa14.yaml
+ *   sha256    : bb9ae76121f1b45419cf55df0f149ed01242e97474437572271d40165e92d74a
+ */
+#ifndef IIWA14_DYNAMICS_H
+#define IIWA14_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double iiwa14_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define iiwa14_DOF 7
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define iiwa14_NP 0
+
+/*
+ * Joints (index: name, type):
+ *   1: j1, revolute
+ *   2: j2, revolute
+ *   3: j3, revolute
+ *   4: j4, revolute
+ *   5: j5, revolute
+ *   6: j6, revolute
+ *   7: j7, revolute
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 352 multiplications, 252 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void iiwa14_inverse_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *qdd, iiwa14_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 669 multiplications, 442 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void iiwa14_mass_matrix(const iiwa14_real *q, iiwa14_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 337 multiplications, 233 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void iiwa14_coriolis(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 1722 multiplications, 1217 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void iiwa14_coriolis_matrix(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 107 multiplications, 66 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 1175 multiplications, 784 additions/subtractions, 7 divisions, 12 sin/cos.
+ */
+void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* IIWA14_DYNAMICS_H */

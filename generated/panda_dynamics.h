@@ -1,0 +1,97 @@
+/*
+ * panda_dynamics — equations of motion of robot 'panda' (7 joints, modified DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : panda.yaml
+ *   sha256    : 38e63329690612d56672ffeea325710a3822b8c02df9caf43f43f81f72b92e43
+ */
+#ifndef PANDA_DYNAMICS_H
+#define PANDA_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double panda_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define panda_DOF 7
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define panda_NP 0
+
+/*
+ * Joints (index: name, type):
+ *   1: j1, revolute
+ *   2: j2, revolute
+ *   3: j3, revolute
+ *   4: j4, revolute
+ *   5: j5, revolute
+ *   6: j6, revolute
+ *   7: j7, revolute
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 491 multiplications, 375 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void panda_inverse_dynamics(const panda_real *q, const panda_real *qd, const panda_real *qdd, panda_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 944 multiplications, 711 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void panda_mass_matrix(const panda_real *q, panda_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 474 multiplications, 353 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void panda_coriolis(const panda_real *q, const panda_real *qd, panda_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 2226 multiplications, 1703 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void panda_coriolis_matrix(const panda_real *q, const panda_real *qd, panda_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 123 multiplications, 81 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void panda_gravity(const panda_real *q, panda_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 1582 multiplications, 1173 additions/subtractions, 7 divisions, 12 sin/cos.
+ */
+void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PANDA_DYNAMICS_H */

@@ -1,0 +1,179 @@
+/*
+ * planar2r_dynamics — equations of motion of robot 'planar2r' (2 joints, modified DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : planar2r.yaml
+ *   sha256    : 1dab641d89c840c101250af899c7c14729f93175d26d8cedea18d780547e9f8c
+ */
+#include <math.h>
+
+#include "planar2r_dynamics.h"
+
+void planar2r_inverse_dynamics(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *qdd, const planar2r_real *p, planar2r_real *tau)
+{
+    const planar2r_real c1 = cos(q[0]);
+    const planar2r_real s1 = sin(q[0]);
+    const planar2r_real c2 = cos(q[1]);
+    const planar2r_real s2 = sin(q[1]);
+    const planar2r_real vd1g_0 = s1*p[0];
+    const planar2r_real vd1g_1 = c1*p[0];
+    const planar2r_real w2h_2 = qd[0] + qd[1];
+    const planar2r_real ws2h_1 = w2h_2*p[6];
+    const planar2r_real a1_1 = vd1g_1 + p[2]*qdd[0];
+    const planar2r_real F1_1 = a1_1*p[1];
+    const planar2r_real N1_2 = p[3]*qdd[0];
+    const planar2r_real wd2_2 = qdd[0] + qdd[1];
+    const planar2r_real aJ2_0 = vd1g_0 - p[4]*qd[0]*qd[0];
+    const planar2r_real aJ2_1 = vd1g_1 + p[4]*qdd[0];
+    const planar2r_real vd2_0 = aJ2_0*c2 + aJ2_1*s2;
+    const planar2r_real vd2_1 = -aJ2_0*s2 + aJ2_1*c2;
+    const planar2r_real a2_0 = vd2_0 - w2h_2*ws2h_1;
+    const planar2r_real a2_1 = vd2_1 + wd2_2*p[6];
+    const planar2r_real F2_0 = a2_0*p[5];
+    const planar2r_real F2_1 = a2_1*p[5];
+    const planar2r_real N2_2 = p[7]*wd2_2;
+    const planar2r_real n2_2 = F2_1*p[6] + N2_2;
+    const planar2r_real Rf1_1 = F2_0*s2 + F2_1*c2;
+    const planar2r_real n1_2 = F1_1*p[2] + N1_2 + Rf1_1*p[4] + n2_2;
+    tau[0] = n1_2;
+    tau[1] = n2_2;
+}
+
+void planar2r_mass_matrix(const planar2r_real *q, const planar2r_real *p, planar2r_real *D)
+{
+    const planar2r_real c2 = cos(q[1]);
+    const planar2r_real s2 = sin(q[1]);
+    const planar2r_real F1m1_1 = p[2]*p[1];
+    const planar2r_real vd2m1_0 = s2*p[4];
+    const planar2r_real vd2m1_1 = c2*p[4];
+    const planar2r_real a2m1_1 = vd2m1_1 + p[6];
+    const planar2r_real F2m1_0 = vd2m1_0*p[5];
+    const planar2r_real F2m1_1 = a2m1_1*p[5];
+    const planar2r_real n2m1_2 = p[7] + F2m1_1*p[6];
+    const planar2r_real Rf1m1_1 = F2m1_0*s2 + F2m1_1*c2;
+    const planar2r_real n1m1_2 = p[3] + F1m1_1*p[2] + Rf1m1_1*p[4] + n2m1_2;
+    const planar2r_real F2m2_1 = p[6]*p[5];
+    const planar2r_real n2m2_2 = p[7] + F2m2_1*p[6];
+    const planar2r_real Rf1m2_1 = F2m2_1*c2;
+    const planar2r_real n1m2_2 = Rf1m2_1*p[4] + n2m2_2;
+    D[0] = n1m1_2;
+    D[1] = n1m2_2;
+    D[3] = n2m2_2;
+    D[2] = D[1];
+}
+
+void planar2r_coriolis(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *p, planar2r_real *h)
+{
+    const planar2r_real c2 = cos(q[1]);
+    const planar2r_real s2 = sin(q[1]);
+    const planar2r_real w2h_2 = qd[0] + qd[1];
+    const planar2r_real aJ2h_0 = -p[4]*qd[0]*qd[0];
+    const planar2r_real vd2h_0 = aJ2h_0*c2;
+    const planar2r_real vd2h_1 = -aJ2h_0*s2;
+    const planar2r_real ws2h_1 = w2h_2*p[6];
+    const planar2r_real a2h_0 = vd2h_0 - w2h_2*ws2h_1;
+    const planar2r_real F2h_0 = a2h_0*p[5];
+    const planar2r_real F2h_1 = vd2h_1*p[5];
+    const planar2r_real n2h_2 = F2h_1*p[6];
+    const planar2r_real Rf1h_1 = F2h_0*s2 + F2h_1*c2;
+    const planar2r_real n1h_2 = Rf1h_1*p[4] + n2h_2;
+    h[0] = n1h_2;
+    h[1] = n2h_2;
+}
+
+void planar2r_coriolis_matrix(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *p, planar2r_real *C)
+{
+    const planar2r_real c2 = cos(q[1]);
+    const planar2r_real s2 = sin(q[1]);
+    const planar2r_real w2h_2 = qd[0] + qd[1];
+    const planar2r_real cse0 = w2h_2*p[6];
+    const planar2r_real ws2h_1 = cse0;
+    const planar2r_real cse1 = ws2h_1 + cse0;
+    const planar2r_real dhaJ2h_0_dqd1 = -2.0*p[4]*qd[0];
+    const planar2r_real dhvd2h_0_dqd1 = c2*dhaJ2h_0_dqd1;
+    const planar2r_real dhvd2h_1_dqd1 = -dhaJ2h_0_dqd1*s2;
+    const planar2r_real dha2h_0_dqd1 = dhvd2h_0_dqd1 - cse1;
+    const planar2r_real dhF2h_0_dqd1 = dha2h_0_dqd1*p[5];
+    const planar2r_real dhF2h_1_dqd1 = dhvd2h_1_dqd1*p[5];
+    const planar2r_real dhn2h_2_dqd1 = dhF2h_1_dqd1*p[6];
+    const planar2r_real dhRf1h_1_dqd1 = c2*dhF2h_1_dqd1 + dhF2h_0_dqd1*s2;
+    const planar2r_real dhn1h_2_dqd1 = dhRf1h_1_dqd1*p[4] + dhn2h_2_dqd1;
+    const planar2r_real dha2h_0_dqd2 = -cse1;
+    const planar2r_real dhF2h_0_dqd2 = dha2h_0_dqd2*p[5];
+    const planar2r_real dhRf1h_1_dqd2 = dhF2h_0_dqd2*s2;
+    const planar2r_real dhn1h_2_dqd2 = dhRf1h_1_dqd2*p[4];
+    const planar2r_real C11 = (0.5)*dhn1h_2_dqd1;
+    const planar2r_real C12 = (0.5)*dhn1h_2_dqd2;
+    const planar2r_real C21 = (0.5)*dhn2h_2_dqd1;
+    C[0] = C11;
+    C[1] = C12;
+    C[2] = C21;
+    C[3] = 0.0;
+}
+
+void planar2r_gravity(const planar2r_real *q, const planar2r_real *p, planar2r_real *c)
+{
+    const planar2r_real c1 = cos(q[0]);
+    const planar2r_real s1 = sin(q[0]);
+    const planar2r_real c2 = cos(q[1]);
+    const planar2r_real s2 = sin(q[1]);
+    const planar2r_real vd1g_0 = s1*p[0];
+    const planar2r_real vd1g_1 = c1*p[0];
+    const planar2r_real F1g_1 = vd1g_1*p[1];
+    const planar2r_real vd2g_0 = c2*vd1g_0 + s2*vd1g_1;
+    const planar2r_real vd2g_1 = c2*vd1g_1 - s2*vd1g_0;
+    const planar2r_real F2g_0 = vd2g_0*p[5];
+    const planar2r_real F2g_1 = vd2g_1*p[5];
+    const planar2r_real n2g_2 = F2g_1*p[6];
+    const planar2r_real Rf1g_1 = F2g_0*s2 + F2g_1*c2;
+    const planar2r_real n1g_2 = F1g_1*p[2] + Rf1g_1*p[4] + n2g_2;
+    c[0] = n1g_2;
+    c[1] = n2g_2;
+}
+
+void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd)
+{
+    const planar2r_real c1 = cos(q[0]);
+    const planar2r_real s1 = sin(q[0]);
+    const planar2r_real c2 = cos(q[1]);
+    const planar2r_real s2 = sin(q[1]);
+    const planar2r_real vd1g_0 = s1*p[0];
+    const planar2r_real vd1g_1 = c1*p[0];
+    const planar2r_real F1g_1 = vd1g_1*p[1];
+    const planar2r_real w2h_2 = qd[0] + qd[1];
+    const planar2r_real ws2h_1 = w2h_2*p[6];
+    const planar2r_real F1m1_1 = p[2]*p[1];
+    const planar2r_real vd2m1_0 = s2*p[4];
+    const planar2r_real vd2m1_1 = c2*p[4];
+    const planar2r_real a2m1_1 = vd2m1_1 + p[6];
+    const planar2r_real F2m1_0 = vd2m1_0*p[5];
+    const planar2r_real F2m1_1 = a2m1_1*p[5];
+    const planar2r_real n2m1_2 = p[7] + F2m1_1*p[6];
+    const planar2r_real Rf1m1_1 = F2m1_0*s2 + F2m1_1*c2;
+    const planar2r_real n1m1_2 = p[3] + F1m1_1*p[2] + Rf1m1_1*p[4] + n2m1_2;
+    const planar2r_real F2m2_1 = p[6]*p[5];
+    const planar2r_real n2m2_2 = p[7] + F2m2_1*p[6];
+    const planar2r_real Rf1m2_1 = F2m2_1*c2;
+    const planar2r_real n1m2_2 = Rf1m2_1*p[4] + n2m2_2;
+    const planar2r_real aJ2_0 = vd1g_0 - p[4]*qd[0]*qd[0];
+    const planar2r_real vd2b_0 = aJ2_0*c2 + s2*vd1g_1;
+    const planar2r_real vd2b_1 = -aJ2_0*s2 + c2*vd1g_1;
+    const planar2r_real a2b_0 = vd2b_0 - w2h_2*ws2h_1;
+    const planar2r_real F2b_0 = a2b_0*p[5];
+    const planar2r_real F2b_1 = vd2b_1*p[5];
+    const planar2r_real n2b_2 = F2b_1*p[6];
+    const planar2r_real Rf1b_1 = F2b_0*s2 + F2b_1*c2;
+    const planar2r_real n1b_2 = F1g_1*p[2] + Rf1b_1*p[4] + n2b_2;
+    const planar2r_real rhs1 = -n1b_2 + tau[0];
+    const planar2r_real rhs2 = -n2b_2 + tau[1];
+    const planar2r_real ldl_inv1 = 1.0/n1m1_2;
+    const planar2r_real ldl_L21 = ldl_inv1*n1m2_2;
+    const planar2r_real ldl_d2 = -ldl_L21*ldl_L21*n1m1_2 + n2m2_2;
+    const planar2r_real ldl_inv2 = 1.0/ldl_d2;
+    const planar2r_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
+    const planar2r_real qdd2_fd = ldl_inv2*ldl_y2;
+    const planar2r_real qdd1_fd = -ldl_L21*qdd2_fd + ldl_inv1*rhs1;
+    qdd[0] = qdd1_fd;
+    qdd[1] = qdd2_fd;
+}

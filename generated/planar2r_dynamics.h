@@ -1,0 +1,109 @@
+/*
+ * planar2r_dynamics — equations of motion of robot 'planar2r' (2 joints, modified DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : planar2r.yaml
+ *   sha256    : 1dab641d89c840c101250af899c7c14729f93175d26d8cedea18d780547e9f8c
+ */
+#ifndef PLANAR2R_DYNAMICS_H
+#define PLANAR2R_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double planar2r_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define planar2r_DOF 2
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define planar2r_NP 8
+/*
+ * Runtime parameters, in the order of p:
+ *   p[0] = g  (free symbol)
+ *   p[1] = m1  (free symbol)
+ *   p[2] = lc1  (free symbol)
+ *   p[3] = I1  (free symbol)
+ *   p[4] = l1  (free symbol)
+ *   p[5] = m2  (free symbol)
+ *   p[6] = lc2  (free symbol)
+ *   p[7] = I2  (free symbol)
+ */
+
+/*
+ * Joints (index: name, type):
+ *   1: shoulder, revolute
+ *   2: elbow, revolute
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   p: runtime parameters, NP, in the order listed above
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 23 multiplications, 14 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void planar2r_inverse_dynamics(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *qdd, const planar2r_real *p, planar2r_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   p: runtime parameters, NP, in the order listed above
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 14 multiplications, 8 additions/subtractions, 0 divisions, 2 sin/cos.
+ */
+void planar2r_mass_matrix(const planar2r_real *q, const planar2r_real *p, planar2r_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   p: runtime parameters, NP, in the order listed above
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 12 multiplications, 4 additions/subtractions, 0 divisions, 2 sin/cos.
+ */
+void planar2r_coriolis(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *p, planar2r_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   p: runtime parameters, NP, in the order listed above
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 17 multiplications, 5 additions/subtractions, 0 divisions, 2 sin/cos.
+ */
+void planar2r_coriolis_matrix(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *p, planar2r_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   p: runtime parameters, NP, in the order listed above
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 14 multiplications, 5 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void planar2r_gravity(const planar2r_real *q, const planar2r_real *p, planar2r_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   p: runtime parameters, NP, in the order listed above
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 39 multiplications, 21 additions/subtractions, 2 divisions, 4 sin/cos.
+ */
+void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PLANAR2R_DYNAMICS_H */

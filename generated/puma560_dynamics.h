@@ -1,0 +1,96 @@
+/*
+ * puma560_dynamics — equations of motion of robot 'puma560' (6 joints, standard DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : puma560.yaml
+ *   sha256    : 3d2ac5f0ab83a1a3e65cd2f3cd55eed08dcae8e7650346f9308b590968c73d14
+ */
+#ifndef PUMA560_DYNAMICS_H
+#define PUMA560_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double puma560_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define puma560_DOF 6
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define puma560_NP 0
+
+/*
+ * Joints (index: name, type):
+ *   1: waist, revolute
+ *   2: shoulder, revolute
+ *   3: elbow, revolute
+ *   4: wrist_roll, revolute
+ *   5: wrist_bend, revolute
+ *   6: flange, revolute
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 301 multiplications, 222 additions/subtractions, 0 divisions, 10 sin/cos, 6 other (sign, pow).
+ */
+void puma560_inverse_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *qdd, puma560_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 401 multiplications, 261 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void puma560_mass_matrix(const puma560_real *q, puma560_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 269 multiplications, 185 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void puma560_coriolis(const puma560_real *q, const puma560_real *qd, puma560_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 924 multiplications, 644 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void puma560_coriolis_matrix(const puma560_real *q, const puma560_real *qd, puma560_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 87 multiplications, 51 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void puma560_gravity(const puma560_real *q, puma560_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 792 multiplications, 535 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ */
+void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PUMA560_DYNAMICS_H */

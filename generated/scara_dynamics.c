@@ -1,0 +1,352 @@
+/*
+ * scara_dynamics — equations of motion of robot 'scara' (4 joints, standard DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : scara.yaml
+ *   sha256    : 0a7a32e7314995d04c0f541c34ef4f611bb5ca2bc912f19f3ffb18e0c80931ee
+ */
+#include <math.h>
+
+#include "scara_dynamics.h"
+
+void scara_inverse_dynamics(const scara_real *q, const scara_real *qd, const scara_real *qdd, scara_real *tau)
+{
+    const scara_real c2 = cos(q[1]);
+    const scara_real s2 = sin(q[1]);
+    const scara_real c4 = cos(q[3]);
+    const scara_real s4 = sin(q[3]);
+    const scara_real wr1h_1 = (0.4)*qd[0];
+    const scara_real vd1h_0 = -wr1h_1*qd[0];
+    const scara_real w2h_2 = -qd[0] - qd[1];
+    const scara_real wr2h_1 = (0.25)*w2h_2;
+    const scara_real ws2h_1 = -0.125*w2h_2;
+    const scara_real vd1_1 = (0.4)*qdd[0];
+    const scara_real a1_1 = vd1_1 - 0.2*qdd[0];
+    const scara_real F1_1 = 6.0*a1_1;
+    const scara_real N1_2 = (0.085)*qdd[0];
+    const scara_real wd2_2 = -qdd[0] - qdd[1];
+    const scara_real vd2_0 = c2*vd1h_0 + s2*vd1_1 - w2h_2*wr2h_1;
+    const scara_real vd2_1 = -c2*vd1_1 + s2*vd1h_0 + (0.25)*wd2_2;
+    const scara_real a2_0 = vd2_0 - w2h_2*ws2h_1;
+    const scara_real a2_1 = vd2_1 - 0.125*wd2_2;
+    const scara_real F2_0 = (3.5)*a2_0;
+    const scara_real F2_1 = (3.5)*a2_1;
+    const scara_real N2_2 = (0.020229166666666666)*wd2_2;
+    const scara_real vd3_2 = qdd[2] - 9.81;
+    const scara_real F3_0 = (1.2)*vd2_0;
+    const scara_real F3_1 = (1.2)*vd2_1;
+    const scara_real F3_2 = (1.2)*vd3_2;
+    const scara_real N3_2 = (0.0004)*wd2_2;
+    const scara_real wd4_2 = wd2_2 + qdd[3];
+    const scara_real vd4_0 = c4*vd2_0 + s4*vd2_1;
+    const scara_real vd4_1 = c4*vd2_1 - s4*vd2_0;
+    const scara_real F4_0 = (0.4)*vd4_0;
+    const scara_real F4_1 = (0.4)*vd4_1;
+    const scara_real F4_2 = (0.4)*vd3_2;
+    const scara_real N4_2 = (0.0003)*wd4_2;
+    const scara_real Rf3_0 = F4_0*c4 - F4_1*s4;
+    const scara_real Rf3_1 = F4_0*s4 + F4_1*c4;
+    const scara_real f3_0 = F3_0 + Rf3_0;
+    const scara_real f3_1 = F3_1 + Rf3_1;
+    const scara_real f3_2 = F3_2 + F4_2;
+    const scara_real n3_2 = N3_2 + N4_2;
+    const scara_real f2_0 = F2_0 + f3_0;
+    const scara_real f2_1 = F2_1 + f3_1;
+    const scara_real n2_2 = -0.125*F2_1 + N2_2 + n3_2;
+    const scara_real tau2 = -0.25*f2_1 - n2_2;
+    const scara_real Rf1_0 = c2*f2_0 + f2_1*s2;
+    const scara_real Rf1_1 = -c2*f2_1 + f2_0*s2;
+    const scara_real f1_1 = F1_1 + Rf1_1;
+    const scara_real n1_2 = -0.2*F1_1 + N1_2 - 0.25*Rf1_0*s2 + (0.25)*Rf1_1*c2 - n2_2;
+    const scara_real tau1 = (0.4)*f1_1 + n1_2;
+    tau[0] = tau1 + (2.5)*qd[0] + (0.8)*qdd[0] + 3.0*((double)((qd[0] > 0) - (qd[0] < 0)));
+    tau[1] = tau2 + (1.2)*qd[1] + (0.3)*qdd[1] + (1.5)*((double)((qd[1] > 0) - (qd[1] < 0)));
+    tau[2] = f3_2 + 10.0*qd[2] + (0.5)*qdd[2] + 4.0*((double)((qd[2] > 0) - (qd[2] < 0)));
+    tau[3] = N4_2 + (0.1)*qd[3] + (0.05)*qdd[3] + (0.2)*((double)((qd[3] > 0) - (qd[3] < 0)));
+}
+
+void scara_mass_matrix(const scara_real *q, scara_real *D)
+{
+    const scara_real c2 = cos(q[1]);
+    const scara_real s2 = sin(q[1]);
+    const scara_real cse0 = (0.25)*s2;
+    const scara_real c4 = cos(q[3]);
+    const scara_real s4 = sin(q[3]);
+    const scara_real vd2m1_0 = (0.4)*s2;
+    const scara_real vd2m1_1 = -0.4*c2 - 0.25;
+    const scara_real a2m1_1 = vd2m1_1 + 0.125;
+    const scara_real F2m1_0 = (3.5)*vd2m1_0;
+    const scara_real F2m1_1 = (3.5)*a2m1_1;
+    const scara_real F3m1_0 = (1.2)*vd2m1_0;
+    const scara_real F3m1_1 = (1.2)*vd2m1_1;
+    const scara_real vd4m1_0 = c4*vd2m1_0 + s4*vd2m1_1;
+    const scara_real vd4m1_1 = c4*vd2m1_1 - s4*vd2m1_0;
+    const scara_real F4m1_0 = (0.4)*vd4m1_0;
+    const scara_real F4m1_1 = (0.4)*vd4m1_1;
+    const scara_real Rf3m1_0 = F4m1_0*c4 - F4m1_1*s4;
+    const scara_real Rf3m1_1 = F4m1_0*s4 + F4m1_1*c4;
+    const scara_real f3m1_0 = F3m1_0 + Rf3m1_0;
+    const scara_real f3m1_1 = F3m1_1 + Rf3m1_1;
+    const scara_real f2m1_0 = F2m1_0 + f3m1_0;
+    const scara_real f2m1_1 = F2m1_1 + f3m1_1;
+    const scara_real n2m1_2 = -0.125*F2m1_1 - 0.020929166666666665;
+    const scara_real Rf1m1_0 = c2*f2m1_0 + f2m1_1*s2;
+    const scara_real Rf1m1_1 = -c2*f2m1_1 + f2m1_0*s2;
+    const scara_real f1m1_1 = Rf1m1_1 + 1.2;
+    const scara_real n1m1_2 = -Rf1m1_0*cse0 + (0.25)*Rf1m1_1*c2 - n2m1_2 - 0.155;
+    const scara_real tau1m1 = (0.4)*f1m1_1 + n1m1_2;
+    const scara_real vd4m2_0 = -0.25*s4;
+    const scara_real vd4m2_1 = -0.25*c4;
+    const scara_real F4m2_0 = (0.4)*vd4m2_0;
+    const scara_real F4m2_1 = (0.4)*vd4m2_1;
+    const scara_real Rf3m2_0 = F4m2_0*c4 - F4m2_1*s4;
+    const scara_real Rf3m2_1 = F4m2_0*s4 + F4m2_1*c4;
+    const scara_real f3m2_1 = Rf3m2_1 - 0.3;
+    const scara_real f2m2_1 = f3m2_1 - 0.4375;
+    const scara_real tau2m2 = -0.25*f2m2_1 - 0.033758333333333335;
+    const scara_real Rf1m2_0 = Rf3m2_0*c2 + f2m2_1*s2;
+    const scara_real Rf1m2_1 = Rf3m2_0*s2 - c2*f2m2_1;
+    const scara_real n1m2_2 = -Rf1m2_0*cse0 + (0.25)*Rf1m2_1*c2 - 0.033758333333333335;
+    const scara_real tau1m2 = (0.4)*Rf1m2_1 + n1m2_2;
+    D[0] = tau1m1;
+    D[1] = tau1m2;
+    D[2] = 0.0;
+    D[3] = -0.0003;
+    D[5] = tau2m2;
+    D[6] = 0.0;
+    D[7] = -0.0003;
+    D[10] = 1.6;
+    D[11] = 0.0;
+    D[15] = 0.0003;
+    D[4] = D[1];
+    D[8] = D[2];
+    D[9] = D[6];
+    D[12] = D[3];
+    D[13] = D[7];
+    D[14] = D[11];
+}
+
+void scara_coriolis(const scara_real *q, const scara_real *qd, scara_real *h)
+{
+    const scara_real c2 = cos(q[1]);
+    const scara_real s2 = sin(q[1]);
+    const scara_real c4 = cos(q[3]);
+    const scara_real s4 = sin(q[3]);
+    const scara_real wr1h_1 = (0.4)*qd[0];
+    const scara_real vd1h_0 = -wr1h_1*qd[0];
+    const scara_real w2h_2 = -qd[0] - qd[1];
+    const scara_real wr2h_1 = (0.25)*w2h_2;
+    const scara_real vd2h_0 = c2*vd1h_0 - w2h_2*wr2h_1;
+    const scara_real vd2h_1 = s2*vd1h_0;
+    const scara_real ws2h_1 = -0.125*w2h_2;
+    const scara_real a2h_0 = vd2h_0 - w2h_2*ws2h_1;
+    const scara_real F2h_0 = (3.5)*a2h_0;
+    const scara_real F2h_1 = (3.5)*vd2h_1;
+    const scara_real F3h_0 = (1.2)*vd2h_0;
+    const scara_real F3h_1 = (1.2)*vd2h_1;
+    const scara_real vd4h_0 = c4*vd2h_0 + s4*vd2h_1;
+    const scara_real vd4h_1 = c4*vd2h_1 - s4*vd2h_0;
+    const scara_real F4h_0 = (0.4)*vd4h_0;
+    const scara_real F4h_1 = (0.4)*vd4h_1;
+    const scara_real Rf3h_0 = F4h_0*c4 - F4h_1*s4;
+    const scara_real Rf3h_1 = F4h_0*s4 + F4h_1*c4;
+    const scara_real f3h_0 = F3h_0 + Rf3h_0;
+    const scara_real f3h_1 = F3h_1 + Rf3h_1;
+    const scara_real f2h_0 = F2h_0 + f3h_0;
+    const scara_real f2h_1 = F2h_1 + f3h_1;
+    const scara_real n2h_2 = -0.125*F2h_1;
+    const scara_real tau2h = -0.25*f2h_1 - n2h_2;
+    const scara_real Rf1h_0 = c2*f2h_0 + f2h_1*s2;
+    const scara_real Rf1h_1 = -c2*f2h_1 + f2h_0*s2;
+    const scara_real n1h_2 = -0.25*Rf1h_0*s2 + (0.25)*Rf1h_1*c2 - n2h_2;
+    const scara_real tau1h = (0.4)*Rf1h_1 + n1h_2;
+    h[0] = tau1h;
+    h[1] = tau2h;
+    h[2] = 0.0;
+    h[3] = 0.0;
+}
+
+void scara_coriolis_matrix(const scara_real *q, const scara_real *qd, scara_real *C)
+{
+    const scara_real cse0 = (0.4)*qd[0];
+    const scara_real c2 = cos(q[1]);
+    const scara_real s2 = sin(q[1]);
+    const scara_real cse5 = (0.25)*s2;
+    const scara_real c4 = cos(q[3]);
+    const scara_real s4 = sin(q[3]);
+    const scara_real wr1h_1 = cse0;
+    const scara_real w2h_2 = -qd[0] - qd[1];
+    const scara_real cse1 = (0.25)*w2h_2;
+    const scara_real cse2 = -0.125*w2h_2;
+    const scara_real wr2h_1 = cse1;
+    const scara_real cse3 = wr2h_1 + cse1;
+    const scara_real ws2h_1 = cse2;
+    const scara_real cse4 = ws2h_1 + cse2;
+    const scara_real dhvd1h_0_dqd1 = -wr1h_1 - cse0;
+    const scara_real dhvd2h_0_dqd1 = c2*dhvd1h_0_dqd1 + cse3;
+    const scara_real dhvd2h_1_dqd1 = dhvd1h_0_dqd1*s2;
+    const scara_real dha2h_0_dqd1 = dhvd2h_0_dqd1 + cse4;
+    const scara_real dhF2h_0_dqd1 = (3.5)*dha2h_0_dqd1;
+    const scara_real dhF2h_1_dqd1 = (3.5)*dhvd2h_1_dqd1;
+    const scara_real dhF3h_0_dqd1 = (1.2)*dhvd2h_0_dqd1;
+    const scara_real dhF3h_1_dqd1 = (1.2)*dhvd2h_1_dqd1;
+    const scara_real dhvd4h_0_dqd1 = c4*dhvd2h_0_dqd1 + dhvd2h_1_dqd1*s4;
+    const scara_real dhvd4h_1_dqd1 = c4*dhvd2h_1_dqd1 - dhvd2h_0_dqd1*s4;
+    const scara_real dhF4h_0_dqd1 = (0.4)*dhvd4h_0_dqd1;
+    const scara_real dhF4h_1_dqd1 = (0.4)*dhvd4h_1_dqd1;
+    const scara_real dhRf3h_0_dqd1 = c4*dhF4h_0_dqd1 - dhF4h_1_dqd1*s4;
+    const scara_real dhRf3h_1_dqd1 = c4*dhF4h_1_dqd1 + dhF4h_0_dqd1*s4;
+    const scara_real dhf3h_0_dqd1 = dhF3h_0_dqd1 + dhRf3h_0_dqd1;
+    const scara_real dhf3h_1_dqd1 = dhF3h_1_dqd1 + dhRf3h_1_dqd1;
+    const scara_real dhf2h_0_dqd1 = dhF2h_0_dqd1 + dhf3h_0_dqd1;
+    const scara_real dhf2h_1_dqd1 = dhF2h_1_dqd1 + dhf3h_1_dqd1;
+    const scara_real dhn2h_2_dqd1 = -0.125*dhF2h_1_dqd1;
+    const scara_real dhtau2h_dqd1 = -0.25*dhf2h_1_dqd1 - dhn2h_2_dqd1;
+    const scara_real dhRf1h_0_dqd1 = c2*dhf2h_0_dqd1 + dhf2h_1_dqd1*s2;
+    const scara_real dhRf1h_1_dqd1 = -c2*dhf2h_1_dqd1 + dhf2h_0_dqd1*s2;
+    const scara_real dhn1h_2_dqd1 = (0.25)*c2*dhRf1h_1_dqd1 - dhRf1h_0_dqd1*cse5 - dhn2h_2_dqd1;
+    const scara_real dhtau1h_dqd1 = (0.4)*dhRf1h_1_dqd1 + dhn1h_2_dqd1;
+    const scara_real dhvd2h_0_dqd2 = cse3;
+    const scara_real dha2h_0_dqd2 = dhvd2h_0_dqd2 + cse4;
+    const scara_real dhF2h_0_dqd2 = (3.5)*dha2h_0_dqd2;
+    const scara_real dhF3h_0_dqd2 = (1.2)*dhvd2h_0_dqd2;
+    const scara_real dhvd4h_0_dqd2 = c4*dhvd2h_0_dqd2;
+    const scara_real dhvd4h_1_dqd2 = -dhvd2h_0_dqd2*s4;
+    const scara_real dhF4h_0_dqd2 = (0.4)*dhvd4h_0_dqd2;
+    const scara_real dhF4h_1_dqd2 = (0.4)*dhvd4h_1_dqd2;
+    const scara_real dhRf3h_0_dqd2 = c4*dhF4h_0_dqd2 - dhF4h_1_dqd2*s4;
+    const scara_real dhRf3h_1_dqd2 = c4*dhF4h_1_dqd2 + dhF4h_0_dqd2*s4;
+    const scara_real dhf3h_0_dqd2 = dhF3h_0_dqd2 + dhRf3h_0_dqd2;
+    const scara_real dhf2h_0_dqd2 = dhF2h_0_dqd2 + dhf3h_0_dqd2;
+    const scara_real dhtau2h_dqd2 = -0.25*dhRf3h_1_dqd2;
+    const scara_real dhRf1h_0_dqd2 = c2*dhf2h_0_dqd2 + dhRf3h_1_dqd2*s2;
+    const scara_real dhRf1h_1_dqd2 = -c2*dhRf3h_1_dqd2 + dhf2h_0_dqd2*s2;
+    const scara_real dhn1h_2_dqd2 = (0.25)*c2*dhRf1h_1_dqd2 - dhRf1h_0_dqd2*cse5;
+    const scara_real dhtau1h_dqd2 = (0.4)*dhRf1h_1_dqd2 + dhn1h_2_dqd2;
+    const scara_real C11 = (0.5)*dhtau1h_dqd1;
+    const scara_real C12 = (0.5)*dhtau1h_dqd2;
+    const scara_real C21 = (0.5)*dhtau2h_dqd1;
+    const scara_real C22 = (0.5)*dhtau2h_dqd2;
+    C[0] = C11;
+    C[1] = C12;
+    C[2] = 0.0;
+    C[3] = 0.0;
+    C[4] = C21;
+    C[5] = C22;
+    C[6] = 0.0;
+    C[7] = 0.0;
+    C[8] = 0.0;
+    C[9] = 0.0;
+    C[10] = 0.0;
+    C[11] = 0.0;
+    C[12] = 0.0;
+    C[13] = 0.0;
+    C[14] = 0.0;
+    C[15] = 0.0;
+}
+
+void scara_gravity(const scara_real *q, scara_real *c)
+{
+    (void)q;
+    c[0] = 0.0;
+    c[1] = 0.0;
+    c[2] = -15.696;
+    c[3] = 0.0;
+}
+
+void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd)
+{
+    const scara_real c2 = cos(q[1]);
+    const scara_real s2 = sin(q[1]);
+    const scara_real cse0 = (0.25)*s2;
+    const scara_real c4 = cos(q[3]);
+    const scara_real s4 = sin(q[3]);
+    const scara_real wr1h_1 = (0.4)*qd[0];
+    const scara_real vd1h_0 = -wr1h_1*qd[0];
+    const scara_real w2h_2 = -qd[0] - qd[1];
+    const scara_real wr2h_1 = (0.25)*w2h_2;
+    const scara_real vd2h_0 = c2*vd1h_0 - w2h_2*wr2h_1;
+    const scara_real vd2h_1 = s2*vd1h_0;
+    const scara_real ws2h_1 = -0.125*w2h_2;
+    const scara_real a2h_0 = vd2h_0 - w2h_2*ws2h_1;
+    const scara_real F2h_0 = (3.5)*a2h_0;
+    const scara_real F2h_1 = (3.5)*vd2h_1;
+    const scara_real F3h_0 = (1.2)*vd2h_0;
+    const scara_real F3h_1 = (1.2)*vd2h_1;
+    const scara_real vd4h_0 = c4*vd2h_0 + s4*vd2h_1;
+    const scara_real vd4h_1 = c4*vd2h_1 - s4*vd2h_0;
+    const scara_real F4h_0 = (0.4)*vd4h_0;
+    const scara_real F4h_1 = (0.4)*vd4h_1;
+    const scara_real Rf3h_0 = F4h_0*c4 - F4h_1*s4;
+    const scara_real Rf3h_1 = F4h_0*s4 + F4h_1*c4;
+    const scara_real f3h_0 = F3h_0 + Rf3h_0;
+    const scara_real f3h_1 = F3h_1 + Rf3h_1;
+    const scara_real f2h_0 = F2h_0 + f3h_0;
+    const scara_real f2h_1 = F2h_1 + f3h_1;
+    const scara_real n2h_2 = -0.125*F2h_1;
+    const scara_real tau2h = -0.25*f2h_1 - n2h_2;
+    const scara_real Rf1h_0 = c2*f2h_0 + f2h_1*s2;
+    const scara_real Rf1h_1 = -c2*f2h_1 + f2h_0*s2;
+    const scara_real n1h_2 = -Rf1h_0*cse0 + (0.25)*Rf1h_1*c2 - n2h_2;
+    const scara_real tau1h = (0.4)*Rf1h_1 + n1h_2;
+    const scara_real vd2m1_0 = (0.4)*s2;
+    const scara_real vd2m1_1 = -0.4*c2 - 0.25;
+    const scara_real a2m1_1 = vd2m1_1 + 0.125;
+    const scara_real F2m1_0 = (3.5)*vd2m1_0;
+    const scara_real F2m1_1 = (3.5)*a2m1_1;
+    const scara_real F3m1_0 = (1.2)*vd2m1_0;
+    const scara_real F3m1_1 = (1.2)*vd2m1_1;
+    const scara_real vd4m1_0 = c4*vd2m1_0 + s4*vd2m1_1;
+    const scara_real vd4m1_1 = c4*vd2m1_1 - s4*vd2m1_0;
+    const scara_real F4m1_0 = (0.4)*vd4m1_0;
+    const scara_real F4m1_1 = (0.4)*vd4m1_1;
+    const scara_real Rf3m1_0 = F4m1_0*c4 - F4m1_1*s4;
+    const scara_real Rf3m1_1 = F4m1_0*s4 + F4m1_1*c4;
+    const scara_real f3m1_0 = F3m1_0 + Rf3m1_0;
+    const scara_real f3m1_1 = F3m1_1 + Rf3m1_1;
+    const scara_real f2m1_0 = F2m1_0 + f3m1_0;
+    const scara_real f2m1_1 = F2m1_1 + f3m1_1;
+    const scara_real n2m1_2 = -0.125*F2m1_1 - 0.020929166666666665;
+    const scara_real Rf1m1_0 = c2*f2m1_0 + f2m1_1*s2;
+    const scara_real Rf1m1_1 = -c2*f2m1_1 + f2m1_0*s2;
+    const scara_real f1m1_1 = Rf1m1_1 + 1.2;
+    const scara_real n1m1_2 = -Rf1m1_0*cse0 + (0.25)*Rf1m1_1*c2 - n2m1_2 - 0.155;
+    const scara_real tau1m1 = (0.4)*f1m1_1 + n1m1_2;
+    const scara_real vd4m2_0 = -0.25*s4;
+    const scara_real vd4m2_1 = -0.25*c4;
+    const scara_real F4m2_0 = (0.4)*vd4m2_0;
+    const scara_real F4m2_1 = (0.4)*vd4m2_1;
+    const scara_real Rf3m2_0 = F4m2_0*c4 - F4m2_1*s4;
+    const scara_real Rf3m2_1 = F4m2_0*s4 + F4m2_1*c4;
+    const scara_real f3m2_1 = Rf3m2_1 - 0.3;
+    const scara_real f2m2_1 = f3m2_1 - 0.4375;
+    const scara_real tau2m2 = -0.25*f2m2_1 - 0.033758333333333335;
+    const scara_real Rf1m2_0 = Rf3m2_0*c2 + f2m2_1*s2;
+    const scara_real Rf1m2_1 = Rf3m2_0*s2 - c2*f2m2_1;
+    const scara_real n1m2_2 = -Rf1m2_0*cse0 + (0.25)*Rf1m2_1*c2 - 0.033758333333333335;
+    const scara_real tau1m2 = (0.4)*Rf1m2_1 + n1m2_2;
+    const scara_real rhs1 = -tau1h - 2.5*qd[0] + tau[0] - 3.0*((double)((qd[0] > 0) - (qd[0] < 0)));
+    const scara_real rhs2 = -tau2h - 1.2*qd[1] + tau[1] - 1.5*((double)((qd[1] > 0) - (qd[1] < 0)));
+    const scara_real rhs3 = -10.0*qd[2] + tau[2] - 4.0*((double)((qd[2] > 0) - (qd[2] < 0))) + 15.696;
+    const scara_real rhs4 = -0.1*qd[3] + tau[3] - 0.2*((double)((qd[3] > 0) - (qd[3] < 0)));
+    const scara_real ldl_d1 = tau1m1 + 0.8;
+    const scara_real ldl_inv1 = 1.0/ldl_d1;
+    const scara_real ldl_L21 = ldl_inv1*tau1m2;
+    const scara_real ldl_L41 = -0.0003*ldl_inv1;
+    const scara_real ldl_d2 = -ldl_L21*ldl_L21*ldl_d1 + tau2m2 + 0.3;
+    const scara_real ldl_inv2 = 1.0/ldl_d2;
+    const scara_real ldl_L42 = ldl_inv2*(-ldl_L21*ldl_L41*ldl_d1 - 0.0003);
+    const scara_real ldl_d4 = -ldl_L41*ldl_L41*ldl_d1 - ldl_L42*ldl_L42*ldl_d2 + 0.0503;
+    const scara_real ldl_inv4 = 1.0/ldl_d4;
+    const scara_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
+    const scara_real ldl_y4 = -ldl_L41*rhs1 - ldl_L42*ldl_y2 + rhs4;
+    const scara_real qdd4_fd = ldl_inv4*ldl_y4;
+    const scara_real qdd3_fd = (0.47619047619047616)*rhs3;
+    const scara_real qdd2_fd = -ldl_L42*qdd4_fd + ldl_inv2*ldl_y2;
+    const scara_real qdd1_fd = -ldl_L21*qdd2_fd - ldl_L41*qdd4_fd + ldl_inv1*rhs1;
+    qdd[0] = qdd1_fd;
+    qdd[1] = qdd2_fd;
+    qdd[2] = qdd3_fd;
+    qdd[3] = qdd4_fd;
+}

@@ -1,0 +1,94 @@
+/*
+ * scara_dynamics — equations of motion of robot 'scara' (4 joints, standard DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : scara.yaml
+ *   sha256    : 0a7a32e7314995d04c0f541c34ef4f611bb5ca2bc912f19f3ffb18e0c80931ee
+ */
+#ifndef SCARA_DYNAMICS_H
+#define SCARA_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double scara_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define scara_DOF 4
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define scara_NP 0
+
+/*
+ * Joints (index: name, type):
+ *   1: base_rotation, revolute
+ *   2: elbow, revolute
+ *   3: quill, prismatic
+ *   4: tool_roll, revolute
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 59 multiplications, 44 additions/subtractions, 0 divisions, 4 sin/cos, 4 other (sign, pow).
+ */
+void scara_inverse_dynamics(const scara_real *q, const scara_real *qd, const scara_real *qdd, scara_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 43 multiplications, 28 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void scara_mass_matrix(const scara_real *q, scara_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 33 multiplications, 17 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void scara_coriolis(const scara_real *q, const scara_real *qd, scara_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 53 multiplications, 29 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void scara_coriolis_matrix(const scara_real *q, const scara_real *qd, scara_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 0 multiplications, 0 additions/subtractions, 0 divisions, 0 sin/cos.
+ */
+void scara_gravity(const scara_real *q, scara_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 104 multiplications, 68 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
+ */
+void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SCARA_DYNAMICS_H */

@@ -1,0 +1,96 @@
+/*
+ * stanford_dynamics — equations of motion of robot 'stanford' (6 joints, standard DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : stanford.yaml
+ *   sha256    : 83739e3c36743844ddeaa3d6c49c1412572c7af9c9d2ec94ea6649a3a2b8c2b4
+ */
+#ifndef STANFORD_DYNAMICS_H
+#define STANFORD_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double stanford_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define stanford_DOF 6
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define stanford_NP 0
+
+/*
+ * Joints (index: name, type):
+ *   1: j1, revolute
+ *   2: j2, revolute
+ *   3: j3, prismatic
+ *   4: j4, revolute
+ *   5: j5, revolute
+ *   6: j6, revolute
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 258 multiplications, 184 additions/subtractions, 0 divisions, 8 sin/cos.
+ */
+void stanford_inverse_dynamics(const stanford_real *q, const stanford_real *qd, const stanford_real *qdd, stanford_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 344 multiplications, 220 additions/subtractions, 0 divisions, 8 sin/cos.
+ */
+void stanford_mass_matrix(const stanford_real *q, stanford_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 238 multiplications, 162 additions/subtractions, 0 divisions, 8 sin/cos.
+ */
+void stanford_coriolis(const stanford_real *q, const stanford_real *qd, stanford_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 894 multiplications, 604 additions/subtractions, 0 divisions, 8 sin/cos.
+ */
+void stanford_coriolis_matrix(const stanford_real *q, const stanford_real *qd, stanford_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 71 multiplications, 43 additions/subtractions, 0 divisions, 8 sin/cos.
+ */
+void stanford_gravity(const stanford_real *q, stanford_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 695 multiplications, 458 additions/subtractions, 6 divisions, 8 sin/cos.
+ */
+void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* STANFORD_DYNAMICS_H */

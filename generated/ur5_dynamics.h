@@ -1,0 +1,96 @@
+/*
+ * ur5_dynamics — equations of motion of robot 'ur5' (6 joints, standard DH).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   input     : ur5.yaml
+ *   sha256    : 2aec31518849d593f4f52ec7fbf92a91dbb1d9835f5a8fa2761b363f4cc7a48d
+ */
+#ifndef UR5_DYNAMICS_H
+#define UR5_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double ur5_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define ur5_DOF 6
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define ur5_NP 0
+
+/*
+ * Joints (index: name, type):
+ *   1: shoulder_pan, revolute
+ *   2: shoulder_lift, revolute
+ *   3: elbow, revolute
+ *   4: wrist_1, revolute
+ *   5: wrist_2, revolute
+ *   6: wrist_3, revolute
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 316 multiplications, 224 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void ur5_inverse_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *qdd, ur5_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 420 multiplications, 299 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void ur5_mass_matrix(const ur5_real *q, ur5_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 298 multiplications, 204 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void ur5_coriolis(const ur5_real *q, const ur5_real *qd, ur5_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 934 multiplications, 698 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void ur5_coriolis_matrix(const ur5_real *q, const ur5_real *qd, ur5_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 93 multiplications, 56 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void ur5_gravity(const ur5_real *q, ur5_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 827 multiplications, 575 additions/subtractions, 6 divisions, 10 sin/cos.
+ */
+void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* UR5_DYNAMICS_H */

@@ -1,0 +1,174 @@
+"""Generated C: checked-in files compile cleanly and regenerate byte-identically; the compiled
+functions agree with Pinocchio in double and float; sanitizers; the header-only variant."""
+
+import os
+import shutil
+import subprocess
+import zlib
+
+import numpy as np
+import pytest
+
+from helpers import REPO, ROBOTS, PinocchioReference, normalized_error, parameter_values, random_states
+from symdyn.cbuild import WARNING_FLAGS, build_and_load, find_compiler
+from symdyn.cli import main
+from symdyn.cli.generate import generate_files
+
+GENERATED = REPO / "generated"
+CC = shutil.which("gcc") or shutil.which("cc")
+pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
+
+
+@pytest.fixture(scope="session")
+def regenerated(tmp_path_factory):
+    out = tmp_path_factory.mktemp("regenerated")
+    robots = [str(REPO / "robots" / f"{name}.yaml") for name in ROBOTS]
+    assert main(["generate", *robots, "--out", str(out), "--quiet"]) == 0
+    return out
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_checked_in_files_compile_without_warnings(name, tmp_path):
+    source = GENERATED / f"{name}_dynamics.c"
+    result = subprocess.run([CC, *WARNING_FLAGS, "-O1", "-c", str(source), "-o", str(tmp_path / "x.o")],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr
+    assert result.stderr == ""
+
+
+def test_regeneration_is_byte_identical(regenerated):
+    for name in ROBOTS:
+        for ext in ("h", "c"):
+            fresh = (regenerated / f"{name}_dynamics.{ext}").read_bytes()
+            checked_in = (GENERATED / f"{name}_dynamics.{ext}").read_bytes()
+            assert fresh == checked_in, f"generated/{name}_dynamics.{ext} is stale: run the command in docs"
+
+
+def _compare(lib, name, precision, tolerance):
+    import symdyn
+    from helpers import robot_path
+    robot = symdyn.load(robot_path(name))
+    values = parameter_values(robot)
+    p = np.array([values[s] for s in robot.parameters])
+    ref = PinocchioReference(robot, values)
+    pairs = {k: ([], []) for k in ("D", "h", "C", "c", "tau", "fd")}
+    for q, qd, qdd, tau in random_states(robot.dof, 50, seed=zlib.crc32(name.encode()) % 997):
+        if precision == "float":
+            q, qd, qdd, tau = (x.astype(np.float32).astype(float) for x in (q, qd, qdd, tau))
+        for key, mine, theirs in (
+                ("D", lib.mass_matrix(q, p), ref.mass_matrix(q)),
+                ("h", lib.coriolis(q, qd, p), ref.coriolis(q, qd)),
+                ("C", lib.coriolis_matrix(q, qd, p), ref.coriolis_matrix(q, qd)),
+                ("c", lib.gravity(q, p), ref.gravity(q)),
+                ("tau", lib.inverse_dynamics(q, qd, qdd, p), ref.inverse_dynamics(q, qd, qdd)),
+                ("fd", lib.forward_dynamics(q, qd, tau, p), ref.forward_dynamics(q, qd, tau))):
+            pairs[key][0].append(np.asarray(mine, dtype=float))
+            pairs[key][1].append(theirs)
+    errors = {k: normalized_error(np.array(a), np.array(b)) for k, (a, b) in pairs.items()}
+    bad = {k: v for k, v in errors.items() if not v <= tolerance}
+    assert not bad, f"{name} {precision}: {bad}"
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_compiled_double_agrees_with_pinocchio(name, tmp_path):
+    import symdyn
+    from helpers import robot_path
+    robot = symdyn.load(robot_path(name))
+    files = {f.name: f.read_text() for f in GENERATED.glob(f"{name}_dynamics.*")}
+    lib = build_and_load(files, name, robot.dof, len(robot.parameters), "double", str(tmp_path))
+    _compare(lib, name, "double", 1e-10)
+
+
+@pytest.mark.parametrize("name", ROBOTS)
+def test_compiled_float_agrees_with_pinocchio(name, tmp_path):
+    import symdyn
+    from helpers import robot_path
+    robot = symdyn.load(robot_path(name))
+    files = generate_files(robot_path(name), symdyn.OUTPUTS, "float", False, "newton-euler")
+    assert "sinf(" in files[f"{name}_dynamics.c"] or robot.dof and "sin(" not in files[f"{name}_dynamics.c"]
+    lib = build_and_load(files, name, robot.dof, len(robot.parameters), "float", str(tmp_path))
+    _compare(lib, name, "float", 1e-4)
+
+
+HARNESS = r"""
+#include <stdio.h>
+#include "puma560_dynamics.h"
+int main(void) {
+    puma560_real q[6] = {0.1, -0.4, 0.9, 1.3, -0.7, 0.2}, qd[6] = {0.5, -1, 0.3, 2, -0.1, 1};
+    puma560_real qdd[6] = {1, 2, -1, 0.5, 0.2, -3}, tau[6], D[36], h[6], C[36], c[6], a[6];
+    double sum = 0;
+    int i;
+    puma560_inverse_dynamics(q, qd, qdd, tau);
+    puma560_mass_matrix(q, D);
+    puma560_coriolis(q, qd, h);
+    puma560_coriolis_matrix(q, qd, C);
+    puma560_gravity(q, c);
+    puma560_forward_dynamics(q, qd, tau, a);
+    for (i = 0; i < 6; ++i) sum += tau[i] + h[i] + c[i] + (a[i] - qdd[i]);
+    for (i = 0; i < 36; ++i) sum += D[i] + C[i];
+    printf("%.17g\n", sum);
+    for (i = 0; i < 6; ++i) if (a[i] - qdd[i] > 1e-9 || qdd[i] - a[i] > 1e-9) return 3;
+    return 0;
+}
+"""
+
+
+def test_sanitizers_run_clean(tmp_path):
+    shutil.copy(GENERATED / "puma560_dynamics.c", tmp_path)
+    shutil.copy(GENERATED / "puma560_dynamics.h", tmp_path)
+    (tmp_path / "main.c").write_text(HARNESS)
+    exe = tmp_path / "check"
+    cmd = [CC, *WARNING_FLAGS, "-O1", "-g", "-fsanitize=address,undefined", "-fno-sanitize-recover=all",
+           str(tmp_path / "main.c"), str(tmp_path / "puma560_dynamics.c"), "-o", str(exe), "-lm"]
+    build = subprocess.run(cmd, capture_output=True, text=True)
+    if build.returncode != 0 and "sanitize" in build.stderr and "cannot find" in build.stderr:
+        pytest.skip("sanitizer runtime not installed")
+    assert build.returncode == 0, build.stderr
+    result = subprocess.run([str(exe)], capture_output=True, text=True, env={**os.environ, "ASAN_OPTIONS": "detect_leaks=1"})
+    assert result.returncode == 0, result.stderr
+    assert "runtime error" not in result.stderr and "AddressSanitizer" not in result.stderr
+    assert np.isfinite(float(result.stdout))
+
+
+def test_header_only_variant_in_a_plain_program(tmp_path, derived):
+    assert main(["generate", str(REPO / "robots" / "puma560.yaml"), "--out", str(tmp_path),
+                 "--header-only", "--functions", "gravity,mass_matrix", "--quiet"]) == 0
+    assert sorted(os.listdir(tmp_path)) == ["puma560_dynamics.h"]
+    header = (tmp_path / "puma560_dynamics.h").read_text()
+    assert "static inline" in header and "puma560_inverse_dynamics" not in header
+    q = np.array([0.3, -0.5, 0.8, 0.1, 0.6, -0.2])
+    expected = derived("puma560").numeric.gravity(q)
+    program = "#include <math.h>\n#include <stdio.h>\n#include \"puma560_dynamics.h\"\nint main(void) {\n" \
+        f"    puma560_real q[6] = {{{', '.join(repr(float(x)) for x in q)}}};\n    puma560_real c[6];\n" \
+        "    puma560_gravity(q, c);\n" + "".join(
+            f"    if (fabs(c[{i}] - ({float(expected[i])!r})) > 1e-9 * (1.0 + fabs({float(expected[i])!r}))) return {i + 1};\n"
+            for i in range(6)) + "    printf(\"ok\\n\");\n    return 0;\n}\n"
+    (tmp_path / "main.c").write_text(program)
+    build = subprocess.run([CC, *WARNING_FLAGS, str(tmp_path / "main.c"), "-I", str(tmp_path), "-o",
+                            str(tmp_path / "main"), "-lm"], capture_output=True, text=True)
+    assert build.returncode == 0, build.stderr
+    run = subprocess.run([str(tmp_path / "main")], capture_output=True, text=True)
+    assert run.returncode == 0 and run.stdout.strip() == "ok"
+
+
+def test_functions_option_emits_only_those(tmp_path):
+    assert main(["generate", str(REPO / "robots" / "scara.yaml"), "--out", str(tmp_path),
+                 "--functions", "gravity", "--quiet"]) == 0
+    text = (tmp_path / "scara_dynamics.c").read_text() + (tmp_path / "scara_dynamics.h").read_text()
+    assert "scara_gravity(" in text
+    for other in ("inverse_dynamics", "mass_matrix", "coriolis", "forward_dynamics"):
+        assert f"scara_{other}(" not in text
+
+
+def test_float_output_has_no_double_literals_or_functions(tmp_path):
+    assert main(["generate", str(REPO / "robots" / "ur5.yaml"), "--out", str(tmp_path),
+                 "--precision", "float", "--quiet"]) == 0
+    text = (tmp_path / "ur5_dynamics.c").read_text()
+    assert "typedef float ur5_real" in (tmp_path / "ur5_dynamics.h").read_text()
+    import re
+    body = text.split("#include \"ur5_dynamics.h\"", 1)[1].split("void ur5_forward_dynamics")[0]
+    assert "Computed internally in double" in (tmp_path / "ur5_dynamics.h").read_text()
+    assert not re.search(r"\b(sin|cos|sqrt|pow)\(", body)
+    assert not re.search(r"(?<![\w.])\d+\.\d*(e[-+]?\d+)?(?![\dFe.])", body), "unsuffixed double literal"
+    subprocess.run([CC, *WARNING_FLAGS, "-Wdouble-promotion", "-c", str(tmp_path / "ur5_dynamics.c"),
+                    "-o", str(tmp_path / "x.o")], check=True)

@@ -1,0 +1,117 @@
+"""The command line, through main([...]): help, errors as one line, atomic output, cache, verify."""
+
+import os
+
+import pytest
+
+from helpers import REPO
+from symdyn.cli import main
+
+PUMA = str(REPO / "robots" / "puma560.yaml")
+
+
+def one_error_line(capsys):
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1, err
+    assert err[0].startswith("symdyn: error: ")
+    assert "Traceback" not in err[0]
+    return err[0]
+
+
+def test_help_is_complete(capsys):
+    assert main(["--help"]) == 0
+    out = capsys.readouterr().out
+    assert "generate" in out and "verify" in out
+    for sub, words in (("generate", ["--out", "--precision", "--functions", "--header-only", "--method"]),
+                       ("verify", ["--states", "--precision", "--tolerance"])):
+        assert main([sub, "--help"]) == 0
+        text = capsys.readouterr().out
+        for word in words:
+            assert word in text
+
+
+def test_missing_file(tmp_path, capsys):
+    assert main(["generate", str(tmp_path / "nope.yaml"), "--out", str(tmp_path)]) == 1
+    line = one_error_line(capsys)
+    assert "nope.yaml" in line and "cannot read" in line
+
+
+def test_bad_robot_file(tmp_path, capsys):
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("format: 1\nname: bad\nconvention: standard\nlinks:\n  - {joint: revolute, a: 0, alpha: 0, d: 0, theta: 0, mass: -1}\n")
+    assert main(["generate", str(bad), "--out", str(tmp_path / "out")]) == 1
+    line = one_error_line(capsys)
+    assert "bad.yaml" in line and "link 1" in line and "'mass'" in line
+    assert not (tmp_path / "out").exists()
+
+
+def test_unknown_function_name(tmp_path, capsys):
+    assert main(["generate", PUMA, "--out", str(tmp_path), "--functions", "gravity,jacobian"]) == 1
+    assert "jacobian" in one_error_line(capsys)
+    assert os.listdir(tmp_path) == []
+
+
+def test_unwritable_directory(tmp_path, capsys):
+    target = tmp_path / "file-not-dir"
+    target.write_text("x")
+    assert main(["generate", PUMA, "--out", str(target / "sub"), "--functions", "gravity"]) == 1
+    assert "cannot create output directory" in one_error_line(capsys)
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root can write anywhere")
+def test_read_only_directory(tmp_path, capsys):
+    out = tmp_path / "ro"
+    out.mkdir()
+    out.chmod(0o500)
+    try:
+        assert main(["generate", PUMA, "--out", str(out), "--functions", "gravity"]) == 1
+        assert "not writable" in one_error_line(capsys)
+    finally:
+        out.chmod(0o700)
+
+
+def test_failed_run_leaves_existing_files_untouched(tmp_path, capsys):
+    assert main(["generate", PUMA, "--out", str(tmp_path), "--functions", "gravity", "--quiet"]) == 0
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    bad = tmp_path / "puma560.yaml"
+    bad.write_text(open(PUMA).read().replace("mass: 17.4", "mass: 17.4 +"))
+    assert main(["generate", str(bad), "--out", str(tmp_path)]) == 1
+    one_error_line(capsys)
+    after = {p.name: p.read_bytes() for p in tmp_path.iterdir() if p.name != "puma560.yaml"}
+    assert after == before
+
+
+def test_usage_error_returns_nonzero(capsys):
+    assert main(["generate"]) == 2
+    assert main(["frobnicate"]) == 2
+    assert main([]) == 2
+
+
+def test_corrupt_cache_entry_is_rebuilt(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("SYMDYN_CACHE_DIR", str(tmp_path / "cache"))
+    out1, out2 = tmp_path / "a", tmp_path / "b"
+    assert main(["generate", PUMA, "--out", str(out1), "--functions", "gravity", "--quiet"]) == 0
+    entries = list((tmp_path / "cache").iterdir())
+    assert len(entries) == 1
+    data = bytearray(entries[0].read_bytes())
+    data[-10] ^= 0xFF  # damage the payload: the checksum must catch it
+    entries[0].write_bytes(bytes(data))
+    assert main(["generate", PUMA, "--out", str(out2), "--functions", "gravity", "--quiet"]) == 0
+    assert (out1 / "puma560_dynamics.c").read_bytes() == (out2 / "puma560_dynamics.c").read_bytes()
+    from symdyn.cache import _load
+    import re
+    key = entries[0].stem
+    assert _load(str(entries[0]), key) is not None  # rewritten, valid again
+    entries[0].write_bytes(b"garbage")
+    assert main(["generate", PUMA, "--out", str(out2), "--functions", "gravity", "--quiet"]) == 0
+
+
+def test_verify_passes_and_fails(capsys):
+    assert main(["verify", PUMA, "--states", "5"]) == 0
+    out = capsys.readouterr().out
+    for name in ("inverse_dynamics", "mass_matrix", "coriolis_matrix", "forward_dynamics"):
+        assert name in out
+    assert "FAIL" not in out
+    # an impossible tolerance must fail with exit status 1
+    assert main(["verify", PUMA, "--states", "3", "--tolerance", "1e-30"]) == 1
+    assert "FAIL" in capsys.readouterr().out
