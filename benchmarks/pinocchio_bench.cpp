@@ -1,0 +1,46 @@
+// Times Pinocchio's own C++ algorithms on a model saved by benchmarks/c_speed.py
+// (pinocchio::Model::saveToText). Prints "name ns_per_call" lines (median of repeats).
+#include <pinocchio/multibody.hpp>
+#include <pinocchio/algorithm/aba.hpp>
+#include <pinocchio/algorithm/crba.hpp>
+#include <pinocchio/algorithm/rnea.hpp>
+#include <pinocchio/algorithm/compute-all-terms.hpp>
+#include <pinocchio/serialization.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+template <typename F> double time_ns(F f, int calls) {
+  std::vector<double> runs;
+  for (int r = 0; r < 7; ++r) {
+    auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < calls; ++i) f(i);
+    auto t1 = std::chrono::steady_clock::now();
+    runs.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / calls);
+  }
+  std::sort(runs.begin(), runs.end());
+  return runs[runs.size() / 2];
+}
+
+int main(int argc, char **argv) {
+  if (argc < 2) return 2;
+  pinocchio::Model model;
+  model.loadFromText(argv[1]);
+  pinocchio::Data data(model);
+  const int calls = 20000, states = 64;
+  std::vector<Eigen::VectorXd> q, v, a;
+  for (int k = 0; k < states; ++k) {
+    q.push_back(Eigen::VectorXd::Random(model.nq)); v.push_back(Eigen::VectorXd::Random(model.nv));
+    a.push_back(Eigen::VectorXd::Random(model.nv));
+  }
+  double sink = 0;
+  std::printf("rnea %.1f\n", time_ns([&](int i) { sink += pinocchio::rnea(model, data, q[i % states], v[i % states], a[i % states])[0]; }, calls));
+  std::printf("crba %.1f\n", time_ns([&](int i) { sink += pinocchio::crba(model, data, q[i % states])(0, 0); }, calls));
+  std::printf("computeGeneralizedGravity %.1f\n", time_ns([&](int i) { sink += pinocchio::computeGeneralizedGravity(model, data, q[i % states])[0]; }, calls));
+  std::printf("nonLinearEffects %.1f\n", time_ns([&](int i) { sink += pinocchio::nonLinearEffects(model, data, q[i % states], v[i % states])[0]; }, calls));
+  std::printf("computeCoriolisMatrix %.1f\n", time_ns([&](int i) { sink += pinocchio::computeCoriolisMatrix(model, data, q[i % states], v[i % states])(0, 0); }, calls));
+  std::printf("aba %.1f\n", time_ns([&](int i) { sink += pinocchio::aba(model, data, q[i % states], v[i % states], a[i % states])[0]; }, calls));
+  std::fprintf(stderr, "checksum %g\n", sink);
+  return 0;
+}
