@@ -27,7 +27,7 @@ from symdyn.pinocchio_model import build_model  # noqa: E402
 PAIRS = [("inverse_dynamics", "rnea"), ("mass_matrix", "crba"), ("gravity", "computeGeneralizedGravity"),
          ("coriolis", "nonLinearEffects"), ("coriolis_matrix", "computeCoriolisMatrix"), ("forward_dynamics", "aba")]
 
-HARNESS = r"""
+HARNESS = r"""#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
