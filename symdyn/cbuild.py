@@ -11,7 +11,6 @@ import tempfile
 
 import numpy as np
 
-from .equations import OUTPUT_INPUTS
 from .errors import SymdynError
 
 WARNING_FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
@@ -85,4 +84,4 @@ def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, 
     return CompiledDynamics(lib, prefix, dof, n_params, precision)
 
 
-__all__ = ["compile_shared", "build_and_load", "CompiledDynamics", "find_compiler", "OUTPUT_INPUTS"]
+__all__ = ["compile_shared", "build_and_load", "CompiledDynamics", "find_compiler"]

@@ -114,3 +114,60 @@ def build_model(robot: Robot, values: Mapping | None = None):
     info = {"damping": np.array([row["damping"] for row in links]),
             "coulomb": np.array([row["coulomb"] for row in links])}
     return model, info
+
+
+def normalized_error(mine, ref) -> float:
+    """The error measure used everywhere symdyn is compared with a reference.
+
+    Arrays of shape (states, n) or (states, n, n).  For each joint j: the largest
+    ``|mine - ref|`` over states (and columns) divided by the RMS over states of joint j's
+    reference; a joint whose reference is (numerically) zero everywhere is divided by the RMS
+    of the whole output instead.  Returns the worst joint's value.
+    """
+    mine = np.asarray(mine, dtype=float)
+    ref = np.asarray(ref, dtype=float)
+    states, n = ref.shape[:2]
+    diff = np.abs(mine - ref).reshape(states, n, -1)
+    refs = ref.reshape(states, n, -1)
+    overall = float(np.sqrt(np.mean(refs**2))) or 1.0
+    worst = 0.0
+    for j in range(n):
+        rms = float(np.sqrt(np.mean(refs[:, j, :] ** 2)))
+        worst = max(worst, float(np.max(diff[:, j, :])) / (rms if rms > 1e-9 * overall else overall))
+    return worst
+
+
+class PinocchioReference:
+    """Pinocchio's values of symdyn's quantities for a robot (numbers substituted for its
+    parameters with ``values``), in symdyn's notation: ``mass_matrix`` excludes armature,
+    ``inverse_dynamics`` and ``forward_dynamics`` include viscous and Coulomb friction."""
+
+    def __init__(self, robot: Robot, values: Mapping | None = None):
+        import pinocchio as pin
+        self.pin = pin
+        self.model, info = build_model(robot, values)
+        self.data = self.model.createData()
+        self.damping, self.coulomb = info["damping"], info["coulomb"]
+        self.armature = np.array(self.model.armature)
+
+    def mass_matrix(self, q):
+        M = self.pin.crba(self.model, self.data, q)
+        return np.triu(M) + np.triu(M, 1).T - np.diag(self.armature)
+
+    def gravity(self, q):
+        return self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
+
+    def coriolis(self, q, qd):
+        return self.pin.nonLinearEffects(self.model, self.data, q, qd).copy() - self.gravity(q)
+
+    def coriolis_matrix(self, q, qd):
+        return self.pin.computeCoriolisMatrix(self.model, self.data, q, qd).copy()
+
+    def friction(self, qd):
+        return self.damping * qd + self.coulomb * np.sign(qd)
+
+    def inverse_dynamics(self, q, qd, qdd):
+        return self.pin.rnea(self.model, self.data, q, qd, qdd).copy() + self.friction(qd)
+
+    def forward_dynamics(self, q, qd, tau):
+        return self.pin.aba(self.model, self.data, q, qd, tau - self.friction(qd)).copy()

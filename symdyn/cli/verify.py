@@ -34,25 +34,12 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
-def normalized_error(mine: np.ndarray, ref: np.ndarray) -> float:
-    """max_j max |mine - ref| over states/columns of joint j / RMS of ref for joint j."""
-    states, n = ref.shape[:2]
-    diff = np.abs(mine - ref).reshape(states, n, -1)
-    refs = ref.reshape(states, n, -1)
-    overall = float(np.sqrt(np.mean(refs**2))) or 1.0
-    worst = 0.0
-    for j in range(n):
-        rms = float(np.sqrt(np.mean(refs[:, j, :] ** 2)))
-        worst = max(worst, float(np.max(diff[:, j, :])) / (rms if rms > 1e-9 * overall else overall))
-    return worst
-
-
 def run(args) -> int:
     try:
         import pinocchio  # noqa: F401
     except ImportError:
         raise SymdynError("symdyn verify needs Pinocchio: pip install pin (or 'symdyn[test]')") from None
-    from ..pinocchio_model import build_model
+    from ..pinocchio_model import PinocchioReference, normalized_error
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
     robot = load(args.robot)
@@ -65,27 +52,21 @@ def run(args) -> int:
     files = generate_c(eqs, OUTPUTS, args.precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), args.precision, workdir)
-        model, info = build_model(robot, values)
-        data = model.createData()
-        import pinocchio as pin
+        ref = PinocchioReference(robot, values)
         n = robot.dof
         results = {name: ([], []) for name in OUTPUTS}
         for _ in range(args.states):
             q, qd, qdd = rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n), rng.uniform(-5, 5, n)
             tau = rng.uniform(-20, 20, n)
-            friction = info["damping"] * qd + info["coulomb"] * np.sign(qd)
             if args.precision == "float":  # judge the arithmetic, not the rounding of the inputs
                 q, qd, qdd, tau = (x.astype(np.float32).astype(float) for x in (q, qd, qdd, tau))
-            M = pin.crba(model, data, q)
-            M = np.triu(M) + np.triu(M, 1).T - np.diag(model.armature)
-            g = pin.computeGeneralizedGravity(model, data, q).copy()
             refs = {
-                "inverse_dynamics": pin.rnea(model, data, q, qd, qdd).copy() + friction,
-                "mass_matrix": M,
-                "coriolis": pin.nonLinearEffects(model, data, q, qd).copy() - g,
-                "coriolis_matrix": pin.computeCoriolisMatrix(model, data, q, qd).copy(),
-                "gravity": g,
-                "forward_dynamics": pin.aba(model, data, q, qd, tau - friction).copy(),
+                "inverse_dynamics": ref.inverse_dynamics(q, qd, qdd),
+                "mass_matrix": ref.mass_matrix(q),
+                "coriolis": ref.coriolis(q, qd),
+                "coriolis_matrix": ref.coriolis_matrix(q, qd),
+                "gravity": ref.gravity(q),
+                "forward_dynamics": ref.forward_dynamics(q, qd, tau),
             }
             mine = {
                 "inverse_dynamics": lib.inverse_dynamics(q, qd, qdd, p),
