@@ -62,7 +62,7 @@ def pinocchio_bench_binary(workdir):
     prefix = os.path.join(site, "cmeel.prefix")
     eigen = os.path.join(site, "casadi", "include", "eigen3")
     exe = os.path.join(workdir, "pinbench")
-    cmd = ["g++", "-O3", "-DNDEBUG", "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_MPL_LIMIT_LIST_SIZE=30",
+    cmd = ["g++", "-O3", "-w", "-DNDEBUG", "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_MPL_LIMIT_LIST_SIZE=30",
            "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12",
            "-DBOOST_FUSION_INVOKE_FUNCTION_OBJECT_MAX_ARITY=12", "-DBOOST_FUSION_INVOKE_PROCEDURE_MAX_ARITY=12", "-std=c++17", "-march=native", os.path.join(HERE, "pinocchio_bench.cpp"),
            f"-I{prefix}/include", f"-I{eigen}", f"-L{prefix}/lib", "-lpinocchio_default", "-lboost_serialization",

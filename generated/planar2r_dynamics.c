@@ -43,23 +43,16 @@ void planar2r_inverse_dynamics(const planar2r_real *q, const planar2r_real *qd, 
 void planar2r_mass_matrix(const planar2r_real *q, const planar2r_real *p, planar2r_real *D)
 {
     const planar2r_real c2 = cos(q[1]);
-    const planar2r_real s2 = sin(q[1]);
-    const planar2r_real F1m1_1 = p[2]*p[1];
-    const planar2r_real vd2m1_0 = s2*p[4];
-    const planar2r_real vd2m1_1 = c2*p[4];
-    const planar2r_real a2m1_1 = vd2m1_1 + p[6];
-    const planar2r_real F2m1_0 = vd2m1_0*p[5];
-    const planar2r_real F2m1_1 = a2m1_1*p[5];
-    const planar2r_real n2m1_2 = p[7] + F2m1_1*p[6];
-    const planar2r_real Rf1m1_1 = F2m1_0*s2 + F2m1_1*c2;
-    const planar2r_real n1m1_2 = p[3] + F1m1_1*p[2] + Rf1m1_1*p[4] + n2m1_2;
-    const planar2r_real F2m2_1 = p[6]*p[5];
-    const planar2r_real n2m2_2 = p[7] + F2m2_1*p[6];
-    const planar2r_real Rf1m2_1 = F2m2_1*c2;
-    const planar2r_real n1m2_2 = Rf1m2_1*p[4] + n2m2_2;
-    D[0] = n1m1_2;
-    D[1] = n1m2_2;
-    D[3] = n2m2_2;
+    const planar2r_real Ic2h_0 = p[6]*p[5];
+    const planar2r_real Ic2J_22 = p[7] + p[6]*p[6]*p[5];
+    const planar2r_real Iq2h_0 = Ic2h_0*c2;
+    const planar2r_real cse0 = Iq2h_0*p[4];
+    const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[4]*p[4]*p[5];
+    const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[2]*p[2]*p[1];
+    const planar2r_real F2b2n_2 = Ic2J_22 + cse0;
+    D[0] = Ic1J_22;
+    D[1] = F2b2n_2;
+    D[3] = Ic2J_22;
     D[2] = D[1];
 }
 
@@ -143,19 +136,13 @@ void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, 
     const planar2r_real F1g_1 = vd1g_1*p[1];
     const planar2r_real w2h_2 = qd[0] + qd[1];
     const planar2r_real ws2h_1 = w2h_2*p[6];
-    const planar2r_real F1m1_1 = p[2]*p[1];
-    const planar2r_real vd2m1_0 = s2*p[4];
-    const planar2r_real vd2m1_1 = c2*p[4];
-    const planar2r_real a2m1_1 = vd2m1_1 + p[6];
-    const planar2r_real F2m1_0 = vd2m1_0*p[5];
-    const planar2r_real F2m1_1 = a2m1_1*p[5];
-    const planar2r_real n2m1_2 = p[7] + F2m1_1*p[6];
-    const planar2r_real Rf1m1_1 = F2m1_0*s2 + F2m1_1*c2;
-    const planar2r_real n1m1_2 = p[3] + F1m1_1*p[2] + Rf1m1_1*p[4] + n2m1_2;
-    const planar2r_real F2m2_1 = p[6]*p[5];
-    const planar2r_real n2m2_2 = p[7] + F2m2_1*p[6];
-    const planar2r_real Rf1m2_1 = F2m2_1*c2;
-    const planar2r_real n1m2_2 = Rf1m2_1*p[4] + n2m2_2;
+    const planar2r_real Ic2h_0 = p[6]*p[5];
+    const planar2r_real Ic2J_22 = p[7] + p[6]*p[6]*p[5];
+    const planar2r_real Iq2h_0 = Ic2h_0*c2;
+    const planar2r_real cse0 = Iq2h_0*p[4];
+    const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[4]*p[4]*p[5];
+    const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[2]*p[2]*p[1];
+    const planar2r_real F2b2n_2 = Ic2J_22 + cse0;
     const planar2r_real aJ2_0 = vd1g_0 - p[4]*qd[0]*qd[0];
     const planar2r_real vd2b_0 = aJ2_0*c2 + s2*vd1g_1;
     const planar2r_real vd2b_1 = -aJ2_0*s2 + c2*vd1g_1;
@@ -167,9 +154,9 @@ void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, 
     const planar2r_real n1b_2 = F1g_1*p[2] + Rf1b_1*p[4] + n2b_2;
     const planar2r_real rhs1 = -n1b_2 + tau[0];
     const planar2r_real rhs2 = -n2b_2 + tau[1];
-    const planar2r_real ldl_inv1 = 1.0/n1m1_2;
-    const planar2r_real ldl_L21 = ldl_inv1*n1m2_2;
-    const planar2r_real ldl_d2 = -ldl_L21*ldl_L21*n1m1_2 + n2m2_2;
+    const planar2r_real ldl_inv1 = 1.0/Ic1J_22;
+    const planar2r_real ldl_L21 = F2b2n_2*ldl_inv1;
+    const planar2r_real ldl_d2 = -Ic1J_22*ldl_L21*ldl_L21 + Ic2J_22;
     const planar2r_real ldl_inv2 = 1.0/ldl_d2;
     const planar2r_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const planar2r_real qdd2_fd = ldl_inv2*ldl_y2;

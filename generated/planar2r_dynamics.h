@@ -58,7 +58,7 @@ void planar2r_inverse_dynamics(const planar2r_real *q, const planar2r_real *qd, 
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   p: runtime parameters, NP, in the order listed above
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 14 multiplications, 8 additions/subtractions, 0 divisions, 2 sin/cos.
+ * Cost: 10 multiplications, 6 additions/subtractions, 0 divisions, 1 sin/cos.
  */
 void planar2r_mass_matrix(const planar2r_real *q, const planar2r_real *p, planar2r_real *D);
 
@@ -98,7 +98,7 @@ void planar2r_gravity(const planar2r_real *q, const planar2r_real *p, planar2r_r
  *   tau: joint torques/forces, N (N m or N)
  *   p: runtime parameters, NP, in the order listed above
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 39 multiplications, 21 additions/subtractions, 2 divisions, 4 sin/cos.
+ * Cost: 35 multiplications, 19 additions/subtractions, 2 divisions, 4 sin/cos.
  */
 void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd);
 

@@ -47,7 +47,7 @@ void scara_inverse_dynamics(const scara_real *q, const scara_real *qd, const sca
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 43 multiplications, 28 additions/subtractions, 0 divisions, 4 sin/cos.
+ * Cost: 3 multiplications, 3 additions/subtractions, 0 divisions, 1 sin/cos.
  */
 void scara_mass_matrix(const scara_real *q, scara_real *D);
 
@@ -83,7 +83,7 @@ void scara_gravity(const scara_real *q, scara_real *c);
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 104 multiplications, 68 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
+ * Cost: 65 multiplications, 42 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);
 

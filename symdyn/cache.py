@@ -1,5 +1,6 @@
-"""On-disk cache of derivations, keyed by a hash of the robot's content, the method, the outputs
-and symdyn's version.
+"""On-disk cache of derivations, keyed by a hash of the robot's content, the method, the outputs,
+symdyn's version and the source of the derivation modules (so a changed derivation never reads
+an entry written by older code, even within one version).
 
 Entries are written atomically and carry a checksum of their payload; an entry that fails to
 read, has the wrong key or the wrong checksum is ignored and rebuilt, never trusted.  The cache
@@ -8,6 +9,7 @@ lives in ``$SYMDYN_CACHE_DIR``, else ``$XDG_CACHE_HOME/symdyn``, else ``~/.cache
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import os
 import pickle
@@ -40,8 +42,25 @@ def robot_fingerprint(robot) -> str:
     return hashlib.sha256("\n".join(parts).encode()).hexdigest()
 
 
+#: modules whose code decides what a derivation produces
+DERIVATION_MODULES = ("chain", "composite", "equations", "expr", "kinematics", "lagrange_euler",
+                      "newton_euler", "program", "robot")
+
+
+@functools.lru_cache(maxsize=1)
+def code_fingerprint() -> str:
+    """Hash of the source of the derivation modules."""
+    digest = hashlib.sha256()
+    package = os.path.dirname(os.path.abspath(__file__))
+    for name in DERIVATION_MODULES:
+        with open(os.path.join(package, f"{name}.py"), "rb") as handle:
+            digest.update(name.encode() + b"\0" + handle.read())
+    return digest.hexdigest()
+
+
 def cache_key(robot, method: str, outputs) -> str:
-    text = "|".join([__version__, robot_fingerprint(robot), method, ",".join(sorted(outputs))])
+    text = "|".join([__version__, code_fingerprint(), robot_fingerprint(robot), method,
+                     ",".join(sorted(outputs))])
     return hashlib.sha256(text.encode()).hexdigest()
 
 

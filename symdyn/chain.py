@@ -28,6 +28,7 @@ class Chain:
     builder: ProgramBuilder
     geometry: list[JointGeometry]
     transforms: list[sp.Matrix]  # ^{i-1}T_i written with the sin/cos symbols
+    motions: list[sp.Matrix]  # Joint_i(q_i) (4x4) written with the sin/cos symbols
     trig: dict[sp.Symbol, sp.Expr]  # trig symbol -> cos/sin(theta + q)
 
     @property
@@ -42,7 +43,7 @@ class Chain:
 def make_chain(robot: Robot, prefix: str = "_") -> Chain:
     q, qd, qdd, tau = joint_symbols(robot.dof)
     builder = ProgramBuilder(prefix)
-    geometry, transforms, trig = [], [], {}
+    geometry, transforms, motions, trig = [], [], [], {}
     for i, link in enumerate(robot.links):
         geo = joint_geometry(link, robot.convention)
         cos_sin = None
@@ -53,5 +54,6 @@ def make_chain(robot: Robot, prefix: str = "_") -> Chain:
             trig[c], trig[s] = sp.cos(angle), sp.sin(angle)
             cos_sin = (c, s)
         geometry.append(geo)
-        transforms.append(sp.Matrix(geo.pre) * joint_motion(link, q[i], cos_sin) * sp.Matrix(geo.post))
-    return Chain(robot, q, qd, qdd, tau, builder, geometry, transforms, trig)
+        motions.append(joint_motion(link, q[i], cos_sin))
+        transforms.append(sp.Matrix(geo.pre) * motions[-1] * sp.Matrix(geo.post))
+    return Chain(robot, q, qd, qdd, tau, builder, geometry, transforms, motions, trig)

@@ -20,6 +20,10 @@ C satisfies ``dD/dt - 2C`` skew-symmetric; with Newton-Euler it is computed as
 ``C = (1/2) dh/dqd`` (h is quadratic in qd and its symmetric coefficient tensor is exactly the
 Christoffel symbols of the first kind), with Lagrange-Euler as ``C_ik = sum_m h_ikm qd_m``.
 
+With Newton-Euler, D comes from the composite-rigid-body method (:mod:`symdyn.composite`), the
+recursive companion of Table 3.2; with Lagrange-Euler from the trace form over U_ij and the
+pseudo-inertias.
+
 Forward dynamics solves ``(D + diag(armature)) qdd = tau - h - c - friction`` with an LDL^T
 factorization written out for the robot (no inverse).
 """
@@ -34,6 +38,7 @@ from typing import Iterable, Mapping
 import sympy as sp
 
 from .chain import make_chain
+from .composite import mass_matrix as composite_mass_matrix
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
@@ -164,7 +169,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     Parameters
     ----------
     robot : the robot description (see :func:`symdyn.load`).
-    method : ``'newton-euler'`` (recursive, Table 3.2) or ``'lagrange-euler'`` (trace form).
+    method : ``'newton-euler'`` (recursive, Table 3.2; D by composite rigid bodies) or ``'lagrange-euler'`` (trace form).
     outputs : names from :data:`OUTPUTS` to derive (default: all of them).
 
     Returns
@@ -200,13 +205,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                 C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i] / 2))
                 result["coriolis_matrix"] = C
         if "mass_matrix" in need:
-            D = sp.zeros(n, n)
-            for j in range(n):
-                unit = [sp.S.One if k == j else sp.S.Zero for k in range(n)]
-                column = joint_forces(chain, zero, unit, no_gravity, f"m{j + 1}")
-                for i in range(j + 1):
-                    D[i, j] = D[j, i] = column[i]
-            result["mass_matrix"] = D
+            result["mass_matrix"] = composite_mass_matrix(chain)
         if "inverse_dynamics" in need:
             rigid = joint_forces(chain, qd, qdd, chain.gravity, "")
             result["inverse_dynamics"] = rigid + friction

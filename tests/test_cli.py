@@ -115,3 +115,24 @@ def test_verify_passes_and_fails(capsys):
     # an impossible tolerance must fail with exit status 1
     assert main(["verify", PUMA, "--states", "3", "--tolerance", "1e-30"]) == 1
     assert "FAIL" in capsys.readouterr().out
+
+
+def test_cache_key_covers_derivation_code(monkeypatch):
+    """A stale entry written by other derivation code must not be found: the key includes a
+    hash of every derivation module, and every module the derivation imports is listed."""
+    import ast
+    import symdyn.cache as cache
+    package = os.path.join(REPO, "symdyn")
+    listed = set(cache.DERIVATION_MODULES)
+    for name in listed:
+        tree = ast.parse(open(os.path.join(package, f"{name}.py")).read())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.level == 1 and node.module:
+                module = node.module.split(".")[0]
+                if module not in ("errors", "_version", "numeric"):  # no effect on the result
+                    assert module in listed, f"{name} imports {module}, missing from the cache key"
+    robot = __import__("symdyn").load(PUMA)
+    key = cache.cache_key(robot, "newton-euler", ["gravity"])
+    cache.code_fingerprint.cache_clear()
+    monkeypatch.setattr(cache, "code_fingerprint", lambda: "0" * 64)
+    assert cache.cache_key(robot, "newton-euler", ["gravity"]) != key
