@@ -7,6 +7,7 @@ Public API::
     eqs.mass_matrix, eqs.coriolis, eqs.coriolis_matrix, eqs.gravity,
     eqs.inverse_dynamics, eqs.forward_dynamics          # SymPy matrices
     eqs.numeric.inverse_dynamics(q, qd, qdd)            # numpy evaluation
+    fns = symdyn.to_casadi(robot)                       # {name: casadi.Function}
 """
 
 from ._version import __version__
@@ -14,5 +15,13 @@ from .equations import METHODS, OUTPUTS, Equations, derive
 from .errors import RobotFileError, SymdynError
 from .robot import Link, Robot, load, loads
 
+
+def to_casadi(source, functions=None, method="newton-euler", prefix="", use_cache=True):
+    """The equations of motion as named ``casadi.Function``s; see
+    :func:`symdyn.casadi_backend.to_casadi` (CasADi is imported on first use)."""
+    from .casadi_backend import to_casadi as build
+    return build(source, functions, method, prefix, use_cache)
+
+
 __all__ = ["__version__", "load", "loads", "derive", "Robot", "Link", "Equations", "OUTPUTS",
-           "METHODS", "RobotFileError", "SymdynError"]
+           "METHODS", "RobotFileError", "SymdynError", "to_casadi"]

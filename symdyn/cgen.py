@@ -11,11 +11,11 @@ from __future__ import annotations
 from collections import Counter
 from dataclasses import dataclass, field
 
-import jinja2
 import sympy as sp
 
 from ._version import __version__
-from .cprinter import CPrinter, count_operations, fold_constants
+from .cprinter import CPrinter, count_operations
+from .emission import fold_constants, template_environment
 from .equations import OUTPUT_INPUTS, OUTPUTS, Equations
 
 ARG_DOCS = {
@@ -156,14 +156,6 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused)
 
 
-def _environment() -> jinja2.Environment:
-    from importlib.resources import files
-    return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(str(files("symdyn.templates"))),
-        undefined=jinja2.StrictUndefined, keep_trailing_newline=True,
-        trim_blocks=True, lstrip_blocks=True, autoescape=False)
-
-
 def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
                source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = ()) -> dict[str, str]:
     """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` (or one header of static inline
@@ -192,7 +184,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "notes": list(notes),
         "math_header": True,
     }
-    env = _environment()
+    env = template_environment()
     header = env.get_template("dynamics.h.j2").render(**context)
     files = {f"{prefix}_dynamics.h": header}
     if not header_only:

@@ -15,15 +15,9 @@ from collections import Counter
 import sympy as sp
 from sympy.printing.c import C99CodePrinter
 
+from .emission import fold_constants  # noqa: F401 (re-exported)
+
 PRECISIONS = ("double", "float")
-
-
-def fold_constants(expr: sp.Expr, digits: int = 30) -> sp.Expr:
-    """Replace every symbol-free, non-rational subexpression (cos(2/5), sqrt(3)/2, pi/4) by a
-    Float of ``digits`` digits, so the generated code has no constant function calls."""
-    def is_const(e):
-        return (e.is_number and not e.is_Rational and not e.is_Float and not e.is_Atom) or e is sp.pi
-    return expr.replace(is_const, lambda e: sp.Float(sp.N(e, digits), digits))
 
 
 class CPrinter(C99CodePrinter):

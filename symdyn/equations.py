@@ -60,6 +60,16 @@ OUTPUT_INPUTS = {
     "forward_dynamics": ("q", "qd", "tau"),
 }
 
+#: the symbol of each output in the notes (and the name of its output argument everywhere)
+OUTPUT_SYMBOLS = {
+    "inverse_dynamics": "tau",
+    "mass_matrix": "D",
+    "coriolis": "h",
+    "coriolis_matrix": "C",
+    "gravity": "c",
+    "forward_dynamics": "qdd",
+}
+
 
 @dataclass(frozen=True)
 class Equations:

@@ -84,7 +84,8 @@ def test_compiled_float_agrees_with_pinocchio(name, tmp_path):
     import symdyn
     from helpers import robot_path
     robot = symdyn.load(robot_path(name))
-    files = generate_files(robot_path(name), symdyn.OUTPUTS, "float", False, "newton-euler")
+    files = {k: v.decode() for k, v in
+             generate_files(robot_path(name), symdyn.OUTPUTS, "float", False, "newton-euler").items()}
     assert "sinf(" in files[f"{name}_dynamics.c"] or robot.dof and "sin(" not in files[f"{name}_dynamics.c"]
     lib = build_and_load(files, name, robot.dof, len(robot.parameters), "float", str(tmp_path))
     _compare(lib, name, "float", 1e-4)

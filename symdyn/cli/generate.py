@@ -1,4 +1,4 @@
-"""``symdyn generate``: robot file(s) in, C (header and source) out."""
+"""``symdyn generate``: robot file(s) in, C (header and source) or CasADi functions out."""
 
 from __future__ import annotations
 
@@ -11,7 +11,8 @@ from ..errors import SymdynError
 from ..robot import load
 from .common import add_method_option, parse_functions
 
-HELP = "generate C code (NAME_dynamics.h/.c) for robot files"
+HELP = "generate C code (NAME_dynamics.h/.c) or CasADi functions for robot files"
+TARGETS = ("c", "casadi", "casadi-c")
 
 
 def add_parser(sub) -> None:
@@ -19,13 +20,18 @@ def add_parser(sub) -> None:
                        "atomically; on any error existing files are left untouched.")
     p.add_argument("robots", nargs="+", metavar="ROBOT.yaml", help="robot file(s) (format version 1)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
+    p.add_argument("--target", default="c", choices=TARGETS,
+                   help="c (default): NAME_dynamics.h/.c; casadi: NAME_dynamics.casadi and one "
+                        "NAME_<function>.casadi per function (casadi.Function.save format) with "
+                        "NAME_casadi.txt describing them; casadi-c: as casadi, plus CasADi's own "
+                        "generated C (NAME_casadi.c/.h) for comparison")
     p.add_argument("--precision", default="double", choices=PRECISIONS,
-                   help="scalar type of the generated code (float gives sinf/cosf and float literals)")
+                   help="scalar type of the generated C (float gives sinf/cosf and float literals); c target only")
     p.add_argument("--functions", metavar="LIST",
                    help="comma-separated subset of: inverse_dynamics, mass_matrix, coriolis, "
                         "coriolis_matrix, gravity, forward_dynamics (default: all)")
     p.add_argument("--header-only", action="store_true",
-                   help="write one header of static inline functions instead of .h + .c")
+                   help="write one header of static inline functions instead of .h + .c; c target only")
     add_method_option(p)
     p.add_argument("--no-cache", action="store_true", help="do not read or write the derivation cache")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
@@ -33,23 +39,31 @@ def add_parser(sub) -> None:
 
 
 def generate_files(path: str, functions, precision: str, header_only: bool, method: str,
-                   use_cache: bool = True) -> dict[str, str]:
-    """Load, derive (cached) and emit; returns {file name: text} without writing anything."""
+                   use_cache: bool = True, target: str = "c") -> dict[str, bytes]:
+    """Load, derive (cached) and emit; returns {file name: content} without writing anything."""
     robot = load(path)
     wanted = set(functions)
     if "forward_dynamics" in wanted:
         wanted |= {"mass_matrix"}
     eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache)
-    return generate_c(eqs, functions, precision, header_only,
-                      source_name=os.path.basename(path), source_hash=robot.source_hash)
+    source = os.path.basename(path)
+    if target == "c":
+        files = generate_c(eqs, functions, precision, header_only, source_name=source,
+                           source_hash=robot.source_hash)
+        return {name: text.encode("utf-8") for name, text in files.items()}
+    from ..casadi_backend import casadi_files
+    return casadi_files(eqs, functions, casadi_c=target == "casadi-c", source_name=source,
+                        source_hash=robot.source_hash)
 
 
 def run(args) -> int:
     functions = parse_functions(args.functions)
+    if args.target != "c" and (args.precision != "double" or args.header_only):
+        raise SymdynError(f"--precision and --header-only apply to the c target only, not {args.target}")
     rendered = {}
     for path in args.robots:
         for name, text in generate_files(path, functions, args.precision, args.header_only,
-                                         args.method, not args.no_cache).items():
+                                         args.method, not args.no_cache, args.target).items():
             if name in rendered:
                 raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
             rendered[name] = text
@@ -62,7 +76,7 @@ def run(args) -> int:
     for name, text in rendered.items():
         target = os.path.join(args.out, name)
         try:
-            write_atomic(target, text.encode("utf-8"))
+            write_atomic(target, text)
         except OSError as exc:
             raise SymdynError(f"cannot write {target}: {exc.strerror or exc}") from None
         if not args.quiet:

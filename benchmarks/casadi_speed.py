@@ -1,0 +1,139 @@
+"""Call time of symdyn's CasADi functions beside symdyn's own C, in the same run.
+
+Usage:  python benchmarks/casadi_speed.py [ROBOT ...]      (default: puma560 ur5 iiwa14)
+
+For each robot and function, ns per call of:
+- symdyn C: the generated NAME_dynamics.c, -O3 -march=native, timed in a C loop;
+- CasADi C: CasADi's own generated C of the same casadi.Function (symdyn generate --target
+  casadi-c), same flags, same loop, called with its arg/res/work-vector convention;
+- SX VM: the casadi.Function evaluated by CasADi's SX virtual machine, timed as one call of
+  ``f.map(M, "serial")`` over M = 20000 states divided by M (so Python's per-call overhead is
+  not counted), median of 7.
+Also the Python overhead of one plain ``f(q, qd, qdd)`` call from numpy, which is what a Python
+user sees.  Ratios > 1 mean symdyn's C is faster.
+"""
+
+import os
+import re
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, ".."))
+
+import casadi as ca  # noqa: E402
+
+import symdyn  # noqa: E402
+from symdyn.casadi_backend import casadi_files, casadi_function  # noqa: E402
+from symdyn.cgen import generate_c  # noqa: E402
+from symdyn.equations import OUTPUT_INPUTS, OUTPUTS  # noqa: E402
+
+HARNESS = r"""#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+#include "%(n)s_dynamics.h"
+#include "%(n)s_casadi.h"
+#define N %(dof)d
+#define S 64
+static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
+static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
+static double q[S][N], qd[S][N], qdd[S][N], out[N * N];
+static volatile double sink;
+static double w[100000];
+static casadi_int iw[1000];
+#define TIME(label, call) do { double runs[7]; int r, i; for (r = 0; r < 7; ++r) { double t0 = now(); \
+    for (i = 0; i < 20000; ++i) { int k = i %% S; call; sink += out[0]; } runs[r] = (now() - t0) / 20000; } \
+    qsort(runs, 7, sizeof(double), cmp); printf("%%s %%.1f\n", label, runs[3]); } while (0)
+#define CASADI(fn, a0, a1, a2) do { const double *arg[3]; double *res[1]; \
+    arg[0] = a0; arg[1] = a1; arg[2] = a2; res[0] = out; fn(arg, res, iw, w, 0); } while (0)
+int main(void) {
+    int k, j;
+    srand(1);
+    for (k = 0; k < S; ++k) for (j = 0; j < N; ++j) {
+        q[k][j] = 6.0 * rand() / RAND_MAX - 3; qd[k][j] = 2.0 * rand() / RAND_MAX - 1; qdd[k][j] = 2.0 * rand() / RAND_MAX - 1; }
+    TIME("c_inverse_dynamics", %(n)s_inverse_dynamics(q[k], qd[k], qdd[k], out));
+    TIME("casadi_c_inverse_dynamics", CASADI(%(n)s_casadi_inverse_dynamics, q[k], qd[k], qdd[k]));
+    TIME("c_mass_matrix", %(n)s_mass_matrix(q[k], out));
+    TIME("casadi_c_mass_matrix", CASADI(%(n)s_casadi_mass_matrix, q[k], 0, 0));
+    TIME("c_gravity", %(n)s_gravity(q[k], out));
+    TIME("casadi_c_gravity", CASADI(%(n)s_casadi_gravity, q[k], 0, 0));
+    TIME("c_coriolis", %(n)s_coriolis(q[k], qd[k], out));
+    TIME("casadi_c_coriolis", CASADI(%(n)s_casadi_coriolis, q[k], qd[k], 0));
+    TIME("c_coriolis_matrix", %(n)s_coriolis_matrix(q[k], qd[k], out));
+    TIME("casadi_c_coriolis_matrix", CASADI(%(n)s_casadi_coriolis_matrix, q[k], qd[k], 0));
+    TIME("c_forward_dynamics", %(n)s_forward_dynamics(q[k], qd[k], qdd[k], out));
+    TIME("casadi_c_forward_dynamics", CASADI(%(n)s_casadi_forward_dynamics, q[k], qd[k], qdd[k]));
+    return 0;
+}
+"""
+
+
+def parse(text):
+    return {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+) ([\d.]+)$", text, re.M)}
+
+
+def vm_time(function, dof, states=20000, repeats=7):
+    """ns per evaluation by CasADi's SX virtual machine (serial map, one Python call)."""
+    mapped = function.map(states, "serial")
+    rng = np.random.default_rng(1)
+    args = [rng.uniform(-1, 1, (dof, states)) for _ in range(function.n_in())]
+    runs = []
+    for _ in range(repeats):
+        start = time.perf_counter()
+        mapped(*args)
+        runs.append((time.perf_counter() - start) / states * 1e9)
+    return statistics.median(runs)
+
+
+def python_call_time(function, dof, calls=2000):
+    args = [np.linspace(-1, 1, dof) for _ in range(function.n_in())]
+    runs = []
+    for _ in range(5):
+        start = time.perf_counter()
+        for _ in range(calls):
+            function(*args)
+        runs.append((time.perf_counter() - start) / calls * 1e9)
+    return statistics.median(runs)
+
+
+def main(argv=None):
+    names = (argv if argv is not None else sys.argv[1:]) or ["puma560", "ur5", "iiwa14"]
+    print(f"CasADi {ca.__version__}")
+    print("| robot | function | symdyn C (ns) | CasADi C (ns) | SX VM (ns) | CasADi C / symdyn C | SX VM / symdyn C | Python call of f (us) |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|")
+    with tempfile.TemporaryDirectory() as workdir:
+        for name in names:
+            robot = symdyn.load(os.path.join(HERE, "..", "robots", f"{name}.yaml"))
+            if robot.parameters:
+                raise SystemExit(f"{name} has runtime parameters; this benchmark times robots without them")
+            eqs = symdyn.derive(robot)
+            files = {k: v.encode() for k, v in generate_c(eqs).items()}
+            files.update(casadi_files(eqs, casadi_c=True))
+            for fname, data in files.items():
+                with open(os.path.join(workdir, fname), "wb") as handle:
+                    handle.write(data)
+            with open(os.path.join(workdir, "bench.c"), "w") as handle:
+                handle.write(HARNESS % {"n": name, "dof": robot.dof})
+            exe = os.path.join(workdir, f"bench_{name}")
+            subprocess.run(["gcc", "-O3", "-march=native", "-std=c99", "-w", os.path.join(workdir, "bench.c"),
+                            os.path.join(workdir, f"{name}_dynamics.c"), os.path.join(workdir, f"{name}_casadi.c"),
+                            "-o", exe, "-lm"], check=True)
+            timings = parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)
+            for fname in OUTPUTS:
+                function = casadi_function(eqs, fname)
+                assert function.n_in() == len(OUTPUT_INPUTS[fname])
+                vm = vm_time(function, robot.dof)
+                call = python_call_time(function, robot.dof)
+                mine, theirs = timings[f"c_{fname}"], timings[f"casadi_c_{fname}"]
+                print(f"| {name} | {fname} | {mine:.0f} | {theirs:.0f} | {vm:.0f} | {theirs / mine:.1f}x | "
+                      f"{vm / mine:.1f}x | {call / 1000:.1f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
