@@ -11,7 +11,6 @@ ratios (Pinocchio time / symdyn time, > 1 means symdyn is faster) and the operat
 """
 
 import os
-import re
 import subprocess
 import sys
 import sysconfig
@@ -21,31 +20,14 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
 import symdyn  # noqa: E402
+from timing_harness import PRELUDE, parse  # noqa: E402
 from symdyn.cgen import generate_c  # noqa: E402
 from symdyn.pinocchio_model import build_model  # noqa: E402
 
 PAIRS = [("inverse_dynamics", "rnea"), ("mass_matrix", "crba"), ("gravity", "computeGeneralizedGravity"),
          ("coriolis", "nonLinearEffects"), ("coriolis_matrix", "computeCoriolisMatrix"), ("forward_dynamics", "aba")]
 
-HARNESS = r"""#define _POSIX_C_SOURCE 199309L
-#include <stdio.h>
-#include <stdlib.h>
-#include <time.h>
-#include "%(n)s_dynamics.h"
-#define N %(dof)d
-#define S 64
-static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
-static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
-static double q[S][N], qd[S][N], qdd[S][N], out[N * N];
-static volatile double sink;
-#define TIME(label, call) do { double runs[7]; int r, i; for (r = 0; r < 7; ++r) { double t0 = now(); \
-    for (i = 0; i < 20000; ++i) { int k = i %% S; call; sink += out[0]; } runs[r] = (now() - t0) / 20000; } \
-    qsort(runs, 7, sizeof(double), cmp); printf("%%s %%.1f\n", label, runs[3]); } while (0)
-int main(void) {
-    int k, j;
-    srand(1);
-    for (k = 0; k < S; ++k) for (j = 0; j < N; ++j) {
-        q[k][j] = 6.0 * rand() / RAND_MAX - 3; qd[k][j] = 2.0 * rand() / RAND_MAX - 1; qdd[k][j] = 2.0 * rand() / RAND_MAX - 1; }
+HARNESS = PRELUDE.replace("%(includes)s", '#include "%(n)s_dynamics.h"') + r"""
     TIME("inverse_dynamics", %(n)s_inverse_dynamics(q[k], qd[k], qdd[k], out));
     TIME("mass_matrix", %(n)s_mass_matrix(q[k], out));
     TIME("gravity", %(n)s_gravity(q[k], out));
@@ -70,9 +52,6 @@ def pinocchio_bench_binary(workdir):
     subprocess.run(cmd, check=True)
     return exe
 
-
-def parse(text):
-    return {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+) ([\d.]+)$", text, re.M)}
 
 
 def main(argv=None):

@@ -14,7 +14,6 @@ user sees.  Ratios > 1 mean symdyn's C is faster.
 """
 
 import os
-import re
 import statistics
 import subprocess
 import sys
@@ -29,34 +28,19 @@ sys.path.insert(0, os.path.join(HERE, ".."))
 import casadi as ca  # noqa: E402
 
 import symdyn  # noqa: E402
+from timing_harness import PRELUDE, parse  # noqa: E402
 from symdyn.casadi_backend import casadi_files, casadi_function  # noqa: E402
 from symdyn.cgen import generate_c  # noqa: E402
 from symdyn.equations import OUTPUT_INPUTS, OUTPUTS  # noqa: E402
 
-HARNESS = r"""#define _POSIX_C_SOURCE 199309L
-#include <stdio.h>
-#include <stdlib.h>
-#include <time.h>
-#include "%(n)s_dynamics.h"
+DECLARATIONS = r"""#include "%(n)s_dynamics.h"
 #include "%(n)s_casadi.h"
-#define N %(dof)d
-#define S 64
-static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
-static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
-static double q[S][N], qd[S][N], qdd[S][N], out[N * N];
-static volatile double sink;
 static double w[100000];
 static casadi_int iw[1000];
-#define TIME(label, call) do { double runs[7]; int r, i; for (r = 0; r < 7; ++r) { double t0 = now(); \
-    for (i = 0; i < 20000; ++i) { int k = i %% S; call; sink += out[0]; } runs[r] = (now() - t0) / 20000; } \
-    qsort(runs, 7, sizeof(double), cmp); printf("%%s %%.1f\n", label, runs[3]); } while (0)
 #define CASADI(fn, a0, a1, a2) do { const double *arg[3]; double *res[1]; \
-    arg[0] = a0; arg[1] = a1; arg[2] = a2; res[0] = out; fn(arg, res, iw, w, 0); } while (0)
-int main(void) {
-    int k, j;
-    srand(1);
-    for (k = 0; k < S; ++k) for (j = 0; j < N; ++j) {
-        q[k][j] = 6.0 * rand() / RAND_MAX - 3; qd[k][j] = 2.0 * rand() / RAND_MAX - 1; qdd[k][j] = 2.0 * rand() / RAND_MAX - 1; }
+    arg[0] = a0; arg[1] = a1; arg[2] = a2; res[0] = out; fn(arg, res, iw, w, 0); } while (0)"""
+
+HARNESS = PRELUDE.replace("%(includes)s", DECLARATIONS) + r"""
     TIME("c_inverse_dynamics", %(n)s_inverse_dynamics(q[k], qd[k], qdd[k], out));
     TIME("casadi_c_inverse_dynamics", CASADI(%(n)s_casadi_inverse_dynamics, q[k], qd[k], qdd[k]));
     TIME("c_mass_matrix", %(n)s_mass_matrix(q[k], out));
@@ -73,9 +57,6 @@ int main(void) {
 }
 """
 
-
-def parse(text):
-    return {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+) ([\d.]+)$", text, re.M)}
 
 
 def vm_time(function, dof, states=20000, repeats=7):
