@@ -7,9 +7,9 @@ import sys
 
 from .._version import __version__
 from ..errors import SymdynError
-from . import generate, verify
+from . import derive, generate, verify
 
-SUBCOMMANDS = {"generate": generate, "verify": verify}
+SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive}
 
 
 def build_parser() -> argparse.ArgumentParser:

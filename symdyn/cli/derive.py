@@ -1,0 +1,54 @@
+"""``symdyn derive``: the derivation of a robot's equations of motion, step by step, as text,
+LaTeX or Markdown, in the notation of the notes."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+from ..cache import write_atomic
+from ..derivation import STEPS, derive_steps
+from ..errors import SymdynError
+from ..printout import FORMATS, render
+from ..robot import load
+from .common import add_method_option
+
+HELP = "print the derivation of the equations of motion (text, LaTeX or Markdown)"
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser("derive", help=HELP, description=HELP + ": Lagrange-Euler (link matrices, "
+                       "U_ij, U_ijk, pseudo-inertias J_i, D_ik, h_ikm, h_i, c_i) or Newton-Euler "
+                       "(forward and backward recursion of Table 3.2), ending with D, h, c.")
+    p.add_argument("robot", metavar="ROBOT.yaml", help="robot file (format version 1)")
+    add_method_option(p)
+    p.add_argument("--format", default="text", choices=FORMATS,
+                   help="text (Unicode, for the terminal), latex (a complete document for pdflatex) "
+                        "or markdown (math blocks that render on GitHub); default text")
+    p.add_argument("--out", metavar="FILE", help="write to FILE (atomically) instead of standard output")
+    p.add_argument("--steps", default="all", choices=STEPS,
+                   help="all (default): every intermediate quantity; summary: link matrices, "
+                        "inertias and the final D, h, c")
+    p.add_argument("--form", default="auto", choices=("auto", "closed", "named"),
+                   help="closed: every quantity expanded and simplified (s12, c1 shorthand); named: "
+                        "in terms of named intermediate quantities; auto (default): closed up to 3 joints")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    robot = load(args.robot)
+    closed = {"auto": None, "closed": True, "named": False}[args.form]
+    derivation = derive_steps(robot, args.method, args.steps, closed)
+    text = render(derivation, args.format, source_name=os.path.basename(args.robot),
+                  source_hash=robot.source_hash)
+    if args.out:
+        directory = os.path.dirname(os.path.abspath(args.out))
+        if not os.path.isdir(directory):
+            raise SymdynError(f"cannot write {args.out}: directory {directory} does not exist")
+        try:
+            write_atomic(args.out, text.encode("utf-8"))
+        except OSError as exc:
+            raise SymdynError(f"cannot write {args.out}: {exc.strerror or exc}") from None
+    else:
+        sys.stdout.write(text)
+    return 0

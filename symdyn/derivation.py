@@ -1,0 +1,499 @@
+"""Textbook derivations: the steps of Lagrange-Euler and Newton-Euler for one robot, as data.
+
+This module derives and simplifies; it prints nothing (see :mod:`symdyn.printout`).  The steps
+follow the notes in the seeds: the trace form (``^{i-1}A_i``, ``^0A_i``, ``Q_j``, ``U_ij``,
+``U_ijk``, pseudo-inertias ``J_i``, then ``D_ik``, ``h_ikm``, ``h_i``, ``c_i``) and the recursive
+Newton-Euler equations of Table 3.2 (forward: omega_i, omegadot_i, vdot_i, abar_i; backward:
+F_i, N_i, f_i, n_i, tau_i), every vector in the frame of its own link.
+
+Two forms:
+
+- *closed form* (default up to 3 joints): every quantity fully expanded in the joint variables,
+  simplified the way a textbook writes it: trigonometric shorthand ``s1 = sin q1``,
+  ``c12 = cos(q1 + q2)``, terms collected by joint accelerations and velocity products;
+- *named form* (more joints): each quantity written in terms of the previous link's named
+  quantities (``omega_2x``, ``vdot_3y``, ...) and ``c_i``/``s_i``, as one computes it by hand, and
+  the final D, h, c in terms of numbered intermediate quantities ``x_k``, instead of pages of
+  expansion.
+
+Display symbols: ``q1`` (joint variable), ``qdot1``, ``qddot1`` (its rate and acceleration; the
+printers show q-dot and q-double-dot), ``s12``/``c1`` (trig shorthand), the robot's own
+parameter names.  :meth:`Derivation.to_joint_symbols` maps any printed value back to symdyn's
+joint symbols (``q, qd, qdd``) for checking.
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+from typing import Iterable
+
+import sympy as sp
+
+from .chain import make_chain
+from .equations import _normalize_method, derive
+from .lagrange_euler import LagrangeEuler, _q_operator, pseudo_inertia
+from .newton_euler import recursion
+from .robot import Robot
+
+STEPS = ("all", "summary")
+AXES = "xyz"
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One printed quantity: ``kind`` is its notation key (see :data:`KINDS`), ``indices``
+    its subscripts (1-based), ``value`` a SymPy expression or immutable matrix in display
+    symbols."""
+
+    kind: str
+    indices: tuple[int, ...]
+    value: sp.Basic
+
+
+@dataclass(frozen=True)
+class Section:
+    """A group of quantities instantiating one general formula of the notes (``kind``)."""
+
+    kind: str
+    quantities: tuple[Quantity, ...]
+
+
+#: notation keys and what they are (the printers hold their typography)
+KINDS = {
+    "link_transform": "^{i-1}A_i, 4x4",
+    "base_transform": "^0A_i, 4x4",
+    "q_operator": "Q_j, 4x4",
+    "u": "U_ij = d(^0A_i)/dq_j, 4x4",
+    "u3": "U_ijk = dU_ij/dq_k, 4x4",
+    "pseudo_inertia": "J_i, 4x4",
+    "d_entry": "D_ik",
+    "h_entry": "h_ikm",
+    "h_i": "h_i",
+    "c_i": "c_i",
+    "omega": "omega_i, 3x1 in frame i",
+    "omegadot": "omegadot_i, 3x1",
+    "vdot": "vdot_i, 3x1 (origin of frame i)",
+    "abar": "abar_i, 3x1 (centre of mass of link i)",
+    "F": "F_i = m_i abar_i",
+    "N": "N_i = I_i omegadot_i + omega_i x (I_i omega_i)",
+    "f": "f_i, force on link i from link i-1",
+    "n": "n_i, moment on link i from link i-1 about O_i",
+    "tau": "tau_i, joint force",
+    "D": "D(q), n x n",
+    "h": "h(q, qdot), n x 1",
+    "c": "c(q), n x 1",
+    "where": "named intermediate quantity x_k",
+}
+
+
+@dataclass(frozen=True)
+class Derivation:
+    """A derivation ready to print (immutable).
+
+    ``sections`` hold the steps; ``results`` the final D, h, c (section ``"results"``);
+    ``where`` the named intermediate quantities ``x_k`` used by the named form;
+    ``shorthand`` the trig symbols used, with their meaning in joint symbols.
+    """
+
+    robot: Robot
+    method: str
+    steps: str
+    closed_form: bool
+    sections: tuple[Section, ...]
+    where: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    named: tuple[tuple[sp.Symbol, sp.Expr], ...]  # named recursion quantities (omega_2x, ...) and their values
+    shorthand: tuple[tuple[sp.Symbol, sp.Expr], ...]
+    joint_symbols: tuple[tuple[sp.Symbol, sp.Symbol], ...]  # (display, joint symbol)
+
+    def section(self, kind: str) -> Section:
+        for s in self.sections:
+            if s.kind == kind:
+                return s
+        raise KeyError(kind)
+
+    def quantity(self, kind: str, *indices: int) -> sp.Basic:
+        for s in self.sections:
+            for q in s.quantities:
+                if q.kind == kind and q.indices == tuple(indices):
+                    return q.value
+        raise KeyError((kind, indices))
+
+    def program(self):
+        """Every display symbol the printed values use (joint rates, trig shorthand, named
+        quantities, x_k) as a :class:`~symdyn.program.Program` over the joint symbols, in
+        evaluation order: for evaluating printed values numerically."""
+        from .program import Program
+        definitions = dict(self.joint_symbols) | dict(self.shorthand) | dict(self.named) | dict(self.where)
+        order: list = []
+        state: dict = {}
+
+        def visit(sym):  # depth-first topological order; the definitions form a DAG
+            stack = [(sym, False)]
+            while stack:
+                node, done = stack.pop()
+                if done:
+                    if state.get(node) != 2:
+                        state[node] = 2
+                        order.append(node)
+                    continue
+                if state.get(node):
+                    continue
+                state[node] = 1
+                stack.append((node, True))
+                for dep in sp.sympify(definitions[node]).free_symbols:
+                    if dep in definitions and not state.get(dep):
+                        stack.append((dep, False))
+        for sym in definitions:
+            visit(sym)
+        return Program(tuple((sym, sp.sympify(definitions[sym])) for sym in order))
+
+    def to_joint_symbols(self, value):
+        """``value`` with the named quantities, trig shorthand and display symbols replaced, in
+        symdyn's joint symbols ``q``, ``qd``, ``qdd`` and the robot's parameters."""
+        full: dict = {}
+        for sym, rhs in self.where:
+            full[sym] = sp.sympify(rhs).xreplace(full)
+        definitions = dict(self.named)
+
+        def resolve(sym):
+            if sym not in full:
+                rhs = sp.sympify(definitions[sym])
+                full[sym] = rhs.xreplace({s: resolve(s) for s in rhs.free_symbols if s in definitions})
+            return full[sym]
+        for sym in definitions:
+            resolve(sym)
+        mapping = dict(self.shorthand)
+        mapping.update(dict(self.joint_symbols))
+        if isinstance(value, sp.MatrixBase):
+            return sp.ImmutableMatrix(value.applyfunc(lambda e: e.xreplace(full).xreplace(mapping)))
+        return sp.sympify(value).xreplace(full).xreplace(mapping)
+
+
+class _Notation:
+    """Display symbols and the textbook simplification of one robot."""
+
+    def __init__(self, chain):
+        self.chain = chain
+        self.q = chain.q
+        self.qdot = tuple(sp.Symbol(f"qdot{k + 1}", real=True) for k in range(chain.n))
+        self.qddot = tuple(sp.Symbol(f"qddot{k + 1}", real=True) for k in range(chain.n))
+        self.to_display = dict(zip(chain.qd, self.qdot)) | dict(zip(chain.qdd, self.qddot))
+        self.shorthand: dict[sp.Symbol, sp.Expr] = {}
+        self._taken = {s.name for s in chain.robot.parameters}
+        # the joints' trig symbols of the derivation: _c_i = cos(theta_i + q_i), _s_i
+        self.trig = dict(chain.trig)
+        self.trig_of: dict[int, tuple[sp.Symbol, sp.Symbol]] = {}
+        self.trig_display: dict[sp.Symbol, sp.Symbol] = {}
+        self.sine_to_cosine: dict[sp.Symbol, sp.Symbol] = {}
+        for i in range(chain.n):
+            c = sp.Symbol(f"{chain.builder.prefix}c{i + 1}", real=True)
+            s = sp.Symbol(f"{chain.builder.prefix}s{i + 1}", real=True)
+            if c in self.trig:
+                self.trig_of[i] = (c, s)
+                self.sine_to_cosine[s] = c
+                self.trig_display[c] = self.trig_symbol(sp.cos, (i,))
+                self.trig_display[s] = self.trig_symbol(sp.sin, (i,))
+        # angle-sum shorthand only when every joint angle is q_i itself (theta_i = 0)
+        self.plain_angles = all(link.theta == 0 for link in chain.robot.links if link.is_revolute)
+
+    def trig_symbol(self, func, joints: tuple[int, ...]) -> sp.Symbol:
+        prefix = "s" if func is sp.sin else "c"
+        name = prefix + "".join(str(j + 1) for j in joints)
+        while name in self._taken:
+            name = prefix.upper() + name[1:] if name[0] == prefix else name + "_"
+        sym = sp.Symbol(name, real=True)
+        links = self.chain.robot.links
+        self.shorthand[sym] = func(sp.Add(*[self.q[j] + links[j].theta for j in joints]))
+        return sym
+
+    def shorten(self, expr: sp.Expr) -> sp.Expr:
+        """sin/cos of a plain sum of joint variables -> s12, c1, ..."""
+        index = {q: k for k, q in enumerate(self.q)}
+
+        def is_short(e):
+            if not isinstance(e, (sp.sin, sp.cos)):
+                return False
+            terms = sp.Add.make_args(e.args[0])
+            return all(t in index for t in terms)
+
+        def short(e):
+            joints = tuple(sorted(index[t] for t in sp.Add.make_args(e.args[0])))
+            return self.trig_symbol(type(e), joints)
+        return expr.replace(is_short, short)
+
+    def collect(self, expr: sp.Expr) -> sp.Expr:
+        rates = list(self.qdot)
+        monomials = list(self.qddot) + [a * b for a, b in itertools.combinations_with_replacement(rates, 2)]
+        monomials += rates
+        collected = sp.collect(sp.expand(expr), monomials, evaluate=False)
+        total = sp.S.Zero
+        for key, coeff in collected.items():
+            total += sp.factor_terms(coeff) * key
+        return total
+
+    def to_trig_symbols(self, program, value):
+        """``value`` with every intermediate expanded except the joints' ``_c_i``/``_s_i``."""
+        full: dict = {}
+        for sym, rhs in program.needed_for(list(value) if isinstance(value, sp.MatrixBase) else [value]):
+            if sym not in self.trig:
+                full[sym] = rhs.xreplace(full)
+        if isinstance(value, sp.MatrixBase):
+            return sp.Matrix(value).applyfunc(lambda e: sp.sympify(e).xreplace(full))
+        return sp.sympify(value).xreplace(full)
+
+    def diff(self, expr, k: int):
+        """d expr / dq_k for an expression in the trig symbols (chain rule through c_k, s_k)."""
+        result = sp.diff(expr, self.q[k])
+        if k in self.trig_of:
+            c, s = self.trig_of[k]
+            result += sp.diff(expr, c) * (-s) + sp.diff(expr, s) * c
+        return result
+
+    def textbook(self, expr: sp.Expr) -> sp.Expr:
+        """Closed form of an expression in the joints' trig symbols: simplified, collected,
+        with shorthand.
+
+        The polynomial in ``c_i = cos(theta_i + q_i)``, ``s_i`` is expanded and reduced modulo
+        ``s_i^2 + c_i^2 = 1`` (each sine at most linear: a canonical form, so equal terms always
+        cancel); small results without numeric offsets are then rewritten with angle-sum
+        shorthand (c12 = cos(q1 + q2)) by SymPy's trigsimp."""
+        e = sp.sympify(expr).xreplace(self.to_display)
+        if e.is_number:
+            return e
+        # sin/cos of constant angles (alpha = 0.4) become numbers
+        e = e.replace(lambda x: isinstance(x, (sp.sin, sp.cos)) and x.args[0].is_number,
+                      lambda x: sp.Float(sp.N(x, 30), 30))
+        e = sp.expand(e)
+
+        def reducible(x):
+            return x.is_Pow and x.base in self.sine_to_cosine and x.exp.is_Integer and x.exp >= 2
+
+        def reduce(x):
+            k = int(x.exp)
+            return x.base ** (k % 2) * (1 - self.sine_to_cosine[x.base] ** 2) ** (k // 2)
+        e = sp.expand(e.replace(reducible, reduce))
+        e = e.replace(lambda x: x.is_Float and abs(x) < 1e-25, lambda x: sp.S.Zero)
+        if self.plain_angles and not e.has(sp.Float) and sp.count_ops(e) <= self.TRIGSIMP_LIMIT:
+            e = sp.trigsimp(e.xreplace(self.trig))
+            e = self.collect(e)
+            return self.shorten(e)
+        return self.collect(e).xreplace(self.trig_display)
+
+    #: larger expressions (SymPy count_ops) keep the reduced c_i/s_i polynomial form
+    TRIGSIMP_LIMIT = 200
+
+    def textbook_matrix(self, mat) -> sp.ImmutableMatrix:
+        return sp.ImmutableMatrix(sp.Matrix(mat).applyfunc(self.textbook))
+
+
+class _Namer:
+    """The named form: program symbols become readable names or are inlined."""
+
+    def __init__(self, chain, program, notation: _Notation):
+        self.rhs = dict(program.assignments)
+        self.notation = notation
+        self.names: dict[sp.Symbol, sp.Symbol] = {}
+        self.memo: dict[sp.Symbol, sp.Expr] = {}
+        for i in range(chain.n):
+            if chain.robot.links[i].is_revolute:
+                for func, prefix in ((sp.cos, "c"), (sp.sin, "s")):
+                    sym = sp.Symbol(f"_{prefix}{i + 1}", real=True)
+                    shown = notation.trig_symbol(func, (i,))
+                    self.names[sym] = shown
+        self.inputs = notation.to_display
+
+    def name(self, sym: sp.Symbol, shown: sp.Symbol):
+        if isinstance(sym, sp.Symbol) and sym in self.rhs and sym not in self.names:
+            self.names[sym] = shown
+
+    def inline(self, expr) -> sp.Expr:
+        """``expr`` with unnamed intermediates expanded until named quantities or inputs."""
+        expr = sp.sympify(expr)
+        subs = {}
+        for s in expr.free_symbols:
+            if s in self.names:
+                subs[s] = self.names[s]
+            elif s in self.rhs:
+                if s not in self.memo:
+                    self.memo[s] = self.inline(self.rhs[s])
+                subs[s] = self.memo[s]
+            elif s in self.inputs:
+                subs[s] = self.inputs[s]
+        return sp.expand(expr.xreplace(subs))
+
+    def definition(self, sym) -> sp.Expr:
+        """The right-hand side of a named symbol, one level down."""
+        if isinstance(sym, sp.Symbol) and sym in self.rhs:
+            return self.inline(self.rhs[sym])
+        return self.inline(sym)
+
+
+def _numbered(program, exprs: list, notation: _Notation, namer: _Namer | None = None):
+    """Rename every intermediate the expressions need to x_1, x_2, ... (trig to c_i/s_i)."""
+    trig = {}
+    for i in range(notation.chain.n):
+        if notation.chain.robot.links[i].is_revolute:
+            for func, prefix in ((sp.cos, "c"), (sp.sin, "s")):
+                trig[sp.Symbol(f"_{prefix}{i + 1}", real=True)] = notation.trig_symbol(func, (i,))
+    mapping = dict(trig) | notation.to_display
+    where = []
+    for sym, rhs in program.needed_for(exprs):
+        if sym in trig:
+            continue
+        shown = sp.Symbol(f"x_{len(where) + 1}", real=True)
+        where.append((shown, sp.expand(rhs.xreplace(mapping))))
+        mapping[sym] = shown
+    return [sp.sympify(e).xreplace(mapping) for e in exprs], tuple(where)
+
+
+def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all",
+                 closed_form: bool | None = None) -> Derivation:
+    """The derivation of ``robot``'s equations of motion by ``method``, step by step.
+
+    ``steps='summary'`` keeps the link matrices, inertias and final results only.
+    ``closed_form`` defaults to ``robot.dof <= 3``.
+    """
+    method = _normalize_method(method)
+    if steps not in STEPS:
+        raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
+    closed = robot.dof <= 3 if closed_form is None else closed_form
+    chain = make_chain(robot)
+    notation = _Notation(chain)
+    n = chain.n
+    sections: list[Section] = []
+
+    def closed_value(value):
+        program = chain.builder.build()
+        if isinstance(value, sp.MatrixBase):
+            return notation.textbook_matrix(notation.to_trig_symbols(program, value))
+        return notation.textbook(notation.to_trig_symbols(program, value))
+
+    # link matrices are short in either form
+    link_mats = [Quantity("link_transform", (i + 1,), notation.textbook_matrix(chain.transforms[i]))
+                 for i in range(n)]
+    sections.append(Section("link_transform", tuple(link_mats)))
+
+    where: tuple = ()
+    named: tuple = ()
+    if method == "lagrange-euler":
+        le = LagrangeEuler(chain)
+        if closed and steps == "all":
+            A0 = [closed_value(le.A[i]) for i in range(n)]
+            sections.append(Section("base_transform", tuple(Quantity("base_transform", (i + 1,), A0[i]) for i in range(n))))
+        sections.append(Section("q_operator", tuple(
+            Quantity("q_operator", (j + 1,), sp.ImmutableMatrix(_q_operator(link.is_revolute)))
+            for j, link in enumerate(robot.links))))
+        sections.append(Section("pseudo_inertia", tuple(
+            Quantity("pseudo_inertia", (i + 1,), sp.ImmutableMatrix(pseudo_inertia(link)))
+            for i, link in enumerate(robot.links))))
+        if closed:
+            for i in range(n):
+                for j in range(i + 1):
+                    le.U(i, j)
+            program = chain.builder.build()
+            Uq = {(i, j): notation.to_trig_symbols(program, le.U(i, j)).applyfunc(sp.expand)
+                  for i in range(n) for j in range(i + 1)}
+            U3 = {}
+            for (i, j), u in Uq.items():
+                for k in range(i + 1):
+                    U3[(i, j, k)] = u.applyfunc(lambda e: sp.expand(notation.diff(e, k)))
+            J = [sp.Matrix(pseudo_inertia(link)) for link in robot.links]
+            g = sp.Matrix([[*chain.gravity, 0]])
+
+            def trace(X, Y):
+                return (X * Y.T).trace()
+
+            D = sp.zeros(n, n)
+            h_ikm = {}
+            for i in range(n):
+                for k in range(n):
+                    D[i, k] = sum((trace(Uq[(j, k)] * J[j], Uq[(j, i)]) for j in range(max(i, k), n)), sp.S.Zero)
+                    for m in range(n):
+                        h_ikm[(i, k, m)] = sum((trace(U3[(j, k, m)] * J[j], Uq[(j, i)])
+                                                for j in range(max(i, k, m), n)), sp.S.Zero)
+            h = sp.Matrix([sum((h_ikm[(i, k, m)] * chain.qd[k] * chain.qd[m] for k in range(n) for m in range(n)), sp.S.Zero)
+                           for i in range(n)])
+            c = sp.Matrix([sum((-robot.links[j].mass * (g * Uq[(j, i)] * sp.Matrix([*robot.links[j].com, 1]))[0]
+                                for j in range(i, n)), sp.S.Zero) for i in range(n)])
+            if steps == "all":
+                sections.append(Section("u", tuple(Quantity("u", (i + 1, j + 1), notation.textbook_matrix(Uq[(i, j)]))
+                                                   for i in range(n) for j in range(i + 1))))
+                sections.append(Section("u3", tuple(Quantity("u3", (i + 1, j + 1, k + 1), notation.textbook_matrix(U3[(i, j, k)]))
+                                                    for i in range(n) for j in range(i + 1) for k in range(i + 1)
+                                                    if not U3[(i, j, k)].is_zero_matrix)))
+                sections.append(Section("d_entry", tuple(Quantity("d_entry", (i + 1, k + 1), notation.textbook(D[i, k]))
+                                                         for i in range(n) for k in range(i, n))))
+                sections.append(Section("h_entry", tuple(Quantity("h_entry", (i + 1, k + 1, m + 1), notation.textbook(h_ikm[(i, k, m)]))
+                                                         for i in range(n) for k in range(n) for m in range(n))))
+                sections.append(Section("h_i", tuple(Quantity("h_i", (i + 1,), notation.textbook(h[i])) for i in range(n))))
+                sections.append(Section("c_i", tuple(Quantity("c_i", (i + 1,), notation.textbook(c[i])) for i in range(n))))
+            results = (notation.textbook_matrix(D), notation.textbook_matrix(h), notation.textbook_matrix(c))
+        else:
+            eqs = derive(robot, "lagrange-euler", ["mass_matrix", "coriolis", "gravity"])
+            results, where = _named_results(eqs, notation)
+    else:
+        states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "")
+        program = chain.builder.build()
+        namer = None if closed else _Namer(chain, program, notation)
+        if steps == "all":
+            fields = (("omega", "omega", "omega"), ("omegad", "omegadot", "omegadot"), ("vd", "vdot", "vdot"),
+                      ("abar", "abar", "abar"))
+            backward = (("F", "F", "F"), ("N", "N", "N"), ("f", "f", "f"), ("n", "n", "n"))
+            if namer is not None:
+                for i, st in enumerate(states):
+                    for attr, _, name in fields + backward:
+                        vec = getattr(st, attr)
+                        for a in range(3):
+                            namer.name(vec[a], sp.Symbol(f"{name}_{i + 1}{AXES[a]}", real=True))
+                    namer.name(st.tau, sp.Symbol(f"tau{i + 1}", real=True))
+
+            def show(value):
+                if closed:
+                    return closed_value(value)
+                if isinstance(value, sp.MatrixBase):
+                    return sp.ImmutableMatrix(sp.Matrix(value).applyfunc(namer.definition))
+                return namer.definition(value)
+
+            forward_q, backward_q = [], []
+            for i, st in enumerate(states):
+                for attr, kind, _ in fields:
+                    forward_q.append(Quantity(kind, (i + 1,), show(getattr(st, attr))))
+            for i in reversed(range(n)):
+                st = states[i]
+                for attr, kind, _ in backward:
+                    backward_q.append(Quantity(kind, (i + 1,), show(getattr(st, attr))))
+                backward_q.append(Quantity("tau", (i + 1,), show(st.tau)))
+            if namer is not None:
+                named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
+                              if sym in namer.rhs and sym not in notation.trig)
+            sections.append(Section("ne_forward", tuple(forward_q)))
+            sections.append(Section("ne_backward", tuple(backward_q)))
+        eqs = derive(robot, "newton-euler", ["mass_matrix", "coriolis", "gravity"])
+        if closed:
+            results = tuple(notation.textbook_matrix(notation.to_trig_symbols(eqs.program, eqs.output(name)))
+                            for name in ("mass_matrix", "coriolis", "gravity"))
+        else:
+            results, where = _named_results(eqs, notation)
+    sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
+                                        Quantity("c", (), results[2]))))
+    joint = tuple(zip(notation.qdot, chain.qd)) + tuple(zip(notation.qddot, chain.qdd))
+    return Derivation(robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
+                      where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
+                      joint_symbols=joint)
+
+
+def _named_results(eqs, notation: _Notation):
+    n = eqs.n
+    D, h, c = eqs.mass_matrix, eqs.coriolis, eqs.gravity
+    upper = [D[i, k] for i in range(n) for k in range(i, n)]
+    exprs = upper + list(h) + list(c)
+    renamed, where = _numbered(eqs.program, exprs, notation)
+    Dm = sp.zeros(n, n)
+    it = iter(renamed[:len(upper)])
+    for i in range(n):
+        for k in range(i, n):
+            Dm[i, k] = Dm[k, i] = next(it)
+    hm = sp.Matrix(renamed[len(upper):len(upper) + n])
+    cm = sp.Matrix(renamed[len(upper) + n:])
+    return (sp.ImmutableMatrix(Dm), sp.ImmutableMatrix(hm), sp.ImmutableMatrix(cm)), where

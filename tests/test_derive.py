@@ -1,0 +1,183 @@
+"""Textbook derivation printouts: the lecture's worked example, the textbook closed forms,
+numerical agreement of every printed result with the derived equations, LaTeX that compiles,
+and the checked-in examples in docs/derivations."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+import sympy as sp
+
+import symdyn
+from helpers import REPO, parameter_values, random_states, robot_path
+from symdyn.cli import main
+from symdyn.derivation import derive_steps
+from symdyn.printout import render
+
+_DERIVATIONS = {}
+
+
+def steps_of(name, method, form=None):
+    key = (name, method, form)
+    if key not in _DERIVATIONS:
+        _DERIVATIONS[key] = derive_steps(symdyn.load(robot_path(name)), method,
+                                         closed_form={None: None, "closed": True, "named": False}[form])
+    return _DERIVATIONS[key]
+
+
+def _symbols(*names):
+    return [sp.Symbol(n, real=True) for n in names]
+
+
+def _is_zero(expr) -> bool:
+    return sp.simplify(sp.expand_trig(sp.expand(expr))) == 0
+
+
+def test_planar2r_newton_euler_link_accelerations_match_the_worked_example():
+    """Lecture 10, example Q3.4: with ^0vdot_0 = g Y0, in each link's own frame,
+    ^1vdot_1 = (g s1, g c1, 0) and ^2vdot_2 = (l1 qdd1 s2 - l1 qd1^2 c2 + g s12,
+    l1 qdd1 c2 + l1 qd1^2 s2 + g c12, 0); omega and omegadot add up the joint rates."""
+    d = steps_of("planar2r", "newton-euler")
+    q1, q2 = _symbols("q1", "q2")
+    qd1, qd2 = _symbols("qd1", "qd2")
+    qdd1, qdd2 = _symbols("qdd1", "qdd2")
+    g, l1 = _symbols("g", "l1")
+    s1, c1, s2, c2 = sp.sin(q1), sp.cos(q1), sp.sin(q2), sp.cos(q2)
+    s12, c12 = sp.sin(q1 + q2), sp.cos(q1 + q2)
+    expected = {
+        ("omega", 1): sp.Matrix([0, 0, qd1]),
+        ("omegadot", 1): sp.Matrix([0, 0, qdd1]),
+        ("vdot", 1): sp.Matrix([g * s1, g * c1, 0]),
+        ("omega", 2): sp.Matrix([0, 0, qd1 + qd2]),
+        ("omegadot", 2): sp.Matrix([0, 0, qdd1 + qdd2]),
+        ("vdot", 2): sp.Matrix([l1 * qdd1 * s2 - l1 * qd1**2 * c2 + g * s12,
+                                l1 * qdd1 * c2 + l1 * qd1**2 * s2 + g * c12, 0]),
+    }
+    for (kind, link), value in expected.items():
+        printed = d.to_joint_symbols(d.quantity(kind, link))
+        assert all(_is_zero(e) for e in printed - value), f"{kind}_{link}: {printed}"
+    # and a wrong acceleration is caught
+    wrong = d.to_joint_symbols(d.quantity("vdot", 2)) - expected[("vdot", 2)] + sp.Matrix([g * s2, 0, 0])
+    assert not all(_is_zero(e) for e in wrong)
+
+
+@pytest.mark.parametrize("method", ["lagrange-euler", "newton-euler"])
+def test_planar2r_ends_with_the_textbook_equations(method):
+    d = steps_of("planar2r", method)
+    m1, m2, l1, lc1, lc2, I1, I2, g = _symbols("m1", "m2", "l1", "lc1", "lc2", "I1", "I2", "g")
+    q1, q2 = _symbols("q1", "q2")
+    qd1, qd2 = _symbols("qd1", "qd2")
+    c2, s2 = sp.cos(q2), sp.sin(q2)
+    D = sp.Matrix([
+        [m1 * lc1**2 + m2 * (l1**2 + lc2**2 + 2 * l1 * lc2 * c2) + I1 + I2, m2 * (lc2**2 + l1 * lc2 * c2) + I2],
+        [m2 * (lc2**2 + l1 * lc2 * c2) + I2, m2 * lc2**2 + I2]])
+    h = sp.Matrix([-m2 * l1 * lc2 * s2 * (2 * qd1 * qd2 + qd2**2), m2 * l1 * lc2 * s2 * qd1**2])
+    c = sp.Matrix([(m1 * lc1 + m2 * l1) * g * sp.cos(q1) + m2 * lc2 * g * sp.cos(q1 + q2),
+                   m2 * lc2 * g * sp.cos(q1 + q2)])
+    assert d.section("results") is d.sections[-1]
+    for kind, expected in (("D", D), ("h", h), ("c", c)):
+        printed = d.to_joint_symbols(d.quantity(kind))
+        assert all(_is_zero(e) for e in printed - expected), f"{kind}: {printed}"
+    if method == "lagrange-euler":
+        h112 = d.to_joint_symbols(d.quantity("h_entry", 1, 1, 2))
+        assert _is_zero(h112 + m2 * l1 * lc2 * s2)  # h_112 = -m2 l1 lc2 s2
+
+
+CASES = [("planar2r", "lagrange-euler", None), ("planar2r", "newton-euler", None),
+         ("three_standard", "lagrange-euler", None), ("three_modified", "newton-euler", None),
+         ("puma560", "newton-euler", None), ("puma560", "lagrange-euler", None),
+         ("scara", "newton-euler", "closed")]
+
+
+@pytest.mark.parametrize("name,method,form", CASES)
+def test_printed_results_equal_the_derived_equations(derived, name, method, form):
+    """D, h, c as printed (closed form or with the x_k intermediates), and for Newton-Euler
+    every tau_i of the backward recursion, evaluated at seeded states against the equations."""
+    from symdyn.numeric import compile_function
+    d = steps_of(name, method, form)
+    eqs = derived(name, method)
+    robot = eqs.robot
+    values = parameter_values(robot)
+    inputs = [eqs.q, eqs.qd, eqs.qdd, robot.parameters]
+    program = d.program()
+    fns = {k: compile_function(inputs, program, sp.Matrix(d.quantity(k))) for k in ("D", "h", "c")}
+    taus = None
+    if method == "newton-euler" and any(q.kind == "tau" for s in d.sections for q in s.quantities):
+        taus = compile_function(inputs, program, sp.Matrix([d.quantity("tau", i + 1) for i in range(eqs.n)]))
+    p = [values[s] for s in robot.parameters]
+    num = eqs.numeric
+    for q, qd, qdd, _ in random_states(eqs.n, 5, seed=9):
+        args = (q, qd, qdd, p)
+        pp = p or None
+        np.testing.assert_allclose(fns["D"](*args), num.mass_matrix(q, pp), rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(fns["h"](*args).ravel(), num.coriolis(q, qd, pp), rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(fns["c"](*args).ravel(), num.gravity(q, pp), rtol=1e-9, atol=1e-9)
+        if taus is not None:
+            friction = np.array([float(l.armature) * a + float(l.damping) * v + float(l.coulomb) * np.sign(v)
+                                 for l, a, v in zip(robot.links, qdd, qd)])
+            np.testing.assert_allclose(taus(*args).ravel(),
+                                       num.inverse_dynamics(q, qd, qdd, pp) - friction, rtol=1e-9, atol=1e-9)
+    # the symbolic route agrees with the numeric one on a small case
+    if name == "planar2r":
+        closed = d.to_joint_symbols(d.quantity("D")).subs(values)
+        q = random_states(2, 1, seed=9)[0][0]
+        at = closed.subs(dict(zip(eqs.q, q)))
+        np.testing.assert_allclose(np.array(at, float), num.mass_matrix(q, p), rtol=1e-12)
+
+
+@pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex not installed (.ci/run installs it)")
+@pytest.mark.parametrize("name,method", [("planar2r", "lagrange-euler"), ("planar2r", "newton-euler"),
+                                         ("puma560", "newton-euler")])
+def test_latex_output_compiles(tmp_path, name, method):
+    tex = tmp_path / f"{name}.tex"
+    tex.write_text(render(steps_of(name, method), "latex"))
+    result = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", tex.name],
+                            cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stdout[-2000:]
+    assert (tmp_path / f"{name}.pdf").stat().st_size > 1000
+
+
+def test_every_format_renders_every_section(tmp_path, capsys):
+    d = steps_of("planar2r", "lagrange-euler")
+    for fmt in ("text", "latex", "markdown"):
+        text = render(d, fmt)
+        assert "DO NOT EDIT" in text
+        if fmt != "text":
+            assert text.count("$$") % 2 == 0
+    assert main(["derive", robot_path("planar2r"), "--format", "markdown", "--steps", "summary",
+                 "--out", str(tmp_path / "p.md")]) == 0
+    summary = (tmp_path / "p.md").read_text()
+    assert "U_{21}" not in summary and "D(q)" in summary
+    assert main(["derive", robot_path("planar2r"), "--steps", "summary"]) == 0
+    assert "D(q)" in capsys.readouterr().out
+
+
+def test_derive_cli_errors(tmp_path, capsys):
+    assert main(["derive", str(tmp_path / "missing.yaml")]) == 1
+    assert capsys.readouterr().err.count("\n") == 1
+    target = tmp_path / "keep.md"
+    target.write_text("precious")
+    assert main(["derive", robot_path("planar2r"), "--out", str(tmp_path / "no" / "dir.md")]) == 1
+    assert "does not exist" in capsys.readouterr().err
+    assert main(["derive", robot_path("planar2r"), "--format", "pdf"]) == 2
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("format: 1\nname: bad\nconvention: standard\nlinks: [{joint: revolute, a: 0, alpha: 0, d: 0, theta: __import__}]\n")
+    assert main(["derive", str(bad), "--out", str(target)]) == 1
+    assert target.read_text() == "precious"
+
+
+DOCS = [("planar2r", "newton-euler", "planar2r_newton_euler.md"),
+        ("planar2r", "lagrange-euler", "planar2r_lagrange_euler.md"),
+        ("puma560", "newton-euler", "puma560_newton_euler.md")]
+
+
+@pytest.mark.parametrize("name,method,filename", DOCS)
+def test_checked_in_derivations_are_up_to_date(tmp_path, name, method, filename):
+    out = tmp_path / filename
+    assert main(["derive", str(REPO / "robots" / f"{name}.yaml"), "--method", method,
+                 "--format", "markdown", "--out", str(out)]) == 0
+    assert out.read_bytes() == (REPO / "docs" / "derivations" / filename).read_bytes(), \
+        "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"
