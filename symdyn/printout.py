@@ -121,8 +121,13 @@ def _items(printer: _Printer, fmt: str, kind: str, indices, value):
                     continue
                 if value[r, c] == 0 and kind in ("base_transform", "link_transform", "u", "u3"):
                     continue
-                entry = (f"({name})_{{{r + 1}{c + 1}}}" if cols > 1 else f"({name})_{{{r + 1}}}") \
-                    if fmt != "text" else (f"{name}[{r + 1},{c + 1}]" if cols > 1 else f"{name}[{r + 1}]")
+                index = f"{r + 1}{c + 1}" if cols > 1 else f"{r + 1}"
+                if kind in ("D", "h", "c"):  # entries of the results: D_ik, h_i, c_i
+                    entry = f"{kind}_{{{index}}}" if fmt != "text" else kind + index.translate(_SUB)
+                elif fmt != "text":
+                    entry = f"({name})_{{{index}}}"
+                else:
+                    entry = f"{name}[{r + 1},{c + 1}]" if cols > 1 else f"{name}[{r + 1}]"
                 out.append((entry, printer.lines(value[r, c])))
         return out
     return [(name, printer.lines(value))]
