@@ -47,7 +47,7 @@ typedef double chain12_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 914 multiplications, 722 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 918 multiplications, 723 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *qdd, chain12_real *tau);
 
@@ -55,7 +55,7 @@ void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, con
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 830 multiplications, 762 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 834 multiplications, 763 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_mass_matrix(const chain12_real *q, chain12_real *D);
 
@@ -64,7 +64,7 @@ void chain12_mass_matrix(const chain12_real *q, chain12_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 887 multiplications, 682 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 891 multiplications, 683 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_real *h);
 
@@ -73,7 +73,7 @@ void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_rea
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 5369 multiplications, 4253 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 5373 multiplications, 4254 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chain12_real *C);
 
@@ -81,7 +81,7 @@ void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chai
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 268 multiplications, 202 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 272 multiplications, 203 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_gravity(const chain12_real *q, chain12_real *c);
 
@@ -91,7 +91,7 @@ void chain12_gravity(const chain12_real *q, chain12_real *c);
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 2340 multiplications, 1883 additions/subtractions, 12 divisions, 18 sin/cos.
+ * Cost: 2344 multiplications, 1884 additions/subtractions, 12 divisions, 18 sin/cos.
  */
 void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
 

@@ -75,9 +75,12 @@ class ProgramBuilder:
         self._by_expr: dict[sp.Expr, sp.Symbol] = {rhs: s for s, rhs in self._assignments}
         self._names: set[str] = {s.name for s, _ in self._assignments}
 
-    def define(self, hint: str, expr: sp.Expr) -> sp.Expr:
-        """Name ``expr`` with a new intermediate symbol unless it is trivial or already named."""
+    def define(self, hint: str, expr: sp.Expr, force: bool = False) -> sp.Expr:
+        """Name ``expr`` with a new intermediate symbol unless it is trivial or already named
+        (``force``: always a new symbol, even for a trivial or already named expression)."""
         expr = sp.sympify(expr)
+        if force:
+            return self._new_symbol(hint, expr)
         if is_trivial(expr):
             return expr
         if expr in self._by_expr:
@@ -85,6 +88,9 @@ class ProgramBuilder:
         neg = -expr
         if neg in self._by_expr:
             return -self._by_expr[neg]
+        return self._new_symbol(hint, expr)
+
+    def _new_symbol(self, hint: str, expr: sp.Expr) -> sp.Symbol:
         name = f"{self.prefix}{hint}"
         if name in self._names:
             k = 2
@@ -93,7 +99,7 @@ class ProgramBuilder:
             name = f"{name}_{k}"
         sym = sp.Symbol(name, real=True)
         self._names.add(name)
-        self._by_expr[expr] = sym
+        self._by_expr.setdefault(expr, sym)
         self._assignments.append((sym, expr))
         return sym
 
