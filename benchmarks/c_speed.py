@@ -20,7 +20,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
 import symdyn  # noqa: E402
-from timing_harness import PRELUDE, parse  # noqa: E402
+from symdyn.timing import PRELUDE, parse  # noqa: E402
 from symdyn.cgen import generate_c  # noqa: E402
 from symdyn.pinocchio_model import build_model  # noqa: E402
 

@@ -146,3 +146,30 @@ def test_reference_is_independent_and_exact_on_a_textbook_case():
     np.testing.assert_allclose(ref.coriolis(q, qd), h, rtol=1e-14)
     np.testing.assert_allclose(ref.gravity(q), c, rtol=1e-14)
     np.testing.assert_allclose(ref.coriolis_matrix(q, qd) @ qd, h, rtol=1e-14)
+
+
+def test_bench_measures_every_variant(tmp_path, capsys):
+    """symdyn bench on a 3-joint chain: every variant measured, each error within its bound,
+    table and plot written; a robot with free parameters is refused in one line."""
+    from symdyn import bench
+    from symdyn.cli import main
+    robot = symdyn.load(robot_path("three_modified"))
+    results = bench.bench_robot(robot, ("inverse_dynamics", "mass_matrix", "forward_dynamics"),
+                                ("ne-double", "ne-float", "closed-double", "casadi-sx", "casadi-c", "pinocchio"),
+                                count=3, workdir=str(tmp_path))
+    seen = {(r.variant, r.function) for r in results}
+    assert ("closed-double", "mass_matrix") in seen and ("casadi-c", "forward_dynamics") in seen
+    assert ("closed-double", "forward_dynamics") not in seen  # not offered for the closed form
+    for r in results:
+        bound = 1e-4 if r.variant == "ne-float" else 1e-12
+        assert r.error <= bound, r
+        assert r.ns is not None and r.ns > 0
+    out = tmp_path / "out"
+    assert main(["bench", robot_path("scara"), "--variants", "ne-double,casadi-sx", "--functions", "gravity",
+                 "--states", "2", "--out", str(out), "--quiet"]) == 0
+    assert "| scara | gravity | ne-double |" in capsys.readouterr().out
+    assert (out / "bench.png").read_bytes()[:4] == b"\x89PNG"
+    assert "symdyn bench" in (out / "bench.md").read_text()
+    assert main(["bench", robot_path("planar2r"), "--quiet"]) == 1
+    assert "no value" in capsys.readouterr().err
+    assert main(["bench", robot_path("scara"), "--variants", "fastest"]) == 1

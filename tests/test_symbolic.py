@@ -14,11 +14,17 @@ def trig_polynomial(eqs, exprs):
     """Expand intermediates keeping each angle's (cos, sin) as a pair of polynomial variables.
 
     Returns the expanded expressions and the list of (c, s) pairs.  Joint angles keep their
-    trig symbols; constant angles (alpha, theta offsets) get a pair of their own."""
+    trig symbols (_c_i, _s_i of theta_i + q_i); constant angles (alpha) get a pair of their own."""
+    import re
     full = {}
     pairs = {}
     for sym, rhs in eqs.program.needed_for(exprs):
-        if isinstance(rhs, (sp.cos, sp.sin)) and rhs.args[0].free_symbols & set(eqs.q):
+        joint = re.fullmatch(r"_([cs])(\d+)", sym.name)
+        if joint:  # the chain's cos/sin(theta_i + q_i), however they are computed
+            angle = sp.Symbol(f"theta{joint.group(2)}+q{joint.group(2)}")
+            c, s_ = pairs.setdefault(angle, (sp.Symbol(f"cos({angle})"), sp.Symbol(f"sin({angle})")))
+            full[sym] = c if joint.group(1) == "c" else s_
+        elif isinstance(rhs, (sp.cos, sp.sin)) and rhs.args[0].free_symbols & set(eqs.q):
             c, s_ = pairs.setdefault(rhs.args[0], (sp.Symbol(f"cos({rhs.args[0]})"), sp.Symbol(f"sin({rhs.args[0]})")))
             full[sym] = c if isinstance(rhs, sp.cos) else s_
         else:

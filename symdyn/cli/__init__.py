@@ -7,9 +7,9 @@ import sys
 
 from .._version import __version__
 from ..errors import SymdynError
-from . import derive, generate, verify
+from . import bench, derive, generate, verify
 
-SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive}
+SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive, "bench": bench}
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -1,0 +1,72 @@
+"""``symdyn bench``: speed against error of every way of generating the dynamics."""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+
+from ..cache import write_atomic
+from ..errors import SymdynError
+from ..robot import load
+from .common import parse_functions
+
+HELP = "time each generation variant and measure its error against a 50-digit reference"
+
+
+def add_parser(sub) -> None:
+    from ..bench import DEFAULT_FUNCTIONS, VARIANTS
+    p = sub.add_parser("bench", help=HELP, description=HELP + ": symdyn C (Newton-Euler double and "
+                       "float, Lagrange-Euler, expanded closed form), CasADi SX and CasADi C, and "
+                       "Pinocchio. Writes a Markdown table and a PNG plot of time against error.")
+    p.add_argument("robots", nargs="+", metavar="ROBOT.yaml", help="robot file(s) without free parameters")
+    p.add_argument("--out", metavar="DIR", help="write bench.md and bench.png to DIR (default: print the table only)")
+    p.add_argument("--functions", metavar="LIST", default=",".join(DEFAULT_FUNCTIONS),
+                   help=f"comma-separated functions to measure (default: {','.join(DEFAULT_FUNCTIONS)})")
+    p.add_argument("--variants", metavar="LIST", default=",".join(VARIANTS),
+                   help=f"comma-separated subset of: {', '.join(VARIANTS)} (default: all)")
+    p.add_argument("--states", type=int, default=20, metavar="N", help="states for the error (default 20)")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from .. import bench
+    functions = parse_functions(args.functions)
+    variants = [v.strip() for v in args.variants.split(",") if v.strip()]
+    unknown = [v for v in variants if v not in bench.VARIANTS]
+    if unknown or not variants:
+        raise SymdynError(f"unknown variant '{unknown[0] if unknown else ''}' in --variants (known: {', '.join(bench.VARIANTS)})")
+    if args.states < 1:
+        raise SymdynError("--states must be at least 1")
+    robots = [load(path) for path in args.robots]  # every file is checked before any work
+    if args.out:
+        try:
+            os.makedirs(args.out, exist_ok=True)
+        except OSError as exc:
+            raise SymdynError(f"cannot create output directory {args.out}: {exc.strerror or exc}") from None
+
+    def progress(text):
+        if not args.quiet:
+            print(f"symdyn bench: {text}", file=sys.stderr, flush=True)
+    results = []
+    for k, robot in enumerate(robots):
+        progress(f"[{k + 1}/{len(robots)}] {robot.name}")
+        results.extend(bench.bench_robot(robot, functions, variants, args.states, progress))
+    table = bench.markdown_table(results)
+    sys.stdout.write(table)
+    if args.out:
+        header = (f"# symdyn bench\n\nMachine: {bench.machine()}.\n\nReproduce: `symdyn bench "
+                  f"{' '.join(os.path.basename(p) for p in args.robots)} --functions {','.join(functions)} "
+                  f"--states {args.states}`\n\n![time against error](bench.png)\n\n")
+        write_atomic(os.path.join(args.out, "bench.md"), (header + table).encode())
+        with tempfile.TemporaryDirectory() as tmp:
+            png = os.path.join(tmp, "bench.png")
+            try:
+                bench.plot(results, png)
+            except ImportError:
+                raise SymdynError("the plot needs matplotlib: pip install 'symdyn[plot]'") from None
+            with open(png, "rb") as handle:
+                write_atomic(os.path.join(args.out, "bench.png"), handle.read())
+        progress(f"wrote {os.path.join(args.out, 'bench.md')} and bench.png")
+    return 0

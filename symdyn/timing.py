@@ -1,0 +1,50 @@
+"""Timing generated C in a C loop: the harness shared by ``symdyn bench`` and ``benchmarks/``."""
+
+import re
+
+#: C prelude: includes, a monotonic clock, S seeded random states of N joints (q, qd, qdd) and
+#: TIME(label, call): median of 7 repeats of 20000 calls, printed as "label ns".  The includes
+#: of the code under test go in %(includes)s (which may #define REAL, the scalar type of the
+#: state arrays, default double); N is %(dof)d.  Follow it with the body of main
+#: and "return 0; }".
+PRELUDE = r"""#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+%(includes)s
+#ifndef REAL
+#define REAL double
+#endif
+#define N %(dof)d
+#define S 64
+static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
+static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
+static REAL q[S][N], qd[S][N], qdd[S][N], out[N * N];
+static volatile double sink;
+#define TIME(label, call) do { double runs[7]; int r, i; for (r = 0; r < 7; ++r) { double t0 = now(); \
+    for (i = 0; i < 20000; ++i) { int k = i %% S; call; sink += out[0]; } runs[r] = (now() - t0) / 20000; } \
+    qsort(runs, 7, sizeof(double), cmp); printf("%%s %%.1f\n", label, runs[3]); } while (0)
+int main(void) {
+    int k, j;
+    srand(1);
+    for (k = 0; k < S; ++k) for (j = 0; j < N; ++j) {
+        q[k][j] = (REAL)(6.0 * rand() / RAND_MAX - 3); qd[k][j] = (REAL)(2.0 * rand() / RAND_MAX - 1);
+        qdd[k][j] = (REAL)(2.0 * rand() / RAND_MAX - 1); }
+"""
+
+
+def parse(text):
+    """{label: ns} from the harness's output."""
+    return {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+) ([\d.]+)$", text, re.M)}
+
+
+ARGUMENTS = {"inverse_dynamics": "q[k], qd[k], qdd[k]", "mass_matrix": "q[k]", "coriolis": "q[k], qd[k]",
+             "coriolis_matrix": "q[k], qd[k]", "gravity": "q[k]", "forward_dynamics": "q[k], qd[k], qdd[k]"}
+
+
+def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double") -> str:
+    """A C program timing symdyn's generated ``prefix_<function>`` (no runtime parameters)."""
+    real = "float" if precision == "float" else "double"
+    includes = f'#define REAL {real}\n#include "{prefix}_dynamics.h"'
+    body = "".join(f'    TIME("{f}", {prefix}_{f}({ARGUMENTS[f]}, out));\n' for f in functions)
+    return PRELUDE.replace("%(includes)s", includes) % {"dof": dof} + body + "    return 0;\n}\n"
