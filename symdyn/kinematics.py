@@ -70,6 +70,8 @@ def joint_geometry(link: Link, convention: str) -> JointGeometry:
             pre = pre * rot_z(link.theta)
         pre = pre * trans(z=link.d)
         post = sp.eye(4)
+    if link.fixed is not None:  # a constant transform before the DH transform (locked joints)
+        pre = sp.Matrix(4, 4, list(link.fixed)) * pre
     return JointGeometry(sp.ImmutableMatrix(pre), sp.ImmutableMatrix(post), link.is_revolute)
 
 

@@ -63,6 +63,8 @@ def numeric_links(robot: Robot) -> list[dict]:
             "armature": _value(link.armature, f"{tag} armature"),
             "damping": _value(link.damping, f"{tag} damping"),
             "coulomb": _value(link.coulomb, f"{tag} coulomb"),
+            "fixed": (np.eye(4) if link.fixed is None else
+                      np.array([_value(c, f"{tag} fixed") for c in link.fixed]).reshape(4, 4)),
         })
     return rows
 
@@ -88,6 +90,7 @@ def build_model(robot: Robot, values: Mapping | None = None):
     parent = 0
     placement = np.eye(4)  # constant transform from the parent joint frame to this joint frame
     for k, row in enumerate(links):
+        placement = placement @ row["fixed"]
         if robot.convention == "standard":
             joint_placement = placement
             if row["revolute"]:
@@ -103,6 +106,7 @@ def build_model(robot: Robot, values: Mapping | None = None):
         joint = pin.JointModelRZ() if row["revolute"] else pin.JointModelPZ()
         se3 = pin.SE3(joint_placement[:3, :3].copy(), joint_placement[:3, 3].copy())
         joint_id = model.addJoint(parent, joint, se3, f"joint{k + 1}")
+        model.addJointFrame(joint_id, -1)  # frames: needed by buildReducedModel and friends
         xx, yy, zz, xy, xz, yz = row["inertia"]
         inertia_com = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
         link_inertia = pin.Inertia(row["mass"], row["com"].copy(), inertia_com)
@@ -112,6 +116,7 @@ def build_model(robot: Robot, values: Mapping | None = None):
         placement = next_placement
     model.armature = np.array([row["armature"] for row in links])
     info = {"damping": np.array([row["damping"] for row in links]),
+            "last_body": body,  # pose of the last link frame in its joint frame
             "coulomb": np.array([row["coulomb"] for row in links])}
     return model, info
 

@@ -57,6 +57,8 @@ class MpReference:
                 "com": self.ctx.matrix([mpf(c) for c in link.com]),
                 "inertia": self.ctx.matrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]),
                 "armature": mpf(link.armature), "damping": mpf(link.damping), "coulomb": mpf(link.coulomb),
+                "fixed": (self.ctx.eye(4) if link.fixed is None else
+                          self.ctx.matrix([[mpf(link.fixed[4 * r + c]) for c in range(4)] for r in range(4)])),
             })
         self.g_vector = self.ctx.matrix([mpf(g) for g in robot.gravity])
 
@@ -86,6 +88,7 @@ class MpReference:
         for k, row in enumerate(self.links):
             angle = row["theta"] + (q[k] if row["revolute"] else 0)
             offset = row["d"] + (0 if row["revolute"] else q[k])
+            current = current * row["fixed"]
             if self.robot.convention == "standard":
                 joint = current * self._rot_z(angle) * self._trans(z=offset)
                 link = joint * self._trans(x=row["a"]) * self._rot_x(row["alpha"])

@@ -60,6 +60,9 @@ class Link:
     armature: sp.Expr = sp.S.Zero
     damping: sp.Expr = sp.S.Zero
     coulomb: sp.Expr = sp.S.Zero
+    #: constant 4x4 transform (16 entries, row-major) applied before the link's DH transform, or
+    #: None; not part of the file format: scenes set it when they lock joints (symdyn.scene)
+    fixed: tuple[sp.Expr, ...] | None = None
 
     @property
     def is_revolute(self) -> bool:
@@ -73,7 +76,7 @@ class Link:
 
     def expressions(self) -> tuple[sp.Expr, ...]:
         return (self.a, self.alpha, self.d, self.theta, self.mass, *self.com, *self.inertia,
-                self.armature, self.damping, self.coulomb)
+                self.armature, self.damping, self.coulomb, *(self.fixed or ()))
 
     def subs(self, mapping: Mapping[sp.Symbol, sp.Expr]) -> "Link":
         def s(e):
@@ -82,7 +85,8 @@ class Link:
             self, a=s(self.a), alpha=s(self.alpha), d=s(self.d), theta=s(self.theta),
             mass=s(self.mass), com=tuple(s(c) for c in self.com),
             inertia=tuple(s(c) for c in self.inertia), armature=s(self.armature),
-            damping=s(self.damping), coulomb=s(self.coulomb))
+            damping=s(self.damping), coulomb=s(self.coulomb),
+            fixed=None if self.fixed is None else tuple(s(c) for c in self.fixed))
 
 
 @dataclass(frozen=True)

@@ -42,9 +42,14 @@ ARGUMENTS = {"inverse_dynamics": "q[k], qd[k], qdd[k]", "mass_matrix": "q[k]", "
              "coriolis_matrix": "q[k], qd[k]", "gravity": "q[k]", "forward_dynamics": "q[k], qd[k], qdd[k]"}
 
 
-def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double") -> str:
-    """A C program timing symdyn's generated ``prefix_<function>`` (no runtime parameters)."""
+def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", parameters=()) -> str:
+    """A C program timing symdyn's generated ``prefix_<function>`` (``parameters``: the values
+    of its runtime parameters, passed as ``p``)."""
     real = "float" if precision == "float" else "double"
     includes = f'#define REAL {real}\n#include "{prefix}_dynamics.h"'
-    body = "".join(f'    TIME("{f}", {prefix}_{f}({ARGUMENTS[f]}, out));\n' for f in functions)
+    extra = ""
+    if parameters:
+        includes += f"\nstatic const REAL p[{len(parameters)}] = {{{', '.join(repr(float(v)) for v in parameters)}}};"
+        extra = ", p"
+    body = "".join(f'    TIME("{f}", {prefix}_{f}({ARGUMENTS[f]}{extra}, out));\n' for f in functions)
     return PRELUDE.replace("%(includes)s", includes) % {"dof": dof} + body + "    return 0;\n}\n"

@@ -8,7 +8,7 @@ import tempfile
 
 from ..cache import write_atomic
 from ..errors import SymdynError
-from ..robot import load
+from ..scene import load_input
 from .common import parse_functions
 
 HELP = "time each generation variant and measure its error against a 50-digit reference"
@@ -39,7 +39,7 @@ def run(args) -> int:
         raise SymdynError(f"unknown variant '{unknown[0] if unknown else ''}' in --variants (known: {', '.join(bench.VARIANTS)})")
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
-    robots = [load(path) for path in args.robots]  # every file is checked before any work
+    robots = [load_input(path)[0] for path in args.robots]  # every file is checked before any work
     if args.out:
         try:
             os.makedirs(args.out, exist_ok=True)

@@ -10,7 +10,7 @@ from ..cache import write_atomic
 from ..derivation import STEPS, derive_steps
 from ..errors import SymdynError
 from ..printout import FORMATS, render
-from ..robot import load
+from ..scene import load_input
 from .common import add_method_option
 
 HELP = "print the derivation of the equations of motion (text, LaTeX or Markdown)"
@@ -36,7 +36,7 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    robot = load(args.robot)
+    robot, _ = load_input(args.robot)
     closed = {"auto": None, "closed": True, "named": False}[args.form]
     derivation = derive_steps(robot, args.method, args.steps, closed)
     text = render(derivation, args.format, source_name=os.path.basename(args.robot),

@@ -8,7 +8,8 @@ from ..cache import derive_cached, write_atomic
 from ..cgen import generate_c
 from ..cprinter import PRECISIONS
 from ..errors import SymdynError
-from ..robot import load
+from ..equations import OUTPUTS
+from ..scene import load_input
 from .common import add_method_option, parse_functions
 
 HELP = "generate C code (NAME_dynamics.h/.c) or CasADi functions for robot files"
@@ -18,18 +19,20 @@ TARGETS = ("c", "casadi", "casadi-c")
 def add_parser(sub) -> None:
     p = sub.add_parser("generate", help=HELP, description=HELP + ". Output files are written "
                        "atomically; on any error existing files are left untouched.")
-    p.add_argument("robots", nargs="+", metavar="ROBOT.yaml", help="robot file(s) (format version 1)")
+    p.add_argument("robots", nargs="+", metavar="ROBOT.yaml", help="robot file(s) (format version 1) or "
+                   "scene file(s) (docs/scene-format.md: locked joints, payload, runtime parameters)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
     p.add_argument("--target", default="c", choices=TARGETS,
                    help="c (default): NAME_dynamics.h/.c; casadi: NAME_dynamics.casadi and one "
                         "NAME_<function>.casadi per function (casadi.Function.save format) with "
                         "NAME_casadi.txt describing them; casadi-c: as casadi, plus CasADi's own "
                         "generated C (NAME_casadi.c/.h) for comparison")
-    p.add_argument("--precision", default="double", choices=PRECISIONS,
-                   help="scalar type of the generated C (float gives sinf/cosf and float literals); c target only")
+    p.add_argument("--precision", default=None, choices=PRECISIONS,
+                   help="scalar type of the generated C (float gives sinf/cosf and float literals); c target "
+                        "only; default: the scene's precision, else double")
     p.add_argument("--functions", metavar="LIST",
                    help="comma-separated subset of: inverse_dynamics, mass_matrix, coriolis, "
-                        "coriolis_matrix, gravity, forward_dynamics (default: all)")
+                        "coriolis_matrix, gravity, forward_dynamics (default: the scene's functions, else all)")
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
     add_method_option(p)
@@ -38,10 +41,19 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
-def generate_files(path: str, functions, precision: str, header_only: bool, method: str,
+def generate_files(path: str, functions, precision, header_only: bool, method: str,
                    use_cache: bool = True, target: str = "c") -> dict[str, bytes]:
-    """Load, derive (cached) and emit; returns {file name: content} without writing anything."""
-    robot = load(path)
+    """Load (robot or scene), derive (cached) and emit; returns {file name: content} without
+    writing anything.  ``functions``/``precision`` None: the scene's, else all / double."""
+    robot, scene = load_input(path)
+    notes: tuple[str, ...] = ()
+    source_hash = robot.source_hash
+    if scene is not None:
+        functions = functions or scene.functions
+        precision = precision or scene.precision
+        notes = scene.notes
+    functions = functions or OUTPUTS
+    precision = precision or "double"
     wanted = set(functions)
     if "forward_dynamics" in wanted:
         wanted |= {"mass_matrix"}
@@ -49,16 +61,16 @@ def generate_files(path: str, functions, precision: str, header_only: bool, meth
     source = os.path.basename(path)
     if target == "c":
         files = generate_c(eqs, functions, precision, header_only, source_name=source,
-                           source_hash=robot.source_hash)
+                           source_hash=source_hash, notes=notes)
         return {name: text.encode("utf-8") for name, text in files.items()}
     from ..casadi_backend import casadi_files
     return casadi_files(eqs, functions, casadi_c=target == "casadi-c", source_name=source,
-                        source_hash=robot.source_hash)
+                        source_hash=source_hash)
 
 
 def run(args) -> int:
-    functions = parse_functions(args.functions)
-    if args.target != "c" and (args.precision != "double" or args.header_only):
+    functions = parse_functions(args.functions) if args.functions else None
+    if args.target != "c" and (args.precision not in (None, "double") or args.header_only):
         raise SymdynError(f"--precision and --header-only apply to the c target only, not {args.target}")
     rendered = {}
     for path in args.robots:

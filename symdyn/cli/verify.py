@@ -12,7 +12,7 @@ from ..cgen import generate_c
 from ..cprinter import PRECISIONS
 from ..equations import OUTPUTS
 from ..errors import SymdynError
-from ..robot import load
+from ..scene import load_input
 from .common import add_method_option
 
 HELP = "compile the generated C and compare every function with Pinocchio"
@@ -42,7 +42,7 @@ def run(args) -> int:
     from ..pinocchio_model import PinocchioReference, normalized_error
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
-    robot = load(args.robot)
+    robot, _ = load_input(args.robot)
     rng = np.random.default_rng(args.seed)
     values = {}
     for sym, nominal in zip(robot.parameters, robot.nominal):

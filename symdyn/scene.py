@@ -1,0 +1,256 @@
+"""Scenes: model only what an application needs (format in docs/scene-format.md).
+
+A scene names a robot file and specializes it: the functions wanted, joints locked at given
+values (removed from q, their links merged into the parent), a payload on the last link (numbers
+or runtime parameters), which named parameters stay runtime inputs (all others folded to their
+values) and the precision.  :func:`load_scene` returns a plain :class:`~symdyn.robot.Robot`, so
+every derivation and emitter works on it unchanged.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from dataclasses import dataclass, replace
+
+import sympy as sp
+import yaml
+
+from .errors import RobotFileError, SymdynError
+from .robot import Link, Robot, _UniqueKeyLoader, loads
+
+SCENE_VERSION = 1
+SCENE_KEYS = ("scene", "robot", "name", "functions", "precision", "lock", "payload", "runtime", "values")
+PAYLOAD_KEYS = ("mass", "com", "inertia")
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A specialized robot and what to emit for it."""
+
+    robot: Robot
+    functions: tuple[str, ...] | None
+    precision: str | None
+    notes: tuple[str, ...]  # what the scene did, for the generated header
+    source: str
+    source_hash: str
+
+
+def is_scene_file(path: str) -> bool:
+    """Whether ``path`` holds a scene (a mapping with a top-level ``scene`` key)."""
+    try:
+        with open(path, "rb") as handle:
+            doc = yaml.load(handle.read().decode("utf-8", "replace"), Loader=_UniqueKeyLoader)
+    except (OSError, yaml.YAMLError):
+        return False
+    return isinstance(doc, dict) and "scene" in doc
+
+
+def load_input(path: str):
+    """A robot file or a scene: returns ``(robot, scene or None)``."""
+    from .robot import load
+    if is_scene_file(path):
+        scene = load_scene(path)
+        return scene.robot, scene
+    return load(path), None
+
+
+def _fail(path, reason, fld=None):
+    raise RobotFileError(path, reason, field=fld)
+
+
+def _transform(robot: Robot, link: Link, value) -> sp.Matrix:
+    """The constant 4x4 transform of a link with its joint at ``value``."""
+    from .kinematics import joint_geometry, joint_motion
+    geo = joint_geometry(link, robot.convention)
+    return sp.Matrix(geo.pre) * joint_motion(link, value) * sp.Matrix(geo.post)
+
+
+def merge_bodies(m1, c1, I1, m2, c2, I2):
+    """Mass, COM and inertia about the COM of two rigid bodies given in one frame."""
+    m = sp.expand(m1 + m2)
+    if m == 0:
+        return m, sp.zeros(3, 1), I1 + I2
+    c = (m1 * c1 + m2 * c2) / m
+    eye = sp.eye(3)
+
+    def shifted(mk, ck, Ik):
+        d = ck - c
+        return Ik + mk * ((d.T * d)[0] * eye - d * d.T)
+    return m, c, shifted(m1, c1, I1) + shifted(m2, c2, I2)
+
+
+def _with_body(link: Link, m, c, inertia) -> Link:
+    def simplify(e):
+        e = sp.sympify(e)
+        return e if e.is_number else sp.simplify(e)
+    I = inertia
+    return replace(link, mass=sp.simplify(m), com=tuple(simplify(x) for x in c),
+                   inertia=tuple(simplify(x) for x in (I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2])))
+
+
+def _body(link: Link):
+    return link.mass, sp.Matrix(link.com), sp.Matrix(link.inertia_matrix)
+
+
+def lock_joints(robot: Robot, locked: dict[int, sp.Expr]) -> Robot:
+    """The robot with the joints ``locked`` (0-based index -> value) removed: each locked link is
+    merged into the nearest moving link before it (or into the ground), and the constant
+    transforms are carried to the next moving link."""
+    pending = sp.eye(4)  # from the last kept link's frame to the current frame
+    kept: list[Link] = []
+    for i, link in enumerate(robot.links):
+        if i in locked:
+            pending = pending * _transform(robot, link, locked[i])
+            if kept:
+                R, t = pending[:3, :3], pending[:3, 3]
+                m2, c2, I2 = _body(link)
+                m1, c1, I1 = _body(kept[-1])
+                m, c, inertia = merge_bodies(m1, c1, I1, m2, R * c2 + t, R * I2 * R.T)
+                kept[-1] = _with_body(kept[-1], m, c, inertia)
+            continue
+        fixed = pending * (sp.Matrix(4, 4, list(link.fixed)) if link.fixed is not None else sp.eye(4))
+        fixed = fixed.applyfunc(sp.simplify)
+        kept.append(replace(link, fixed=None if fixed == sp.eye(4) else tuple(fixed)))
+        pending = sp.eye(4)
+    if not kept:
+        raise SymdynError("a scene must leave at least one joint free")
+    return _drop_unused(replace(robot, links=tuple(kept)))
+
+
+def _drop_unused(robot: Robot) -> Robot:
+    used = set().union(*(e.free_symbols for link in robot.links for e in link.expressions()),
+                       *(sp.sympify(g).free_symbols for g in robot.gravity))
+    keep = [(s, v) for s, v in zip(robot.parameters, robot.nominal) if s in used]
+    return replace(robot, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
+                   runtime_names=tuple(n for n in robot.runtime_names if any(s.name == n for s, _ in keep)))
+
+
+def load_scene(path: str) -> Scene:
+    """Read a scene file and build its specialized robot."""
+    from .equations import OUTPUTS
+    try:
+        with open(path, "rb") as handle:
+            raw = handle.read()
+        doc = yaml.load(raw.decode("utf-8"), Loader=_UniqueKeyLoader)
+    except OSError as exc:
+        raise RobotFileError(path, f"cannot read the file: {exc.strerror or exc}") from None
+    except (yaml.YAMLError, UnicodeDecodeError) as exc:
+        raise RobotFileError(path, f"not a valid scene file: {str(exc).splitlines()[0]}") from None
+    if not isinstance(doc, dict):
+        _fail(path, "expected a mapping")
+    for key in doc:
+        if key not in SCENE_KEYS:
+            _fail(path, f"unknown key '{key}' (allowed: {', '.join(SCENE_KEYS)})", str(key))
+    if doc.get("scene") != SCENE_VERSION or isinstance(doc.get("scene"), bool):
+        _fail(path, f"unsupported scene version {doc.get('scene')!r}; this symdyn reads scene {SCENE_VERSION}", "scene")
+    if not isinstance(doc.get("robot"), str):
+        _fail(path, "missing or invalid robot file path", "robot")
+    robot_path = os.path.join(os.path.dirname(os.path.abspath(path)), doc["robot"])
+    try:
+        with open(robot_path, "rb") as handle:
+            robot_raw = handle.read()
+        robot_doc = yaml.load(robot_raw.decode("utf-8"), Loader=_UniqueKeyLoader)
+    except OSError as exc:
+        raise RobotFileError(path, f"cannot read robot file {doc['robot']}: {exc.strerror or exc}", field="robot") from None
+    except (yaml.YAMLError, UnicodeDecodeError):
+        robot_doc = None
+    if not isinstance(robot_doc, dict) or not isinstance(robot_doc.get("links"), list) or not robot_doc["links"]:
+        from .robot import load
+        load(robot_path)  # raises the robot file's own error
+        _fail(path, "the robot file has no links", "robot")
+
+    runtime = doc.get("runtime", [])
+    if not isinstance(runtime, list) or not all(isinstance(n, str) for n in runtime):
+        _fail(path, "expected a list of parameter names", "runtime")
+    values = doc.get("values", {}) or {}
+    if not isinstance(values, dict) or not all(isinstance(v, (int, float, str)) and not isinstance(v, bool)
+                                               for v in values.values()):
+        _fail(path, "expected a mapping of parameter names to numbers", "values")
+    functions = doc.get("functions")
+    if functions is not None:
+        if not isinstance(functions, list) or not functions:
+            _fail(path, "expected a non-empty list of functions", "functions")
+        for f in functions:
+            if f not in OUTPUTS:
+                _fail(path, f"unknown function '{f}' (known: {', '.join(OUTPUTS)})", "functions")
+        functions = tuple(f for f in OUTPUTS if f in functions)
+    precision = doc.get("precision")
+    if precision is not None and precision not in ("double", "float"):
+        _fail(path, f"precision must be double or float, not {precision!r}", "precision")
+
+    # Parameters: the scene decides which stay runtime inputs; the rest fold to their values.
+    params = dict(robot_doc.get("parameters") or {})
+    notes = [f"scene: {os.path.basename(path)} (sha256 {hashlib.sha256(raw).hexdigest()})",
+             f"robot: {doc['robot']} (sha256 {hashlib.sha256(robot_raw).hexdigest()})"]
+    folded = []
+    for name, spec in list(params.items()):
+        value = spec.get("value") if isinstance(spec, dict) else spec
+        if name in values:
+            value = values[name]
+        if name in runtime:
+            params[name] = {"value": value, "runtime": True}
+        else:
+            params[name] = value
+            folded.append(f"{name}={value}")
+    for name in values:
+        if name not in params and name not in runtime:
+            params[name] = values[name]
+            folded.append(f"{name}={values[name]}")
+    for name in runtime:
+        if name not in params:
+            params[name] = {"value": values.get(name, 0), "runtime": True}
+    robot_doc = dict(robot_doc)
+    if params:
+        robot_doc["parameters"] = params
+    links = list(robot_doc["links"])
+    payload = doc.get("payload")
+    if payload is not None:
+        if not isinstance(payload, dict):
+            _fail(path, "expected a mapping with mass, com and inertia", "payload")
+        for key in payload:
+            if key not in PAYLOAD_KEYS:
+                _fail(path, f"unknown key '{key}' (allowed: {', '.join(PAYLOAD_KEYS)})", f"payload.{key}")
+        # read the payload with the robot's own (safe) number parser, as one more link's fields
+        links.append({"name": "payload", "joint": "revolute", "a": 0, "alpha": 0, "d": 0, "theta": 0,
+                      "mass": payload.get("mass", 0), "com": payload.get("com", [0, 0, 0]),
+                      "inertia": payload.get("inertia", [0, 0, 0, 0, 0, 0])})
+    robot_doc["links"] = links
+    try:
+        robot = loads(yaml.safe_dump(robot_doc, sort_keys=False), robot_path)
+    except RobotFileError as exc:
+        raise RobotFileError(path, f"in robot {doc['robot']}: {exc.reason}", link=exc.link, field=exc.field) from None
+    if payload is not None:
+        carrier, last = robot.links[-1], robot.links[-2]
+        m, c, inertia = merge_bodies(*_body(last), *_body(carrier))
+        robot = replace(robot, links=robot.links[:-2] + (_with_body(last, m, c, inertia),))
+        notes.append(f"payload: mass {carrier.mass}, com ({', '.join(map(str, carrier.com))}) in the frame of "
+                     f"link {robot.dof} ({last.name}), merged into that link")
+    lock = doc.get("lock", {}) or {}
+    if not isinstance(lock, dict):
+        _fail(path, "expected a mapping of joint (1-based index or link name) to value", "lock")
+    locked: dict[int, sp.Expr] = {}
+    names = {link.name: k for k, link in enumerate(robot.links)}
+    for key, value in lock.items():
+        index = names.get(key) if isinstance(key, str) else (key - 1 if isinstance(key, int) and not isinstance(key, bool) else None)
+        if index is None or not 0 <= index < robot.dof:
+            _fail(path, f"no joint {key!r} in {robot.name} (give a 1-based index or a link name)", f"lock.{key}")
+        if not isinstance(value, (int, float)) or isinstance(value, bool):
+            _fail(path, f"expected a number (rad or m), not {value!r}", f"lock.{key}")
+        locked[index] = sp.nsimplify(value, rational=True)
+    if locked:
+        notes.append("locked: " + ", ".join(f"joint {k + 1} ({robot.links[k].name}) at {float(v):g}"
+                                            for k, v in sorted(locked.items())))
+        robot = lock_joints(robot, locked)
+    robot = _drop_unused(robot)
+    if folded:
+        notes.append("folded parameters: " + ", ".join(folded))
+    if robot.parameters:
+        notes.append("runtime parameters: " + ", ".join(s.name for s in robot.parameters))
+    name = doc.get("name", robot.name)
+    from .robot import ROBOT_NAME_PATTERN
+    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name):
+        _fail(path, f"{name!r} is not a valid name", "name")
+    robot = replace(robot, name=name, source=path, source_hash=hashlib.sha256(raw + robot_raw).hexdigest())
+    return Scene(robot=robot, functions=functions, precision=precision, notes=tuple(notes),
+                 source=path, source_hash=robot.source_hash)
