@@ -90,13 +90,23 @@ def transform_force(b: ProgramBuilder, force: tuple[sp.Matrix, sp.Matrix], pose:
     return f_a, b.vector(f"{hint}n", n_a.applyfunc(sp.expand))
 
 
+def _cancel(expr):
+    """``expr`` with symbolic divisions cancelled where they cancel (rational function normal
+    form); expressions without a symbolic denominator are returned unchanged."""
+    expr = sp.sympify(expr)
+    has_division = any(p.exp.is_negative and p.base.free_symbols for p in expr.atoms(sp.Pow))
+    return sp.cancel(expr) if has_division else expr
+
+
 def _link_inertia(chain: Chain, i: int) -> BodyInertia:
     """Link i's inertia about the origin of its joint frame (constant)."""
     link = chain.robot.links[i]
     m = link.mass
     s = sp.Matrix(link.com)
     J = sp.Matrix(link.inertia_matrix) + m * ((s.T * s)[0] * sp.eye(3) - s * s.T)
-    body = BodyInertia(m, m * s, J)
+    # m s and the inertia about the origin are polynomial in the parameters even when the COM
+    # is not (a merged runtime payload has c = (m1 c1 + m2 c2) / (m1 + m2)): cancel the division
+    body = BodyInertia(m, (m * s).applyfunc(_cancel), J.applyfunc(_cancel))
     post = sp.Matrix(chain.geometry[i].post)
     R, p = post[:3, :3], post[:3, 3]
     h = R * body.first_moment
