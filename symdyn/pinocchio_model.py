@@ -142,6 +142,27 @@ def normalized_error(mine, ref) -> float:
     return worst
 
 
+def compare(mine, reference, states, functions, p=None) -> dict[str, float]:
+    """The normalized error (:func:`normalized_error`) of each named function of ``mine``
+    against the same function of ``reference``, over ``states`` (each ``[q, qd, qdd, tau]``).
+
+    Both take the function's inputs in symdyn's order (:data:`symdyn.equations.OUTPUT_INPUTS`);
+    ``p`` (runtime parameters) is passed to ``mine`` only, when given.
+    """
+    from .equations import OUTPUT_INPUTS
+    extra = [] if p is None else [p]
+    errors = {}
+    for name in functions:
+        values, refs = [], []
+        for state in states:
+            given = dict(zip(("q", "qd", "qdd", "tau"), state))
+            args = [given[g] for g in OUTPUT_INPUTS[name]]
+            values.append(np.asarray(getattr(mine, name)(*args, *extra), dtype=float))
+            refs.append(np.asarray(getattr(reference, name)(*args), dtype=float))
+        errors[name] = normalized_error(values, refs)
+    return errors
+
+
 class PinocchioReference:
     """Pinocchio's values of symdyn's quantities for a robot (numbers substituted for its
     parameters with ``values``), in symdyn's notation: ``mass_matrix`` excludes armature,

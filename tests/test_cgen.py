@@ -9,7 +9,9 @@ import zlib
 import numpy as np
 import pytest
 
-from helpers import REPO, ROBOTS, PinocchioReference, normalized_error, parameter_values, random_states
+from helpers import REPO, ROBOTS, PinocchioReference, parameter_values, random_states
+from symdyn.pinocchio_model import compare
+from symdyn import OUTPUTS
 from symdyn.cbuild import WARNING_FLAGS, build_and_load, find_compiler
 from symdyn.cli import main
 from symdyn.cli.generate import generate_files
@@ -51,20 +53,12 @@ def _compare(lib, name, precision, tolerance):
     values = parameter_values(robot)
     p = np.array([values[s] for s in robot.parameters])
     ref = PinocchioReference(robot, values)
-    pairs = {k: ([], []) for k in ("D", "h", "C", "c", "tau", "fd")}
-    for q, qd, qdd, tau in random_states(robot.dof, 50, seed=zlib.crc32(name.encode()) % 997):
+    states = []
+    for state in random_states(robot.dof, 50, seed=zlib.crc32(name.encode()) % 997):
         if precision == "float":
-            q, qd, qdd, tau = (x.astype(np.float32).astype(float) for x in (q, qd, qdd, tau))
-        for key, mine, theirs in (
-                ("D", lib.mass_matrix(q, p), ref.mass_matrix(q)),
-                ("h", lib.coriolis(q, qd, p), ref.coriolis(q, qd)),
-                ("C", lib.coriolis_matrix(q, qd, p), ref.coriolis_matrix(q, qd)),
-                ("c", lib.gravity(q, p), ref.gravity(q)),
-                ("tau", lib.inverse_dynamics(q, qd, qdd, p), ref.inverse_dynamics(q, qd, qdd)),
-                ("fd", lib.forward_dynamics(q, qd, tau, p), ref.forward_dynamics(q, qd, tau))):
-            pairs[key][0].append(np.asarray(mine, dtype=float))
-            pairs[key][1].append(theirs)
-    errors = {k: normalized_error(np.array(a), np.array(b)) for k, (a, b) in pairs.items()}
+            state = [x.astype(np.float32).astype(float) for x in state]
+        states.append(state)
+    errors = compare(lib, ref, states, OUTPUTS, p)
     bad = {k: v for k, v in errors.items() if not v <= tolerance}
     assert not bad, f"{name} {precision}: {bad}"
 

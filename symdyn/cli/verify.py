@@ -39,7 +39,7 @@ def run(args) -> int:
         import pinocchio  # noqa: F401
     except ImportError:
         raise SymdynError("symdyn verify needs Pinocchio: pip install pin (or 'symdyn[test]')") from None
-    from ..pinocchio_model import PinocchioReference, normalized_error
+    from ..pinocchio_model import PinocchioReference, compare
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
     robot, _ = load_input(args.robot)
@@ -54,38 +54,21 @@ def run(args) -> int:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), args.precision, workdir)
         ref = PinocchioReference(robot, values)
         n = robot.dof
-        results = {name: ([], []) for name in OUTPUTS}
+        states = []
         for _ in range(args.states):
-            q, qd, qdd = rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n), rng.uniform(-5, 5, n)
-            tau = rng.uniform(-20, 20, n)
+            state = [rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n), rng.uniform(-5, 5, n),
+                     rng.uniform(-20, 20, n)]
             if args.precision == "float":  # judge the arithmetic, not the rounding of the inputs
-                q, qd, qdd, tau = (x.astype(np.float32).astype(float) for x in (q, qd, qdd, tau))
-            refs = {
-                "inverse_dynamics": ref.inverse_dynamics(q, qd, qdd),
-                "mass_matrix": ref.mass_matrix(q),
-                "coriolis": ref.coriolis(q, qd),
-                "coriolis_matrix": ref.coriolis_matrix(q, qd),
-                "gravity": ref.gravity(q),
-                "forward_dynamics": ref.forward_dynamics(q, qd, tau),
-            }
-            mine = {
-                "inverse_dynamics": lib.inverse_dynamics(q, qd, qdd, p),
-                "mass_matrix": lib.mass_matrix(q, p),
-                "coriolis": lib.coriolis(q, qd, p),
-                "coriolis_matrix": lib.coriolis_matrix(q, qd, p),
-                "gravity": lib.gravity(q, p),
-                "forward_dynamics": lib.forward_dynamics(q, qd, tau, p),
-            }
-            for name in OUTPUTS:
-                results[name][0].append(np.asarray(mine[name], dtype=float))
-                results[name][1].append(refs[name])
+                state = [x.astype(np.float32).astype(float) for x in state]
+            states.append(state)
+        errors = compare(lib, ref, states, OUTPUTS, p)
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[args.precision]
     print(f"symdyn verify {args.robot}: {robot.dof} joints, {args.method}, {args.precision}, "
           f"{args.states} random states, tolerance {tolerance:g}")
     print(f"{'function':<18} {'normalized error':>16}  status")
     failed = False
     for name in OUTPUTS:
-        err = normalized_error(np.array(results[name][0]), np.array(results[name][1]))
+        err = errors[name]
         ok = bool(np.isfinite(err) and err <= tolerance)
         failed |= not ok
         print(f"{name:<18} {err:>16.3e}  {'ok' if ok else 'FAIL'}")
