@@ -6,7 +6,6 @@ Prints a Markdown table (ns per call: median of 7 x 20000 calls, -O3 -march=nati
 """
 
 import os
-import subprocess
 import sys
 import tempfile
 
@@ -14,10 +13,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
 import symdyn  # noqa: E402
-from symdyn.cbuild import find_compiler  # noqa: E402
 from symdyn.cgen import build_function, generate_c  # noqa: E402
 from symdyn.scene import load_scene  # noqa: E402
-from symdyn.timing import parse, symdyn_harness  # noqa: E402
+from symdyn.timing import time_generated  # noqa: E402
 
 ROBOTS = os.path.join(HERE, "..", "robots")
 CASES = [  # (label, scene file or robot, functions, precision)
@@ -46,16 +44,8 @@ def main():
             files = generate_c(eqs, functions, precision)
             folder = os.path.join(workdir, label.replace(" ", "_").replace(",", "").replace("(", "").replace(")", ""))
             os.makedirs(folder)
-            for name, text in files.items():
-                with open(os.path.join(folder, name), "w") as handle:
-                    handle.write(text)
             nominal = [float(v) for v in robot.nominal]
-            with open(os.path.join(folder, "bench.c"), "w") as handle:
-                handle.write(symdyn_harness(robot.name, robot.dof, functions, precision, nominal))
-            exe = os.path.join(folder, "bench")
-            subprocess.run([find_compiler(), "-O3", "-march=native", "-std=c99", "-w", os.path.join(folder, "bench.c"),
-                            os.path.join(folder, f"{robot.name}_dynamics.c"), "-o", exe, "-lm"], check=True)
-            timings = parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)
+            timings = time_generated(files, robot.name, robot.dof, functions, precision, folder, nominal)
             for f in functions:
                 ops = build_function(eqs, f, precision, robot.name).ops
                 print(f"| {label} | {f} | {precision} | {timings[f]:.0f} | {ops['mul']} | {ops['add']} | "

@@ -36,17 +36,18 @@ import sympy as sp
 
 from .cache import derive_cached
 from .cbuild import build_and_load, find_compiler
+from .equations import OUTPUT_INPUTS
 from .errors import SymdynError
 from .pinocchio_model import normalized_error
 from .program import Program
 from .reference import MpReference
 from .robot import Robot
-from .timing import parse, symdyn_harness
+from .timing import parse, time_generated
 
 VARIANTS = ("ne-double", "ne-float", "le-double", "closed-double", "casadi-sx", "casadi-c", "pinocchio")
 DEFAULT_FUNCTIONS = ("inverse_dynamics", "mass_matrix", "forward_dynamics")
-INPUTS = {"inverse_dynamics": (0, 1, 2), "mass_matrix": (0,), "coriolis": (0, 1), "coriolis_matrix": (0, 1),
-          "gravity": (0,), "forward_dynamics": (0, 1, 3)}
+#: for each function, the positions of its inputs in a state [q, qd, qdd, tau]
+INPUTS = {f: tuple(("q", "qd", "qdd", "tau").index(g) for g in groups) for f, groups in OUTPUT_INPUTS.items()}
 CLOSED_FORM_MAX_DOF = 3
 
 
@@ -66,17 +67,11 @@ def _states(n: int, count: int, seed: int = 0):
              rng.uniform(-20, 20, n)] for _ in range(count)]
 
 
-def _compile_and_time(files: dict[str, str], prefix: str, dof: int, functions, precision: str, workdir: str):
-    for name, text in files.items():
-        with open(os.path.join(workdir, name), "w") as handle:
-            handle.write(text)
-    harness = os.path.join(workdir, "bench.c")
-    with open(harness, "w") as handle:
-        handle.write(symdyn_harness(prefix, dof, functions, precision))
-    exe = os.path.join(workdir, "bench")
-    subprocess.run([find_compiler(), "-O3", "-march=native", "-std=c99", "-w", harness,
-                    os.path.join(workdir, f"{prefix}_dynamics.c"), "-o", exe, "-lm"], check=True)
-    return parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)
+def _simplify_closed(e):
+    e = sp.expand(e)
+    if sp.count_ops(e) <= 300 and not e.has(sp.Float):
+        e = sp.trigsimp(e)
+    return e
 
 
 def _closed_form(eqs, functions):
@@ -86,13 +81,7 @@ def _closed_form(eqs, functions):
         if name not in functions or name == "forward_dynamics":
             continue
         expanded = eqs.program.expand(sp.Matrix(matrix))
-
-        def simplify(e):
-            e = sp.expand(e)
-            if sp.count_ops(e) <= 300 and not e.has(sp.Float):
-                e = sp.trigsimp(e)
-            return e
-        outputs.append((name, sp.ImmutableMatrix(expanded.applyfunc(simplify))))
+        outputs.append((name, sp.ImmutableMatrix(expanded.applyfunc(_simplify_closed))))
     return dataclasses.replace(eqs, program=Program(()), outputs=tuple(outputs))
 
 
@@ -155,7 +144,7 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
             folder = os.path.join(workdir, f"{name}-{variant}")
             os.makedirs(folder, exist_ok=True)
             lib = build_and_load(files, name, n, 0, precision, folder)
-            timings = _compile_and_time(files, name, n, fns, precision, folder)
+            timings = time_generated(files, name, n, fns, precision, folder)
             for f in fns:
                 results.append(Result(name, variant, f, timings[f], _c_ops(eqs, f, precision),
                                       error_of(getattr(lib, f), f, precision == "float")))
@@ -217,14 +206,21 @@ def _casadi_results(eqs, functions, variant, error_of, folder):
             subprocess.run([find_compiler(), "-O3", "-march=native", "-shared", "-fPIC", "-w", source,
                             "-o", library, "-lm"], check=True)
             call = ca.external(function.name(), library)
-            ns = _casadi_c_time(call, n, folder, function.name(), source)
-        value = (lambda fn: (lambda *a: np.array(fn(*a)).reshape(-1) if np.array(fn(*a)).shape[1] == 1
-                             else np.array(fn(*a))))(call)
-        out.append(Result(eqs.robot.name, variant, f, ns, int(function.n_instructions()), error_of(value, f)))
+            ns = _casadi_c_time(n, folder, function.name(), source)
+        out.append(Result(eqs.robot.name, variant, f, ns, int(function.n_instructions()),
+                          error_of(_dense(call), f)))
     return out
 
 
-def _casadi_c_time(external, n, folder, name, source):
+def _dense(function):
+    """``function`` returning numpy arrays: vectors as (n,), matrices as (n, n)."""
+    def call(*args):
+        value = np.array(function(*args))
+        return value.reshape(-1) if value.shape[1] == 1 else value
+    return call
+
+
+def _casadi_c_time(n, folder, name, source):
     """Time CasADi's generated C in the same C loop as symdyn's."""
     from .timing import PRELUDE
     includes = (f"typedef long long int casadi_int;\nint {name}(const double** arg, double** res, casadi_int* iw, double* w, int mem);\n"

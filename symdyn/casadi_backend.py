@@ -23,7 +23,7 @@ only when the robot has parameters.  All are SX functions: differentiate them wi
 from __future__ import annotations
 
 import os
-from typing import Iterable, Mapping
+from typing import Iterable
 
 import casadi as ca
 import sympy as sp
@@ -204,19 +204,6 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
     if not isinstance(source, Equations):
         raise TypeError("to_casadi takes Equations, a Robot or a robot file path")
     return {name: casadi_function(source, name, prefix + name) for name in wanted}
-
-
-def parameter_vector(eqs_or_robot, values: Mapping | None = None):
-    """Nominal values of the runtime parameters, in input order (for the ``p`` input)."""
-    robot = getattr(eqs_or_robot, "robot", eqs_or_robot)
-    values = dict(values or {})
-    out = []
-    for sym, nominal in zip(robot.parameters, robot.nominal):
-        value = values.get(sym, values.get(sym.name, nominal))
-        if value is None:
-            raise SymdynError(f"no value for parameter {sym.name} (it has no nominal value)")
-        out.append(float(value))
-    return out
 
 
 def _signature(function: ca.Function) -> str:

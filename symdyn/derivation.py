@@ -290,17 +290,11 @@ class _Notation:
 class _Namer:
     """The named form: program symbols become readable names or are inlined."""
 
-    def __init__(self, chain, program, notation: _Notation):
+    def __init__(self, program, notation: _Notation):
         self.rhs = dict(program.assignments)
         self.notation = notation
-        self.names: dict[sp.Symbol, sp.Symbol] = {}
+        self.names: dict[sp.Symbol, sp.Symbol] = dict(notation.trig_display)
         self.memo: dict[sp.Symbol, sp.Expr] = {}
-        for i in range(chain.n):
-            if chain.robot.links[i].is_revolute:
-                for func, prefix in ((sp.cos, "c"), (sp.sin, "s")):
-                    sym = sp.Symbol(f"_{prefix}{i + 1}", real=True)
-                    shown = notation.trig_symbol(func, (i,))
-                    self.names[sym] = shown
         self.inputs = notation.to_display
 
     def name(self, sym: sp.Symbol, shown: sp.Symbol):
@@ -329,17 +323,12 @@ class _Namer:
         return self.inline(sym)
 
 
-def _numbered(program, exprs: list, notation: _Notation, namer: _Namer | None = None):
+def _numbered(program, exprs: list, notation: _Notation):
     """Rename every intermediate the expressions need to x_1, x_2, ... (trig to c_i/s_i)."""
-    trig = {}
-    for i in range(notation.chain.n):
-        if notation.chain.robot.links[i].is_revolute:
-            for func, prefix in ((sp.cos, "c"), (sp.sin, "s")):
-                trig[sp.Symbol(f"_{prefix}{i + 1}", real=True)] = notation.trig_symbol(func, (i,))
-    mapping = dict(trig) | notation.to_display
+    mapping = dict(notation.trig_display) | notation.to_display
     where = []
     for sym, rhs in program.needed_for(exprs):
-        if sym in trig:
+        if sym in notation.trig_display:
             continue
         shown = sp.Symbol(f"x_{len(where) + 1}", real=True)
         where.append((shown, sp.expand(rhs.xreplace(mapping))))
@@ -435,7 +424,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     else:
         states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "")
         program = chain.builder.build()
-        namer = None if closed else _Namer(chain, program, notation)
+        namer = None if closed else _Namer(program, notation)
         if steps == "all":
             fields = (("omega", "omega", "omega"), ("omegad", "omegadot", "omegadot"), ("vd", "vdot", "vdot"),
                       ("abar", "abar", "abar"))

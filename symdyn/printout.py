@@ -86,14 +86,11 @@ class _Printer:
         value = _rounded(sp.sympify(value))
         if self.fmt == "text" or isinstance(value, sp.MatrixBase) or not value.is_Add:
             return [self.value(value)]
-        terms = sp.Add.make_args(value)
-        ordered = sp.Add(*terms).as_ordered_terms()
         lines, current = [], ""
-        for k, term in enumerate(ordered):
+        for k, term in enumerate(value.as_ordered_terms()):
             text = sp.latex(term)
             if k > 0:
-                text = text[1:].lstrip() if text.startswith("-") else text
-                text = ("- " if sp.latex(term).startswith("-") else "+ ") + text
+                text = "- " + text[1:].lstrip() if text.startswith("-") else "+ " + text
             if current and len(current) + len(text) > self.LINE:
                 lines.append(current)
                 current = text

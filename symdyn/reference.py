@@ -190,11 +190,9 @@ class MpReference:
         D = self._mass_matrix_mp(q)
         return np.array([[float(D[i, j]) for j in range(self.n)] for i in range(self.n)])
 
-    def gravity_vector(self, q):
+    def gravity(self, q):
         zero = [0.0] * self.n
         return self._floats(self.rigid(q, zero, zero))
-
-    gravity = gravity_vector
 
     def coriolis(self, q, qd):
         return self._floats(self.rigid(q, qd, [0.0] * self.n, gravity=False))

@@ -36,23 +36,24 @@ class Scene:
     source_hash: str
 
 
-def is_scene_file(path: str) -> bool:
-    """Whether ``path`` holds a scene (a mapping with a top-level ``scene`` key)."""
+def load_input(path: str):
+    """A robot file or a scene (told apart by a top-level ``scene`` key), read once: returns
+    ``(robot, scene or None)``."""
+    from .robot import load
     try:
         with open(path, "rb") as handle:
-            doc = yaml.load(handle.read().decode("utf-8", "replace"), Loader=_UniqueKeyLoader)
-    except (OSError, yaml.YAMLError):
-        return False
-    return isinstance(doc, dict) and "scene" in doc
-
-
-def load_input(path: str):
-    """A robot file or a scene: returns ``(robot, scene or None)``."""
-    from .robot import load
-    if is_scene_file(path):
-        scene = load_scene(path)
+            raw = handle.read()
+        text = raw.decode("utf-8")
+    except (OSError, UnicodeDecodeError):
+        return load(path), None  # reports the problem in the robot file's words
+    try:
+        doc = yaml.load(text, Loader=_UniqueKeyLoader)
+    except yaml.YAMLError:
+        doc = None
+    if isinstance(doc, dict) and "scene" in doc:
+        scene = _build_scene(path, raw, doc)
         return scene.robot, scene
-    return load(path), None
+    return loads(text, path), None
 
 
 def _fail(path, reason, fld=None):
@@ -128,7 +129,6 @@ def _drop_unused(robot: Robot) -> Robot:
 
 def load_scene(path: str) -> Scene:
     """Read a scene file and build its specialized robot."""
-    from .equations import OUTPUTS
     try:
         with open(path, "rb") as handle:
             raw = handle.read()
@@ -137,6 +137,12 @@ def load_scene(path: str) -> Scene:
         raise RobotFileError(path, f"cannot read the file: {exc.strerror or exc}") from None
     except (yaml.YAMLError, UnicodeDecodeError) as exc:
         raise RobotFileError(path, f"not a valid scene file: {str(exc).splitlines()[0]}") from None
+    return _build_scene(path, raw, doc)
+
+
+def _build_scene(path: str, raw: bytes, doc) -> Scene:
+    """The scene of a parsed scene document (``raw``: the file's bytes, for its hash)."""
+    from .equations import OUTPUTS
     if not isinstance(doc, dict):
         _fail(path, "expected a mapping")
     for key in doc:

@@ -1,6 +1,8 @@
 """Timing generated C in a C loop: the harness shared by ``symdyn bench`` and ``benchmarks/``."""
 
+import os
 import re
+import subprocess
 
 #: C prelude: includes, a monotonic clock, S seeded random states of N joints (q, qd, qdd) and
 #: TIME(label, call): median of 7 repeats of 20000 calls, printed as "label ns".  The includes
@@ -53,3 +55,20 @@ def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", 
         extra = ", p"
     body = "".join(f'    TIME("{f}", {prefix}_{f}({ARGUMENTS[f]}{extra}, out));\n' for f in functions)
     return PRELUDE.replace("%(includes)s", includes) % {"dof": dof} + body + "    return 0;\n}\n"
+
+
+def time_generated(files: dict[str, str], prefix: str, dof: int, functions, precision: str, workdir: str,
+                   parameters=()) -> dict[str, float]:
+    """Write symdyn's generated ``files`` to ``workdir``, compile them with the timing harness
+    (-O3 -march=native) and return ``{function: ns per call}``."""
+    from .cbuild import find_compiler
+    for name, text in files.items():
+        with open(os.path.join(workdir, name), "w") as handle:
+            handle.write(text)
+    harness = os.path.join(workdir, "bench.c")
+    with open(harness, "w") as handle:
+        handle.write(symdyn_harness(prefix, dof, functions, precision, parameters))
+    exe = os.path.join(workdir, "bench")
+    subprocess.run([find_compiler(), "-O3", "-march=native", "-std=c99", "-w", harness,
+                    os.path.join(workdir, f"{prefix}_dynamics.c"), "-o", exe, "-lm"], check=True)
+    return parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)

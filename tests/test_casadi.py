@@ -17,9 +17,9 @@ from helpers import (ROBOTS, TOL, PinocchioReference, normalized_error, paramete
                      random_states, robot_path)
 from symdyn.casadi_backend import casadi_function, combined_function, to_casadi
 from symdyn.cli import main
+from symdyn.equations import OUTPUT_INPUTS
 
-ARGS = {"inverse_dynamics": ("q", "qd", "qdd"), "mass_matrix": ("q",), "coriolis": ("q", "qd"),
-        "coriolis_matrix": ("q", "qd"), "gravity": ("q",), "forward_dynamics": ("q", "qd", "tau")}
+ARGS = OUTPUT_INPUTS
 
 _FUNCTIONS = {}
 

@@ -12,6 +12,7 @@ import pytest
 
 import symdyn
 from helpers import normalized_error, robot_path
+from symdyn.bench import INPUTS
 from symdyn.cbuild import build_and_load
 from symdyn.cgen import generate_c
 from symdyn.reference import MpReference
@@ -98,8 +99,7 @@ def compiled(case, precision, tmp_path_factory):
     return _BUILT[key]
 
 
-ARGS = {"inverse_dynamics": (0, 1, 2), "mass_matrix": (0,), "coriolis": (0, 1), "coriolis_matrix": (0, 1),
-        "gravity": (0,), "forward_dynamics": (0, 1, 3)}
+ARGS = INPUTS  # positions of each function's inputs in a state [q, qd, qdd, tau]
 
 
 @pytest.mark.parametrize("precision", ["double", "float"])
