@@ -20,9 +20,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
 import symdyn  # noqa: E402
-from symdyn.timing import PRELUDE, parse  # noqa: E402
-from symdyn.cgen import generate_c  # noqa: E402
-from symdyn.pinocchio_model import build_model  # noqa: E402
+from symdyn.check.timing import PRELUDE, parse  # noqa: E402
+from symdyn.emit.cgen import generate_c  # noqa: E402
+from symdyn.check.pinocchio_model import build_model  # noqa: E402
 
 PAIRS = [("inverse_dynamics", "rnea"), ("mass_matrix", "crba"), ("gravity", "computeGeneralizedGravity"),
          ("coriolis", "nonLinearEffects"), ("coriolis_matrix", "computeCoriolisMatrix"), ("forward_dynamics", "aba")]
@@ -64,7 +64,7 @@ def main(argv=None):
         for name in names:
             robot = symdyn.load(os.path.join(HERE, "..", "robots", f"{name}.yaml"))
             eqs = symdyn.derive(robot)
-            from symdyn.cgen import build_function
+            from symdyn.emit.cgen import build_function
             files = generate_c(eqs)
             for fname, text in files.items():
                 open(os.path.join(workdir, fname), "w").write(text)

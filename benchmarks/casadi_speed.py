@@ -28,10 +28,10 @@ sys.path.insert(0, os.path.join(HERE, ".."))
 import casadi as ca  # noqa: E402
 
 import symdyn  # noqa: E402
-from symdyn.timing import PRELUDE, parse  # noqa: E402
-from symdyn.casadi_backend import casadi_files, casadi_function  # noqa: E402
-from symdyn.cgen import generate_c  # noqa: E402
-from symdyn.equations import OUTPUT_INPUTS, OUTPUTS  # noqa: E402
+from symdyn.check.timing import PRELUDE, parse  # noqa: E402
+from symdyn.emit.casadi_backend import casadi_files, casadi_function  # noqa: E402
+from symdyn.emit.cgen import generate_c  # noqa: E402
+from symdyn.derive.equations import OUTPUT_INPUTS, OUTPUTS  # noqa: E402
 
 DECLARATIONS = r"""#include "%(n)s_dynamics.h"
 #include "%(n)s_casadi.h"

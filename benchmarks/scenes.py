@@ -13,9 +13,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
 import symdyn  # noqa: E402
-from symdyn.cgen import build_function, generate_c  # noqa: E402
-from symdyn.scene import load_scene  # noqa: E402
-from symdyn.timing import time_generated  # noqa: E402
+from symdyn.emit.cgen import build_function, generate_c  # noqa: E402
+from symdyn.model.scene import load_scene  # noqa: E402
+from symdyn.check.timing import time_generated  # noqa: E402
 
 ROBOTS = os.path.join(HERE, "..", "robots")
 CASES = [  # (label, scene file or robot, functions, precision)

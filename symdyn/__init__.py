@@ -11,15 +11,16 @@ Public API::
 """
 
 from ._version import __version__
-from .equations import METHODS, OUTPUTS, Equations, derive
-from .errors import RobotFileError, SymdynError
-from .robot import Link, Robot, load, loads
+from . import derive  # the derivation package, callable: symdyn.derive(robot, method, outputs)
+from .derive.equations import METHODS, OUTPUTS, Equations
+from .model.errors import RobotFileError, SymdynError
+from .model.robot import Link, Robot, load, loads
 
 
 def to_casadi(source, functions=None, method="newton-euler", prefix="", use_cache=True):
     """The equations of motion as named ``casadi.Function``s; see
-    :func:`symdyn.casadi_backend.to_casadi` (CasADi is imported on first use)."""
-    from .casadi_backend import to_casadi as build
+    :func:`symdyn.emit.casadi_backend.to_casadi` (CasADi is imported on first use)."""
+    from .emit.casadi_backend import to_casadi as build
     return build(source, functions, method, prefix, use_cache)
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import symdyn
-from symdyn.pinocchio_model import PinocchioReference, normalized_error  # noqa: F401 (re-exported)
+from symdyn.check.pinocchio_model import PinocchioReference, normalized_error  # noqa: F401 (re-exported)
 
 REPO = __import__("pathlib").Path(__file__).resolve().parents[1]
 ROBOTS = sorted(p.stem for p in (REPO / "robots").glob("*.yaml"))

@@ -15,9 +15,9 @@ import pytest
 import symdyn
 from helpers import (ROBOTS, TOL, PinocchioReference, normalized_error, parameter_values,
                      random_states, robot_path)
-from symdyn.casadi_backend import casadi_function, combined_function, to_casadi
+from symdyn.emit.casadi_backend import casadi_function, combined_function, to_casadi
 from symdyn.cli import main
-from symdyn.equations import OUTPUT_INPUTS
+from symdyn.derive.equations import OUTPUT_INPUTS
 
 ARGS = OUTPUT_INPUTS
 

@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from helpers import REPO, ROBOTS, PinocchioReference, parameter_values, random_states
-from symdyn.pinocchio_model import compare
+from symdyn.check.pinocchio_model import compare
 from symdyn import OUTPUTS
-from symdyn.cbuild import WARNING_FLAGS, build_and_load, find_compiler
+from symdyn.check.cbuild import WARNING_FLAGS, build_and_load, find_compiler
 from symdyn.cli import main
 from symdyn.cli.generate import generate_files
 

@@ -98,7 +98,7 @@ def test_corrupt_cache_entry_is_rebuilt(tmp_path, monkeypatch, capsys):
     entries[0].write_bytes(bytes(data))
     assert main(["generate", PUMA, "--out", str(out2), "--functions", "gravity", "--quiet"]) == 0
     assert (out1 / "puma560_dynamics.c").read_bytes() == (out2 / "puma560_dynamics.c").read_bytes()
-    from symdyn.cache import _load
+    from symdyn.derive.cache import _load
     import re
     key = entries[0].stem
     assert _load(str(entries[0]), key) is not None  # rewritten, valid again
@@ -121,15 +121,16 @@ def test_cache_key_covers_derivation_code(monkeypatch):
     """A stale entry written by other derivation code must not be found: the key includes a
     hash of every derivation module, and every module the derivation imports is listed."""
     import ast
-    import symdyn.cache as cache
+    import symdyn.derive.cache as cache
     package = os.path.join(REPO, "symdyn")
     listed = set(cache.DERIVATION_MODULES)
     for name in listed:
         tree = ast.parse(open(os.path.join(package, f"{name}.py")).read())
         for node in ast.walk(tree):
-            if isinstance(node, ast.ImportFrom) and node.level == 1 and node.module:
-                module = node.module.split(".")[0]
-                if module not in ("errors", "_version", "numeric"):  # no effect on the result
+            if isinstance(node, ast.ImportFrom) and node.level in (1, 2) and node.module:
+                parts = node.module.split(".")
+                module = f"{name.split('/')[0]}/{parts[0]}" if node.level == 1 else "/".join(parts[:2])
+                if module not in ("model/errors", "_version", "derive/numeric"):  # no effect on the result
                     assert module in listed, f"{name} imports {module}, missing from the cache key"
     robot = __import__("symdyn").load(PUMA)
     key = cache.cache_key(robot, "newton-euler", ["gravity"])

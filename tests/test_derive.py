@@ -14,8 +14,8 @@ import sympy as sp
 import symdyn
 from helpers import REPO, parameter_values, random_states, robot_path
 from symdyn.cli import main
-from symdyn.derivation import derive_steps
-from symdyn.printout import render
+from symdyn.derive.derivation import derive_steps
+from symdyn.emit.printout import render
 
 _DERIVATIONS = {}
 
@@ -96,7 +96,7 @@ CASES = [("planar2r", "lagrange-euler", None), ("planar2r", "newton-euler", None
 def test_printed_results_equal_the_derived_equations(derived, name, method, form):
     """D, h, c as printed (closed form or with the x_k intermediates), and for Newton-Euler
     every tau_i of the backward recursion, evaluated at seeded states against the equations."""
-    from symdyn.numeric import compile_function
+    from symdyn.derive.numeric import compile_function
     d = steps_of(name, method, form)
     eqs = derived(name, method)
     robot = eqs.robot

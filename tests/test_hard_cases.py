@@ -1,5 +1,5 @@
 """Numerically hard cases: the compiled C (double and float) against an independent 50-digit
-mpmath Newton-Euler (symdyn.reference), error normalized per joint by the RMS of that joint's
+mpmath Newton-Euler (symdyn.check.reference), error normalized per joint by the RMS of that joint's
 reference value.  Bounds: double <= 1e-12, float <= 1e-4, never NaN or Inf.  In float the
 reference is evaluated at the inputs as rounded to float, so only the arithmetic is judged."""
 
@@ -12,10 +12,10 @@ import pytest
 
 import symdyn
 from helpers import normalized_error, robot_path
-from symdyn.bench import INPUTS
-from symdyn.cbuild import build_and_load
-from symdyn.cgen import generate_c
-from symdyn.reference import MpReference
+from symdyn.check.bench import INPUTS
+from symdyn.check.cbuild import build_and_load
+from symdyn.emit.cgen import generate_c
+from symdyn.check.reference import MpReference
 
 pytestmark = pytest.mark.skipif(shutil.which("gcc") is None and shutil.which("cc") is None,
                                 reason="no C compiler")
@@ -151,7 +151,7 @@ def test_reference_is_independent_and_exact_on_a_textbook_case():
 def test_bench_measures_every_variant(tmp_path, capsys):
     """symdyn bench on a 3-joint chain: every variant measured, each error within its bound,
     table and plot written; a robot with free parameters is refused in one line."""
-    from symdyn import bench
+    from symdyn.check import bench
     from symdyn.cli import main
     robot = symdyn.load(robot_path("three_modified"))
     results = bench.bench_robot(robot, ("inverse_dynamics", "mass_matrix", "forward_dynamics"),

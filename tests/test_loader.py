@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 import symdyn
-from symdyn.errors import RobotFileError
+from symdyn.model.errors import RobotFileError
 
 BASE = """\
 format: 1

@@ -9,11 +9,11 @@ import pytest
 
 import symdyn
 from helpers import REPO, normalized_error, random_states
-from symdyn.cbuild import build_and_load
+from symdyn.check.cbuild import build_and_load
 from symdyn.cli import main
 from symdyn.cli.generate import generate_files
-from symdyn.pinocchio_model import build_model
-from symdyn.scene import load_scene
+from symdyn.check.pinocchio_model import build_model
+from symdyn.model.scene import load_scene
 
 SCENES = REPO / "robots" / "scenes"
 TOL = 1e-10

@@ -6,7 +6,7 @@ import argparse
 import sys
 
 from .._version import __version__
-from ..errors import SymdynError
+from ..model.errors import SymdynError
 from . import bench, derive, generate, verify
 
 SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive, "bench": bench}

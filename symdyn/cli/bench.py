@@ -6,16 +6,16 @@ import os
 import sys
 import tempfile
 
-from ..cache import write_atomic
-from ..errors import SymdynError
-from ..scene import load_input
+from ..model.files import write_atomic
+from ..model.errors import SymdynError
+from ..model.scene import load_input
 from .common import parse_functions
 
 HELP = "time each generation variant and measure its error against a 50-digit reference"
 
 
 def add_parser(sub) -> None:
-    from ..bench import DEFAULT_FUNCTIONS, VARIANTS
+    from ..check.bench import DEFAULT_FUNCTIONS, VARIANTS
     p = sub.add_parser("bench", help=HELP, description=HELP + ": symdyn C (Newton-Euler double and "
                        "float, Lagrange-Euler, expanded closed form), CasADi SX and CasADi C, and "
                        "Pinocchio. Writes a Markdown table and a PNG plot of time against error.")
@@ -31,7 +31,7 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
-    from .. import bench
+    from ..check import bench
     functions = parse_functions(args.functions)
     variants = [v.strip() for v in args.variants.split(",") if v.strip()]
     unknown = [v for v in variants if v not in bench.VARIANTS]

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from ..equations import METHOD_ALIASES, OUTPUTS
-from ..errors import SymdynError
+from ..derive.equations import METHOD_ALIASES, OUTPUTS
+from ..model.errors import SymdynError
 
 
 def parse_functions(text: str | None) -> tuple[str, ...]:

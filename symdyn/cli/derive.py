@@ -6,11 +6,11 @@ from __future__ import annotations
 import os
 import sys
 
-from ..cache import write_atomic
-from ..derivation import STEPS, derive_steps
-from ..errors import SymdynError
-from ..printout import FORMATS, render
-from ..scene import load_input
+from ..model.files import write_atomic
+from ..derive.derivation import STEPS, derive_steps
+from ..model.errors import SymdynError
+from ..emit.printout import FORMATS, render
+from ..model.scene import load_input
 from .common import add_method_option
 
 HELP = "print the derivation of the equations of motion (text, LaTeX or Markdown)"

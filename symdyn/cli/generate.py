@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import os
 
-from ..cache import derive_cached, write_atomic
-from ..cgen import generate_c
-from ..cprinter import PRECISIONS
-from ..errors import SymdynError
-from ..equations import OUTPUTS
-from ..scene import load_input
+from ..derive.cache import derive_cached
+from ..model.files import write_atomic
+from ..emit.cgen import generate_c
+from ..emit.cprinter import PRECISIONS
+from ..model.errors import SymdynError
+from ..derive.equations import OUTPUTS
+from ..model.scene import load_input
 from .common import add_method_option, parse_functions
 
 HELP = "generate C code (NAME_dynamics.h/.c) or CasADi functions for robot files"
@@ -63,7 +64,7 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
         files = generate_c(eqs, functions, precision, header_only, source_name=source,
                            source_hash=source_hash, notes=notes)
         return {name: text.encode("utf-8") for name, text in files.items()}
-    from ..casadi_backend import casadi_files
+    from ..emit.casadi_backend import casadi_files
     return casadi_files(eqs, functions, casadi_c=target == "casadi-c", source_name=source,
                         source_hash=source_hash)
 

@@ -6,13 +6,13 @@ import tempfile
 
 import numpy as np
 
-from ..cache import derive_cached
-from ..cbuild import build_and_load
-from ..cgen import generate_c
-from ..cprinter import PRECISIONS
-from ..equations import OUTPUTS
-from ..errors import SymdynError
-from ..scene import load_input
+from ..derive.cache import derive_cached
+from ..check.cbuild import build_and_load
+from ..emit.cgen import generate_c
+from ..emit.cprinter import PRECISIONS
+from ..derive.equations import OUTPUTS
+from ..model.errors import SymdynError
+from ..model.scene import load_input
 from .common import add_method_option
 
 HELP = "compile the generated C and compare every function with Pinocchio"
@@ -39,7 +39,7 @@ def run(args) -> int:
         import pinocchio  # noqa: F401
     except ImportError:
         raise SymdynError("symdyn verify needs Pinocchio: pip install pin (or 'symdyn[test]')") from None
-    from ..pinocchio_model import PinocchioReference, compare
+    from ..check.pinocchio_model import PinocchioReference, compare
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
     robot, _ = load_input(args.robot)

@@ -1,5 +1,5 @@
 """Speed against error: each way of generating the dynamics, timed and checked against the
-50-digit reference (:mod:`symdyn.reference`).
+50-digit reference (:mod:`symdyn.check.reference`).
 
 Variants (each where it applies):
 
@@ -34,14 +34,14 @@ from typing import Callable
 import numpy as np
 import sympy as sp
 
-from .cache import derive_cached
+from ..derive.cache import derive_cached
 from .cbuild import build_and_load, find_compiler
-from .equations import OUTPUT_INPUTS
-from .errors import SymdynError
+from ..derive.equations import OUTPUT_INPUTS
+from ..model.errors import SymdynError
 from .pinocchio_model import normalized_error
-from .program import Program
+from ..derive.program import Program
 from .reference import MpReference
-from .robot import Robot
+from ..model.robot import Robot
 from .timing import parse, time_generated
 
 VARIANTS = ("ne-double", "ne-float", "le-double", "closed-double", "casadi-sx", "casadi-c", "pinocchio")
@@ -86,7 +86,7 @@ def _closed_form(eqs, functions):
 
 
 def _c_ops(eqs, name, precision):
-    from .cgen import build_function
+    from ..emit.cgen import build_function
     ops = build_function(eqs, name, precision, eqs.robot.name).ops
     return int(ops["mul"] + ops["add"] + ops["div"] + ops["trig"] + ops["sqrt"] + ops["other"])
 
@@ -94,7 +94,7 @@ def _c_ops(eqs, name, precision):
 def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, count: int = 20,
                 progress: Callable[[str], None] = lambda text: None, workdir: str | None = None) -> list[Result]:
     """Measure every variant of ``robot`` (numbers only: no runtime parameters left)."""
-    from .cgen import generate_c
+    from ..emit.cgen import generate_c
 
     robot = robot.with_nominal_values()
     if robot.parameters:
@@ -179,7 +179,7 @@ def _python_time(call, repeats=5, calls=2000):
 def _casadi_results(eqs, functions, variant, error_of, folder):
     import casadi as ca
 
-    from .casadi_backend import casadi_function
+    from ..emit.casadi_backend import casadi_function
     os.makedirs(folder, exist_ok=True)
     n = eqs.n
     out = []

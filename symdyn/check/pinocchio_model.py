@@ -21,7 +21,7 @@ from typing import Mapping
 
 import numpy as np
 
-from .robot import Robot
+from ..model.robot import Robot
 
 
 def _rx(angle: float) -> np.ndarray:
@@ -146,10 +146,10 @@ def compare(mine, reference, states, functions, p=None) -> dict[str, float]:
     """The normalized error (:func:`normalized_error`) of each named function of ``mine``
     against the same function of ``reference``, over ``states`` (each ``[q, qd, qdd, tau]``).
 
-    Both take the function's inputs in symdyn's order (:data:`symdyn.equations.OUTPUT_INPUTS`);
+    Both take the function's inputs in symdyn's order (:data:`symdyn.derive.equations.OUTPUT_INPUTS`);
     ``p`` (runtime parameters) is passed to ``mine`` only, when given.
     """
-    from .equations import OUTPUT_INPUTS
+    from ..derive.equations import OUTPUT_INPUTS
     extra = [] if p is None else [p]
     errors = {}
     for name in functions:

@@ -1,8 +1,8 @@
 """C99 emitter: lays the derived equations out as straight-line C through Jinja2 templates.
 
-This module derives nothing: it takes an :class:`~symdyn.equations.Equations`, keeps the
+This module derives nothing: it takes an :class:`~symdyn.derive.equations.Equations`, keeps the
 intermediate assignments each function needs (dead code removed), eliminates further common
-subexpressions, folds constants, prints with :mod:`symdyn.cprinter` and renders the templates in
+subexpressions, folds constants, prints with :mod:`symdyn.emit.cprinter` and renders the templates in
 ``templates/`` (shipped in the wheel as ``symdyn.templates``).
 """
 
@@ -13,10 +13,10 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ._version import __version__
+from .._version import __version__
 from .cprinter import CPrinter, count_operations
 from .emission import fold_constants, template_environment
-from .equations import OUTPUT_INPUTS, OUTPUTS, Equations
+from ..derive.equations import OUTPUT_INPUTS, OUTPUTS, Equations
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",

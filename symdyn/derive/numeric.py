@@ -14,6 +14,8 @@ import numpy as np
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from ..model.outputs import OUTPUT_INPUTS
+
 
 class _Printer(PythonCodePrinter):
     def _print_sign(self, expr):
@@ -54,7 +56,7 @@ def compile_function(inputs: Sequence[Sequence[sp.Symbol]], program, outputs: sp
 
 
 class NumericEquations:
-    """Numeric functions of an :class:`~symdyn.equations.Equations`.
+    """Numeric functions of an :class:`~symdyn.derive.equations.Equations`.
 
     Each method takes numpy arrays of length n (``p`` of length ``len(parameters)`` when the
     robot has runtime parameters) and returns numpy arrays: vectors of shape (n,), matrices
@@ -67,7 +69,6 @@ class NumericEquations:
 
     def _function(self, name):
         if name not in self._cache:
-            from .equations import OUTPUT_INPUTS
             groups = [getattr(self.eqs, arg) for arg in OUTPUT_INPUTS[name]] + [self.eqs.parameters]
             self._cache[name] = compile_function(groups, self.eqs.program, self.eqs.output(name), name)
         return self._cache[name]

@@ -14,9 +14,10 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .kinematics import JointGeometry, joint_geometry, joint_motion, joint_symbols
+from ..model.geometry import JointGeometry, joint_geometry, joint_motion
+from .kinematics import joint_symbols
 from .program import ProgramBuilder
-from .robot import Robot
+from ..model.robot import Robot
 
 
 @dataclass

@@ -7,7 +7,7 @@ one backward sweep to accumulate the composite inertias and, per column, one swe
 the composite body's force back towards the base.
 
 Frames.  Every quantity of joint j is written in its *joint frame* ``J_j = frame_{j-1} Pre_j
-Joint_j(q_j)`` (see :mod:`symdyn.kinematics`): the joint axis is its z axis and passes through
+Joint_j(q_j)`` (see :mod:`symdyn.derive.kinematics`): the joint axis is its z axis and passes through
 its origin, so ``S_j`` is (omega = e_z, v = 0) for a revolute joint and (0, e_z) for a
 prismatic one, and link j's own inertia in ``J_j`` is a constant (frame j is ``J_j Post_j``).
 The pose of ``J_{j+1}`` in ``J_j`` is ``Post_j Pre_{j+1} Joint_{j+1}(q_{j+1})``: one constant

@@ -3,7 +3,7 @@
 A scene names a robot file and specializes it: the functions wanted, joints locked at given
 values (removed from q, their links merged into the parent), a payload on the last link (numbers
 or runtime parameters), which named parameters stay runtime inputs (all others folded to their
-values) and the precision.  :func:`load_scene` returns a plain :class:`~symdyn.robot.Robot`, so
+values) and the precision.  :func:`load_scene` returns a plain :class:`~symdyn.model.robot.Robot`, so
 every derivation and emitter works on it unchanged.
 """
 
@@ -17,6 +17,8 @@ import sympy as sp
 import yaml
 
 from .errors import RobotFileError, SymdynError
+from .geometry import joint_geometry, joint_motion
+from .outputs import OUTPUTS
 from .robot import Link, Robot, _UniqueKeyLoader, loads
 
 SCENE_VERSION = 1
@@ -62,7 +64,6 @@ def _fail(path, reason, fld=None):
 
 def _transform(robot: Robot, link: Link, value) -> sp.Matrix:
     """The constant 4x4 transform of a link with its joint at ``value``."""
-    from .kinematics import joint_geometry, joint_motion
     geo = joint_geometry(link, robot.convention)
     return sp.Matrix(geo.pre) * joint_motion(link, value) * sp.Matrix(geo.post)
 
@@ -142,7 +143,6 @@ def load_scene(path: str) -> Scene:
 
 def _build_scene(path: str, raw: bytes, doc) -> Scene:
     """The scene of a parsed scene document (``raw``: the file's bytes, for its hash)."""
-    from .equations import OUTPUTS
     if not isinstance(doc, dict):
         _fail(path, "expected a mapping")
     for key in doc:

@@ -19,7 +19,7 @@ written in the link frames), with moments about each link frame's origin:
 D comes from unit accelerations, h from zero acceleration without gravity, C by polarization
 (h is quadratic in qd, so ``C e_k = (h(qd + e_k) - h(qd - e_k)) / 4`` exactly), forward dynamics
 by an LU solve at the same precision.  All results are returned as Python floats (numpy
-arrays) in symdyn's notation (see :mod:`symdyn.equations`).
+arrays) in symdyn's notation (see :mod:`symdyn.derive.equations`).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ import mpmath
 import numpy as np
 import sympy as sp
 
-from .robot import Robot
+from ..model.robot import Robot
 
 
 class MpReference:

@@ -1,6 +1,6 @@
 """Textbook derivations: the steps of Lagrange-Euler and Newton-Euler for one robot, as data.
 
-This module derives and simplifies; it prints nothing (see :mod:`symdyn.printout`).  The steps
+This module derives and simplifies; it prints nothing (see :mod:`symdyn.emit.printout`).  The steps
 follow the notes in the seeds: the trace form (``^{i-1}A_i``, ``^0A_i``, ``Q_j``, ``U_ij``,
 ``U_ijk``, pseudo-inertias ``J_i``, then ``D_ik``, ``h_ikm``, ``h_i``, ``c_i``) and the recursive
 Newton-Euler equations of Table 3.2 (forward: omega_i, omegadot_i, vdot_i, abar_i; backward:
@@ -34,7 +34,7 @@ from .chain import make_chain
 from .equations import _normalize_method, derive
 from .lagrange_euler import LagrangeEuler, _q_operator, pseudo_inertia
 from .newton_euler import recursion
-from .robot import Robot
+from ..model.robot import Robot
 
 STEPS = ("all", "summary")
 AXES = "xyz"
@@ -121,7 +121,7 @@ class Derivation:
 
     def program(self):
         """Every display symbol the printed values use (joint rates, trig shorthand, named
-        quantities, x_k) as a :class:`~symdyn.program.Program` over the joint symbols, in
+        quantities, x_k) as a :class:`~symdyn.derive.program.Program` over the joint symbols, in
         evaluation order: for evaluating printed values numerically."""
         from .program import Program
         definitions = dict(self.joint_symbols) | dict(self.shorthand) | dict(self.named) | dict(self.where)

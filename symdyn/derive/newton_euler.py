@@ -1,7 +1,7 @@
 """Recursive Newton-Euler equations (Table 3.2 of the notes), symbolic, for both DH conventions.
 
 Every vector is expressed in the frame of its own link (frame i), as in the efficient form of
-the recursion.  With ``T_i = Pre_i Joint_i(q_i) Post_i`` (see :mod:`symdyn.kinematics`):
+the recursion.  With ``T_i = Pre_i Joint_i(q_i) Post_i`` (see :mod:`symdyn.derive.kinematics`):
 
 - ``R_i`` is the rotation of ``^{i-1}T_i``; ``z_i`` the joint axis in frame i (constant);
 - ``r1_i`` is the vector from O_{i-1} to the joint point J_i in frame i-1 (zero for standard DH),
@@ -32,7 +32,7 @@ recursion (i = n..1), forces and moments about O_i in frame i::
     tau_i = z_i . (n_i + r2_i x f_i)   (revolute)      tau_i = z_i . f_i   (prismatic)
 
 where ``p_{i+1}`` is the position of O_{i+1} in frame i.  Viscous damping b_i qd_i, armature and
-Coulomb friction are added by :mod:`symdyn.equations`.
+Coulomb friction are added by :mod:`symdyn.derive.equations`.
 """
 
 from __future__ import annotations

@@ -20,7 +20,7 @@ C satisfies ``dD/dt - 2C`` skew-symmetric; with Newton-Euler it is computed as
 ``C = (1/2) dh/dqd`` (h is quadratic in qd and its symmetric coefficient tensor is exactly the
 Christoffel symbols of the first kind), with Lagrange-Euler as ``C_ik = sum_m h_ikm qd_m``.
 
-With Newton-Euler, D comes from the composite-rigid-body method (:mod:`symdyn.composite`), the
+With Newton-Euler, D comes from the composite-rigid-body method (:mod:`symdyn.derive.composite`), the
 recursive companion of Table 3.2; with Lagrange-Euler from the trace form over U_ij and the
 pseudo-inertias.
 
@@ -42,34 +42,13 @@ from .composite import mass_matrix as composite_mass_matrix
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
-from .robot import Robot
+from ..model.outputs import OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS  # noqa: F401 (part of this module's API)
+from ..model.robot import Robot
+from .numeric import NumericEquations
 
-OUTPUTS = ("inverse_dynamics", "mass_matrix", "coriolis", "coriolis_matrix", "gravity",
-           "forward_dynamics")
 METHODS = ("newton-euler", "lagrange-euler")
 METHOD_ALIASES = {"ne": "newton-euler", "newton-euler": "newton-euler", "rne": "newton-euler",
                   "le": "lagrange-euler", "lagrange-euler": "lagrange-euler", "lagrange": "lagrange-euler"}
-
-#: the inputs each output depends on, in the order of the generated functions' arguments
-OUTPUT_INPUTS = {
-    "inverse_dynamics": ("q", "qd", "qdd"),
-    "mass_matrix": ("q",),
-    "coriolis": ("q", "qd"),
-    "coriolis_matrix": ("q", "qd"),
-    "gravity": ("q",),
-    "forward_dynamics": ("q", "qd", "tau"),
-}
-
-#: the symbol of each output in the notes (and the name of its output argument everywhere)
-OUTPUT_SYMBOLS = {
-    "inverse_dynamics": "tau",
-    "mass_matrix": "D",
-    "coriolis": "h",
-    "coriolis_matrix": "C",
-    "gravity": "c",
-    "forward_dynamics": "qdd",
-}
-
 
 @dataclass(frozen=True)
 class Equations:
@@ -134,8 +113,7 @@ class Equations:
 
     @cached_property
     def numeric(self):
-        """Compiled numeric evaluation (:class:`symdyn.numeric.NumericEquations`)."""
-        from .numeric import NumericEquations
+        """Compiled numeric evaluation (:class:`symdyn.derive.numeric.NumericEquations`)."""
         return NumericEquations(self)
 
 

@@ -1,12 +1,12 @@
 """CasADi emitter: the derived equations as ``casadi.Function`` SX graphs.
 
-This module derives nothing.  It takes the same :class:`~symdyn.equations.Equations` as the C
+This module derives nothing.  It takes the same :class:`~symdyn.derive.equations.Equations` as the C
 emitter (one derivation, two emitters) and maps each intermediate assignment of the program to
 one SX node, so the graph shares every sub-result the derivation named; CasADi's own common
 subexpression elimination (``cse``) then runs on top.  Constants are folded to doubles exactly
 as for C.
 
-Functions, in symdyn's notation (see :mod:`symdyn.equations`), N joints, NP parameters::
+Functions, in symdyn's notation (see :mod:`symdyn.derive.equations`), N joints, NP parameters::
 
     inverse_dynamics(q, qd, qdd[, p]) -> tau      N x 1
     mass_matrix(q[, p]) -> D                      N x N (symmetric, without armature)
@@ -29,8 +29,8 @@ import casadi as ca
 import sympy as sp
 
 from .emission import fold_constants
-from .equations import OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS, Equations
-from .errors import SymdynError
+from ..derive.equations import OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS, Equations
+from ..model.errors import SymdynError
 
 INPUT_DOCS = {
     "q": "joint positions (rad or m)",
@@ -179,7 +179,7 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
 
     Parameters
     ----------
-    source : an :class:`~symdyn.equations.Equations`, a :class:`~symdyn.robot.Robot`, or the
+    source : an :class:`~symdyn.derive.equations.Equations`, a :class:`~symdyn.model.robot.Robot`, or the
         path of a robot file (then derived with ``method``, through the on-disk cache).
     functions : names from :data:`symdyn.OUTPUTS` (default: all).
     prefix : prepended to each Function's name (for example ``"puma560_"``).
@@ -189,8 +189,8 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
     ``{name: casadi.Function}`` in the order of :data:`symdyn.OUTPUTS`, for example
     ``fns["inverse_dynamics"](q, qd, qdd) -> tau`` (DM in, DM out; SX or MX in, expressions out).
     """
-    from .cache import derive_cached
-    from .robot import Robot, load
+    from ..derive.cache import derive_cached
+    from ..model.robot import Robot, load
 
     wanted = tuple(f for f in OUTPUTS if f in (functions or OUTPUTS))
     unknown = [f for f in (functions or ()) if f not in OUTPUTS]
@@ -235,7 +235,7 @@ def casadi_files(eqs: Equations, functions: Iterable[str] | None = None, casadi_
     """
     import tempfile
 
-    from ._version import __version__
+    from .._version import __version__
     from .emission import template_environment
 
     prefix = eqs.robot.name

@@ -29,7 +29,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .chain import Chain
-from .kinematics import rot_z
+from ..model.geometry import rot_z
 
 
 def pseudo_inertia(link) -> sp.Matrix:

@@ -11,7 +11,7 @@ import tempfile
 
 import numpy as np
 
-from .errors import SymdynError
+from ..model.errors import SymdynError
 
 WARNING_FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
 
@@ -35,7 +35,7 @@ def compile_shared(c_file: str, out_dir: str, extra_flags=()) -> str:
 
 class CompiledDynamics:
     """ctypes access to a compiled ``NAME_dynamics`` library; methods mirror
-    :class:`symdyn.numeric.NumericEquations` (numpy in, numpy out)."""
+    :class:`symdyn.derive.numeric.NumericEquations` (numpy in, numpy out)."""
 
     def __init__(self, library: str, prefix: str, dof: int, n_params: int, precision: str = "double"):
         self.lib = ctypes.CDLL(library)

@@ -13,11 +13,11 @@ import functools
 import hashlib
 import os
 import pickle
-import tempfile
 
 import sympy as sp
 
-from ._version import __version__
+from .._version import __version__
+from ..model.files import write_atomic
 from .equations import Equations, derive
 from .program import Program
 
@@ -43,15 +43,16 @@ def robot_fingerprint(robot) -> str:
 
 
 #: modules whose code decides what a derivation produces
-DERIVATION_MODULES = ("chain", "composite", "equations", "expr", "kinematics", "lagrange_euler",
-                      "newton_euler", "program", "robot")
+DERIVATION_MODULES = ("derive/chain", "derive/composite", "derive/equations", "derive/kinematics",
+                      "derive/lagrange_euler", "derive/newton_euler", "derive/program", "model/expr",
+                      "model/geometry", "model/outputs", "model/robot")
 
 
 @functools.lru_cache(maxsize=1)
 def code_fingerprint() -> str:
     """Hash of the source of the derivation modules."""
     digest = hashlib.sha256()
-    package = os.path.dirname(os.path.abspath(__file__))
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     for name in DERIVATION_MODULES:
         with open(os.path.join(package, f"{name}.py"), "rb") as handle:
             digest.update(name.encode() + b"\0" + handle.read())
@@ -62,22 +63,6 @@ def cache_key(robot, method: str, outputs) -> str:
     text = "|".join([__version__, code_fingerprint(), robot_fingerprint(robot), method,
                      ",".join(sorted(outputs))])
     return hashlib.sha256(text.encode()).hexdigest()
-
-
-def write_atomic(path: str, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file in the same directory and a rename."""
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", dir=directory)
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
 
 
 def _load(path: str, key: str):

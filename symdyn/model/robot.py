@@ -61,7 +61,7 @@ class Link:
     damping: sp.Expr = sp.S.Zero
     coulomb: sp.Expr = sp.S.Zero
     #: constant 4x4 transform (16 entries, row-major) applied before the link's DH transform, or
-    #: None; not part of the file format: scenes set it when they lock joints (symdyn.scene)
+    #: None; not part of the file format: scenes set it when they lock joints (symdyn.model.scene)
     fixed: tuple[sp.Expr, ...] | None = None
 
     @property

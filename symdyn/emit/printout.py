@@ -1,4 +1,4 @@
-"""Printing derivations (:mod:`symdyn.derivation`) as text, LaTeX or Markdown.
+"""Printing derivations (:mod:`symdyn.derive.derivation`) as text, LaTeX or Markdown.
 
 This module derives nothing: it names each quantity in the notation of the notes, prints the
 values (SymPy's LaTeX and Unicode printers) and renders the templates
@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ._version import __version__
-from .derivation import Derivation
+from .._version import __version__
+from ..derive.derivation import Derivation
 from .emission import template_environment
 
 FORMATS = ("text", "latex", "markdown")

@@ -1,7 +1,5 @@
-"""Symbolic kinematics of a DH chain: link transforms, base-to-link transforms, Jacobians.
-
-Both conventions are written as ``T_i = Pre_i * Joint_i(q_i) * Post_i`` with constant
-``Pre``/``Post`` and ``Joint`` a rotation about z (revolute) or a translation along z (prismatic):
+"""Geometry of a link as the robot file describes it: the constant parts of each link transform
+around the joint's motion, ``T_i = Pre_i * Joint_i(q_i) * Post_i``.
 
 - standard:  ``A_i = Rz(theta_i + q_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``
   -> ``Pre = I``, ``Post = Rz(theta) Tz(d) Tx(a) Rx(alpha)`` (joint i moves about z_{i-1});
@@ -9,7 +7,9 @@ Both conventions are written as ``T_i = Pre_i * Joint_i(q_i) * Post_i`` with con
   -> ``Pre = Rx(alpha) Tx(a) Rz(theta) Tz(d)``, ``Post = I`` (joint i moves about z_i).
 
 (Rz and Tz commute with each other, which is why the joint's offset can move into Pre/Post.)
-All matrices are 4x4 homogeneous transforms, lengths in m, angles in rad.
+All matrices are 4x4 homogeneous SymPy transforms, lengths in m, angles in rad.  This is part of
+the description (scenes use it to merge locked links); the derivations build on it in
+:mod:`symdyn.derive.kinematics`.
 """
 
 from __future__ import annotations
@@ -18,13 +18,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .robot import Link, Robot
-
-
-def joint_symbols(n: int) -> tuple[tuple[sp.Symbol, ...], ...]:
-    """Real symbols (q, qd, qdd, tau), each a tuple q1..qn (rad or m, per s, per s^2, N m or N)."""
-    make = lambda base: tuple(sp.Symbol(f"{base}{k + 1}", real=True) for k in range(n))
-    return make("q"), make("qd"), make("qdd"), make("tau")
+from .robot import Link
 
 
 def rot_x(angle) -> sp.Matrix:
@@ -85,54 +79,3 @@ def joint_motion(link: Link, q: sp.Expr, cos_sin: tuple[sp.Expr, sp.Expr] | None
         c, s = cos_sin if cos_sin is not None else (sp.cos(link.theta + q), sp.sin(link.theta + q))
         return rot_z_cs(c, s)
     return trans(z=q)
-
-
-def link_transform(robot: Robot, i: int, q: sp.Expr, cos_sin=None) -> sp.Matrix:
-    """``^{i-1}A_i`` (standard) or ``^{i-1}T_i`` (modified) of link ``i`` (0-based), 4x4."""
-    link = robot.links[i]
-    geo = joint_geometry(link, robot.convention)
-    return sp.Matrix(geo.pre) * joint_motion(link, q, cos_sin) * sp.Matrix(geo.post)
-
-
-def base_transforms(robot: Robot, q=None, simplify: bool = False) -> list[sp.Matrix]:
-    """``^0A_i`` for i = 1..n: pose of each link frame in the base frame (4x4 each)."""
-    if q is None:
-        q = joint_symbols(robot.dof)[0]
-    out, current = [], sp.eye(4)
-    for i in range(robot.dof):
-        current = current * link_transform(robot, i, q[i])
-        if simplify:
-            current = sp.simplify(current)
-        out.append(current)
-    return out
-
-
-def link_jacobians(robot: Robot, q=None) -> list[sp.Matrix]:
-    """Geometric Jacobian (6 x n, rows: linear then angular velocity, base-frame coordinates)
-    of the origin of each link frame i, for i = 1..n. Column j is zero for joints beyond i."""
-    n = robot.dof
-    if q is None:
-        q = joint_symbols(n)[0]
-    frames = base_transforms(robot, q)
-    axes, points = [], []
-    previous = sp.eye(4)
-    for j, link in enumerate(robot.links):
-        geo = joint_geometry(link, robot.convention)
-        joint_frame = previous * sp.Matrix(geo.pre)
-        if link.is_revolute:
-            joint_frame = joint_frame * rot_z(link.theta + q[j])
-        axes.append(joint_frame[:3, 2])
-        points.append(joint_frame[:3, 3])
-        previous = frames[j]
-    jacobians = []
-    for i in range(n):
-        origin = frames[i][:3, 3]
-        jac = sp.zeros(6, n)
-        for j in range(i + 1):
-            if robot.links[j].is_revolute:
-                jac[:3, j] = axes[j].cross(origin - points[j])
-                jac[3:, j] = axes[j]
-            else:
-                jac[:3, j] = axes[j]
-        jacobians.append(jac)
-    return jacobians

@@ -1,0 +1,3 @@
+"""Checking and timing what symdyn produces: the matching Pinocchio model, the independent
+50-digit mpmath reference, compiling generated C, timing harnesses and ``symdyn bench``.
+"""

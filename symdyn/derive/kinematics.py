@@ -1,0 +1,71 @@
+"""Symbolic kinematics of a DH chain: joint symbols, link transforms, base-to-link transforms,
+Jacobians.
+
+Each link transform is ``T_i = Pre_i * Joint_i(q_i) * Post_i`` with the constant parts taken from
+the description (:mod:`symdyn.model.geometry`).  All matrices are 4x4 homogeneous transforms,
+lengths in m, angles in rad.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..model.geometry import joint_geometry, joint_motion, rot_z
+from ..model.robot import Robot
+
+
+def joint_symbols(n: int) -> tuple[tuple[sp.Symbol, ...], ...]:
+    """Real symbols (q, qd, qdd, tau), each a tuple q1..qn (rad or m, per s, per s^2, N m or N)."""
+    make = lambda base: tuple(sp.Symbol(f"{base}{k + 1}", real=True) for k in range(n))
+    return make("q"), make("qd"), make("qdd"), make("tau")
+
+
+def link_transform(robot: Robot, i: int, q: sp.Expr, cos_sin=None) -> sp.Matrix:
+    """``^{i-1}A_i`` (standard) or ``^{i-1}T_i`` (modified) of link ``i`` (0-based), 4x4."""
+    link = robot.links[i]
+    geo = joint_geometry(link, robot.convention)
+    return sp.Matrix(geo.pre) * joint_motion(link, q, cos_sin) * sp.Matrix(geo.post)
+
+
+def base_transforms(robot: Robot, q=None, simplify: bool = False) -> list[sp.Matrix]:
+    """``^0A_i`` for i = 1..n: pose of each link frame in the base frame (4x4 each)."""
+    if q is None:
+        q = joint_symbols(robot.dof)[0]
+    out, current = [], sp.eye(4)
+    for i in range(robot.dof):
+        current = current * link_transform(robot, i, q[i])
+        if simplify:
+            current = sp.simplify(current)
+        out.append(current)
+    return out
+
+
+def link_jacobians(robot: Robot, q=None) -> list[sp.Matrix]:
+    """Geometric Jacobian (6 x n, rows: linear then angular velocity, base-frame coordinates)
+    of the origin of each link frame i, for i = 1..n. Column j is zero for joints beyond i."""
+    n = robot.dof
+    if q is None:
+        q = joint_symbols(n)[0]
+    frames = base_transforms(robot, q)
+    axes, points = [], []
+    previous = sp.eye(4)
+    for j, link in enumerate(robot.links):
+        geo = joint_geometry(link, robot.convention)
+        joint_frame = previous * sp.Matrix(geo.pre)
+        if link.is_revolute:
+            joint_frame = joint_frame * rot_z(link.theta + q[j])
+        axes.append(joint_frame[:3, 2])
+        points.append(joint_frame[:3, 3])
+        previous = frames[j]
+    jacobians = []
+    for i in range(n):
+        origin = frames[i][:3, 3]
+        jac = sp.zeros(6, n)
+        for j in range(i + 1):
+            if robot.links[j].is_revolute:
+                jac[:3, j] = axes[j].cross(origin - points[j])
+                jac[3:, j] = axes[j]
+            else:
+                jac[:3, j] = axes[j]
+        jacobians.append(jac)
+    return jacobians

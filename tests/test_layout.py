@@ -1,0 +1,118 @@
+"""The package layout follows the data: model -> derive -> emit -> check -> cli.
+
+A folder imports only from itself and the folders before it (function-level imports included),
+no two modules import each other (directly or through others), and the derivation folders load
+no template engine and no code-generation target.
+"""
+
+import ast
+import pathlib
+
+import pytest
+
+PACKAGE = pathlib.Path(__file__).resolve().parent.parent / "symdyn"
+ORDER = ("model", "derive", "emit", "check", "cli")
+FORBIDDEN_THIRD_PARTY = {"model": ("jinja2", "casadi", "pinocchio"),
+                         "derive": ("jinja2", "casadi", "pinocchio"),
+                         "emit": ("pinocchio",)}
+
+
+def _module_name(path: pathlib.Path) -> str:
+    parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports(path: pathlib.Path):
+    """(imported symdyn module, line) for every import in the file, resolved to a module name;
+    third-party top-level names as ``('<ext>', name, line)``."""
+    name = _module_name(path)
+    package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(), str(path))):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                base = base[:len(base) - (node.level - 1)]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.split(".")[0] != "symdyn":
+                out.append(("<ext>", target.split(".")[0], node.lineno))
+                continue
+            for alias in node.names:  # "from . import bench" imports the submodule bench
+                sub = f"{target}.{alias.name}"
+                out.append((sub if (PACKAGE.parent / (sub.replace(".", "/") + ".py")).exists()
+                            or (PACKAGE.parent / sub.replace(".", "/")).is_dir() else target, node.lineno))
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name.split(".")[0] == "symdyn":
+                    out.append((alias.name, node.lineno))
+                else:
+                    out.append(("<ext>", alias.name.split(".")[0], node.lineno))
+    return out
+
+
+def _folder(module: str):
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 and parts[1] in ORDER else None
+
+
+MODULES = sorted(PACKAGE.rglob("*.py"))
+
+
+def test_every_module_lives_in_a_folder():
+    loose = [p.name for p in PACKAGE.glob("*.py") if p.name not in ("__init__.py", "_version.py")]
+    assert not loose, f"modules outside model/derive/emit/check/cli: {loose}"
+    for folder in ORDER:
+        init = PACKAGE / folder / "__init__.py"
+        assert init.exists() and ast.get_docstring(ast.parse(init.read_text())), f"{folder}/__init__.py says what the folder is for"
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_imports_follow_the_data(path):
+    source = _folder(_module_name(path))
+    if source is None:
+        return  # symdyn/__init__.py (the public API) and _version.py
+    rank = ORDER.index(source)
+    for item in _imports(path):
+        if item[0] == "<ext>":
+            assert item[1] not in FORBIDDEN_THIRD_PARTY.get(source, ()), \
+                f"{path.relative_to(PACKAGE)}:{item[2]} imports {item[1]}, which {source}/ must not use"
+            continue
+        target, line = item
+        folder = _folder(target)
+        if folder is not None:
+            assert ORDER.index(folder) <= rank, \
+                f"{path.relative_to(PACKAGE)}:{line} imports {target}: {source}/ must not import {folder}/"
+
+
+def test_module_docstrings():
+    for path in MODULES:
+        if path.name == "__init__.py" and path.parent == PACKAGE / "templates":
+            continue
+        tree = ast.parse(path.read_text())
+        if path.name != "_version.py":
+            assert ast.get_docstring(tree), f"{path.relative_to(PACKAGE)} says in its docstring what it holds"
+
+
+def test_no_import_cycles():
+    graph = {}
+    for path in MODULES:
+        graph[_module_name(path)] = {t for t, *_ in _imports(path) if t != "<ext>" and t != _module_name(path)}
+    # the package __init__ files re-export; a cycle through them is Python's normal package import
+    graph = {m: {t for t in ts if not t.endswith(("symdyn", ".cli")) or t == m} for m, ts in graph.items()}
+    state = {}
+
+    def visit(node, stack):
+        state[node] = "open"
+        for nxt in sorted(graph.get(node, ())):
+            if state.get(nxt) == "open":
+                cycle = stack[stack.index(nxt):] + [nxt] if nxt in stack else [node, nxt]
+                raise AssertionError("import cycle: " + " -> ".join(cycle))
+            if nxt not in state:
+                visit(nxt, stack + [nxt])
+        state[node] = "done"
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [module])
