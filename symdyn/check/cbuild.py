@@ -43,16 +43,16 @@ class CompiledDynamics:
         self.ctype = ctypes.c_float if precision == "float" else ctypes.c_double
         self.dtype = np.float32 if precision == "float" else np.float64
 
-    def _call(self, name, args, p, out_size):
+    def _call(self, name, args, p, out_size, out=None, status=False):
         fn = getattr(self.lib, f"{self.prefix}_{name}")
         arrays = [np.ascontiguousarray(a, dtype=self.dtype) for a in args]
         if self.np:
             arrays.append(np.ascontiguousarray(p, dtype=self.dtype))
-        out = np.zeros(out_size, dtype=self.dtype)
+        out = np.zeros(out_size, dtype=self.dtype) if out is None else np.ascontiguousarray(out, dtype=self.dtype)
         pointer = ctypes.POINTER(self.ctype)
-        fn.restype = None
-        fn(*[a.ctypes.data_as(pointer) for a in arrays], out.ctypes.data_as(pointer))
-        return out
+        fn.restype = ctypes.c_int if status else None
+        code = fn(*[a.ctypes.data_as(pointer) for a in arrays], out.ctypes.data_as(pointer))
+        return (int(code), out) if status else out
 
     def inverse_dynamics(self, q, qd, qdd, p=None):
         return self._call("inverse_dynamics", (q, qd, qdd), p, self.n)
@@ -71,6 +71,11 @@ class CompiledDynamics:
 
     def forward_dynamics(self, q, qd, tau, p=None):
         return self._call("forward_dynamics", (q, qd, tau), p, self.n)
+
+    def forward_dynamics_checked(self, q, qd, tau, p=None, qdd=None):
+        """``(status, qdd)`` from ``NAME_forward_dynamics_checked``; ``qdd`` (default zeros) is the
+        array passed in, returned as the function left it."""
+        return self._call("forward_dynamics_checked", (q, qd, tau), p, self.n, out=qdd, status=True)
 
 
 def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, precision: str = "double",

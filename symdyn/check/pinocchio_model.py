@@ -127,10 +127,14 @@ def normalized_error(mine, ref) -> float:
     Arrays of shape (states, n) or (states, n, n).  For each joint j: the largest
     ``|mine - ref|`` over states (and columns) divided by the RMS over states of joint j's
     reference; a joint whose reference is (numerically) zero everywhere is divided by the RMS
-    of the whole output instead.  Returns the worst joint's value.
+    of the whole output instead.  Returns the worst joint's value; ``inf`` when either array
+    holds a NaN or an infinity anywhere (a non-finite output is always a failure, never dropped
+    by ``max``).
     """
     mine = np.asarray(mine, dtype=float)
     ref = np.asarray(ref, dtype=float)
+    if mine.shape != ref.shape or not (np.all(np.isfinite(mine)) and np.all(np.isfinite(ref))):
+        return float("inf")
     states, n = ref.shape[:2]
     diff = np.abs(mine - ref).reshape(states, n, -1)
     refs = ref.reshape(states, n, -1)

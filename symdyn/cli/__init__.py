@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
+import warnings
 
 from .._version import __version__
-from ..model.errors import SymdynError
+from ..model.errors import SymdynError, SymdynWarning, one_line
 from . import bench, derive, generate, verify
 
 SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive, "bench": bench}
@@ -36,13 +38,44 @@ def main(argv=None) -> int:
         parser.print_help()
         return 2
     try:
-        return int(args.run(args) or 0)
+        with _warnings_as_lines():
+            return int(args.run(args) or 0)
     except SymdynError as exc:
         print(f"symdyn: error: {exc}", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("symdyn: interrupted", file=sys.stderr)
         return 130
+    except RecursionError:
+        print("symdyn: error: the input is nested too deeply to process", file=sys.stderr)
+        return 1
+    except MemoryError:
+        print("symdyn: error: out of memory (is the robot very large?)", file=sys.stderr)
+        return 1
+    except Exception as exc:  # a bug in symdyn, never a traceback for the user
+        print(f"symdyn: internal error: {type(exc).__name__}: {one_line(exc, 300)} "
+              "(please report it with the input file)", file=sys.stderr)
+        return 3
+
+
+@contextlib.contextmanager
+def _warnings_as_lines():
+    """Show each :class:`SymdynWarning` as one ``symdyn: warning: ...`` line on stderr."""
+    previous = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        if issubclass(category, SymdynWarning):
+            print(f"symdyn: warning: {one_line(message)}", file=sys.stderr)
+        else:
+            previous(message, category, filename, lineno, file, line)
+    warnings.showwarning = show
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("always", SymdynWarning)
+            warnings.showwarning = show
+            yield
+    finally:
+        warnings.showwarning = previous
 
 
 def run() -> None:

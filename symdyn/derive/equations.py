@@ -35,8 +35,10 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Iterable, Mapping
 
+import numpy as np
 import sympy as sp
 
+from ..model.errors import SymdynError
 from .chain import make_chain
 from .composite import mass_matrix as composite_mass_matrix
 from .lagrange_euler import LagrangeEuler
@@ -44,7 +46,8 @@ from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS  # noqa: F401 (part of this module's API)
 from ..model.robot import Robot
-from .numeric import NumericEquations
+from .kinematics import joint_symbols
+from .numeric import NumericEquations, compile_function
 
 METHODS = ("newton-euler", "lagrange-euler")
 METHOD_ALIASES = {"ne": "newton-euler", "newton-euler": "newton-euler", "rne": "newton-euler",
@@ -68,6 +71,12 @@ class Equations:
     program: Program
     outputs: tuple[tuple[str, sp.ImmutableMatrix], ...]
     seconds: float = field(default=0.0, compare=False)
+    #: ``(d_j, M_jj)`` for each pivot d_j of the LDL^T factorization forward dynamics divides by,
+    #: with M_jj the diagonal entry of ``M = D + diag(armature)`` it comes from (expressions in
+    #: the program's symbols), in joint order; empty when forward dynamics was not derived.
+    #: Emitters check ``d_j > PIVOT_RTOL * M_jj`` at run time: M is (numerically) singular
+    #: at that state otherwise.
+    pivots: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
 
     @property
     def n(self) -> int:
@@ -129,14 +138,67 @@ def _friction(robot: Robot, qd, qdd) -> sp.Matrix:
                       for i, link in enumerate(robot.links)])
 
 
-def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> sp.Matrix:
-    """Solve M x = rhs for symmetric positive definite M with an unrolled LDL^T (n divisions)."""
+#: forward dynamics reports a singular mass matrix where a pivot d_j <= PIVOT_RTOL * M_jj (the
+#: solution would carry a relative error of about 1e-16 / PIVOT_RTOL or more)
+PIVOT_RTOL = 1e-12
+
+
+def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int = 2, seed: int = 0) -> None:
+    """Refuse forward dynamics of a chain whose ``M = D + diag(armature)`` is singular for every
+    q: M is evaluated at ``states`` random configurations (random positive values for the
+    parameters) and factorized numerically; a pivot that vanishes (relative to the largest
+    diagonal entry) at every state names its joint in the :class:`SymdynError`."""
+    n = M.shape[0]
+    q = joint_symbols(robot.dof)[0]
+    evaluate = compile_function([q, robot.parameters], program, M, "mass_matrix_check")
+    rng = np.random.default_rng(seed)
+    zero_pivot, zero_diagonal = set(range(n)), set(range(n))
+    for _ in range(states):
+        try:
+            Mv = evaluate(rng.uniform(-np.pi, np.pi, n), rng.uniform(0.5, 1.5, len(robot.parameters)))
+        except (ZeroDivisionError, OverflowError, ValueError):
+            return  # not evaluable here: leave it to the run-time check
+        if not np.all(np.isfinite(Mv)):
+            return
+        scale = max(float(np.max(np.abs(np.diag(Mv)))), 1e-300)
+        diagonal = np.diag(Mv).astype(float).copy()
+        L = np.eye(n)
+        d = np.zeros(n)
+        for j in range(n):
+            d[j] = Mv[j, j] - np.sum(L[j, :j] ** 2 * d[:j])
+            if abs(d[j]) <= 1e-10 * scale:
+                d[j] = 0.0
+                continue
+            for i in range(j + 1, n):
+                L[i, j] = (Mv[i, j] - np.sum(L[i, :j] * L[j, :j] * d[:j])) / d[j]
+        zero_pivot &= {j for j in range(n) if d[j] == 0.0}
+        zero_diagonal &= {j for j in range(n) if abs(diagonal[j]) <= 1e-10 * scale}
+    if not zero_pivot:
+        return
+    j = min(zero_pivot)
+    link = robot.links[j]
+    joint = f"joint {j + 1} ('{link.name}')"
+    if j in zero_diagonal:
+        raise SymdynError(f"forward dynamics: D[{j + 1},{j + 1}] is identically 0: {joint} has no inertia "
+                          "about its axis; give the link inertia or an armature, or leave forward_dynamics out")
+    raise SymdynError(f"forward dynamics: the mass matrix is singular for every q: {joint} moves no "
+                      "inertia that the joints before it do not already move; give the link inertia or "
+                      "an armature, or leave forward_dynamics out")
+
+
+def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> tuple[sp.Matrix, tuple[tuple[sp.Expr, sp.Expr], ...]]:
+    """Solve M x = rhs for symmetric positive definite M with an unrolled LDL^T (n divisions);
+    returns the solution (n x 1) and the n pairs (pivot d_j, diagonal entry M_jj)."""
     n = M.shape[0]
     L = sp.eye(n)
     d: list[sp.Expr] = []
     inv_d: list[sp.Expr] = []
     for j in range(n):
         dj = M[j, j] - sp.Add(*[L[j, k] ** 2 * d[k] for k in range(j)])
+        if dj == 0:
+            raise SymdynError(f"forward dynamics: pivot {j + 1} of the mass matrix is identically 0 "
+                              f"(joint {j + 1} moves no inertia); give the link inertia or an armature, "
+                              "or leave forward_dynamics out")
         d.append(b.define(f"ldl_d{j + 1}", dj))
         inv_d.append(b.define(f"ldl_inv{j + 1}", 1 / d[j]))
         for i in range(j + 1, n):
@@ -148,7 +210,7 @@ def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> sp.Matrix:
     x = [sp.S.Zero] * n
     for i in reversed(range(n)):
         x[i] = b.define(f"qdd{i + 1}_fd", y[i] * inv_d[i] - sp.Add(*[L[k, i] * x[k] for k in range(i + 1, n)]))
-    return sp.Matrix(x)
+    return sp.Matrix(x), tuple((d[j], M[j, j]) for j in range(n))
 
 
 def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | None = None) -> Equations:
@@ -215,13 +277,16 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
         if "forward_dynamics" in need:
             bias = result["coriolis"] + result["gravity"]
 
+    pivots: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
     if "forward_dynamics" in need:
         M = result["mass_matrix"] + sp.diag(*[link.armature for link in robot.links])
+        check_not_singular(robot, b.build(), M)
         rhs = sp.Matrix(tau) - bias - friction.subs({v: 0 for v in qdd})
         rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
-        result["forward_dynamics"] = _ldlt_solve(b, M, rhs)
+        result["forward_dynamics"], pivots = _ldlt_solve(b, M, rhs)
 
     outputs_tuple = tuple((name, sp.ImmutableMatrix(result[name])) for name in OUTPUTS if name in wanted)
     return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,
                      program=b.build(), outputs=outputs_tuple,
-                     seconds=time.perf_counter() - start)
+                     seconds=time.perf_counter() - start,
+                     pivots=pivots if "forward_dynamics" in wanted else ())

@@ -14,9 +14,10 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .._version import __version__
+from ..model.errors import warn
 from .cprinter import CPrinter, count_operations
-from .emission import fold_constants, template_environment
-from ..derive.equations import OUTPUT_INPUTS, OUTPUTS, Equations
+from .emission import comment_text, fold_constants, source_label, template_environment
+from ..derive.equations import OUTPUT_INPUTS, OUTPUTS, PIVOT_RTOL, Equations
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -45,6 +46,12 @@ SUMMARIES = {
 }
 
 
+STATUS_DOC = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its "
+              "LDL^T factorization is not above {rtol:g} times its diagonal entry, or is not a "
+              "number); 2 when a result is not finite (NaN or beyond the range of {real}). On a "
+              "nonzero return qdd is not written.")
+
+
 @dataclass
 class CFunction:
     name: str
@@ -53,6 +60,8 @@ class CFunction:
     lines: list[str]
     ops: Counter = field(default_factory=Counter)
     unused: list[str] = field(default_factory=list)
+    returns: str = "void"
+    returns_doc: str = ""
 
     @property
     def signature_args(self) -> str:
@@ -86,15 +95,44 @@ def _merge_cse(program_assigns, replacements):
     return merged
 
 
+def _prune(statements, results):
+    """Drop the statements nothing uses any more: folding constants can cancel a term (a
+    coefficient that folds to exactly 0), leaving its intermediate unused."""
+    live = set().union(*(sp.sympify(e).free_symbols for e in results)) if results else set()
+    kept = []
+    for sym, rhs in reversed(statements):
+        if sym in live:
+            kept.append((sym, rhs))
+            live |= rhs.free_symbols
+    return kept[::-1]
+
+
+def build_functions(eqs: Equations, name: str, precision: str, prefix: str) -> list[CFunction]:
+    """The C functions of one output: one function, or for forward dynamics the checked
+    function (``int`` status) and the plain one of the contract that calls it."""
+    built = build_function(eqs, name, precision, prefix)
+    if name != "forward_dynamics" or not eqs.pivots:
+        return [built]
+    plain = CFunction(
+        name=name, summary=SUMMARIES[name] + f" Same as {prefix}_{name}_checked, without the status: "
+        "where that returns nonzero, qdd is left unchanged.",
+        args=built.args, lines=[f"(void){prefix}_{built.name}({', '.join(a for _, a, _, _ in built.args)});"],
+        ops=built.ops)
+    return [built, plain]
+
+
 def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CFunction:
-    """Straight-line C body of one output function."""
+    """Straight-line C body of one output function (forward dynamics: the checked function)."""
     n = eqs.n
     real = f"{prefix}_real"
     matrix = eqs.output(name)
     out_name, out_doc = OUTPUT_ARGS[name]
     targets: list[tuple[str, sp.Expr]] = []
     aliases: list[tuple[str, str]] = []
-    if matrix.shape[1] == 1:
+    checked = name == "forward_dynamics" and bool(eqs.pivots)
+    if checked:  # results go to locals first: qdd is written only when every check passes
+        targets = [(f"result{i}", matrix[i]) for i in range(n)]
+    elif matrix.shape[1] == 1:
         targets = [(f"{out_name}[{i}]", matrix[i]) for i in range(n)]
     else:
         symmetric = name == "mass_matrix"
@@ -104,14 +142,17 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
                     aliases.append((f"{out_name}[{i * n + j}]", f"{out_name}[{j * n + i}]"))
                 else:
                     targets.append((f"{out_name}[{i * n + j}]", matrix[i, j]))
-    assigns = list(eqs.program.needed_for([e for _, e in targets]))
+    checks = [e for pair in eqs.pivots for e in pair] if checked else []
+    assigns = list(eqs.program.needed_for([e for _, e in targets] + checks))
     folded = [(s, fold_constants(r)) for s, r in assigns]
     outputs = [fold_constants(sp.sympify(e)) for _, e in targets]
+    checks = [fold_constants(sp.sympify(e)) for e in checks]
     cse_symbols = sp.numbered_symbols("cse", real=True)
-    replacements, reduced = sp.cse([r for _, r in folded] + outputs, symbols=cse_symbols, order="none")
+    replacements, reduced = sp.cse([r for _, r in folded] + outputs + checks, symbols=cse_symbols, order="none")
     program = [(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])]
-    final_outputs = reduced[len(folded):]
-    statements = _merge_cse(program, replacements)
+    final_outputs = reduced[len(folded):len(folded) + len(outputs)]
+    final_checks = reduced[len(folded) + len(outputs):]
+    statements = _prune(_merge_cse(program, replacements), list(final_outputs) + list(final_checks))
 
     # Forward dynamics solves with D, whose condition number can reach 1e4-1e5 (chain12): in
     # float precision the rounding of D and of the right-hand side alone then costs ~1e-3.
@@ -130,17 +171,56 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
         names[sym] = sym.name.lstrip("_")
     printer = CPrinter(names, internal)
 
+    # Forward dynamics checks each pivot as soon as it is computed, before anything divides by
+    # it: a singular D returns 1 without a division by zero.
+    position = {sym: k for k, (sym, _) in enumerate(statements)}
+    pivot_checks: dict[int, list[str]] = {}
+    if checked:
+        rtol = printer.literal(PIVOT_RTOL)
+        for d, m in zip(final_checks[0::2], final_checks[1::2]):
+            deps = sp.sympify(d).free_symbols | sp.sympify(m).free_symbols
+            at = max((position[x] for x in deps if x in position), default=-1)
+            test = f"!({printer.doprint(d)} > 0)" if sp.sympify(d - m) == 0 else \
+                f"!({printer.doprint(d)} > {rtol}*({printer.doprint(m)}))"
+            pivot_checks.setdefault(at, []).append(test)
     lines, ops = [], Counter()
     used = set()
-    for sym, rhs in statements:
+
+    def check_pivots(at):
+        if at in pivot_checks:
+            lines.append("if (" + "\n        || ".join(pivot_checks[at]) + ") {")
+            lines.append("    return 1; /* singular mass matrix at q (or q not finite) */")
+            lines.append("}")
+    check_pivots(-1)
+    for k, (sym, rhs) in enumerate(statements):
         lines.append(f"const {local_type} {names[sym]} = {printer.doprint(rhs)};")
         ops += count_operations(rhs)
         used |= rhs.free_symbols
+        check_pivots(k)
     store = f"({real})" if internal != precision else ""
-    for (target, _), expr in zip(targets, final_outputs):
-        lines.append(f"{target} = {store}({printer.doprint(expr)});" if store else f"{target} = {printer.doprint(expr)};")
-        ops += count_operations(expr)
-        used |= sp.sympify(expr).free_symbols
+    if checked:
+        used |= set().union(*(sp.sympify(e).free_symbols for e in final_checks))
+        limit = "FLT_MAX" if precision == "float" else "DBL_MAX"
+        results = []
+        for (target, _), expr in zip(targets, final_outputs):
+            if isinstance(expr, sp.Symbol) and expr in names:
+                results.append(names[expr])
+            else:
+                lines.append(f"const {local_type} {target} = {printer.doprint(expr)};")
+                results.append(target)
+            ops += count_operations(expr)
+            used |= sp.sympify(expr).free_symbols
+        lines.append("if (" + "\n        || ".join(f"!(fabs({r}) <= {limit})" for r in results) + ") {")
+        lines.append("    return 2; /* a result is NaN or out of range */")
+        lines.append("}")
+        for i, result in enumerate(results):
+            lines.append(f"{out_name}[{i}] = {store}{result};")
+        lines.append("return 0;")
+    else:
+        for (target, _), expr in zip(targets, final_outputs):
+            lines.append(f"{target} = {store}({printer.doprint(expr)});" if store else f"{target} = {printer.doprint(expr)};")
+            ops += count_operations(expr)
+            used |= sp.sympify(expr).free_symbols
     for target, source in aliases:
         lines.append(f"{target} = {source};")
 
@@ -153,6 +233,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     summary = SUMMARIES[name]
     if internal != precision:
         summary += " Computed internally in double precision (float inputs and outputs): D can be ill-conditioned, and float rounding of D alone would cost up to ~1e-3."
+    if checked:
+        return CFunction(name=f"{name}_checked", summary=summary, args=args, lines=lines, ops=ops, unused=unused,
+                         returns="int", returns_doc=STATUS_DOC.format(rtol=PIVOT_RTOL, real="float" if precision == "float" else "double"))
     return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused)
 
 
@@ -162,13 +245,18 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
     functions when ``header_only``).  Returns ``{file name: text}``."""
     functions = [f for f in OUTPUTS if f in (functions or OUTPUTS)]
     prefix = eqs.robot.name
-    built = [build_function(eqs, f, precision, prefix) for f in functions]
+    built = [c for f in functions for c in build_functions(eqs, f, precision, prefix)]
+    externals = [f"{prefix}_{f.name}" for f in built]
+    if len({e[:31] for e in externals}) < len(externals):
+        warn(f"robot name '{prefix}': the generated function names ({', '.join(externals)}) are not "
+             "distinct in their first 31 characters, all that C99 guarantees a linker to compare; "
+             "a shorter robot name is safer with old toolchains")
     robot = eqs.robot
     context = {
         "prefix": prefix,
         "guard": f"{prefix.upper()}_DYNAMICS_H",
         "version": __version__,
-        "source_name": source_name or robot.source,
+        "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
         "method": eqs.method,
         "precision": precision,
@@ -181,8 +269,9 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "joints": [(k + 1, link.name, link.joint) for k, link in enumerate(robot.links)],
         "functions": built,
         "header_only": header_only,
-        "notes": list(notes),
+        "notes": [comment_text(note) for note in notes],
         "math_header": True,
+        "float_header": any(f.returns == "int" for f in built),
     }
     env = template_environment()
     header = env.get_template("dynamics.h.j2").render(**context)

@@ -10,11 +10,13 @@ operations the printed code performs.
 
 from __future__ import annotations
 
+import math
 from collections import Counter
 
 import sympy as sp
 from sympy.printing.c import C99CodePrinter
 
+from ..model.errors import SymdynError
 from .emission import fold_constants  # noqa: F401 (re-exported)
 
 PRECISIONS = ("double", "float")
@@ -33,7 +35,21 @@ class CPrinter(C99CodePrinter):
         self.real = "float" if precision == "float" else "double"
 
     def literal(self, value) -> str:
-        text = repr(float(value))
+        """A floating literal of ``value``; a value that is not finite in the chosen precision
+        (a product of huge masses and lengths, a division by zero) is a :class:`SymdynError`."""
+        try:
+            number = float(value)
+        except (OverflowError, TypeError, ValueError):
+            number = float("nan")
+        limit = 3.4028234663852886e38 if self.precision == "float" else 1.7976931348623157e308
+        if not math.isfinite(number) or abs(number) > limit:
+            raise SymdynError(f"a constant of the equations is not finite in {self.precision} precision "
+                              f"({'about ' + format(number, '.3g') if math.isfinite(number) else 'infinite or undefined'}): "
+                              "check the magnitudes of the masses, lengths and gravity")
+        tiny = 7.006492321624085e-46 if self.precision == "float" else 2.4703282292062328e-324
+        if abs(number) <= tiny:  # rounds to zero in this precision: say so, not a literal that warns
+            number = 0.0
+        text = repr(number)
         if "e" not in text and "." not in text and "inf" not in text:
             text += ".0"
         return text + self.suffix
@@ -51,6 +67,12 @@ class CPrinter(C99CodePrinter):
 
     def _print_Float(self, expr):
         return self.literal(expr)
+
+    def _print_not_finite(self, expr):
+        raise SymdynError("the equations contain an infinite or undefined value (a division by zero "
+                          "in the robot's numbers?): check the masses, inertias and lengths")
+
+    _print_Infinity = _print_NegativeInfinity = _print_ComplexInfinity = _print_NaN = _print_not_finite
 
     def _print_Pi(self, expr):
         return self.literal(sp.pi.evalf(20))

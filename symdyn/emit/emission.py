@@ -1,9 +1,37 @@
-"""Helpers shared by every emitter (C, CasADi, printouts); no derivation happens here."""
+"""Helpers shared by every emitter (C, CasADi, printouts); no derivation happens here.
+
+Text that comes from outside symdyn (paths, notes) reaches generated files only through
+:func:`source_label` and :func:`comment_text`; names in robot files are identifiers by the time
+they get here (see :mod:`symdyn.model.robot`).
+"""
 
 from __future__ import annotations
 
+import re
+
 import jinja2
 import sympy as sp
+
+from ..model.errors import display_path
+
+_COMMENT_UNSAFE = re.compile(r"[^\x20-\x7e]|\\")
+
+
+def source_label(path: str) -> str:
+    """How generated files name their input: the path with every character outside
+    ``[A-Za-z0-9._+/@,=-]`` shown as ``?`` (see :func:`symdyn.model.errors.display_path`), so it
+    cannot end a C comment, start LaTeX markup or break a Markdown code span."""
+    return display_path(path)
+
+
+def comment_text(text: str, limit: int = 300) -> str:
+    """``text`` made safe inside a C block comment (and any other comment syntax symdyn writes):
+    printable ASCII only (no backslash: no line splicing), no ``*/`` or ``/*``, no trigraph
+    ``??``, at most ``limit`` characters."""
+    text = _COMMENT_UNSAFE.sub("?", str(text))
+    while "*/" in text or "/*" in text or "??" in text:
+        text = text.replace("*/", "* /").replace("/*", "/ *").replace("??", "? ?")
+    return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
 def fold_constants(expr: sp.Expr, digits: int = 30) -> sp.Expr:

@@ -11,7 +11,7 @@ import sympy as sp
 
 from .._version import __version__
 from ..derive.derivation import Derivation
-from .emission import template_environment
+from .emission import source_label, template_environment
 
 FORMATS = ("text", "latex", "markdown")
 TEMPLATES = {"text": "derivation.txt.j2", "latex": "derivation.tex.j2", "markdown": "derivation.md.j2"}
@@ -156,7 +156,7 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
     context = {
         "robot": robot.name, "dof": robot.dof, "convention": robot.convention,
         "method": derivation.method, "steps": derivation.steps, "closed_form": derivation.closed_form,
-        "version": __version__, "source_name": source_name or robot.source,
+        "version": __version__, "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
         "gravity": printer.value(sp.Matrix(robot.gravity).T if fmt == "text" else sp.Matrix(robot.gravity)),
         "dh": dh, "sections": sections, "shorthand": shorthand, "where": where,

@@ -11,6 +11,13 @@ Grammar (nothing else is accepted, nothing is ever evaluated as code)::
 NUMBER is a decimal literal (``2``, ``0.4318``, ``1e-05``, ``.5``); it becomes an exact SymPy
 Rational so that symbolic identities (for example Lagrange-Euler minus Newton-Euler) cancel
 exactly.  NAME is ``pi`` or a parameter name; the caller decides what a name maps to.
+
+Work is bounded whatever the text: at most :data:`MAX_LENGTH` characters, :data:`MAX_DEPTH`
+nested parentheses or signs, literals of at most :data:`MAX_LITERAL` characters with a decimal
+exponent of magnitude at most :data:`MAX_EXPONENT`; an exponent after ``**`` must be a number of
+magnitude at most :data:`MAX_POWER`, and a numeric power whose result would pass 1e300 (or fall
+below 1e-300) is refused instead of computed (``9**9**9``, ``10**10**10``).  A result that is
+not a finite number or a finite expression (``0**-1``, ``zoo``) is refused.
 """
 
 from __future__ import annotations
@@ -25,7 +32,15 @@ _TOKEN = re.compile(
     r"\s*(?:(?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)|(?P<name>[A-Za-z_][A-Za-z0-9_]*)|(?P<op>\*\*|[-+*/()]))"
 )
 
-NAME_PATTERN = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+#: names of parameters (used with ``match``; ``\Z`` so that a trailing newline is not accepted)
+NAME_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]*\Z")
+
+MAX_LENGTH = 1000
+MAX_DEPTH = 50
+MAX_LITERAL = 64
+MAX_EXPONENT = 400
+MAX_POWER = 64
+_LOG10_LIMIT = 300
 
 
 class ExpressionError(ValueError):
@@ -33,7 +48,15 @@ class ExpressionError(ValueError):
 
 
 def number_to_rational(text: str) -> sp.Rational:
-    """Exact rational value of a decimal literal such as ``'0.4318'`` or ``'1e-05'``."""
+    """Exact rational value of a decimal literal such as ``'0.4318'`` or ``'1e-05'``.
+
+    Raises ``ExpressionError`` for a literal longer than :data:`MAX_LITERAL` characters or with
+    a decimal exponent beyond :data:`MAX_EXPONENT` (``1e999999999`` is never expanded)."""
+    if len(text) > MAX_LITERAL:
+        raise ExpressionError(f"number '{text[:20]}...' is longer than {MAX_LITERAL} characters")
+    mantissa, _, exponent = text.lower().partition("e")
+    if exponent and abs(int(exponent)) > MAX_EXPONENT:
+        raise ExpressionError(f"number '{text}' is out of range (decimal exponent beyond {MAX_EXPONENT})")
     frac = Fraction(text)
     return sp.Rational(frac.numerator, frac.denominator)
 
@@ -46,11 +69,36 @@ def _tokenize(text: str) -> list[tuple[str, str]]:
         match = _TOKEN.match(text, pos)
         if not match or match.end() == pos:
             bad = text[pos:].strip()[:20]
-            raise ExpressionError(f"unexpected text '{bad}' in expression '{text}'")
+            hint = " (functions such as sin or sqrt are not allowed: give the value)" if bad[:1] == "(" else ""
+            raise ExpressionError(f"unexpected text '{bad}' in expression '{_short(text)}'{hint}")
         kind = match.lastgroup
         tokens.append((kind, match.group(kind)))
         pos = match.end()
     return tokens
+
+
+def _short(text: str, limit: int = 80) -> str:
+    text = " ".join(text.split())
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def _check_power(base: sp.Expr, exponent: sp.Expr, text: str) -> None:
+    """Refuse a power whose exponent is not a bounded number, or whose numeric result would
+    overflow (before computing it)."""
+    if not exponent.is_number or exponent.free_symbols or not exponent.is_real:
+        raise ExpressionError(f"the exponent after '**' must be a number in expression '{_short(text)}'")
+    if abs(exponent) > MAX_POWER:
+        raise ExpressionError(f"exponent {float(exponent):g} is larger than {MAX_POWER} in expression '{_short(text)}'")
+    if base.is_number and not base.free_symbols:
+        if base == 0:
+            if exponent.is_negative:
+                raise ExpressionError(f"division by zero in expression '{_short(text)}'")
+            return
+        magnitude = abs(sp.N(base, 15))
+        if magnitude.is_number and magnitude != 0:
+            scale = float(exponent) * float(sp.log(magnitude, 10).evalf(15))
+            if abs(scale) > _LOG10_LIMIT:
+                raise ExpressionError(f"the power in expression '{_short(text)}' is out of range (about 1e{scale:.0f})")
 
 
 def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Expr:
@@ -61,10 +109,24 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
     """
     if not isinstance(text, str):
         raise ExpressionError(f"expected an expression string, got {type(text).__name__}")
+    if len(text) > MAX_LENGTH:
+        raise ExpressionError(f"expression of {len(text)} characters, more than {MAX_LENGTH}")
     tokens = _tokenize(text)
     if not tokens:
         raise ExpressionError("empty expression")
     pos = 0
+    depth = 0
+
+    def nested(parse):
+        """Run ``parse()`` one nesting level deeper (parentheses, signs, exponents)."""
+        nonlocal depth
+        depth += 1
+        if depth > MAX_DEPTH:
+            raise ExpressionError(f"expression nested more than {MAX_DEPTH} levels deep")
+        try:
+            return parse()
+        finally:
+            depth -= 1
 
     def peek() -> tuple[str, str] | None:
         return tokens[pos] if pos < len(tokens) else None
@@ -73,9 +135,9 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
         nonlocal pos
         tok = peek()
         if tok is None:
-            raise ExpressionError(f"expression '{text}' ends too early")
+            raise ExpressionError(f"expression '{_short(text)}' ends too early")
         if value is not None and tok[1] != value:
-            raise ExpressionError(f"expected '{value}' but found '{tok[1]}' in expression '{text}'")
+            raise ExpressionError(f"expected '{value}' but found '{tok[1]}' in expression '{_short(text)}'")
         pos += 1
         return tok
 
@@ -94,7 +156,7 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
             rhs = unary()
             if op == "/":
                 if rhs == 0:
-                    raise ExpressionError(f"division by zero in expression '{text}'")
+                    raise ExpressionError(f"division by zero in expression '{_short(text)}'")
                 value = value / rhs
             else:
                 value = value * rhs
@@ -104,7 +166,7 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
         tok = peek()
         if tok is not None and tok[1] in ("+", "-"):
             take()
-            value = unary()
+            value = nested(unary)
             return -value if tok[1] == "-" else value
         return power()
 
@@ -113,9 +175,8 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
         tok = peek()
         if tok is not None and tok[1] == "**":
             take()
-            exponent = unary()
-            if base == 0 and exponent.is_number and exponent.is_negative:
-                raise ExpressionError(f"division by zero in expression '{text}'")
+            exponent = nested(unary)
+            _check_power(base, exponent, text)
             return base**exponent
         return base
 
@@ -124,16 +185,21 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
         if kind == "num":
             return number_to_rational(value)
         if kind == "name":
+            if peek() is not None and peek()[1] == "(":
+                raise ExpressionError(f"'{value}(...)': functions are not allowed in expression "
+                                      f"'{_short(text)}' (give the value as a number)")
             if value == "pi":
                 return sp.pi
             return resolve_name(value)
         if value == "(":
-            inner = expr()
+            inner = nested(expr)
             take(")")
             return inner
-        raise ExpressionError(f"unexpected '{value}' in expression '{text}'")
+        raise ExpressionError(f"unexpected '{value}' in expression '{_short(text)}'")
 
     result = expr()
     if pos != len(tokens):
-        raise ExpressionError(f"unexpected '{tokens[pos][1]}' in expression '{text}'")
+        raise ExpressionError(f"unexpected '{tokens[pos][1]}' in expression '{_short(text)}'")
+    if result.has(sp.zoo, sp.oo, -sp.oo, sp.nan, sp.I):
+        raise ExpressionError(f"expression '{_short(text)}' has no finite real value")
     return result

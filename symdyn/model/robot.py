@@ -17,18 +17,24 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
-import yaml
-
-from .errors import RobotFileError
+from .errors import RobotFileError, describe, one_line
 from .expr import NAME_PATTERN, ExpressionError, number_to_rational, parse_expression
+from .inputs import decode_text, load_yaml, read_input
 
 FORMAT_VERSION = 1
 CONVENTIONS = ("standard", "modified")
 JOINT_TYPES = ("revolute", "prismatic")
-ROBOT_NAME_PATTERN = re.compile(r"^[a-z][a-z0-9_]*$")
+ROBOT_NAME_PATTERN = re.compile(r"[a-z][a-z0-9_]*\Z")
+#: link names: C-identifier-like, so that they can appear in generated text unescaped
+LINK_NAME_PATTERN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+#: the longest robot, link or parameter name (C99 guarantees 31 significant characters)
+MAX_NAME = 31
+#: the largest magnitude of a numeric field (products of three such stay finite in double)
+MAX_MAGNITUDE = sp.Integer(10) ** 100
 # Names the derivation itself uses for joint variables; a parameter may not shadow them.
-_RESERVED_NAME = re.compile(r"^(q|qd|qdd|tau|p)[0-9]*$")
-_RESERVED_WORDS = frozenset({"pi", "e", "sin", "cos", "sqrt"})
+_RESERVED_NAME = re.compile(r"(q|qd|qdd|tau|p)[0-9]*\Z")
+_RESERVED_WORDS = frozenset({"pi", "e", "E", "I", "sin", "cos", "sqrt"})
+_RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any case
 
 TOP_KEYS = ("format", "name", "convention", "gravity", "parameters", "links")
 LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "mass", "com", "inertia",
@@ -177,25 +183,6 @@ def parameter_symbol(name: str) -> sp.Symbol:
 # Loading
 
 
-class _UniqueKeyLoader(yaml.SafeLoader):
-    """SafeLoader that rejects duplicate mapping keys instead of silently keeping the last."""
-
-
-def _construct_mapping(loader, node, deep=False):
-    seen = set()
-    for key_node, _ in node.value:
-        key = loader.construct_object(key_node, deep=deep)
-        if key in seen:
-            raise yaml.constructor.ConstructorError(
-                None, None, f"duplicate key '{key}'", key_node.start_mark)
-        seen.add(key)
-    return yaml.SafeLoader.construct_mapping(loader, node, deep=deep)
-
-
-_UniqueKeyLoader.add_constructor(
-    yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_mapping)
-
-
 class _Reader:
     """Turns the parsed YAML document into a Robot, tracking names in order of appearance."""
 
@@ -210,10 +197,12 @@ class _Reader:
         raise RobotFileError(self.path, reason, link=link, field=fld)
 
     def check_name(self, name: str, link, fld, what="name"):
-        if not NAME_PATTERN.match(name) or name in _RESERVED_WORDS or _RESERVED_NAME.match(name):
-            self.fail(f"'{name}' cannot be used as a {what}: names are letters, digits and '_', "
-                      "start with a letter, and may not be pi, e, sin, cos, sqrt or a joint "
-                      "variable name (q1, qd1, qdd1, tau1, p...)", link, fld)
+        if (not NAME_PATTERN.match(name) or len(name) > MAX_NAME or name in _RESERVED_WORDS
+                or name.lower() in _RESERVED_FOLDED or _RESERVED_NAME.match(name)):
+            self.fail(f"{describe(name)} cannot be used as a {what}: names are letters, digits and '_', "
+                      f"start with a letter, have at most {MAX_NAME} characters, and may not be pi, e, E, "
+                      "I, sin, cos, sqrt, nan, inf, oo, zoo or a joint variable name (q1, qd1, qdd1, "
+                      "tau1, p...)", link, fld)
 
     def resolver(self, link, fld, allow_free=True):
         def resolve(name: str) -> sp.Expr:
@@ -230,20 +219,26 @@ class _Reader:
         return resolve
 
     def number(self, value: Any, link: str | None, fld: str, allow_free: bool = True) -> sp.Expr:
+        """The exact value of a numeric field: a finite number of magnitude at most
+        :data:`MAX_MAGNITUDE` (after folding named constants), or an expression of names."""
         if isinstance(value, bool) or value is None:
-            self.fail(f"expected a number or an expression, got {'nothing' if value is None else repr(value)}", link, fld)
+            self.fail(f"expected a number or an expression, got {describe(value)}", link, fld)
         if isinstance(value, int):
-            return sp.Integer(value)
-        if isinstance(value, float):
+            result = sp.Integer(value) if abs(value) <= 10**101 else None
+        elif isinstance(value, float):
             if not np.isfinite(value):
                 self.fail(f"expected a finite number, got {value}", link, fld)
-            return number_to_rational(repr(value))
-        if isinstance(value, str):
+            result = number_to_rational(repr(value))
+        elif isinstance(value, str):
             try:
-                return parse_expression(value, self.resolver(link, fld, allow_free))
+                result = parse_expression(value, self.resolver(link, fld, allow_free))
             except ExpressionError as exc:
                 self.fail(f"bad expression: {exc}", link, fld)
-        self.fail(f"expected a number or an expression, got a {type(value).__name__}", link, fld)
+        else:
+            self.fail(f"expected a number or an expression, got {describe(value)}", link, fld)
+        if result is None or (result.is_number and abs(result) > MAX_MAGNITUDE):
+            self.fail("the value is too large (more than 1e100 in magnitude): check the units", link, fld)
+        return result
 
     def vector(self, value: Any, size: int, link, fld) -> tuple[sp.Expr, ...]:
         if not isinstance(value, (list, tuple)) or len(value) != size:
@@ -258,7 +253,7 @@ class _Reader:
         for name, spec in params.items():
             fld = f"parameters.{name}"
             if not isinstance(name, str):
-                self.fail(f"parameter names must be text, got {name!r}", None, "parameters")
+                self.fail(f"parameter names must be text, got {describe(name)}", None, "parameters")
             self.check_name(name, None, fld, "parameter name")
             if name in self.free:
                 self.fail(f"parameter '{name}' is used before it is defined", None, fld)
@@ -266,7 +261,7 @@ class _Reader:
             if isinstance(spec, dict):
                 unknown = sorted(set(map(str, spec)) - {"value", "runtime"})
                 if unknown:
-                    self.fail(f"unknown key '{unknown[0]}' (allowed: value, runtime)", None, fld)
+                    self.fail(f"unknown key {describe(unknown[0])} (allowed: value, runtime)", None, fld)
                 runtime = spec.get("runtime", False)
                 if not isinstance(runtime, bool):
                     self.fail("'runtime' must be true or false", None, f"{fld}.runtime")
@@ -276,6 +271,8 @@ class _Reader:
             else:
                 raw = spec
             value = None if raw is None else self.number(raw, None, fld if not isinstance(spec, dict) else f"{fld}.value", allow_free=False)
+            if value is None and not runtime:
+                self.fail("a parameter needs a value (or runtime: true)", None, fld)
             if runtime:
                 if value is not None and value.free_symbols:
                     self.fail("the value of a runtime parameter must be a number", None, f"{fld}.value")
@@ -289,20 +286,21 @@ class _Reader:
         if not isinstance(raw, dict):
             self.fail("expected a mapping with the link's fields", label, None)
         name = raw.get("name", f"j{index + 1}")
-        if not isinstance(name, str) or not name.strip():
-            self.fail("the link name must be non-empty text", label, "name")
+        if not isinstance(name, str) or not LINK_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
+            self.fail(f"{describe(name)} is not a valid link name: use letters, digits and '_' "
+                      f"(not starting with a digit), at most {MAX_NAME} characters", label, "name")
         label = f"link {index + 1} ('{name}')"
         if name in names_seen:
             self.fail(f"duplicate link name '{name}'", label, "name")
         names_seen.add(name)
         for key in raw:
             if key not in LINK_KEYS:
-                self.fail(f"unknown key '{key}' (allowed: {', '.join(LINK_KEYS)})", label, str(key))
+                self.fail(f"unknown key {describe(key)} (allowed: {', '.join(LINK_KEYS)})", label, one_line(str(key), 40))
         joint = raw.get("joint")
         if joint is None:
             self.fail("missing required field", label, "joint")
         if joint not in JOINT_TYPES:
-            self.fail(f"unknown joint type {joint!r} (expected revolute or prismatic)", label, "joint")
+            self.fail(f"unknown joint type {describe(joint)} (expected revolute or prismatic)", label, "joint")
         geometry = {}
         for key in ("a", "alpha", "d", "theta"):
             if key not in raw:
@@ -323,7 +321,7 @@ class _Reader:
         if isinstance(raw, dict):
             for key in raw:
                 if key not in INERTIA_KEYS:
-                    self.fail(f"unknown inertia component '{key}' (allowed: {', '.join(INERTIA_KEYS)})", label, f"inertia.{key}")
+                    self.fail(f"unknown inertia component {describe(key)} (allowed: {', '.join(INERTIA_KEYS)})", label, f"inertia.{one_line(str(key), 40)}")
             values = tuple(self.number(raw.get(k, 0), label, f"inertia.{k}") for k in INERTIA_KEYS)
         elif isinstance(raw, (list, tuple)):
             if len(raw) != 6:
@@ -357,33 +355,34 @@ def inertia_problem(values: Iterable[float]) -> str | None:
 
 def loads(text: str, path: str = "<string>") -> Robot:
     """Read a robot from the text of a robot file (YAML or JSON). ``path`` is used in errors."""
-    try:
-        doc = yaml.load(text, Loader=_UniqueKeyLoader)  # SafeLoader: builds plain data only
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark else ""
-        problem = getattr(exc, "problem", None) or str(exc).splitlines()[0]
-        raise RobotFileError(path, f"not valid YAML{where}: {problem}") from None
+    doc = load_yaml(text, path, "YAML")
+    return from_document(doc, path, hashlib.sha256(text.encode("utf-8")).hexdigest())
+
+
+def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
+    """The robot of a parsed robot file (plain data as YAML gives it); ``path`` names the file
+    in errors, ``source_hash`` is recorded as the robot's :attr:`Robot.source_hash`."""
     reader = _Reader(path)
     if not isinstance(doc, dict):
         reader.fail("expected a mapping with format, name, convention and links")
     for key in doc:
         if key not in TOP_KEYS:
-            reader.fail(f"unknown key '{key}' (allowed: {', '.join(TOP_KEYS)})", None, str(key))
+            reader.fail(f"unknown key {describe(key)} (allowed: {', '.join(TOP_KEYS)})", None, one_line(str(key), 40))
     if "format" not in doc:
         reader.fail("missing required field", None, "format")
     if doc["format"] != FORMAT_VERSION or isinstance(doc["format"], bool):
-        reader.fail(f"unsupported format {doc['format']!r}; this symdyn reads format {FORMAT_VERSION}", None, "format")
+        reader.fail(f"unsupported format {describe(doc['format'])}; this symdyn reads format {FORMAT_VERSION}", None, "format")
     name = doc.get("name")
     if name is None:
         reader.fail("missing required field", None, "name")
-    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name):
-        reader.fail(f"{name!r} is not a valid name: use lower-case letters, digits and '_', starting with a letter", None, "name")
+    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
+        reader.fail(f"{describe(name)} is not a valid name: use lower-case letters, digits and '_', "
+                    f"starting with a letter, at most {MAX_NAME} characters", None, "name")
     convention = doc.get("convention")
     if convention is None:
         reader.fail("missing required field (standard or modified)", None, "convention")
     if convention not in CONVENTIONS:
-        reader.fail(f"unknown convention {convention!r} (expected standard or modified)", None, "convention")
+        reader.fail(f"unknown convention {describe(convention)} (expected standard or modified)", None, "convention")
     reader.read_parameters(doc.get("parameters"))
     gravity = (reader.vector(doc["gravity"], 3, None, "gravity") if "gravity" in doc
                else DEFAULT_GRAVITY)
@@ -406,7 +405,7 @@ def loads(text: str, path: str = "<string>") -> Robot:
     return Robot(
         name=name, convention=convention, gravity=tuple(sp.sympify(g) for g in gravity),
         links=links, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
-        source=path, source_hash=hashlib.sha256(text.encode("utf-8")).hexdigest(),
+        source=path, source_hash=source_hash,
         runtime_names=tuple(s.name for s in runtime_syms if s in used))
 
 
@@ -414,16 +413,7 @@ def load(path: str | os.PathLike) -> Robot:
     """Read a robot file (format version 1, YAML or JSON).
 
     Raises :class:`RobotFileError` naming the file, link and field for any problem, including a
-    file that cannot be read.
+    file that cannot be read (see :mod:`symdyn.model.inputs` for the size and type limits).
     """
     path = os.fspath(path)
-    try:
-        with open(path, "rb") as handle:
-            data = handle.read()
-    except OSError as exc:
-        raise RobotFileError(path, f"cannot read the file: {exc.strerror or exc}") from None
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError:
-        raise RobotFileError(path, "the file is not UTF-8 text") from None
-    return loads(text, path)
+    return loads(decode_text(read_input(path), path), path)

@@ -10,20 +10,23 @@ every derivation and emitter works on it unchanged.
 from __future__ import annotations
 
 import hashlib
+import math
 import os
 from dataclasses import dataclass, replace
 
 import sympy as sp
-import yaml
 
-from .errors import RobotFileError, SymdynError
+from .errors import RobotFileError, SymdynError, describe, display_path, one_line
 from .geometry import joint_geometry, joint_motion
 from .outputs import OUTPUTS
-from .robot import Link, Robot, _UniqueKeyLoader, loads
+from .inputs import decode_text, load_yaml, read_input
+from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, load
 
 SCENE_VERSION = 1
 SCENE_KEYS = ("scene", "robot", "name", "functions", "precision", "lock", "payload", "runtime", "values")
 PAYLOAD_KEYS = ("mass", "com", "inertia")
+#: the largest magnitude of a lock value (rad or m)
+MAX_LOCK_VALUE = 1e6
 
 
 @dataclass(frozen=True)
@@ -41,21 +44,13 @@ class Scene:
 def load_input(path: str):
     """A robot file or a scene (told apart by a top-level ``scene`` key), read once: returns
     ``(robot, scene or None)``."""
-    from .robot import load
-    try:
-        with open(path, "rb") as handle:
-            raw = handle.read()
-        text = raw.decode("utf-8")
-    except (OSError, UnicodeDecodeError):
-        return load(path), None  # reports the problem in the robot file's words
-    try:
-        doc = yaml.load(text, Loader=_UniqueKeyLoader)
-    except yaml.YAMLError:
-        doc = None
+    path = os.fspath(path)
+    raw = read_input(path)
+    doc = load_yaml(decode_text(raw, path), path)
     if isinstance(doc, dict) and "scene" in doc:
         scene = _build_scene(path, raw, doc)
         return scene.robot, scene
-    return loads(text, path), None
+    return from_document(doc, path, hashlib.sha256(raw).hexdigest()), None
 
 
 def _fail(path, reason, fld=None):
@@ -130,15 +125,9 @@ def _drop_unused(robot: Robot) -> Robot:
 
 def load_scene(path: str) -> Scene:
     """Read a scene file and build its specialized robot."""
-    try:
-        with open(path, "rb") as handle:
-            raw = handle.read()
-        doc = yaml.load(raw.decode("utf-8"), Loader=_UniqueKeyLoader)
-    except OSError as exc:
-        raise RobotFileError(path, f"cannot read the file: {exc.strerror or exc}") from None
-    except (yaml.YAMLError, UnicodeDecodeError) as exc:
-        raise RobotFileError(path, f"not a valid scene file: {str(exc).splitlines()[0]}") from None
-    return _build_scene(path, raw, doc)
+    path = os.fspath(path)
+    raw = read_input(path)
+    return _build_scene(path, raw, load_yaml(decode_text(raw, path), path, "scene file"))
 
 
 def _build_scene(path: str, raw: bytes, doc) -> Scene:
@@ -147,48 +136,48 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
         _fail(path, "expected a mapping")
     for key in doc:
         if key not in SCENE_KEYS:
-            _fail(path, f"unknown key '{key}' (allowed: {', '.join(SCENE_KEYS)})", str(key))
+            _fail(path, f"unknown key {describe(key)} (allowed: {', '.join(SCENE_KEYS)})", one_line(str(key), 40))
     if doc.get("scene") != SCENE_VERSION or isinstance(doc.get("scene"), bool):
-        _fail(path, f"unsupported scene version {doc.get('scene')!r}; this symdyn reads scene {SCENE_VERSION}", "scene")
-    if not isinstance(doc.get("robot"), str):
+        _fail(path, f"unsupported scene version {describe(doc.get('scene'))}; this symdyn reads scene {SCENE_VERSION}", "scene")
+    if not isinstance(doc.get("robot"), str) or not doc["robot"].strip():
         _fail(path, "missing or invalid robot file path", "robot")
     robot_path = os.path.join(os.path.dirname(os.path.abspath(path)), doc["robot"])
     try:
-        with open(robot_path, "rb") as handle:
-            robot_raw = handle.read()
-        robot_doc = yaml.load(robot_raw.decode("utf-8"), Loader=_UniqueKeyLoader)
-    except OSError as exc:
-        raise RobotFileError(path, f"cannot read robot file {doc['robot']}: {exc.strerror or exc}", field="robot") from None
-    except (yaml.YAMLError, UnicodeDecodeError):
-        robot_doc = None
-    if not isinstance(robot_doc, dict) or not isinstance(robot_doc.get("links"), list) or not robot_doc["links"]:
-        from .robot import load
-        load(robot_path)  # raises the robot file's own error
-        _fail(path, "the robot file has no links", "robot")
+        robot_raw = read_input(robot_path)
+        robot_doc = load_yaml(decode_text(robot_raw, robot_path), robot_path)
+    except RobotFileError as exc:
+        raise RobotFileError(path, f"robot file {display_path(doc['robot'])}: {exc.reason}", field="robot") from None
+    # The robot file must be valid as it is before the scene changes anything in it (its own
+    # errors name the robot file); the scene's edits below then work on checked data.
+    try:
+        from_document(robot_doc, robot_path)
+    except RobotFileError as exc:
+        raise RobotFileError(path, f"in robot {display_path(doc['robot'])}: {exc.reason}", link=exc.link,
+                             field=exc.field) from None
 
     runtime = doc.get("runtime", [])
     if not isinstance(runtime, list) or not all(isinstance(n, str) for n in runtime):
         _fail(path, "expected a list of parameter names", "runtime")
     values = doc.get("values", {}) or {}
-    if not isinstance(values, dict) or not all(isinstance(v, (int, float, str)) and not isinstance(v, bool)
-                                               for v in values.values()):
+    if not isinstance(values, dict) or not all(isinstance(k, str) for k in values) \
+            or not all(isinstance(v, (int, float, str)) and not isinstance(v, bool) for v in values.values()):
         _fail(path, "expected a mapping of parameter names to numbers", "values")
     functions = doc.get("functions")
     if functions is not None:
         if not isinstance(functions, list) or not functions:
             _fail(path, "expected a non-empty list of functions", "functions")
         for f in functions:
-            if f not in OUTPUTS:
-                _fail(path, f"unknown function '{f}' (known: {', '.join(OUTPUTS)})", "functions")
+            if not isinstance(f, str) or f not in OUTPUTS:
+                _fail(path, f"unknown function {describe(f)} (known: {', '.join(OUTPUTS)})", "functions")
         functions = tuple(f for f in OUTPUTS if f in functions)
     precision = doc.get("precision")
     if precision is not None and precision not in ("double", "float"):
-        _fail(path, f"precision must be double or float, not {precision!r}", "precision")
+        _fail(path, f"precision must be double or float, not {describe(precision)}", "precision")
 
     # Parameters: the scene decides which stay runtime inputs; the rest fold to their values.
     params = dict(robot_doc.get("parameters") or {})
-    notes = [f"scene: {os.path.basename(path)} (sha256 {hashlib.sha256(raw).hexdigest()})",
-             f"robot: {doc['robot']} (sha256 {hashlib.sha256(robot_raw).hexdigest()})"]
+    notes = [f"scene: {display_path(os.path.basename(path))} (sha256 {hashlib.sha256(raw).hexdigest()})",
+             f"robot: {display_path(doc['robot'])} (sha256 {hashlib.sha256(robot_raw).hexdigest()})"]
     folded = []
     for name, spec in list(params.items()):
         value = spec.get("value") if isinstance(spec, dict) else spec
@@ -216,16 +205,18 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
             _fail(path, "expected a mapping with mass, com and inertia", "payload")
         for key in payload:
             if key not in PAYLOAD_KEYS:
-                _fail(path, f"unknown key '{key}' (allowed: {', '.join(PAYLOAD_KEYS)})", f"payload.{key}")
+                _fail(path, f"unknown key {describe(key)} (allowed: {', '.join(PAYLOAD_KEYS)})", f"payload.{one_line(str(key), 40)}")
         # read the payload with the robot's own (safe) number parser, as one more link's fields
-        links.append({"name": "payload", "joint": "revolute", "a": 0, "alpha": 0, "d": 0, "theta": 0,
+        taken = {link.get("name") for link in links if isinstance(link, dict)}
+        carrier_name = next(n for n in (f"payload{k}" if k else "payload" for k in range(len(links) + 1)) if n not in taken)
+        links.append({"name": carrier_name, "joint": "revolute", "a": 0, "alpha": 0, "d": 0, "theta": 0,
                       "mass": payload.get("mass", 0), "com": payload.get("com", [0, 0, 0]),
                       "inertia": payload.get("inertia", [0, 0, 0, 0, 0, 0])})
     robot_doc["links"] = links
     try:
-        robot = loads(yaml.safe_dump(robot_doc, sort_keys=False), robot_path)
+        robot = from_document(robot_doc, robot_path)
     except RobotFileError as exc:
-        raise RobotFileError(path, f"in robot {doc['robot']}: {exc.reason}", link=exc.link, field=exc.field) from None
+        raise RobotFileError(path, f"in robot {display_path(doc['robot'])}: {exc.reason}", link=exc.link, field=exc.field) from None
     if payload is not None:
         carrier, last = robot.links[-1], robot.links[-2]
         m, c, inertia = merge_bodies(*_body(last), *_body(carrier))
@@ -239,10 +230,13 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     names = {link.name: k for k, link in enumerate(robot.links)}
     for key, value in lock.items():
         index = names.get(key) if isinstance(key, str) else (key - 1 if isinstance(key, int) and not isinstance(key, bool) else None)
+        where = f"lock.{one_line(str(key), 40)}"
         if index is None or not 0 <= index < robot.dof:
-            _fail(path, f"no joint {key!r} in {robot.name} (give a 1-based index or a link name)", f"lock.{key}")
+            _fail(path, f"no joint {describe(key)} in {robot.name} (give a 1-based index or a link name)", where)
         if not isinstance(value, (int, float)) or isinstance(value, bool):
-            _fail(path, f"expected a number (rad or m), not {value!r}", f"lock.{key}")
+            _fail(path, f"expected a number (rad or m), not {describe(value)}", where)
+        if not math.isfinite(value) or abs(value) > MAX_LOCK_VALUE:
+            _fail(path, f"expected a finite number of magnitude at most {MAX_LOCK_VALUE:g} (rad or m), not {describe(value)}", where)
         locked[index] = sp.nsimplify(value, rational=True)
     if locked:
         notes.append("locked: " + ", ".join(f"joint {k + 1} ({robot.links[k].name}) at {float(v):g}"
@@ -254,9 +248,9 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     if robot.parameters:
         notes.append("runtime parameters: " + ", ".join(s.name for s in robot.parameters))
     name = doc.get("name", robot.name)
-    from .robot import ROBOT_NAME_PATTERN
-    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name):
-        _fail(path, f"{name!r} is not a valid name", "name")
+    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
+        _fail(path, f"{describe(name)} is not a valid name: use lower-case letters, digits and '_', "
+                    f"starting with a letter, at most {MAX_NAME} characters", "name")
     robot = replace(robot, name=name, source=path, source_hash=hashlib.sha256(raw + robot_raw).hexdigest())
     return Scene(robot=robot, functions=functions, precision=precision, notes=tuple(notes),
                  source=path, source_hash=robot.source_hash)
