@@ -7,6 +7,7 @@
  *   sha256    : 1aa9009c929e2fd0d86ff36cae8f4e88189c8724cd2d728ecf32e27db1c90d31
  */
 #include <math.h>
+#include <float.h>
 
 #include "chain12_dynamics.h"
 
@@ -4678,7 +4679,7 @@ void chain12_gravity(const chain12_real *q, chain12_real *c)
     c[11] = n12g_2;
 }
 
-void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd)
+int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd)
 {
     const chain12_real cse0 = q[2] + 0.005;
     const chain12_real cse1 = q[5] + 0.059;
@@ -5237,6 +5238,7 @@ void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, con
     const chain12_real Ib2J_12 = -Iq2A_12 + (0.11)*Iq2h_1;
     const chain12_real Ib2J_22 = (0.22)*Ic2h_2 + Iq2R_11 + (0.088)*Iq2h_0 + 0.334169088;
     const chain12_real Ic1J_22 = Ib2J_22 + 0.08327464;
+    const chain12_real cse124 = Ic1J_22 + 0.202;
     const chain12_real F3q2n_1 = -Ib3m_0*c2 - Ic3h_0*s2;
     const chain12_real F3b2n_2 = 1.00056 - F3q2n_1;
     const chain12_real F4b4n_0 = Iq4A_02 - cse62;
@@ -5824,140 +5826,176 @@ void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, con
     const chain12_real rhs10 = -f10b_2 - 0.54*qd[9] + tau[9];
     const chain12_real rhs11 = -n11b_2 + tau[10];
     const chain12_real rhs12 = -n12b_2 + tau[11];
-    const chain12_real ldl_d1 = Ic1J_22 + 0.202;
+    const chain12_real ldl_d1 = cse124;
+    if (!(ldl_d1 > 1e-12*(cse124))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv1 = 1.0/ldl_d1;
     const chain12_real ldl_L21 = Ib2J_12*ldl_inv1;
-    const chain12_real cse124 = ldl_L21*ldl_d1;
+    const chain12_real cse125 = ldl_L21*ldl_d1;
     const chain12_real ldl_L31 = F3b2n_2*ldl_inv1;
-    const chain12_real cse125 = ldl_L31*ldl_d1;
+    const chain12_real cse126 = ldl_L31*ldl_d1;
     const chain12_real ldl_L41 = F4b2n_2*ldl_inv1;
-    const chain12_real cse127 = ldl_L41*ldl_d1;
+    const chain12_real cse128 = ldl_L41*ldl_d1;
     const chain12_real ldl_L51 = F5b2n_2*ldl_inv1;
-    const chain12_real cse130 = ldl_L51*ldl_d1;
+    const chain12_real cse131 = ldl_L51*ldl_d1;
     const chain12_real ldl_L61 = F6b2n_2*ldl_inv1;
-    const chain12_real cse134 = ldl_L61*ldl_d1;
+    const chain12_real cse135 = ldl_L61*ldl_d1;
     const chain12_real ldl_L71 = F7b2n_2*ldl_inv1;
-    const chain12_real cse139 = ldl_L71*ldl_d1;
+    const chain12_real cse140 = ldl_L71*ldl_d1;
     const chain12_real ldl_L81 = F8b2n_2*ldl_inv1;
-    const chain12_real cse145 = ldl_L81*ldl_d1;
+    const chain12_real cse146 = ldl_L81*ldl_d1;
     const chain12_real ldl_L91 = F9b2n_2*ldl_inv1;
-    const chain12_real cse152 = ldl_L91*ldl_d1;
+    const chain12_real cse153 = ldl_L91*ldl_d1;
     const chain12_real ldl_L101 = F10b2n_2*ldl_inv1;
-    const chain12_real cse160 = ldl_L101*ldl_d1;
+    const chain12_real cse161 = ldl_L101*ldl_d1;
     const chain12_real ldl_L111 = F11b2n_2*ldl_inv1;
     const chain12_real ldl_L121 = F12b2n_2*ldl_inv1;
     const chain12_real ldl_d2 = Ic2J_22 - ldl_L21*ldl_L21*ldl_d1;
+    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv2 = 1.0/ldl_d2;
-    const chain12_real ldl_L32 = -ldl_L31*ldl_inv2*cse124;
-    const chain12_real cse126 = ldl_L32*ldl_d2;
-    const chain12_real ldl_L42 = ldl_inv2*(F4b3n_2 - ldl_L41*cse124);
-    const chain12_real cse128 = ldl_L42*ldl_d2;
-    const chain12_real ldl_L52 = ldl_inv2*(F5b3n_2 - ldl_L51*cse124);
-    const chain12_real cse131 = ldl_L52*ldl_d2;
-    const chain12_real ldl_L62 = ldl_inv2*(F6b3n_2 - ldl_L61*cse124);
-    const chain12_real cse135 = ldl_L62*ldl_d2;
-    const chain12_real ldl_L72 = ldl_inv2*(F7b3n_2 - ldl_L71*cse124);
-    const chain12_real cse140 = ldl_L72*ldl_d2;
-    const chain12_real ldl_L82 = ldl_inv2*(F8b3n_2 - ldl_L81*cse124);
-    const chain12_real cse146 = ldl_L82*ldl_d2;
-    const chain12_real ldl_L92 = ldl_inv2*(F9b3n_2 - ldl_L91*cse124);
-    const chain12_real cse153 = ldl_L92*ldl_d2;
-    const chain12_real ldl_L102 = ldl_inv2*(F10b3n_2 - ldl_L101*cse124);
-    const chain12_real cse161 = ldl_L102*ldl_d2;
-    const chain12_real ldl_L112 = ldl_inv2*(F11b3n_2 - ldl_L111*cse124);
-    const chain12_real ldl_L122 = ldl_inv2*(F12b3n_2 - ldl_L121*cse124);
+    const chain12_real ldl_L32 = -ldl_L31*ldl_inv2*cse125;
+    const chain12_real cse127 = ldl_L32*ldl_d2;
+    const chain12_real ldl_L42 = ldl_inv2*(F4b3n_2 - ldl_L41*cse125);
+    const chain12_real cse129 = ldl_L42*ldl_d2;
+    const chain12_real ldl_L52 = ldl_inv2*(F5b3n_2 - ldl_L51*cse125);
+    const chain12_real cse132 = ldl_L52*ldl_d2;
+    const chain12_real ldl_L62 = ldl_inv2*(F6b3n_2 - ldl_L61*cse125);
+    const chain12_real cse136 = ldl_L62*ldl_d2;
+    const chain12_real ldl_L72 = ldl_inv2*(F7b3n_2 - ldl_L71*cse125);
+    const chain12_real cse141 = ldl_L72*ldl_d2;
+    const chain12_real ldl_L82 = ldl_inv2*(F8b3n_2 - ldl_L81*cse125);
+    const chain12_real cse147 = ldl_L82*ldl_d2;
+    const chain12_real ldl_L92 = ldl_inv2*(F9b3n_2 - ldl_L91*cse125);
+    const chain12_real cse154 = ldl_L92*ldl_d2;
+    const chain12_real ldl_L102 = ldl_inv2*(F10b3n_2 - ldl_L101*cse125);
+    const chain12_real cse162 = ldl_L102*ldl_d2;
+    const chain12_real ldl_L112 = ldl_inv2*(F11b3n_2 - ldl_L111*cse125);
+    const chain12_real ldl_L122 = ldl_inv2*(F12b3n_2 - ldl_L121*cse125);
     const chain12_real ldl_d3 = -ldl_L31*ldl_L31*ldl_d1 - ldl_L32*ldl_L32*ldl_d2 + 22.74;
+    if (!(ldl_d3 > 1e-12*(22.74))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv3 = 1.0/ldl_d3;
-    const chain12_real ldl_L43 = ldl_inv3*(Iq4h_0 - ldl_L41*cse125 - ldl_L42*cse126);
-    const chain12_real cse129 = ldl_L43*ldl_d3;
-    const chain12_real ldl_L53 = ldl_inv3*(F5q4f_1 - ldl_L51*cse125 - ldl_L52*cse126);
-    const chain12_real cse132 = ldl_L53*ldl_d3;
-    const chain12_real ldl_L63 = ldl_inv3*(F6q4f_1 - ldl_L61*cse125 - ldl_L62*cse126);
-    const chain12_real cse136 = ldl_L63*ldl_d3;
-    const chain12_real ldl_L73 = ldl_inv3*(F7q4f_1 - ldl_L71*cse125 - ldl_L72*cse126);
-    const chain12_real cse141 = ldl_L73*ldl_d3;
-    const chain12_real ldl_L83 = ldl_inv3*(F8q4f_1 - ldl_L81*cse125 - ldl_L82*cse126);
-    const chain12_real cse147 = ldl_L83*ldl_d3;
-    const chain12_real ldl_L93 = ldl_inv3*(F9q4f_1 - ldl_L91*cse125 - ldl_L92*cse126);
-    const chain12_real cse154 = ldl_L93*ldl_d3;
-    const chain12_real ldl_L103 = ldl_inv3*(F10q4f_1 - ldl_L101*cse125 - ldl_L102*cse126);
-    const chain12_real cse162 = ldl_L103*ldl_d3;
-    const chain12_real ldl_L113 = ldl_inv3*(F11q4f_1 - ldl_L111*cse125 - ldl_L112*cse126);
-    const chain12_real ldl_L123 = ldl_inv3*(F12q4f_1 - ldl_L121*cse125 - ldl_L122*cse126);
+    const chain12_real ldl_L43 = ldl_inv3*(Iq4h_0 - ldl_L41*cse126 - ldl_L42*cse127);
+    const chain12_real cse130 = ldl_L43*ldl_d3;
+    const chain12_real ldl_L53 = ldl_inv3*(F5q4f_1 - ldl_L51*cse126 - ldl_L52*cse127);
+    const chain12_real cse133 = ldl_L53*ldl_d3;
+    const chain12_real ldl_L63 = ldl_inv3*(F6q4f_1 - ldl_L61*cse126 - ldl_L62*cse127);
+    const chain12_real cse137 = ldl_L63*ldl_d3;
+    const chain12_real ldl_L73 = ldl_inv3*(F7q4f_1 - ldl_L71*cse126 - ldl_L72*cse127);
+    const chain12_real cse142 = ldl_L73*ldl_d3;
+    const chain12_real ldl_L83 = ldl_inv3*(F8q4f_1 - ldl_L81*cse126 - ldl_L82*cse127);
+    const chain12_real cse148 = ldl_L83*ldl_d3;
+    const chain12_real ldl_L93 = ldl_inv3*(F9q4f_1 - ldl_L91*cse126 - ldl_L92*cse127);
+    const chain12_real cse155 = ldl_L93*ldl_d3;
+    const chain12_real ldl_L103 = ldl_inv3*(F10q4f_1 - ldl_L101*cse126 - ldl_L102*cse127);
+    const chain12_real cse163 = ldl_L103*ldl_d3;
+    const chain12_real ldl_L113 = ldl_inv3*(F11q4f_1 - ldl_L111*cse126 - ldl_L112*cse127);
+    const chain12_real ldl_L123 = ldl_inv3*(F12q4f_1 - ldl_L121*cse126 - ldl_L122*cse127);
     const chain12_real ldl_d4 = Ic4J_22 - ldl_L41*ldl_L41*ldl_d1 - ldl_L42*ldl_L42*ldl_d2 - ldl_L43*ldl_L43*ldl_d3 + 0.148;
+    if (!(ldl_d4 > 1e-12*(Ic4J_22 + 0.148))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv4 = 1.0/ldl_d4;
-    const chain12_real ldl_L54 = ldl_inv4*(F5b5n_2 - ldl_L51*cse127 - ldl_L52*cse128 - ldl_L53*cse129);
-    const chain12_real cse133 = ldl_L54*ldl_d4;
-    const chain12_real ldl_L64 = ldl_inv4*(F6b5n_2 - ldl_L61*cse127 - ldl_L62*cse128 - ldl_L63*cse129);
-    const chain12_real cse137 = ldl_L64*ldl_d4;
-    const chain12_real ldl_L74 = ldl_inv4*(F7b5n_2 - ldl_L71*cse127 - ldl_L72*cse128 - ldl_L73*cse129);
-    const chain12_real cse142 = ldl_L74*ldl_d4;
-    const chain12_real ldl_L84 = ldl_inv4*(F8b5n_2 - ldl_L81*cse127 - ldl_L82*cse128 - ldl_L83*cse129);
-    const chain12_real cse148 = ldl_L84*ldl_d4;
-    const chain12_real ldl_L94 = ldl_inv4*(F9b5n_2 - ldl_L91*cse127 - ldl_L92*cse128 - ldl_L93*cse129);
-    const chain12_real cse155 = ldl_L94*ldl_d4;
-    const chain12_real ldl_L104 = ldl_inv4*(F10b5n_2 - ldl_L101*cse127 - ldl_L102*cse128 - ldl_L103*cse129);
-    const chain12_real cse163 = ldl_L104*ldl_d4;
-    const chain12_real ldl_L114 = ldl_inv4*(F11b5n_2 - ldl_L111*cse127 - ldl_L112*cse128 - ldl_L113*cse129);
-    const chain12_real ldl_L124 = ldl_inv4*(F12b5n_2 - ldl_L121*cse127 - ldl_L122*cse128 - ldl_L123*cse129);
+    const chain12_real ldl_L54 = ldl_inv4*(F5b5n_2 - ldl_L51*cse128 - ldl_L52*cse129 - ldl_L53*cse130);
+    const chain12_real cse134 = ldl_L54*ldl_d4;
+    const chain12_real ldl_L64 = ldl_inv4*(F6b5n_2 - ldl_L61*cse128 - ldl_L62*cse129 - ldl_L63*cse130);
+    const chain12_real cse138 = ldl_L64*ldl_d4;
+    const chain12_real ldl_L74 = ldl_inv4*(F7b5n_2 - ldl_L71*cse128 - ldl_L72*cse129 - ldl_L73*cse130);
+    const chain12_real cse143 = ldl_L74*ldl_d4;
+    const chain12_real ldl_L84 = ldl_inv4*(F8b5n_2 - ldl_L81*cse128 - ldl_L82*cse129 - ldl_L83*cse130);
+    const chain12_real cse149 = ldl_L84*ldl_d4;
+    const chain12_real ldl_L94 = ldl_inv4*(F9b5n_2 - ldl_L91*cse128 - ldl_L92*cse129 - ldl_L93*cse130);
+    const chain12_real cse156 = ldl_L94*ldl_d4;
+    const chain12_real ldl_L104 = ldl_inv4*(F10b5n_2 - ldl_L101*cse128 - ldl_L102*cse129 - ldl_L103*cse130);
+    const chain12_real cse164 = ldl_L104*ldl_d4;
+    const chain12_real ldl_L114 = ldl_inv4*(F11b5n_2 - ldl_L111*cse128 - ldl_L112*cse129 - ldl_L113*cse130);
+    const chain12_real ldl_L124 = ldl_inv4*(F12b5n_2 - ldl_L121*cse128 - ldl_L122*cse129 - ldl_L123*cse130);
     const chain12_real ldl_d5 = Ic5J_22 - ldl_L51*ldl_L51*ldl_d1 - ldl_L52*ldl_L52*ldl_d2 - ldl_L53*ldl_L53*ldl_d3 - ldl_L54*ldl_L54*ldl_d4;
+    if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv5 = 1.0/ldl_d5;
-    const chain12_real ldl_L65 = ldl_inv5*(Ib6m_0 - ldl_L61*cse130 - ldl_L62*cse131 - ldl_L63*cse132 - ldl_L64*cse133);
-    const chain12_real cse138 = ldl_L65*ldl_d5;
-    const chain12_real ldl_L75 = ldl_inv5*(F7b6n_2 - ldl_L71*cse130 - ldl_L72*cse131 - ldl_L73*cse132 - ldl_L74*cse133);
-    const chain12_real cse143 = ldl_L75*ldl_d5;
-    const chain12_real ldl_L85 = ldl_inv5*(F8b6n_2 - ldl_L81*cse130 - ldl_L82*cse131 - ldl_L83*cse132 - ldl_L84*cse133);
-    const chain12_real cse149 = ldl_L85*ldl_d5;
-    const chain12_real ldl_L95 = ldl_inv5*(F9b6n_2 - ldl_L91*cse130 - ldl_L92*cse131 - ldl_L93*cse132 - ldl_L94*cse133);
-    const chain12_real cse156 = ldl_L95*ldl_d5;
-    const chain12_real ldl_L105 = ldl_inv5*(F10b6n_2 - ldl_L101*cse130 - ldl_L102*cse131 - ldl_L103*cse132 - ldl_L104*cse133);
-    const chain12_real cse164 = ldl_L105*ldl_d5;
-    const chain12_real ldl_L115 = ldl_inv5*(F11b6n_2 - ldl_L111*cse130 - ldl_L112*cse131 - ldl_L113*cse132 - ldl_L114*cse133);
-    const chain12_real ldl_L125 = ldl_inv5*(F12b6n_2 - ldl_L121*cse130 - ldl_L122*cse131 - ldl_L123*cse132 - ldl_L124*cse133);
+    const chain12_real ldl_L65 = ldl_inv5*(Ib6m_0 - ldl_L61*cse131 - ldl_L62*cse132 - ldl_L63*cse133 - ldl_L64*cse134);
+    const chain12_real cse139 = ldl_L65*ldl_d5;
+    const chain12_real ldl_L75 = ldl_inv5*(F7b6n_2 - ldl_L71*cse131 - ldl_L72*cse132 - ldl_L73*cse133 - ldl_L74*cse134);
+    const chain12_real cse144 = ldl_L75*ldl_d5;
+    const chain12_real ldl_L85 = ldl_inv5*(F8b6n_2 - ldl_L81*cse131 - ldl_L82*cse132 - ldl_L83*cse133 - ldl_L84*cse134);
+    const chain12_real cse150 = ldl_L85*ldl_d5;
+    const chain12_real ldl_L95 = ldl_inv5*(F9b6n_2 - ldl_L91*cse131 - ldl_L92*cse132 - ldl_L93*cse133 - ldl_L94*cse134);
+    const chain12_real cse157 = ldl_L95*ldl_d5;
+    const chain12_real ldl_L105 = ldl_inv5*(F10b6n_2 - ldl_L101*cse131 - ldl_L102*cse132 - ldl_L103*cse133 - ldl_L104*cse134);
+    const chain12_real cse165 = ldl_L105*ldl_d5;
+    const chain12_real ldl_L115 = ldl_inv5*(F11b6n_2 - ldl_L111*cse131 - ldl_L112*cse132 - ldl_L113*cse133 - ldl_L114*cse134);
+    const chain12_real ldl_L125 = ldl_inv5*(F12b6n_2 - ldl_L121*cse131 - ldl_L122*cse132 - ldl_L123*cse133 - ldl_L124*cse134);
     const chain12_real ldl_d6 = -ldl_L61*ldl_L61*ldl_d1 - ldl_L62*ldl_L62*ldl_d2 - ldl_L63*ldl_L63*ldl_d3 - ldl_L64*ldl_L64*ldl_d4 - ldl_L65*ldl_L65*ldl_d5 + 16.31;
+    if (!(ldl_d6 > 1e-12*(16.31))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv6 = 1.0/ldl_d6;
-    const chain12_real ldl_L76 = ldl_inv6*(Iq7h_0 - ldl_L71*cse134 - ldl_L72*cse135 - ldl_L73*cse136 - ldl_L74*cse137 - ldl_L75*cse138);
-    const chain12_real cse144 = ldl_L76*ldl_d6;
-    const chain12_real ldl_L86 = ldl_inv6*(F8q7f_1 - ldl_L81*cse134 - ldl_L82*cse135 - ldl_L83*cse136 - ldl_L84*cse137 - ldl_L85*cse138);
-    const chain12_real cse150 = ldl_L86*ldl_d6;
-    const chain12_real ldl_L96 = ldl_inv6*(F9q7f_1 - ldl_L91*cse134 - ldl_L92*cse135 - ldl_L93*cse136 - ldl_L94*cse137 - ldl_L95*cse138);
-    const chain12_real cse157 = ldl_L96*ldl_d6;
-    const chain12_real ldl_L106 = ldl_inv6*(F10q7f_1 - ldl_L101*cse134 - ldl_L102*cse135 - ldl_L103*cse136 - ldl_L104*cse137 - ldl_L105*cse138);
-    const chain12_real cse165 = ldl_L106*ldl_d6;
-    const chain12_real ldl_L116 = ldl_inv6*(F11q7f_1 - ldl_L111*cse134 - ldl_L112*cse135 - ldl_L113*cse136 - ldl_L114*cse137 - ldl_L115*cse138);
-    const chain12_real ldl_L126 = ldl_inv6*(F12q7f_1 - ldl_L121*cse134 - ldl_L122*cse135 - ldl_L123*cse136 - ldl_L124*cse137 - ldl_L125*cse138);
+    const chain12_real ldl_L76 = ldl_inv6*(Iq7h_0 - ldl_L71*cse135 - ldl_L72*cse136 - ldl_L73*cse137 - ldl_L74*cse138 - ldl_L75*cse139);
+    const chain12_real cse145 = ldl_L76*ldl_d6;
+    const chain12_real ldl_L86 = ldl_inv6*(F8q7f_1 - ldl_L81*cse135 - ldl_L82*cse136 - ldl_L83*cse137 - ldl_L84*cse138 - ldl_L85*cse139);
+    const chain12_real cse151 = ldl_L86*ldl_d6;
+    const chain12_real ldl_L96 = ldl_inv6*(F9q7f_1 - ldl_L91*cse135 - ldl_L92*cse136 - ldl_L93*cse137 - ldl_L94*cse138 - ldl_L95*cse139);
+    const chain12_real cse158 = ldl_L96*ldl_d6;
+    const chain12_real ldl_L106 = ldl_inv6*(F10q7f_1 - ldl_L101*cse135 - ldl_L102*cse136 - ldl_L103*cse137 - ldl_L104*cse138 - ldl_L105*cse139);
+    const chain12_real cse166 = ldl_L106*ldl_d6;
+    const chain12_real ldl_L116 = ldl_inv6*(F11q7f_1 - ldl_L111*cse135 - ldl_L112*cse136 - ldl_L113*cse137 - ldl_L114*cse138 - ldl_L115*cse139);
+    const chain12_real ldl_L126 = ldl_inv6*(F12q7f_1 - ldl_L121*cse135 - ldl_L122*cse136 - ldl_L123*cse137 - ldl_L124*cse138 - ldl_L125*cse139);
     const chain12_real ldl_d7 = Ic7J_22 - ldl_L71*ldl_L71*ldl_d1 - ldl_L72*ldl_L72*ldl_d2 - ldl_L73*ldl_L73*ldl_d3 - ldl_L74*ldl_L74*ldl_d4 - ldl_L75*ldl_L75*ldl_d5 - ldl_L76*ldl_L76*ldl_d6 + 0.195;
+    if (!(ldl_d7 > 1e-12*(Ic7J_22 + 0.195))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv7 = 1.0/ldl_d7;
-    const chain12_real ldl_L87 = ldl_inv7*(F8b8n_2 - ldl_L81*cse139 - ldl_L82*cse140 - ldl_L83*cse141 - ldl_L84*cse142 - ldl_L85*cse143 - ldl_L86*cse144);
-    const chain12_real cse151 = ldl_L87*ldl_d7;
-    const chain12_real ldl_L97 = ldl_inv7*(F9b8n_2 - ldl_L91*cse139 - ldl_L92*cse140 - ldl_L93*cse141 - ldl_L94*cse142 - ldl_L95*cse143 - ldl_L96*cse144);
-    const chain12_real cse158 = ldl_L97*ldl_d7;
-    const chain12_real ldl_L107 = ldl_inv7*(F10b8n_2 - ldl_L101*cse139 - ldl_L102*cse140 - ldl_L103*cse141 - ldl_L104*cse142 - ldl_L105*cse143 - ldl_L106*cse144);
-    const chain12_real cse166 = ldl_L107*ldl_d7;
-    const chain12_real ldl_L117 = ldl_inv7*(F11b8n_2 - ldl_L111*cse139 - ldl_L112*cse140 - ldl_L113*cse141 - ldl_L114*cse142 - ldl_L115*cse143 - ldl_L116*cse144);
-    const chain12_real ldl_L127 = ldl_inv7*(F12b8n_2 - ldl_L121*cse139 - ldl_L122*cse140 - ldl_L123*cse141 - ldl_L124*cse142 - ldl_L125*cse143 - ldl_L126*cse144);
+    const chain12_real ldl_L87 = ldl_inv7*(F8b8n_2 - ldl_L81*cse140 - ldl_L82*cse141 - ldl_L83*cse142 - ldl_L84*cse143 - ldl_L85*cse144 - ldl_L86*cse145);
+    const chain12_real cse152 = ldl_L87*ldl_d7;
+    const chain12_real ldl_L97 = ldl_inv7*(F9b8n_2 - ldl_L91*cse140 - ldl_L92*cse141 - ldl_L93*cse142 - ldl_L94*cse143 - ldl_L95*cse144 - ldl_L96*cse145);
+    const chain12_real cse159 = ldl_L97*ldl_d7;
+    const chain12_real ldl_L107 = ldl_inv7*(F10b8n_2 - ldl_L101*cse140 - ldl_L102*cse141 - ldl_L103*cse142 - ldl_L104*cse143 - ldl_L105*cse144 - ldl_L106*cse145);
+    const chain12_real cse167 = ldl_L107*ldl_d7;
+    const chain12_real ldl_L117 = ldl_inv7*(F11b8n_2 - ldl_L111*cse140 - ldl_L112*cse141 - ldl_L113*cse142 - ldl_L114*cse143 - ldl_L115*cse144 - ldl_L116*cse145);
+    const chain12_real ldl_L127 = ldl_inv7*(F12b8n_2 - ldl_L121*cse140 - ldl_L122*cse141 - ldl_L123*cse142 - ldl_L124*cse143 - ldl_L125*cse144 - ldl_L126*cse145);
     const chain12_real ldl_d8 = Ic8J_22 - ldl_L81*ldl_L81*ldl_d1 - ldl_L82*ldl_L82*ldl_d2 - ldl_L83*ldl_L83*ldl_d3 - ldl_L84*ldl_L84*ldl_d4 - ldl_L85*ldl_L85*ldl_d5 - ldl_L86*ldl_L86*ldl_d6 - ldl_L87*ldl_L87*ldl_d7;
+    if (!(ldl_d8 > 1e-12*(Ic8J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv8 = 1.0/ldl_d8;
-    const chain12_real ldl_L98 = ldl_inv8*(F9b9n_2 - ldl_L91*cse145 - ldl_L92*cse146 - ldl_L93*cse147 - ldl_L94*cse148 - ldl_L95*cse149 - ldl_L96*cse150 - ldl_L97*cse151);
-    const chain12_real cse159 = ldl_L98*ldl_d8;
-    const chain12_real ldl_L108 = ldl_inv8*(F10b9n_2 - ldl_L101*cse145 - ldl_L102*cse146 - ldl_L103*cse147 - ldl_L104*cse148 - ldl_L105*cse149 - ldl_L106*cse150 - ldl_L107*cse151);
-    const chain12_real cse167 = ldl_L108*ldl_d8;
-    const chain12_real ldl_L118 = ldl_inv8*(F11b9n_2 - ldl_L111*cse145 - ldl_L112*cse146 - ldl_L113*cse147 - ldl_L114*cse148 - ldl_L115*cse149 - ldl_L116*cse150 - ldl_L117*cse151);
-    const chain12_real ldl_L128 = ldl_inv8*(F12b9n_2 - ldl_L121*cse145 - ldl_L122*cse146 - ldl_L123*cse147 - ldl_L124*cse148 - ldl_L125*cse149 - ldl_L126*cse150 - ldl_L127*cse151);
+    const chain12_real ldl_L98 = ldl_inv8*(F9b9n_2 - ldl_L91*cse146 - ldl_L92*cse147 - ldl_L93*cse148 - ldl_L94*cse149 - ldl_L95*cse150 - ldl_L96*cse151 - ldl_L97*cse152);
+    const chain12_real cse160 = ldl_L98*ldl_d8;
+    const chain12_real ldl_L108 = ldl_inv8*(F10b9n_2 - ldl_L101*cse146 - ldl_L102*cse147 - ldl_L103*cse148 - ldl_L104*cse149 - ldl_L105*cse150 - ldl_L106*cse151 - ldl_L107*cse152);
+    const chain12_real cse168 = ldl_L108*ldl_d8;
+    const chain12_real ldl_L118 = ldl_inv8*(F11b9n_2 - ldl_L111*cse146 - ldl_L112*cse147 - ldl_L113*cse148 - ldl_L114*cse149 - ldl_L115*cse150 - ldl_L116*cse151 - ldl_L117*cse152);
+    const chain12_real ldl_L128 = ldl_inv8*(F12b9n_2 - ldl_L121*cse146 - ldl_L122*cse147 - ldl_L123*cse148 - ldl_L124*cse149 - ldl_L125*cse150 - ldl_L126*cse151 - ldl_L127*cse152);
     const chain12_real ldl_d9 = Ic9J_22 - ldl_L91*ldl_L91*ldl_d1 - ldl_L92*ldl_L92*ldl_d2 - ldl_L93*ldl_L93*ldl_d3 - ldl_L94*ldl_L94*ldl_d4 - ldl_L95*ldl_L95*ldl_d5 - ldl_L96*ldl_L96*ldl_d6 - ldl_L97*ldl_L97*ldl_d7 - ldl_L98*ldl_L98*ldl_d8;
+    if (!(ldl_d9 > 1e-12*(Ic9J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv9 = 1.0/ldl_d9;
-    const chain12_real ldl_L109 = ldl_inv9*(-ldl_L101*cse152 - ldl_L102*cse153 - ldl_L103*cse154 - ldl_L104*cse155 - ldl_L105*cse156 - ldl_L106*cse157 - ldl_L107*cse158 - ldl_L108*cse159 - 1.066582);
-    const chain12_real cse168 = ldl_L109*ldl_d9;
-    const chain12_real ldl_L119 = ldl_inv9*(F11b10n_2 - ldl_L111*cse152 - ldl_L112*cse153 - ldl_L113*cse154 - ldl_L114*cse155 - ldl_L115*cse156 - ldl_L116*cse157 - ldl_L117*cse158 - ldl_L118*cse159);
-    const chain12_real ldl_L129 = ldl_inv9*(F12b10n_2 - ldl_L121*cse152 - ldl_L122*cse153 - ldl_L123*cse154 - ldl_L124*cse155 - ldl_L125*cse156 - ldl_L126*cse157 - ldl_L127*cse158 - ldl_L128*cse159);
+    const chain12_real ldl_L109 = ldl_inv9*(-ldl_L101*cse153 - ldl_L102*cse154 - ldl_L103*cse155 - ldl_L104*cse156 - ldl_L105*cse157 - ldl_L106*cse158 - ldl_L107*cse159 - ldl_L108*cse160 - 1.066582);
+    const chain12_real cse169 = ldl_L109*ldl_d9;
+    const chain12_real ldl_L119 = ldl_inv9*(F11b10n_2 - ldl_L111*cse153 - ldl_L112*cse154 - ldl_L113*cse155 - ldl_L114*cse156 - ldl_L115*cse157 - ldl_L116*cse158 - ldl_L117*cse159 - ldl_L118*cse160);
+    const chain12_real ldl_L129 = ldl_inv9*(F12b10n_2 - ldl_L121*cse153 - ldl_L122*cse154 - ldl_L123*cse155 - ldl_L124*cse156 - ldl_L125*cse157 - ldl_L126*cse158 - ldl_L127*cse159 - ldl_L128*cse160);
     const chain12_real ldl_d10 = -ldl_L101*ldl_L101*ldl_d1 - ldl_L102*ldl_L102*ldl_d2 - ldl_L103*ldl_L103*ldl_d3 - ldl_L104*ldl_L104*ldl_d4 - ldl_L105*ldl_L105*ldl_d5 - ldl_L106*ldl_L106*ldl_d6 - ldl_L107*ldl_L107*ldl_d7 - ldl_L108*ldl_L108*ldl_d8 - ldl_L109*ldl_L109*ldl_d9 + 8.491;
+    if (!(ldl_d10 > 1e-12*(8.491))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv10 = 1.0/ldl_d10;
-    const chain12_real ldl_L1110 = ldl_inv10*(-Iq11h_0 - ldl_L111*cse160 - ldl_L112*cse161 - ldl_L113*cse162 - ldl_L114*cse163 - ldl_L115*cse164 - ldl_L116*cse165 - ldl_L117*cse166 - ldl_L118*cse167 - ldl_L119*cse168);
-    const chain12_real ldl_L1210 = ldl_inv10*(-F12q11f_1 - ldl_L121*cse160 - ldl_L122*cse161 - ldl_L123*cse162 - ldl_L124*cse163 - ldl_L125*cse164 - ldl_L126*cse165 - ldl_L127*cse166 - ldl_L128*cse167 - ldl_L129*cse168);
+    const chain12_real ldl_L1110 = ldl_inv10*(-Iq11h_0 - ldl_L111*cse161 - ldl_L112*cse162 - ldl_L113*cse163 - ldl_L114*cse164 - ldl_L115*cse165 - ldl_L116*cse166 - ldl_L117*cse167 - ldl_L118*cse168 - ldl_L119*cse169);
+    const chain12_real ldl_L1210 = ldl_inv10*(-F12q11f_1 - ldl_L121*cse161 - ldl_L122*cse162 - ldl_L123*cse163 - ldl_L124*cse164 - ldl_L125*cse165 - ldl_L126*cse166 - ldl_L127*cse167 - ldl_L128*cse168 - ldl_L129*cse169);
     const chain12_real ldl_d11 = Ic11J_22 - ldl_L111*ldl_L111*ldl_d1 - ldl_L1110*ldl_L1110*ldl_d10 - ldl_L112*ldl_L112*ldl_d2 - ldl_L113*ldl_L113*ldl_d3 - ldl_L114*ldl_L114*ldl_d4 - ldl_L115*ldl_L115*ldl_d5 - ldl_L116*ldl_L116*ldl_d6 - ldl_L117*ldl_L117*ldl_d7 - ldl_L118*ldl_L118*ldl_d8 - ldl_L119*ldl_L119*ldl_d9;
+    if (!(ldl_d11 > 1e-12*(Ic11J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv11 = 1.0/ldl_d11;
     const chain12_real ldl_L1211 = ldl_inv11*(F12b12n_2 - ldl_L111*ldl_L121*ldl_d1 - ldl_L1110*ldl_L1210*ldl_d10 - ldl_L112*ldl_L122*ldl_d2 - ldl_L113*ldl_L123*ldl_d3 - ldl_L114*ldl_L124*ldl_d4 - ldl_L115*ldl_L125*ldl_d5 - ldl_L116*ldl_L126*ldl_d6 - ldl_L117*ldl_L127*ldl_d7 - ldl_L118*ldl_L128*ldl_d8 - ldl_L119*ldl_L129*ldl_d9);
     const chain12_real ldl_d12 = -ldl_L121*ldl_L121*ldl_d1 - ldl_L1210*ldl_L1210*ldl_d10 - ldl_L1211*ldl_L1211*ldl_d11 - ldl_L122*ldl_L122*ldl_d2 - ldl_L123*ldl_L123*ldl_d3 - ldl_L124*ldl_L124*ldl_d4 - ldl_L125*ldl_L125*ldl_d5 - ldl_L126*ldl_L126*ldl_d6 - ldl_L127*ldl_L127*ldl_d7 - ldl_L128*ldl_L128*ldl_d8 - ldl_L129*ldl_L129*ldl_d9 + 0.023920668;
+    if (!(ldl_d12 > 1e-12*(0.023920668))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const chain12_real ldl_inv12 = 1.0/ldl_d12;
     const chain12_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const chain12_real ldl_y3 = -ldl_L31*rhs1 - ldl_L32*ldl_y2 + rhs3;
@@ -5982,6 +6020,20 @@ void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, con
     const chain12_real qdd3_fd = -ldl_L103*qdd10_fd - ldl_L113*qdd11_fd - ldl_L123*qdd12_fd - ldl_L43*qdd4_fd - ldl_L53*qdd5_fd - ldl_L63*qdd6_fd - ldl_L73*qdd7_fd - ldl_L83*qdd8_fd - ldl_L93*qdd9_fd + ldl_inv3*ldl_y3;
     const chain12_real qdd2_fd = -ldl_L102*qdd10_fd - ldl_L112*qdd11_fd - ldl_L122*qdd12_fd - ldl_L32*qdd3_fd - ldl_L42*qdd4_fd - ldl_L52*qdd5_fd - ldl_L62*qdd6_fd - ldl_L72*qdd7_fd - ldl_L82*qdd8_fd - ldl_L92*qdd9_fd + ldl_inv2*ldl_y2;
     const chain12_real qdd1_fd = -ldl_L101*qdd10_fd - ldl_L111*qdd11_fd - ldl_L121*qdd12_fd - ldl_L21*qdd2_fd - ldl_L31*qdd3_fd - ldl_L41*qdd4_fd - ldl_L51*qdd5_fd - ldl_L61*qdd6_fd - ldl_L71*qdd7_fd - ldl_L81*qdd8_fd - ldl_L91*qdd9_fd + ldl_inv1*rhs1;
+    if (!(fabs(qdd1_fd) <= DBL_MAX)
+        || !(fabs(qdd2_fd) <= DBL_MAX)
+        || !(fabs(qdd3_fd) <= DBL_MAX)
+        || !(fabs(qdd4_fd) <= DBL_MAX)
+        || !(fabs(qdd5_fd) <= DBL_MAX)
+        || !(fabs(qdd6_fd) <= DBL_MAX)
+        || !(fabs(qdd7_fd) <= DBL_MAX)
+        || !(fabs(qdd8_fd) <= DBL_MAX)
+        || !(fabs(qdd9_fd) <= DBL_MAX)
+        || !(fabs(qdd10_fd) <= DBL_MAX)
+        || !(fabs(qdd11_fd) <= DBL_MAX)
+        || !(fabs(qdd12_fd) <= DBL_MAX)) {
+        return 2; /* a result is NaN or out of range */
+    }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;
     qdd[2] = qdd3_fd;
@@ -5994,4 +6046,10 @@ void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, con
     qdd[9] = qdd10_fd;
     qdd[10] = qdd11_fd;
     qdd[11] = qdd12_fd;
+    return 0;
+}
+
+void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd)
+{
+    (void)chain12_forward_dynamics_checked(q, qd, tau, qdd);
 }

@@ -7,6 +7,7 @@
  *   sha256    : bb9ae76121f1b45419cf55df0f149ed01242e97474437572271d40165e92d74a
  */
 #include <math.h>
+#include <float.h>
 
 #include "iiwa14_dynamics.h"
 
@@ -1629,7 +1630,7 @@ void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c)
     c[6] = 0.0;
 }
 
-void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd)
+int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd)
 {
     const iiwa14_real c2 = cos(q[1]);
     const iiwa14_real s2 = sin(q[1]);
@@ -1832,6 +1833,9 @@ void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
     const iiwa14_real Iq2A_12 = Ic2J_02*s2 + Ic2J_12*c2;
     const iiwa14_real Iq2R_11 = Iq2A_10*s2 + Iq2A_11*c2;
     const iiwa14_real Ic1J_22 = Iq2R_11 + 0.0236;
+    if (!(Ic1J_22 > 0)) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const iiwa14_real F3q2n_1 = -Ic3J_22*c2 + Iq3A_02*s2;
     const iiwa14_real F4b4n_1 = -Ic4J_22 - 0.42*Iq4h_1;
     const iiwa14_real F4q3n_0 = -F4b4n_1*s3 - cse9;
@@ -1970,6 +1974,9 @@ void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
     const iiwa14_real ldl_L61 = -F6q2n_1*ldl_inv1;
     const iiwa14_real ldl_L71 = -F7q2n_1*ldl_inv1;
     const iiwa14_real ldl_d2 = -Ic1J_22*ldl_L21*ldl_L21 + Ic2J_22;
+    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const iiwa14_real ldl_inv2 = 1.0/ldl_d2;
     const iiwa14_real ldl_L32 = ldl_inv2*(Iq3A_12 - ldl_L31*cse10);
     const iiwa14_real cse12 = ldl_L32*ldl_d2;
@@ -1980,6 +1987,9 @@ void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
     const iiwa14_real ldl_L62 = ldl_inv2*(F6q3n_1 - ldl_L61*cse10);
     const iiwa14_real ldl_L72 = ldl_inv2*(F7q3n_1 - ldl_L71*cse10);
     const iiwa14_real ldl_d3 = -Ic1J_22*ldl_L31*ldl_L31 + Ic3J_22 - ldl_L32*ldl_L32*ldl_d2;
+    if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const iiwa14_real ldl_inv3 = 1.0/ldl_d3;
     const iiwa14_real ldl_L43 = ldl_inv3*(-ldl_L41*cse11 - ldl_L42*cse12 - cse6);
     const iiwa14_real cse15 = ldl_L43*ldl_d3;
@@ -1988,19 +1998,31 @@ void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
     const iiwa14_real ldl_L63 = ldl_inv3*(F6q4n_1 - ldl_L61*cse11 - ldl_L62*cse12);
     const iiwa14_real ldl_L73 = ldl_inv3*(F7q4n_1 - ldl_L71*cse11 - ldl_L72*cse12);
     const iiwa14_real ldl_d4 = -Ic1J_22*ldl_L41*ldl_L41 + Ic4J_22 - ldl_L42*ldl_L42*ldl_d2 - ldl_L43*ldl_L43*ldl_d3;
+    if (!(ldl_d4 > 1e-12*(Ic4J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const iiwa14_real ldl_inv4 = 1.0/ldl_d4;
     const iiwa14_real ldl_L54 = ldl_inv4*(-Iq5A_12 - ldl_L51*cse13 - ldl_L52*cse14 - ldl_L53*cse15);
     const iiwa14_real cse19 = ldl_L54*ldl_d4;
     const iiwa14_real ldl_L64 = ldl_inv4*(-F6q5n_1 - ldl_L61*cse13 - ldl_L62*cse14 - ldl_L63*cse15);
     const iiwa14_real ldl_L74 = ldl_inv4*(-F7q5n_1 - ldl_L71*cse13 - ldl_L72*cse14 - ldl_L73*cse15);
     const iiwa14_real ldl_d5 = -Ic1J_22*ldl_L51*ldl_L51 + Ic5J_22 - ldl_L52*ldl_L52*ldl_d2 - ldl_L53*ldl_L53*ldl_d3 - ldl_L54*ldl_L54*ldl_d4;
+    if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const iiwa14_real ldl_inv5 = 1.0/ldl_d5;
     const iiwa14_real ldl_L65 = ldl_inv5*(-Iq6A_12 - ldl_L61*cse16 - ldl_L62*cse17 - ldl_L63*cse18 - ldl_L64*cse19);
     const iiwa14_real ldl_L75 = ldl_inv5*(dhIw7h_2_dqd5 - ldl_L71*cse16 - ldl_L72*cse17 - ldl_L73*cse18 - ldl_L74*cse19);
     const iiwa14_real ldl_d6 = -Ic1J_22*ldl_L61*ldl_L61 + Ic6J_22 - ldl_L62*ldl_L62*ldl_d2 - ldl_L63*ldl_L63*ldl_d3 - ldl_L64*ldl_L64*ldl_d4 - ldl_L65*ldl_L65*ldl_d5;
+    if (!(ldl_d6 > 1e-12*(Ic6J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const iiwa14_real ldl_inv6 = 1.0/ldl_d6;
     const iiwa14_real ldl_L76 = ldl_inv6*(-Ic1J_22*ldl_L61*ldl_L71 - ldl_L62*ldl_L72*ldl_d2 - ldl_L63*ldl_L73*ldl_d3 - ldl_L64*ldl_L74*ldl_d4 - ldl_L65*ldl_L75*ldl_d5);
     const iiwa14_real ldl_d7 = -Ic1J_22*ldl_L71*ldl_L71 - ldl_L72*ldl_L72*ldl_d2 - ldl_L73*ldl_L73*ldl_d3 - ldl_L74*ldl_L74*ldl_d4 - ldl_L75*ldl_L75*ldl_d5 - ldl_L76*ldl_L76*ldl_d6 + 0.001;
+    if (!(ldl_d7 > 1e-12*(0.001))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const iiwa14_real ldl_inv7 = 1.0/ldl_d7;
     const iiwa14_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const iiwa14_real ldl_y3 = -ldl_L31*rhs1 - ldl_L32*ldl_y2 + rhs3;
@@ -2015,6 +2037,15 @@ void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
     const iiwa14_real qdd3_fd = -ldl_L43*qdd4_fd - ldl_L53*qdd5_fd - ldl_L63*qdd6_fd - ldl_L73*qdd7_fd + ldl_inv3*ldl_y3;
     const iiwa14_real qdd2_fd = -ldl_L32*qdd3_fd - ldl_L42*qdd4_fd - ldl_L52*qdd5_fd - ldl_L62*qdd6_fd - ldl_L72*qdd7_fd + ldl_inv2*ldl_y2;
     const iiwa14_real qdd1_fd = -ldl_L21*qdd2_fd - ldl_L31*qdd3_fd - ldl_L41*qdd4_fd - ldl_L51*qdd5_fd - ldl_L61*qdd6_fd - ldl_L71*qdd7_fd + ldl_inv1*rhs1;
+    if (!(fabs(qdd1_fd) <= DBL_MAX)
+        || !(fabs(qdd2_fd) <= DBL_MAX)
+        || !(fabs(qdd3_fd) <= DBL_MAX)
+        || !(fabs(qdd4_fd) <= DBL_MAX)
+        || !(fabs(qdd5_fd) <= DBL_MAX)
+        || !(fabs(qdd6_fd) <= DBL_MAX)
+        || !(fabs(qdd7_fd) <= DBL_MAX)) {
+        return 2; /* a result is NaN or out of range */
+    }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;
     qdd[2] = qdd3_fd;
@@ -2022,4 +2053,10 @@ void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
     qdd[4] = qdd5_fd;
     qdd[5] = qdd6_fd;
     qdd[6] = qdd7_fd;
+    return 0;
+}
+
+void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd)
+{
+    (void)iiwa14_forward_dynamics_checked(q, qd, tau, qdd);
 }

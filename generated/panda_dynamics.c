@@ -7,6 +7,7 @@
  *   sha256    : 38e63329690612d56672ffeea325710a3822b8c02df9caf43f43f81f72b92e43
  */
 #include <math.h>
+#include <float.h>
 
 #include "panda_dynamics.h"
 
@@ -1825,7 +1826,7 @@ void panda_gravity(const panda_real *q, panda_real *c)
     c[6] = n7g_2;
 }
 
-void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd)
+int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd)
 {
     const panda_real c2 = cos(q[1]);
     const panda_real s2 = sin(q[1]);
@@ -2079,6 +2080,9 @@ void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const pan
     const panda_real Iq2A_12 = Ic2J_02*s2 + Ic2J_12*c2;
     const panda_real Iq2R_11 = Iq2A_10*s2 + Iq2A_11*c2;
     const panda_real Ic1J_22 = Iq2R_11 + 0.009213163777211224;
+    if (!(Ic1J_22 > 0)) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const panda_real F3q2n_1 = -Ib3J_01*s2 - Ic3J_22*c2;
     const panda_real F4b4n_1 = -Ic4J_22 - 0.0825*Iq4h_0;
     const panda_real F4q3f_0 = -Iq4h_1*c3;
@@ -2267,6 +2271,9 @@ void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const pan
     const panda_real ldl_L61 = -F6q2n_1*ldl_inv1;
     const panda_real ldl_L71 = -F7q2n_1*ldl_inv1;
     const panda_real ldl_d2 = -Ic1J_22*ldl_L21*ldl_L21 + Ic2J_22;
+    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const panda_real ldl_inv2 = 1.0/ldl_d2;
     const panda_real ldl_L32 = ldl_inv2*(-Ib3J_12 - ldl_L31*cse28);
     const panda_real cse30 = ldl_L32*ldl_d2;
@@ -2277,6 +2284,9 @@ void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const pan
     const panda_real ldl_L62 = ldl_inv2*(F6b3n_2 - ldl_L61*cse28);
     const panda_real ldl_L72 = ldl_inv2*(F7b3n_2 - ldl_L71*cse28);
     const panda_real ldl_d3 = -Ic1J_22*ldl_L31*ldl_L31 + Ic3J_22 - ldl_L32*ldl_L32*ldl_d2;
+    if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const panda_real ldl_inv3 = 1.0/ldl_d3;
     const panda_real ldl_L43 = ldl_inv3*(Iq4A_12 - ldl_L41*cse29 - ldl_L42*cse30);
     const panda_real cse33 = ldl_L43*ldl_d3;
@@ -2285,19 +2295,31 @@ void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const pan
     const panda_real ldl_L63 = ldl_inv3*(F6b4n_2 - ldl_L61*cse29 - ldl_L62*cse30);
     const panda_real ldl_L73 = ldl_inv3*(F7b4n_2 - ldl_L71*cse29 - ldl_L72*cse30);
     const panda_real ldl_d4 = -Ic1J_22*ldl_L41*ldl_L41 + Ic4J_22 - ldl_L42*ldl_L42*ldl_d2 - ldl_L43*ldl_L43*ldl_d3;
+    if (!(ldl_d4 > 1e-12*(Ic4J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const panda_real ldl_inv4 = 1.0/ldl_d4;
     const panda_real ldl_L54 = ldl_inv4*(Ib5J_12 - ldl_L51*cse31 - ldl_L52*cse32 - ldl_L53*cse33);
     const panda_real cse37 = ldl_L54*ldl_d4;
     const panda_real ldl_L64 = ldl_inv4*(F6b5n_2 - ldl_L61*cse31 - ldl_L62*cse32 - ldl_L63*cse33);
     const panda_real ldl_L74 = ldl_inv4*(F7b5n_2 - ldl_L71*cse31 - ldl_L72*cse32 - ldl_L73*cse33);
     const panda_real ldl_d5 = -Ic1J_22*ldl_L51*ldl_L51 + Ic5J_22 - ldl_L52*ldl_L52*ldl_d2 - ldl_L53*ldl_L53*ldl_d3 - ldl_L54*ldl_L54*ldl_d4;
+    if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const panda_real ldl_inv5 = 1.0/ldl_d5;
     const panda_real ldl_L65 = ldl_inv5*(-ldl_L61*cse34 - ldl_L62*cse35 - ldl_L63*cse36 - ldl_L64*cse37 - cse18);
     const panda_real ldl_L75 = ldl_inv5*(-ldl_L71*cse34 - ldl_L72*cse35 - ldl_L73*cse36 - ldl_L74*cse37 - cse20);
     const panda_real ldl_d6 = -Ic1J_22*ldl_L61*ldl_L61 + Ic6J_22 - ldl_L62*ldl_L62*ldl_d2 - ldl_L63*ldl_L63*ldl_d3 - ldl_L64*ldl_L64*ldl_d4 - ldl_L65*ldl_L65*ldl_d5;
+    if (!(ldl_d6 > 1e-12*(Ic6J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const panda_real ldl_inv6 = 1.0/ldl_d6;
     const panda_real ldl_L76 = ldl_inv6*(-Ic1J_22*ldl_L61*ldl_L71 + Iq7A_12 - ldl_L62*ldl_L72*ldl_d2 - ldl_L63*ldl_L73*ldl_d3 - ldl_L64*ldl_L74*ldl_d4 - ldl_L65*ldl_L75*ldl_d5);
     const panda_real ldl_d7 = -Ic1J_22*ldl_L71*ldl_L71 - ldl_L72*ldl_L72*ldl_d2 - ldl_L73*ldl_L73*ldl_d3 - ldl_L74*ldl_L74*ldl_d4 - ldl_L75*ldl_L75*ldl_d5 - ldl_L76*ldl_L76*ldl_d6 + 0.004909651967360946;
+    if (!(ldl_d7 > 1e-12*(0.004909651967360946))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const panda_real ldl_inv7 = 1.0/ldl_d7;
     const panda_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const panda_real ldl_y3 = -ldl_L31*rhs1 - ldl_L32*ldl_y2 + rhs3;
@@ -2312,6 +2334,15 @@ void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const pan
     const panda_real qdd3_fd = -ldl_L43*qdd4_fd - ldl_L53*qdd5_fd - ldl_L63*qdd6_fd - ldl_L73*qdd7_fd + ldl_inv3*ldl_y3;
     const panda_real qdd2_fd = -ldl_L32*qdd3_fd - ldl_L42*qdd4_fd - ldl_L52*qdd5_fd - ldl_L62*qdd6_fd - ldl_L72*qdd7_fd + ldl_inv2*ldl_y2;
     const panda_real qdd1_fd = -ldl_L21*qdd2_fd - ldl_L31*qdd3_fd - ldl_L41*qdd4_fd - ldl_L51*qdd5_fd - ldl_L61*qdd6_fd - ldl_L71*qdd7_fd + ldl_inv1*rhs1;
+    if (!(fabs(qdd1_fd) <= DBL_MAX)
+        || !(fabs(qdd2_fd) <= DBL_MAX)
+        || !(fabs(qdd3_fd) <= DBL_MAX)
+        || !(fabs(qdd4_fd) <= DBL_MAX)
+        || !(fabs(qdd5_fd) <= DBL_MAX)
+        || !(fabs(qdd6_fd) <= DBL_MAX)
+        || !(fabs(qdd7_fd) <= DBL_MAX)) {
+        return 2; /* a result is NaN or out of range */
+    }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;
     qdd[2] = qdd3_fd;
@@ -2319,4 +2350,10 @@ void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const pan
     qdd[4] = qdd5_fd;
     qdd[5] = qdd6_fd;
     qdd[6] = qdd7_fd;
+    return 0;
+}
+
+void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd)
+{
+    (void)panda_forward_dynamics_checked(q, qd, tau, qdd);
 }

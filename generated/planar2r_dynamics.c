@@ -7,6 +7,7 @@
  *   sha256    : 1dab641d89c840c101250af899c7c14729f93175d26d8cedea18d780547e9f8c
  */
 #include <math.h>
+#include <float.h>
 
 #include "planar2r_dynamics.h"
 
@@ -125,7 +126,7 @@ void planar2r_gravity(const planar2r_real *q, const planar2r_real *p, planar2r_r
     c[1] = n2g_2;
 }
 
-void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd)
+int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd)
 {
     const planar2r_real c1 = cos(q[0]);
     const planar2r_real s1 = sin(q[0]);
@@ -142,6 +143,9 @@ void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, 
     const planar2r_real cse0 = Iq2h_0*p[4];
     const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[4]*p[4]*p[5];
     const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[2]*p[2]*p[1];
+    if (!(Ic1J_22 > 0)) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const planar2r_real F2b2n_2 = Ic2J_22 + cse0;
     const planar2r_real aJ2_0 = vd1g_0 - p[4]*qd[0]*qd[0];
     const planar2r_real vd2b_0 = aJ2_0*c2 + s2*vd1g_1;
@@ -157,10 +161,23 @@ void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, 
     const planar2r_real ldl_inv1 = 1.0/Ic1J_22;
     const planar2r_real ldl_L21 = F2b2n_2*ldl_inv1;
     const planar2r_real ldl_d2 = -Ic1J_22*ldl_L21*ldl_L21 + Ic2J_22;
+    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const planar2r_real ldl_inv2 = 1.0/ldl_d2;
     const planar2r_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const planar2r_real qdd2_fd = ldl_inv2*ldl_y2;
     const planar2r_real qdd1_fd = -ldl_L21*qdd2_fd + ldl_inv1*rhs1;
+    if (!(fabs(qdd1_fd) <= DBL_MAX)
+        || !(fabs(qdd2_fd) <= DBL_MAX)) {
+        return 2; /* a result is NaN or out of range */
+    }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;
+    return 0;
+}
+
+void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd)
+{
+    (void)planar2r_forward_dynamics_checked(q, qd, tau, p, qdd);
 }

@@ -7,6 +7,7 @@
  *   sha256    : 3d2ac5f0ab83a1a3e65cd2f3cd55eed08dcae8e7650346f9308b590968c73d14
  */
 #include <math.h>
+#include <float.h>
 
 #include "puma560_dynamics.h"
 
@@ -1228,7 +1229,7 @@ void puma560_gravity(const puma560_real *q, puma560_real *c)
     c[5] = 0.0;
 }
 
-void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd)
+int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd)
 {
     const puma560_real c2 = cos(q[1]);
     const puma560_real s2 = sin(q[1]);
@@ -1380,6 +1381,7 @@ void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, con
     const puma560_real Ic3J_11 = Ib4J_11 + 0.149337068;
     const puma560_real Ic3J_12 = Ib4J_12 - 0.0551544;
     const puma560_real Ic3J_22 = Ib4J_22 + 0.10952;
+    const puma560_real cse16 = Ic3J_22 + 0.576873331938;
     const puma560_real Iq3h_0 = Ib4m_0*c3 - Ic3h_1*s3;
     const puma560_real cse11 = (0.8636)*Iq3h_0 + 1.128030002;
     const puma560_real Iq3h_1 = Ib4m_0*s3 + Ic3h_1*c3;
@@ -1402,11 +1404,13 @@ void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, con
     const puma560_real Ic2J_11 = Ib3J_11 + 1.50501635;
     const puma560_real Ic2J_12 = Iq3A_12 - 0.023751;
     const puma560_real Ic2J_22 = Ib3J_22 + 0.620084;
+    const puma560_real cse14 = Ic2J_22 + 2.324814845;
     const puma560_real Iq2A_10 = Ic2J_00*s2 + Ic2J_01*c2;
     const puma560_real Iq2A_11 = Ic2J_01*s2 + Ic2J_11*c2;
     const puma560_real Iq2A_12 = Ic2J_02*s2 + Ic2J_12*c2;
     const puma560_real Iq2R_11 = Iq2A_10*s2 + Iq2A_11*c2;
     const puma560_real Ic1J_22 = Iq2R_11 + 0.35;
+    const puma560_real cse13 = Ic1J_22 + 0.784029968642;
     const puma560_real F3b3n_2 = Ic3J_22 + (0.4318)*Iq3h_0;
     const puma560_real F3q2n_1 = Iq3A_02*s2 + Iq3A_12*c2;
     const puma560_real F4b4n_1 = Ic4J_22 + (0.0203)*Iq4h_0 - 0.15005*Iq4h_1;
@@ -1512,38 +1516,56 @@ void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, con
     const puma560_real rhs4 = -n4b_1 - 0.411645229697152*qd[3] + tau[3] - 1.06831142*((double)((qd[3] > 0) - (qd[3] < 0)));
     const puma560_real rhs5 = n5b_1 - 0.4272830209354*qd[4] + tau[4] - 0.85444524*((double)((qd[4] > 0) - (qd[4] < 0)));
     const puma560_real rhs6 = -N6h_2 - 0.2158232532732*qd[5] + tau[5] - 0.55443978*((double)((qd[5] > 0) - (qd[5] < 0)));
-    const puma560_real ldl_d1 = Ic1J_22 + 0.784029968642;
+    const puma560_real ldl_d1 = cse13;
+    if (!(ldl_d1 > 1e-12*(cse13))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const puma560_real ldl_inv1 = 1.0/ldl_d1;
     const puma560_real ldl_L21 = Iq2A_12*ldl_inv1;
-    const puma560_real cse13 = ldl_L21*ldl_d1;
+    const puma560_real cse15 = ldl_L21*ldl_d1;
     const puma560_real ldl_L31 = F3q2n_1*ldl_inv1;
-    const puma560_real cse14 = ldl_L31*ldl_d1;
+    const puma560_real cse17 = ldl_L31*ldl_d1;
     const puma560_real ldl_L41 = F4q2n_1*ldl_inv1;
-    const puma560_real cse16 = ldl_L41*ldl_d1;
+    const puma560_real cse19 = ldl_L41*ldl_d1;
     const puma560_real ldl_L51 = F5q2n_1*ldl_inv1;
     const puma560_real ldl_L61 = F6q2n_1*ldl_inv1;
-    const puma560_real ldl_d2 = Ic2J_22 - ldl_L21*ldl_L21*ldl_d1 + 2.324814845;
+    const puma560_real ldl_d2 = -ldl_L21*ldl_L21*ldl_d1 + cse14;
+    if (!(ldl_d2 > 1e-12*(cse14))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const puma560_real ldl_inv2 = 1.0/ldl_d2;
-    const puma560_real ldl_L32 = ldl_inv2*(F3b3n_2 - ldl_L31*cse13);
-    const puma560_real cse15 = ldl_L32*ldl_d2;
-    const puma560_real ldl_L42 = ldl_inv2*(F4b3n_2 - ldl_L41*cse13);
-    const puma560_real cse17 = ldl_L42*ldl_d2;
-    const puma560_real ldl_L52 = ldl_inv2*(F5b3n_2 - ldl_L51*cse13);
-    const puma560_real ldl_L62 = ldl_inv2*(-F6q4n_1 - ldl_L61*cse13);
-    const puma560_real ldl_d3 = Ic3J_22 - ldl_L31*ldl_L31*ldl_d1 - ldl_L32*ldl_L32*ldl_d2 + 0.576873331938;
+    const puma560_real ldl_L32 = ldl_inv2*(F3b3n_2 - ldl_L31*cse15);
+    const puma560_real cse18 = ldl_L32*ldl_d2;
+    const puma560_real ldl_L42 = ldl_inv2*(F4b3n_2 - ldl_L41*cse15);
+    const puma560_real cse20 = ldl_L42*ldl_d2;
+    const puma560_real ldl_L52 = ldl_inv2*(F5b3n_2 - ldl_L51*cse15);
+    const puma560_real ldl_L62 = ldl_inv2*(-F6q4n_1 - ldl_L61*cse15);
+    const puma560_real ldl_d3 = -ldl_L31*ldl_L31*ldl_d1 - ldl_L32*ldl_L32*ldl_d2 + cse16;
+    if (!(ldl_d3 > 1e-12*(cse16))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const puma560_real ldl_inv3 = 1.0/ldl_d3;
-    const puma560_real ldl_L43 = ldl_inv3*(-Iq4A_12 - ldl_L41*cse14 - ldl_L42*cse15);
-    const puma560_real cse18 = ldl_L43*ldl_d3;
-    const puma560_real ldl_L53 = ldl_inv3*(F5b4n_2 - ldl_L51*cse14 - ldl_L52*cse15);
-    const puma560_real ldl_L63 = ldl_inv3*(-F6q4n_1 - ldl_L61*cse14 - ldl_L62*cse15);
+    const puma560_real ldl_L43 = ldl_inv3*(-Iq4A_12 - ldl_L41*cse17 - ldl_L42*cse18);
+    const puma560_real cse21 = ldl_L43*ldl_d3;
+    const puma560_real ldl_L53 = ldl_inv3*(F5b4n_2 - ldl_L51*cse17 - ldl_L52*cse18);
+    const puma560_real ldl_L63 = ldl_inv3*(-F6q4n_1 - ldl_L61*cse17 - ldl_L62*cse18);
     const puma560_real ldl_d4 = Ic4J_22 - ldl_L41*ldl_L41*ldl_d1 - ldl_L42*ldl_L42*ldl_d2 - ldl_L43*ldl_L43*ldl_d3 + 0.19079062612368;
+    if (!(ldl_d4 > 1e-12*(Ic4J_22 + 0.19079062612368))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const puma560_real ldl_inv4 = 1.0/ldl_d4;
-    const puma560_real ldl_L54 = ldl_inv4*(Iq5A_12 - ldl_L51*cse16 - ldl_L52*cse17 - ldl_L53*cse18);
-    const puma560_real ldl_L64 = ldl_inv4*(dhIw6h_2_dqd4 - ldl_L61*cse16 - ldl_L62*cse17 - ldl_L63*cse18);
+    const puma560_real ldl_L54 = ldl_inv4*(Iq5A_12 - ldl_L51*cse19 - ldl_L52*cse20 - ldl_L53*cse21);
+    const puma560_real ldl_L64 = ldl_inv4*(dhIw6h_2_dqd4 - ldl_L61*cse19 - ldl_L62*cse20 - ldl_L63*cse21);
     const puma560_real ldl_d5 = Ic5J_22 - ldl_L51*ldl_L51*ldl_d1 - ldl_L52*ldl_L52*ldl_d2 - ldl_L53*ldl_L53*ldl_d3 - ldl_L54*ldl_L54*ldl_d4 + 0.170706291657;
+    if (!(ldl_d5 > 1e-12*(Ic5J_22 + 0.170706291657))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const puma560_real ldl_inv5 = 1.0/ldl_d5;
     const puma560_real ldl_L65 = ldl_inv5*(-ldl_L51*ldl_L61*ldl_d1 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const puma560_real ldl_d6 = -ldl_L61*ldl_L61*ldl_d1 - ldl_L62*ldl_L62*ldl_d2 - ldl_L63*ldl_L63*ldl_d3 - ldl_L64*ldl_L64*ldl_d4 - ldl_L65*ldl_L65*ldl_d5 + 0.194104505668;
+    if (!(ldl_d6 > 1e-12*(0.194104505668))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const puma560_real ldl_inv6 = 1.0/ldl_d6;
     const puma560_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const puma560_real ldl_y3 = -ldl_L31*rhs1 - ldl_L32*ldl_y2 + rhs3;
@@ -1556,10 +1578,24 @@ void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, con
     const puma560_real qdd3_fd = -ldl_L43*qdd4_fd - ldl_L53*qdd5_fd - ldl_L63*qdd6_fd + ldl_inv3*ldl_y3;
     const puma560_real qdd2_fd = -ldl_L32*qdd3_fd - ldl_L42*qdd4_fd - ldl_L52*qdd5_fd - ldl_L62*qdd6_fd + ldl_inv2*ldl_y2;
     const puma560_real qdd1_fd = -ldl_L21*qdd2_fd - ldl_L31*qdd3_fd - ldl_L41*qdd4_fd - ldl_L51*qdd5_fd - ldl_L61*qdd6_fd + ldl_inv1*rhs1;
+    if (!(fabs(qdd1_fd) <= DBL_MAX)
+        || !(fabs(qdd2_fd) <= DBL_MAX)
+        || !(fabs(qdd3_fd) <= DBL_MAX)
+        || !(fabs(qdd4_fd) <= DBL_MAX)
+        || !(fabs(qdd5_fd) <= DBL_MAX)
+        || !(fabs(qdd6_fd) <= DBL_MAX)) {
+        return 2; /* a result is NaN or out of range */
+    }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;
     qdd[2] = qdd3_fd;
     qdd[3] = qdd4_fd;
     qdd[4] = qdd5_fd;
     qdd[5] = qdd6_fd;
+    return 0;
+}
+
+void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd)
+{
+    (void)puma560_forward_dynamics_checked(q, qd, tau, qdd);
 }

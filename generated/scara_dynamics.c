@@ -7,6 +7,7 @@
  *   sha256    : 0a7a32e7314995d04c0f541c34ef4f611bb5ca2bc912f19f3ffb18e0c80931ee
  */
 #include <math.h>
+#include <float.h>
 
 #include "scara_dynamics.h"
 
@@ -219,8 +220,11 @@ void scara_gravity(const scara_real *q, scara_real *c)
     c[3] = 0.0;
 }
 
-void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd)
+int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd)
 {
+    if (!(2.1 > 0)) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const scara_real c2 = cos(q[1]);
     const scara_real s2 = sin(q[1]);
     const scara_real c4 = cos(q[3]);
@@ -256,19 +260,29 @@ void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const sca
     const scara_real Iq2h_0 = (0.8375)*c2;
     const scara_real Ib2J_22 = (0.8)*Iq2h_0 + 0.9916166666666667;
     const scara_real Ic1J_22 = Ib2J_22 + 0.325;
+    const scara_real cse0 = Ic1J_22 + 0.8;
     const scara_real F2b2n_2 = (0.4)*Iq2h_0 + 0.17561666666666667;
     const scara_real rhs1 = -tau1h - 2.5*qd[0] + tau[0] - 3.0*((double)((qd[0] > 0) - (qd[0] < 0)));
     const scara_real rhs2 = -tau2h - 1.2*qd[1] + tau[1] - 1.5*((double)((qd[1] > 0) - (qd[1] < 0)));
     const scara_real rhs3 = -10.0*qd[2] + tau[2] - 4.0*((double)((qd[2] > 0) - (qd[2] < 0))) + 15.696;
     const scara_real rhs4 = -0.1*qd[3] + tau[3] - 0.2*((double)((qd[3] > 0) - (qd[3] < 0)));
-    const scara_real ldl_d1 = Ic1J_22 + 0.8;
+    const scara_real ldl_d1 = cse0;
+    if (!(ldl_d1 > 1e-12*(cse0))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const scara_real ldl_inv1 = 1.0/ldl_d1;
     const scara_real ldl_L21 = F2b2n_2*ldl_inv1;
     const scara_real ldl_L41 = -0.0003*ldl_inv1;
     const scara_real ldl_d2 = -ldl_L21*ldl_L21*ldl_d1 + 0.4756166666666667;
+    if (!(ldl_d2 > 1e-12*(0.4756166666666667))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const scara_real ldl_inv2 = 1.0/ldl_d2;
     const scara_real ldl_L42 = ldl_inv2*(-ldl_L21*ldl_L41*ldl_d1 - 0.0003);
     const scara_real ldl_d4 = -ldl_L41*ldl_L41*ldl_d1 - ldl_L42*ldl_L42*ldl_d2 + 0.0503;
+    if (!(ldl_d4 > 1e-12*(0.0503))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const scara_real ldl_inv4 = 1.0/ldl_d4;
     const scara_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const scara_real ldl_y4 = -ldl_L41*rhs1 - ldl_L42*ldl_y2 + rhs4;
@@ -276,8 +290,20 @@ void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const sca
     const scara_real qdd3_fd = (0.47619047619047616)*rhs3;
     const scara_real qdd2_fd = -ldl_L42*qdd4_fd + ldl_inv2*ldl_y2;
     const scara_real qdd1_fd = -ldl_L21*qdd2_fd - ldl_L41*qdd4_fd + ldl_inv1*rhs1;
+    if (!(fabs(qdd1_fd) <= DBL_MAX)
+        || !(fabs(qdd2_fd) <= DBL_MAX)
+        || !(fabs(qdd3_fd) <= DBL_MAX)
+        || !(fabs(qdd4_fd) <= DBL_MAX)) {
+        return 2; /* a result is NaN or out of range */
+    }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;
     qdd[2] = qdd3_fd;
     qdd[3] = qdd4_fd;
+    return 0;
+}
+
+void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd)
+{
+    (void)scara_forward_dynamics_checked(q, qd, tau, qdd);
 }

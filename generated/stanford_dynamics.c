@@ -7,6 +7,7 @@
  *   sha256    : 83739e3c36743844ddeaa3d6c49c1412572c7af9c9d2ec94ea6649a3a2b8c2b4
  */
 #include <math.h>
+#include <float.h>
 
 #include "stanford_dynamics.h"
 
@@ -1118,7 +1119,7 @@ void stanford_gravity(const stanford_real *q, stanford_real *c)
     c[5] = 0.0;
 }
 
-void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd)
+int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd)
 {
     const stanford_real cse0 = 2.0*qd[2];
     const stanford_real c2 = cos(q[1]);
@@ -1256,11 +1257,13 @@ void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, 
     const stanford_real Ic2J_00 = Ib3J_00 + 0.211109665716;
     const stanford_real Ic2J_11 = Ib3J_11 + 0.203109665716;
     const stanford_real Ic2J_22 = Iq3J_11 + 0.018;
+    const stanford_real cse8 = Ic2J_22 + 2.193;
     const stanford_real Iq2A_10 = Ic2J_00*s2 - Iq3J_02*c2;
     const stanford_real Iq2A_11 = Ic2J_11*c2 - cse5;
     const stanford_real Iq2A_12 = Ib3J_02*s2 + Ib3J_12*c2;
     const stanford_real Iq2R_11 = Iq2A_10*s2 + Iq2A_11*c2;
     const stanford_real Ic1J_22 = Iq2R_11 + 0.3684332225;
+    const stanford_real cse7 = Ic1J_22 + 0.953;
     const stanford_real F3q2n_1 = Ib3m_2*s2;
     const stanford_real F4b3n_1 = -Ic4J_22 + (0.154)*Iq4h_0;
     const stanford_real F4q2n_1 = F4b3n_1*c2 + cse5;
@@ -1354,38 +1357,56 @@ void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, 
     const stanford_real rhs4 = n4b_1 + tau[3];
     const stanford_real rhs5 = -n5b_1 + tau[4];
     const stanford_real rhs6 = -N6h_2 + tau[5];
-    const stanford_real ldl_d1 = Ic1J_22 + 0.953;
+    const stanford_real ldl_d1 = cse7;
+    if (!(ldl_d1 > 1e-12*(cse7))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const stanford_real ldl_inv1 = 1.0/ldl_d1;
     const stanford_real ldl_L21 = -Iq2A_12*ldl_inv1;
-    const stanford_real cse7 = ldl_L21*ldl_d1;
+    const stanford_real cse9 = ldl_L21*ldl_d1;
     const stanford_real ldl_L31 = -F3q2n_1*ldl_inv1;
-    const stanford_real cse8 = ldl_L31*ldl_d1;
+    const stanford_real cse10 = ldl_L31*ldl_d1;
     const stanford_real ldl_L41 = -F4q2n_1*ldl_inv1;
-    const stanford_real cse10 = ldl_L41*ldl_d1;
+    const stanford_real cse12 = ldl_L41*ldl_d1;
     const stanford_real ldl_L51 = -F5q2n_1*ldl_inv1;
     const stanford_real ldl_L61 = -F6q2n_1*ldl_inv1;
-    const stanford_real ldl_d2 = Ic2J_22 - ldl_L21*ldl_L21*ldl_d1 + 2.193;
+    const stanford_real ldl_d2 = -ldl_L21*ldl_L21*ldl_d1 + cse8;
+    if (!(ldl_d2 > 1e-12*(cse8))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const stanford_real ldl_inv2 = 1.0/ldl_d2;
-    const stanford_real ldl_L32 = ldl_inv2*(-Iq4h_1 - ldl_L31*cse7);
-    const stanford_real cse9 = ldl_L32*ldl_d2;
-    const stanford_real ldl_L42 = ldl_inv2*(Iq3J_12 - ldl_L41*cse7);
-    const stanford_real cse11 = ldl_L42*ldl_d2;
-    const stanford_real ldl_L52 = ldl_inv2*(F5q3n_1 - ldl_L51*cse7);
-    const stanford_real ldl_L62 = ldl_inv2*(-F6q4n_0 - ldl_L61*cse7);
+    const stanford_real ldl_L32 = ldl_inv2*(-Iq4h_1 - ldl_L31*cse9);
+    const stanford_real cse11 = ldl_L32*ldl_d2;
+    const stanford_real ldl_L42 = ldl_inv2*(Iq3J_12 - ldl_L41*cse9);
+    const stanford_real cse13 = ldl_L42*ldl_d2;
+    const stanford_real ldl_L52 = ldl_inv2*(F5q3n_1 - ldl_L51*cse9);
+    const stanford_real ldl_L62 = ldl_inv2*(-F6q4n_0 - ldl_L61*cse9);
     const stanford_real ldl_d3 = -ldl_L31*ldl_L31*ldl_d1 - ldl_L32*ldl_L32*ldl_d2 + 7.252;
+    if (!(ldl_d3 > 1e-12*(7.252))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const stanford_real ldl_inv3 = 1.0/ldl_d3;
-    const stanford_real ldl_L43 = ldl_inv3*(-ldl_L41*cse8 - ldl_L42*cse9);
-    const stanford_real cse12 = ldl_L43*ldl_d3;
-    const stanford_real ldl_L53 = ldl_inv3*(-Iq5h_0 - ldl_L51*cse8 - ldl_L52*cse9);
-    const stanford_real ldl_L63 = ldl_inv3*(-ldl_L61*cse8 - ldl_L62*cse9);
+    const stanford_real ldl_L43 = ldl_inv3*(-ldl_L41*cse10 - ldl_L42*cse11);
+    const stanford_real cse14 = ldl_L43*ldl_d3;
+    const stanford_real ldl_L53 = ldl_inv3*(-Iq5h_0 - ldl_L51*cse10 - ldl_L52*cse11);
+    const stanford_real ldl_L63 = ldl_inv3*(-ldl_L61*cse10 - ldl_L62*cse11);
     const stanford_real ldl_d4 = Ic4J_22 - ldl_L41*ldl_L41*ldl_d1 - ldl_L42*ldl_L42*ldl_d2 - ldl_L43*ldl_L43*ldl_d3 + 0.106;
+    if (!(ldl_d4 > 1e-12*(Ic4J_22 + 0.106))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const stanford_real ldl_inv4 = 1.0/ldl_d4;
-    const stanford_real ldl_L54 = ldl_inv4*(-Iq5A_12 - ldl_L51*cse10 - ldl_L52*cse11 - ldl_L53*cse12);
-    const stanford_real ldl_L64 = ldl_inv4*(dhIw6h_2_dqd4 - ldl_L61*cse10 - ldl_L62*cse11 - ldl_L63*cse12);
+    const stanford_real ldl_L54 = ldl_inv4*(-Iq5A_12 - ldl_L51*cse12 - ldl_L52*cse13 - ldl_L53*cse14);
+    const stanford_real ldl_L64 = ldl_inv4*(dhIw6h_2_dqd4 - ldl_L61*cse12 - ldl_L62*cse13 - ldl_L63*cse14);
     const stanford_real ldl_d5 = Ic5J_22 - ldl_L51*ldl_L51*ldl_d1 - ldl_L52*ldl_L52*ldl_d2 - ldl_L53*ldl_L53*ldl_d3 - ldl_L54*ldl_L54*ldl_d4 + 0.097;
+    if (!(ldl_d5 > 1e-12*(Ic5J_22 + 0.097))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const stanford_real ldl_inv5 = 1.0/ldl_d5;
     const stanford_real ldl_L65 = ldl_inv5*(-ldl_L51*ldl_L61*ldl_d1 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const stanford_real ldl_d6 = -ldl_L61*ldl_L61*ldl_d1 - ldl_L62*ldl_L62*ldl_d2 - ldl_L63*ldl_L63*ldl_d3 - ldl_L64*ldl_L64*ldl_d4 - ldl_L65*ldl_L65*ldl_d5 + 0.0203;
+    if (!(ldl_d6 > 1e-12*(0.0203))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const stanford_real ldl_inv6 = 1.0/ldl_d6;
     const stanford_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const stanford_real ldl_y3 = -ldl_L31*rhs1 - ldl_L32*ldl_y2 + rhs3;
@@ -1398,10 +1419,24 @@ void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, 
     const stanford_real qdd3_fd = -ldl_L43*qdd4_fd - ldl_L53*qdd5_fd - ldl_L63*qdd6_fd + ldl_inv3*ldl_y3;
     const stanford_real qdd2_fd = -ldl_L32*qdd3_fd - ldl_L42*qdd4_fd - ldl_L52*qdd5_fd - ldl_L62*qdd6_fd + ldl_inv2*ldl_y2;
     const stanford_real qdd1_fd = -ldl_L21*qdd2_fd - ldl_L31*qdd3_fd - ldl_L41*qdd4_fd - ldl_L51*qdd5_fd - ldl_L61*qdd6_fd + ldl_inv1*rhs1;
+    if (!(fabs(qdd1_fd) <= DBL_MAX)
+        || !(fabs(qdd2_fd) <= DBL_MAX)
+        || !(fabs(qdd3_fd) <= DBL_MAX)
+        || !(fabs(qdd4_fd) <= DBL_MAX)
+        || !(fabs(qdd5_fd) <= DBL_MAX)
+        || !(fabs(qdd6_fd) <= DBL_MAX)) {
+        return 2; /* a result is NaN or out of range */
+    }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;
     qdd[2] = qdd3_fd;
     qdd[3] = qdd4_fd;
     qdd[4] = qdd5_fd;
     qdd[5] = qdd6_fd;
+    return 0;
+}
+
+void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd)
+{
+    (void)stanford_forward_dynamics_checked(q, qd, tau, qdd);
 }

@@ -7,6 +7,7 @@
  *   sha256    : 2aec31518849d593f4f52ec7fbf92a91dbb1d9835f5a8fa2761b363f4cc7a48d
  */
 #include <math.h>
+#include <float.h>
 
 #include "ur5_dynamics.h"
 
@@ -1275,7 +1276,7 @@ void ur5_gravity(const ur5_real *q, ur5_real *c)
     c[5] = 0.0;
 }
 
-void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd)
+int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd)
 {
     const ur5_real c2 = cos(q[1]);
     const ur5_real s2 = sin(q[1]);
@@ -1463,6 +1464,9 @@ void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real 
     const ur5_real Iq2A_12 = Ic2J_02*s2 + cse11;
     const ur5_real Iq2R_11 = Iq2A_10*s2 + Iq2A_11*c2;
     const ur5_real Ic1J_22 = Iq2R_11 + 0.00667378213;
+    if (!(Ic1J_22 > 0)) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const ur5_real F3b3n_2 = Ic3J_22 - 0.425*Iq3h_0;
     const ur5_real F3q2n_1 = Iq3A_02*s2 + cse11;
     const ur5_real F4b4n_2 = Ic4J_22 - 0.39225*Iq4h_0;
@@ -1579,6 +1583,9 @@ void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real 
     const ur5_real ldl_L51 = F5q2n_1*ldl_inv1;
     const ur5_real ldl_L61 = F6q2n_1*ldl_inv1;
     const ur5_real ldl_d2 = -Ic1J_22*ldl_L21*ldl_L21 + Ic2J_22;
+    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const ur5_real ldl_inv2 = 1.0/ldl_d2;
     const ur5_real ldl_L32 = ldl_inv2*(F3b3n_2 - ldl_L31*cse14);
     const ur5_real cse17 = ldl_L32*ldl_d2;
@@ -1587,19 +1594,31 @@ void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real 
     const ur5_real ldl_L52 = ldl_inv2*(F5b3n_2 - ldl_L51*cse14);
     const ur5_real ldl_L62 = ldl_inv2*(-ldl_L61*cse14 - cse15);
     const ur5_real ldl_d3 = -Ic1J_22*ldl_L31*ldl_L31 + Ic3J_22 - ldl_L32*ldl_L32*ldl_d2;
+    if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const ur5_real ldl_inv3 = 1.0/ldl_d3;
     const ur5_real ldl_L43 = ldl_inv3*(F4b4n_2 - ldl_L41*cse16 - ldl_L42*cse17);
     const ur5_real cse20 = ldl_L43*ldl_d3;
     const ur5_real ldl_L53 = ldl_inv3*(F5b4n_2 - ldl_L51*cse16 - ldl_L52*cse17);
     const ur5_real ldl_L63 = ldl_inv3*(-ldl_L61*cse16 - ldl_L62*cse17 - cse15);
     const ur5_real ldl_d4 = -Ic1J_22*ldl_L41*ldl_L41 + Ic4J_22 - ldl_L42*ldl_L42*ldl_d2 - ldl_L43*ldl_L43*ldl_d3;
+    if (!(ldl_d4 > 1e-12*(Ic4J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const ur5_real ldl_inv4 = 1.0/ldl_d4;
     const ur5_real ldl_L54 = ldl_inv4*(-ldl_L51*cse18 - ldl_L52*cse19 - ldl_L53*cse20 - cse12);
     const ur5_real ldl_L64 = ldl_inv4*(-ldl_L61*cse18 - ldl_L62*cse19 - ldl_L63*cse20 - cse15);
     const ur5_real ldl_d5 = -Ic1J_22*ldl_L51*ldl_L51 + Ic5J_22 - ldl_L52*ldl_L52*ldl_d2 - ldl_L53*ldl_L53*ldl_d3 - ldl_L54*ldl_L54*ldl_d4;
+    if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const ur5_real ldl_inv5 = 1.0/ldl_d5;
     const ur5_real ldl_L65 = ldl_inv5*(-Ic1J_22*ldl_L51*ldl_L61 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const ur5_real ldl_d6 = -Ic1J_22*ldl_L61*ldl_L61 - ldl_L62*ldl_L62*ldl_d2 - ldl_L63*ldl_L63*ldl_d3 - ldl_L64*ldl_L64*ldl_d4 - ldl_L65*ldl_L65*ldl_d5 + 0.0001321171875;
+    if (!(ldl_d6 > 1e-12*(0.0001321171875))) {
+        return 1; /* singular mass matrix at q (or q not finite) */
+    }
     const ur5_real ldl_inv6 = 1.0/ldl_d6;
     const ur5_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
     const ur5_real ldl_y3 = -ldl_L31*rhs1 - ldl_L32*ldl_y2 + rhs3;
@@ -1612,10 +1631,24 @@ void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real 
     const ur5_real qdd3_fd = -ldl_L43*qdd4_fd - ldl_L53*qdd5_fd - ldl_L63*qdd6_fd + ldl_inv3*ldl_y3;
     const ur5_real qdd2_fd = -ldl_L32*qdd3_fd - ldl_L42*qdd4_fd - ldl_L52*qdd5_fd - ldl_L62*qdd6_fd + ldl_inv2*ldl_y2;
     const ur5_real qdd1_fd = -ldl_L21*qdd2_fd - ldl_L31*qdd3_fd - ldl_L41*qdd4_fd - ldl_L51*qdd5_fd - ldl_L61*qdd6_fd + ldl_inv1*rhs1;
+    if (!(fabs(qdd1_fd) <= DBL_MAX)
+        || !(fabs(qdd2_fd) <= DBL_MAX)
+        || !(fabs(qdd3_fd) <= DBL_MAX)
+        || !(fabs(qdd4_fd) <= DBL_MAX)
+        || !(fabs(qdd5_fd) <= DBL_MAX)
+        || !(fabs(qdd6_fd) <= DBL_MAX)) {
+        return 2; /* a result is NaN or out of range */
+    }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;
     qdd[2] = qdd3_fd;
     qdd[3] = qdd4_fd;
     qdd[4] = qdd5_fd;
     qdd[5] = qdd6_fd;
+    return 0;
+}
+
+void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd)
+{
+    (void)ur5_forward_dynamics_checked(q, qd, tau, qdd);
 }

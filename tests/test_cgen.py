@@ -161,7 +161,7 @@ def test_float_output_has_no_double_literals_or_functions(tmp_path):
     text = (tmp_path / "ur5_dynamics.c").read_text()
     assert "typedef float ur5_real" in (tmp_path / "ur5_dynamics.h").read_text()
     import re
-    body = text.split("#include \"ur5_dynamics.h\"", 1)[1].split("void ur5_forward_dynamics")[0]
+    body = text.split("#include \"ur5_dynamics.h\"", 1)[1].split("int ur5_forward_dynamics_checked")[0]
     assert "Computed internally in double" in (tmp_path / "ur5_dynamics.h").read_text()
     assert not re.search(r"\b(sin|cos|sqrt|pow)\(", body)
     assert not re.search(r"(?<![\w.])\d+\.\d*(e[-+]?\d+)?(?![\dFe.])", body), "unsuffixed double literal"

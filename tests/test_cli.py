@@ -91,7 +91,7 @@ def test_corrupt_cache_entry_is_rebuilt(tmp_path, monkeypatch, capsys):
     monkeypatch.setenv("SYMDYN_CACHE_DIR", str(tmp_path / "cache"))
     out1, out2 = tmp_path / "a", tmp_path / "b"
     assert main(["generate", PUMA, "--out", str(out1), "--functions", "gravity", "--quiet"]) == 0
-    entries = list((tmp_path / "cache").iterdir())
+    entries = list((tmp_path / "cache").glob("*.json"))
     assert len(entries) == 1
     data = bytearray(entries[0].read_bytes())
     data[-10] ^= 0xFF  # damage the payload: the checksum must catch it

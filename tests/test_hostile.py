@@ -280,6 +280,35 @@ def test_bounded_work(workspace, capsys):
     assert not (workspace / "out").exists()
 
 
+def test_max_joints_refused_before_deriving(workspace, capsys, monkeypatch):
+    import symdyn.cli.generate as generate
+
+    def never(*args, **kwargs):
+        raise AssertionError("derived although the robot is too large")
+    monkeypatch.setattr(generate, "derive_cached", never)
+    link = "{joint: revolute, a: 0.1, alpha: 0, d: 0, theta: 0, mass: 1, inertia: [0.01, 0.01, 0.01, 0, 0, 0]}"
+    (workspace / "r.yaml").write_text(robot_text(links=[link] * 41))
+    (line,), seconds = run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out"], capsys, 1)
+    assert "41 joints" in line and "--max-joints 40" in line and seconds < 5
+    (line,), _ = run_cli(["derive", workspace / "r.yaml", "--max-joints", "12"], capsys, 1)
+    assert "--max-joints 12" in line
+    assert not (workspace / "out").exists()
+
+
+def test_progress_on_a_terminal(workspace, capsys, monkeypatch):
+    """Long derivations say what they are doing when stderr is a terminal (and only then)."""
+    import sys
+    robot = REPO / "robots" / "planar2r.yaml"
+    lines, _ = run_cli(["generate", robot, "--out", workspace / "a", "--no-cache", "--functions", "gravity,coriolis"], capsys, 0)
+    assert lines == []  # not a terminal: no progress
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: True)
+    lines, _ = run_cli(["generate", robot, "--out", workspace / "b", "--no-cache", "--functions", "gravity,coriolis"], capsys, 0)
+    assert any("planar2r: newton-euler: gravity" in line for line in lines), lines
+    assert any("C for coriolis" in line for line in lines), lines
+    lines, _ = run_cli(["generate", robot, "--out", workspace / "c", "--no-cache", "--quiet"], capsys, 0)
+    assert lines == []
+
+
 def test_bounded_work_in_a_scene(workspace, capsys):
     (workspace / "laughs.yaml").write_text(BILLION_LAUGHS)
     (workspace / "s.yaml").write_text("scene: 1\nrobot: laughs.yaml\n")

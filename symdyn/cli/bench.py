@@ -6,10 +6,10 @@ import os
 import sys
 import tempfile
 
-from ..model.files import write_atomic
+from ..model.files import output_directory, write_files
 from ..model.errors import SymdynError
 from ..model.scene import load_input
-from .common import parse_functions
+from .common import add_size_options, check_size, parse_functions
 
 HELP = "time each generation variant and measure its error against a 50-digit reference"
 
@@ -27,6 +27,7 @@ def add_parser(sub) -> None:
                    help=f"comma-separated subset of: {', '.join(VARIANTS)} (default: all)")
     p.add_argument("--states", type=int, default=20, metavar="N", help="states for the error (default 20)")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
+    add_size_options(p)
     p.set_defaults(run=run)
 
 
@@ -40,26 +41,19 @@ def run(args) -> int:
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
     robots = [load_input(path)[0] for path in args.robots]  # every file is checked before any work
-    if args.out:
-        try:
-            os.makedirs(args.out, exist_ok=True)
-        except OSError as exc:
-            raise SymdynError(f"cannot create output directory {args.out}: {exc.strerror or exc}") from None
-
-    def progress(text):
-        if not args.quiet:
-            print(f"symdyn bench: {text}", file=sys.stderr, flush=True)
-    results = []
-    for k, robot in enumerate(robots):
-        progress(f"[{k + 1}/{len(robots)}] {robot.name}")
-        results.extend(bench.bench_robot(robot, functions, variants, args.states, progress))
-    table = bench.markdown_table(results)
-    sys.stdout.write(table)
-    if args.out:
+    for path, robot in zip(args.robots, robots):
+        check_size(robot, args, path)
+    if not args.out:
+        _bench(args, robots, functions, variants)
+        return 0
+    from .generate import input_files
+    protect = [p for path in args.robots for p in input_files(path)]
+    with output_directory(args.out):  # checked (and created) before the long measurements
+        results = _bench(args, robots, functions, variants)
+        table = bench.markdown_table(results)
         header = (f"# symdyn bench\n\nMachine: {bench.machine()}.\n\nReproduce: `symdyn bench "
                   f"{' '.join(os.path.basename(p) for p in args.robots)} --functions {','.join(functions)} "
                   f"--states {args.states}`\n\n![time against error](bench.png)\n\n")
-        write_atomic(os.path.join(args.out, "bench.md"), (header + table).encode())
         with tempfile.TemporaryDirectory() as tmp:
             png = os.path.join(tmp, "bench.png")
             try:
@@ -67,6 +61,25 @@ def run(args) -> int:
             except ImportError:
                 raise SymdynError("the plot needs matplotlib: pip install 'symdyn[plot]'") from None
             with open(png, "rb") as handle:
-                write_atomic(os.path.join(args.out, "bench.png"), handle.read())
-        progress(f"wrote {os.path.join(args.out, 'bench.md')} and bench.png")
+                image = handle.read()
+        # bench.md and bench.png land together (one transaction)
+        write_files(args.out, {"bench.md": (header + table).encode(), "bench.png": image}, protect=protect)
+    _progress(args, f"wrote {os.path.join(args.out, 'bench.md')} and bench.png")
     return 0
+
+
+def _progress(args, text: str) -> None:
+    if not args.quiet:
+        print(f"symdyn bench: {text}", file=sys.stderr, flush=True)
+
+
+def _bench(args, robots, functions, variants) -> list:
+    """Measure every robot and print the Markdown table; returns the results."""
+    from ..check import bench
+    results = []
+    for k, robot in enumerate(robots):
+        _progress(args, f"[{k + 1}/{len(robots)}] {robot.name}")
+        results.extend(bench.bench_robot(robot, functions, variants, args.states,
+                                         lambda text: _progress(args, text)))
+    sys.stdout.write(bench.markdown_table(results))
+    return results

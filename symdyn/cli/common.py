@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import sys
+
 from ..derive.equations import METHOD_ALIASES, OUTPUTS
 from ..model.errors import SymdynError
 
@@ -21,3 +23,33 @@ def parse_functions(text: str | None) -> tuple[str, ...]:
 def add_method_option(parser) -> None:
     parser.add_argument("--method", default="newton-euler", choices=sorted(set(METHOD_ALIASES)),
                         help="derivation: newton-euler (default; recursive, smallest code) or lagrange-euler")
+
+
+#: default of --max-joints: derivation time grows quickly with the joint count (every function of
+#: a 30-joint chain takes about 2 minutes on the 2-core reference machine; docs/untrusted-input.md)
+DEFAULT_MAX_JOINTS = 40
+
+
+def add_size_options(parser) -> None:
+    parser.add_argument("--max-joints", type=int, default=DEFAULT_MAX_JOINTS, metavar="N",
+                        help=f"refuse robots with more than N joints before deriving (default "
+                             f"{DEFAULT_MAX_JOINTS}; 20 joints take about a minute, 30 about two)")
+
+
+def check_size(robot, args, path) -> None:
+    """Refuse a robot with more joints than ``--max-joints`` before any derivation starts."""
+    limit = getattr(args, "max_joints", DEFAULT_MAX_JOINTS)
+    if robot.dof > limit:
+        raise SymdynError(f"{path}: {robot.dof} joints, more than --max-joints {limit}: the derivation "
+                          "would take long (about 2 minutes for 30 joints); raise --max-joints to go on")
+
+
+def progress_printer(args):
+    """A function printing progress lines on stderr when it is a terminal (and not --quiet),
+    else None."""
+    if getattr(args, "quiet", False) or not sys.stderr.isatty():
+        return None
+
+    def show(text: str) -> None:
+        print(f"symdyn: {text}", file=sys.stderr, flush=True)
+    return show

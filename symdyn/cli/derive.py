@@ -6,12 +6,12 @@ from __future__ import annotations
 import os
 import sys
 
-from ..model.files import write_atomic
+from ..model.files import check_output_dir, check_targets, write_files
 from ..derive.derivation import STEPS, derive_steps
 from ..model.errors import SymdynError
 from ..emit.printout import FORMATS, render
 from ..model.scene import load_input
-from .common import add_method_option
+from .common import add_method_option, add_size_options, check_size
 
 HELP = "print the derivation of the equations of motion (text, LaTeX or Markdown)"
 
@@ -22,10 +22,12 @@ def add_parser(sub) -> None:
                        "(forward and backward recursion of Table 3.2), ending with D, h, c.")
     p.add_argument("robot", metavar="ROBOT.yaml", help="robot file (format version 1)")
     add_method_option(p)
+    add_size_options(p)
     p.add_argument("--format", default="text", choices=FORMATS,
                    help="text (Unicode, for the terminal), latex (a complete document for pdflatex) "
                         "or markdown (math blocks that render on GitHub); default text")
-    p.add_argument("--out", metavar="FILE", help="write to FILE (atomically) instead of standard output")
+    p.add_argument("--out", metavar="FILE", help="write to FILE (atomically; never over the robot file, "
+                   "a link or a device) instead of standard output")
     p.add_argument("--steps", default="all", choices=STEPS,
                    help="all (default): every intermediate quantity; summary: link matrices, "
                         "inertias and the final D, h, c")
@@ -36,19 +38,24 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    """Load, check where ``--out`` goes (before the derivation, which can take long), derive,
+    render, and print or write (:func:`symdyn.model.files.write_files`, the inputs protected)."""
+    from .generate import input_files
     robot, _ = load_input(args.robot)
+    check_size(robot, args, args.robot)
     closed = {"auto": None, "closed": True, "named": False}[args.form]
+    if args.out:
+        directory, name = os.path.split(os.path.abspath(args.out))
+        if not os.path.isdir(directory):
+            raise SymdynError(f"cannot write {args.out}: directory {directory} does not exist")
+        protect = input_files(args.robot)
+        check_output_dir(directory, option="the directory of --out")
+        check_targets(directory, [name], protect)
     derivation = derive_steps(robot, args.method, args.steps, closed)
     text = render(derivation, args.format, source_name=os.path.basename(args.robot),
                   source_hash=robot.source_hash)
     if args.out:
-        directory = os.path.dirname(os.path.abspath(args.out))
-        if not os.path.isdir(directory):
-            raise SymdynError(f"cannot write {args.out}: directory {directory} does not exist")
-        try:
-            write_atomic(args.out, text.encode("utf-8"))
-        except OSError as exc:
-            raise SymdynError(f"cannot write {args.out}: {exc.strerror or exc}") from None
+        write_files(directory, {name: text.encode("utf-8")}, protect=protect)
     else:
         sys.stdout.write(text)
     return 0

@@ -5,21 +5,24 @@ from __future__ import annotations
 import os
 
 from ..derive.cache import derive_cached
-from ..model.files import write_atomic
+from ..model.files import output_directory, write_files
 from ..emit.cgen import generate_c
 from ..emit.cprinter import PRECISIONS
 from ..model.errors import SymdynError
 from ..derive.equations import OUTPUTS
+from ..model.inputs import decode_text, load_yaml, read_input
 from ..model.scene import load_input
-from .common import add_method_option, parse_functions
+from .common import add_method_option, add_size_options, check_size, parse_functions, progress_printer
 
 HELP = "generate C code (NAME_dynamics.h/.c) or CasADi functions for robot files"
 TARGETS = ("c", "casadi", "casadi-c")
 
 
 def add_parser(sub) -> None:
-    p = sub.add_parser("generate", help=HELP, description=HELP + ". Output files are written "
-                       "atomically; on any error existing files are left untouched.")
+    p = sub.add_parser("generate", help=HELP, description=HELP + ". The files of a run are written "
+                       "as one unit (temporaries, then renames, under a lock on the output directory); "
+                       "on any error existing files are left untouched. Only regular files are "
+                       "replaced, never an input file.")
     p.add_argument("robots", nargs="+", metavar="ROBOT.yaml", help="robot file(s) (format version 1) or "
                    "scene file(s) (docs/scene-format.md: locked joints, payload, runtime parameters)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
@@ -37,16 +40,33 @@ def add_parser(sub) -> None:
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
     add_method_option(p)
+    add_size_options(p)
     p.add_argument("--no-cache", action="store_true", help="do not read or write the derivation cache")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(run=run)
 
 
+def input_files(path: str) -> list[str]:
+    """The files reading ``path`` involves: ``path`` itself and, for a scene, the robot file it
+    names (resolved against the scene's directory).  Best effort: a file that cannot be read or
+    parsed just adds nothing (loading it reports the problem)."""
+    paths = [os.fspath(path)]
+    try:
+        doc = load_yaml(decode_text(read_input(paths[0]), paths[0]), paths[0])
+    except (SymdynError, OSError, ValueError):
+        return paths
+    if isinstance(doc, dict) and "scene" in doc and isinstance(doc.get("robot"), str):
+        paths.append(os.path.join(os.path.dirname(os.path.abspath(paths[0])), doc["robot"]))
+    return paths
+
+
 def generate_files(path: str, functions, precision, header_only: bool, method: str,
-                   use_cache: bool = True, target: str = "c") -> dict[str, bytes]:
+                   use_cache: bool = True, target: str = "c", loaded=None, progress=None) -> dict[str, bytes]:
     """Load (robot or scene), derive (cached) and emit; returns {file name: content} without
-    writing anything.  ``functions``/``precision`` None: the scene's, else all / double."""
-    robot, scene = load_input(path)
+    writing anything.  ``functions``/``precision`` None: the scene's, else all / double.
+    ``loaded``: ``load_input(path)`` when the caller already has it; ``progress``: called with a
+    short text per derivation part and emitted function."""
+    robot, scene = loaded if loaded is not None else load_input(path)
     notes: tuple[str, ...] = ()
     source_hash = robot.source_hash
     if scene is not None:
@@ -58,11 +78,11 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
     wanted = set(functions)
     if "forward_dynamics" in wanted:
         wanted |= {"mass_matrix"}
-    eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache)
+    eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache, progress=progress)
     source = os.path.basename(path)
     if target == "c":
         files = generate_c(eqs, functions, precision, header_only, source_name=source,
-                           source_hash=source_hash, notes=notes)
+                           source_hash=source_hash, notes=notes, progress=progress)
         return {name: text.encode("utf-8") for name, text in files.items()}
     from ..emit.casadi_backend import casadi_files
     return casadi_files(eqs, functions, casadi_c=target == "casadi-c", source_name=source,
@@ -70,28 +90,27 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
 
 
 def run(args) -> int:
+    """Load every input, check the output directory, then derive and emit everything, and
+    write all files of all robots in one transaction (:func:`symdyn.model.files.write_files`)."""
     functions = parse_functions(args.functions) if args.functions else None
     if args.target != "c" and (args.precision not in (None, "double") or args.header_only):
         raise SymdynError(f"--precision and --header-only apply to the c target only, not {args.target}")
-    rendered = {}
-    for path in args.robots:
-        for name, text in generate_files(path, functions, args.precision, args.header_only,
-                                         args.method, not args.no_cache, args.target).items():
-            if name in rendered:
-                raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
-            rendered[name] = text
-    try:
-        os.makedirs(args.out, exist_ok=True)
-    except OSError as exc:
-        raise SymdynError(f"cannot create output directory {args.out}: {exc.strerror or exc}") from None
-    if not os.access(args.out, os.W_OK):
-        raise SymdynError(f"output directory {args.out} is not writable")
-    for name, text in rendered.items():
-        target = os.path.join(args.out, name)
-        try:
-            write_atomic(target, text)
-        except OSError as exc:
-            raise SymdynError(f"cannot write {target}: {exc.strerror or exc}") from None
-        if not args.quiet:
+    loaded = [load_input(path) for path in args.robots]  # every file is checked before any work
+    for path, (robot, _) in zip(args.robots, loaded):
+        check_size(robot, args, path)
+    protect = [p for path in args.robots for p in input_files(path)]
+    # the directory is checked (and created) before deriving, and removed again if the run fails
+    with output_directory(args.out):
+        rendered = {}
+        for path, inputs in zip(args.robots, loaded):
+            for name, text in generate_files(path, functions, args.precision, args.header_only,
+                                             args.method, not args.no_cache, args.target,
+                                             loaded=inputs, progress=progress_printer(args)).items():
+                if name in rendered:
+                    raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
+                rendered[name] = text
+        written = write_files(args.out, rendered, protect=protect)
+    if not args.quiet:
+        for target in written:
             print(f"wrote {target}")
     return 0

@@ -13,7 +13,7 @@ from ..emit.cprinter import PRECISIONS
 from ..derive.equations import OUTPUTS
 from ..model.errors import SymdynError
 from ..model.scene import load_input
-from .common import add_method_option
+from .common import add_method_option, add_size_options, check_size, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
 DEFAULT_TOLERANCE = {"double": 1e-10, "float": 1e-4}
@@ -31,6 +31,7 @@ def add_parser(sub) -> None:
     p.add_argument("--tolerance", type=float, help="normalized error bound (default 1e-10 double, 1e-4 float)")
     p.add_argument("--seed", type=int, default=0, help="random seed for the states (default 0)")
     add_method_option(p)
+    add_size_options(p)
     p.set_defaults(run=run)
 
 
@@ -43,12 +44,13 @@ def run(args) -> int:
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
     robot, _ = load_input(args.robot)
+    check_size(robot, args, args.robot)
     rng = np.random.default_rng(args.seed)
     values = {}
     for sym, nominal in zip(robot.parameters, robot.nominal):
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
-    eqs = derive_cached(robot, args.method)
+    eqs = derive_cached(robot, args.method, progress=progress_printer(args))
     files = generate_c(eqs, OUTPUTS, args.precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), args.precision, workdir)

@@ -15,12 +15,13 @@ class _CallablePackage(_types.ModuleType):
     """``symdyn.derive`` is this package and, called, the public derivation entry point, so that
     both ``symdyn.derive(robot)`` and ``import symdyn.derive.cache`` work."""
 
-    def __call__(self, robot, method: str = "newton-euler", outputs=None):
+    def __call__(self, robot, method: str = "newton-euler", outputs=None, progress=None):
         """Derive the equations of motion of ``robot``: see :func:`symdyn.derive.equations.derive`
         (``method``: ``'newton-euler'`` or ``'lagrange-euler'``; ``outputs``: names from
-        ``symdyn.OUTPUTS``, default all).  Returns an immutable ``Equations``."""
+        ``symdyn.OUTPUTS``, default all; ``progress``: called with a text per part).  Returns an
+        immutable ``Equations``."""
         from .equations import derive
-        return derive(robot, method, outputs)
+        return derive(robot, method, outputs, progress)
 
 
 _sys.modules[__name__].__class__ = _CallablePackage

@@ -1,27 +1,71 @@
-"""On-disk cache of derivations, keyed by a hash of the robot's content, the method, the outputs,
-symdyn's version and the source of the derivation modules (so a changed derivation never reads
-an entry written by older code, even within one version).
+"""On-disk cache of derivations: authenticated JSON entries in a private per-user directory.
 
-Entries are written atomically and carry a checksum of their payload; an entry that fails to
-read, has the wrong key or the wrong checksum is ignored and rebuilt, never trusted.  The cache
-lives in ``$SYMDYN_CACHE_DIR``, else ``$XDG_CACHE_HOME/symdyn``, else ``~/.cache/symdyn``.
+An entry is keyed (:func:`cache_key`) by a hash of the robot's content, the method, the outputs,
+symdyn's version and the source of the derivation modules, so a changed derivation never reads
+an entry written by older code, even within one version.  The cache lives in
+``$SYMDYN_CACHE_DIR``, else ``$XDG_CACHE_HOME/symdyn``, else ``~/.cache/symdyn``.
+
+Nothing read from the cache is ever executed or parsed as code (no pickle, no eval, no sympify):
+
+* The directory is used only if it is a real directory (not a symbolic link) owned by the
+  current user and not writable by group or others; a missing one is created with mode 0700.
+  Otherwise the cache is neither read nor written and one line
+  ``symdyn: warning: not using the derivation cache DIR: REASON`` goes to stderr (once per
+  process).
+* :data:`KEY_FILE` in it holds a random 32-byte secret (mode 0600, created atomically); it must
+  be a regular file owned by the user and not readable or writable by group or others, else
+  the cache is not used.
+* An entry ``<cache key>.json`` is the bytes ``MAGIC``, the hex HMAC-SHA256 under the secret of
+  ``cache key + b"\\n" + payload``, ``b"\\n"``, then ``payload``: UTF-8 JSON
+  ``{"format": 2, "key": "<cache key>", "fields": {NAME: NODE, ...}}`` with one NODE per field
+  of :class:`Equations` other than robot, method, q, qd, qdd and tau (program, outputs,
+  seconds, pivots, ...).  NODE is the tree format of :func:`encode` / :func:`decode`.
+* An entry is opened without following links and without blocking, must be a regular file
+  owned by the user and at most :data:`MAX_ENTRY_BYTES` long.  A FIFO, socket, device,
+  directory or link in its place is left alone and the derivation is not cached (with the
+  warning).  An entry with a wrong MAC, wrong key or anything the decoder refuses is ignored,
+  rebuilt and overwritten.
+* Writes go through a temporary file in the directory and a rename (atomic); an unwritable
+  cache only costs time, never an error.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import hashlib
+import hmac
+import json
+import math
 import os
-import pickle
+import re
+import secrets
+import stat
 
 import sympy as sp
 
 from .._version import __version__
-from ..model.files import write_atomic
+from ..model.errors import warn
 from .equations import Equations, derive
 from .program import Program
 
-MAGIC = b"SYMDYN-CACHE-1\n"
+MAGIC = b"SYMDYN-CACHE-2\n"
+FORMAT = 2
+KEY_FILE = "hmac-key"
+KEY_BYTES = 32
+SUFFIX = ".json"
+
+#: limits on what is read back (an entry beyond them is damaged and rebuilt)
+MAX_ENTRY_BYTES = 64 * 2**20
+MAX_NODES = 4_000_000    # nodes of the whole payload tree
+MAX_DEPTH = 200          # nesting of nodes (derivations reach about 10; far below the JSON parser's limit)
+MAX_STRING = 256         # characters of a symbol name, output name or float text
+MAX_DIGITS = 4000        # decimal digits of an integer (numerator, denominator, mantissa)
+
+#: fields of :class:`Equations` rebuilt from the robot instead of stored
+REBUILT_FIELDS = ("robot", "method", "q", "qd", "qdd", "tau")
+
+_warned = False
 
 
 def cache_dir() -> str:
@@ -65,43 +109,464 @@ def cache_key(robot, method: str, outputs) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
-def _load(path: str, key: str):
+# ---------------------------------------------------------------------------------------------
+# Values as JSON trees
+# ---------------------------------------------------------------------------------------------
+#
+# Every node is a JSON array whose first item names its kind:
+#
+#   ["Int", "-12"]                  sympy Integer (decimal digits)
+#   ["Rat", "-3", "4"]              sympy Rational p/q, q > 0
+#   ["Float", "-1a2b", "-105", 103] sympy Float: (hex mantissa with sign) * 2**exp, precision bits
+#   ["Sym", "q1", {"real": true}]   sympy Symbol with the assumptions it was created with
+#   ["pi"]                          sympy pi
+#   ["Add", a, b, ...], ["Mul", a, b, ...], ["Pow", base, exp]     (rebuilt unevaluated, as stored)
+#   ["sin", x], ["cos", x], ["sign", x]
+#   ["Matrix", rows, cols, e11, e12, ...]   sympy ImmutableMatrix, row-major
+#   ["Tuple", a, ...]               Python tuple;  ["Str", "text"]  Python str
+#   ["PyFloat", "0.25"]             Python float (finite);  ["PyInt", "3"]  Python int
+#   ["Program", ["Tuple", ["Tuple", symbol, expr], ...]]            a Program's assignments
+#
+# These are exactly the node types the derivations of all bundled robots and scenes produce
+# (Symbol, Integer, Rational, Add, Mul, Pow, sin, cos, sign), plus pi and Float.  Anything
+# else is refused by both directions.
+
+_FUNCTIONS = {"sin": sp.sin, "cos": sp.cos, "sign": sp.sign}
+_OPERATORS = {"Add": sp.Add, "Mul": sp.Mul, "Pow": sp.Pow}
+_ASSUMPTIONS = frozenset((
+    "algebraic", "antihermitian", "commutative", "complex", "composite", "even", "extended_negative",
+    "extended_nonnegative", "extended_nonpositive", "extended_nonzero", "extended_positive",
+    "extended_real", "finite", "hermitian", "imaginary", "infinite", "integer", "irrational",
+    "negative", "noninteger", "nonnegative", "nonpositive", "nonzero", "odd", "polar", "positive",
+    "prime", "rational", "real", "transcendental", "zero"))
+_INTEGER = re.compile(r"-?[0-9]{1,%d}\Z" % MAX_DIGITS)
+_HEX = re.compile(r"-?[0-9a-f]{1,%d}\Z" % MAX_DIGITS)
+_FLOAT_TEXT = re.compile(r"-?[0-9]+(\.[0-9]+)?(e[-+]?[0-9]+)?\Z")
+
+
+class CacheFormatError(ValueError):
+    """A value cannot be stored, or stored data is not a valid tree (the entry is rebuilt)."""
+
+
+def encode(value, _depth: int = 0):
+    """The JSON tree of ``value`` (see the node list above); raises :class:`CacheFormatError`
+    for a type outside it or a value beyond the decoder's limits (such a value is not cached)."""
+    if _depth > MAX_DEPTH:
+        raise CacheFormatError(f"nested more than {MAX_DEPTH} levels")
+    deeper = _depth + 1
+    if isinstance(value, Program):
+        return ["Program", encode(tuple(value.assignments), deeper)]
+    if isinstance(value, (tuple, list)):
+        return ["Tuple", *(encode(v, deeper) for v in value)]
+    if isinstance(value, str):
+        return ["Str", _check_string(value)]
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise CacheFormatError(f"cannot store {value}")
+        return ["PyFloat", repr(value)]
+    if isinstance(value, int) and not isinstance(value, bool):
+        return ["PyInt", _int_text(value)]
+    if isinstance(value, sp.MatrixBase):
+        rows, cols = value.shape
+        return ["Matrix", rows, cols, *(encode(e, deeper) for e in value)]
+    if isinstance(value, sp.Integer):
+        return ["Int", _int_text(value.p)]
+    if isinstance(value, sp.Rational):
+        return ["Rat", _int_text(value.p), _int_text(value.q)]
+    if isinstance(value, sp.Float):
+        sign, man, exp, _ = value._mpf_
+        if (not man and exp) or man.bit_length() > 4 * MAX_DIGITS or abs(exp) >= 10**12:  # inf, nan
+            raise CacheFormatError(f"cannot store {value}")
+        return ["Float", ("-" if sign else "") + format(man, "x"), str(exp), value._prec]
+    if type(value) is sp.Symbol:
+        (name,), assumptions = value.__getnewargs_ex__()
+        return ["Sym", _check_string(name), {k: bool(v) for k, v in assumptions.items()}]
+    if value is sp.pi:
+        return ["pi"]
+    kind = type(value).__name__
+    if {**_OPERATORS, **_FUNCTIONS}.get(kind) is type(value):
+        return [kind, *(encode(a, deeper) for a in value.args)]
+    raise CacheFormatError(f"cannot store a {kind}")
+
+
+def _check_string(text: str) -> str:
+    if len(text) > MAX_STRING:
+        raise CacheFormatError(f"string of {len(text)} characters")
+    return text
+
+
+def _int_text(number: int) -> str:
+    if number.bit_length() > MAX_DIGITS * 3.32 or len(str(abs(number))) > MAX_DIGITS:
+        raise CacheFormatError(f"an integer of more than {MAX_DIGITS} digits")
+    return str(number)
+
+
+def _leaf(node: list):
+    """The value of a node without child nodes; :class:`CacheFormatError` if it is malformed."""
+    kind, rest = node[0], node[1:]
+    if kind == "Int" and len(rest) == 1 and _digits(rest[0]):
+        return sp.Integer(int(rest[0]))
+    if kind == "Rat" and len(rest) == 2 and _digits(rest[0]) and _digits(rest[1]) and int(rest[1]) > 0:
+        return sp.Rational(int(rest[0]), int(rest[1]))
+    if kind == "Float" and len(rest) == 3 and isinstance(rest[0], str) and _HEX.match(rest[0]) \
+            and _digits(rest[1]) and len(rest[1]) <= 12 and _small(rest[2], 1, 100_000):
+        man, exp = int(rest[0], 16), int(rest[1])
+        return sp.Float((int(man < 0), format(abs(man), "x"), exp, abs(man).bit_length()), precision=rest[2])
+    if kind == "Sym" and len(rest) == 2 and _text(rest[0]) and rest[0] and isinstance(rest[1], dict) \
+            and all(k in _ASSUMPTIONS and isinstance(v, bool) for k, v in rest[1].items()):
+        return sp.Symbol(rest[0], **rest[1])
+    if kind == "pi" and not rest:
+        return sp.pi
+    if kind == "Str" and len(rest) == 1 and _text(rest[0]):
+        return rest[0]
+    if kind == "PyFloat" and len(rest) == 1 and _text(rest[0]) and _FLOAT_TEXT.match(rest[0]) \
+            and math.isfinite(float(rest[0])):
+        return float(rest[0])
+    if kind == "PyInt" and len(rest) == 1 and _digits(rest[0]):
+        return int(rest[0])
+    raise CacheFormatError(f"bad {kind} node")
+
+
+def _digits(text) -> bool:
+    return isinstance(text, str) and bool(_INTEGER.match(text))
+
+
+def _text(text) -> bool:
+    return isinstance(text, str) and len(text) <= MAX_STRING
+
+
+def _small(number, low: int, high: int) -> bool:
+    return type(number) is int and low <= number <= high
+
+
+#: kinds with child nodes: the number of plain items before the children
+_BRANCHES = {"Add": 0, "Mul": 0, "Pow": 0, "sin": 0, "cos": 0, "sign": 0, "Tuple": 0,
+             "Program": 0, "Matrix": 2}
+_LEAVES = frozenset(("Int", "Rat", "Float", "Sym", "pi", "Str", "PyFloat", "PyInt"))
+
+
+def _branch(node: list, args: list):
+    """The value of a node with child nodes, from its decoded children ``args``."""
+    kind = node[0]
+    if kind == "Tuple":
+        return tuple(args)
+    if kind == "Program":
+        if len(args) == 1 and isinstance(args[0], tuple) and all(
+                isinstance(a, tuple) and len(a) == 2 and type(a[0]) is sp.Symbol and isinstance(a[1], sp.Expr)
+                for a in args[0]):
+            return Program(args[0])
+        raise CacheFormatError("bad Program node")
+    if not all(isinstance(a, sp.Expr) for a in args):
+        raise CacheFormatError(f"{kind} of something that is not an expression")
+    if kind == "Matrix":
+        rows, cols = node[1], node[2]
+        if _small(rows, 0, 10_000) and _small(cols, 0, 10_000) and rows * cols == len(args):
+            return sp.ImmutableMatrix(rows, cols, args)
+        raise CacheFormatError("bad Matrix node")
+    if kind in _FUNCTIONS:
+        if len(args) != 1:
+            raise CacheFormatError(f"{kind} of {len(args)} arguments")
+        return _FUNCTIONS[kind](args[0], evaluate=False)
+    if len(args) < 2 or (kind == "Pow" and len(args) != 2):
+        raise CacheFormatError(f"{kind} of {len(args)} arguments")
+    return _OPERATORS[kind](*args, evaluate=False)
+
+
+def _construct(build, *args):
+    """``build(*args)``, with any error of SymPy or Python (contradictory assumptions, ...) as a
+    :class:`CacheFormatError`."""
     try:
-        with open(path, "rb") as handle:
-            blob = handle.read()
-        if not blob.startswith(MAGIC):
+        return build(*args)
+    except CacheFormatError:
+        raise
+    except (ValueError, TypeError, ArithmeticError, AttributeError) as exc:
+        raise CacheFormatError(f"bad {args[0][0]} node ({type(exc).__name__})") from None
+
+
+def decode(tree):
+    """The value of a JSON tree written by :func:`encode`, rebuilt without evaluating anything.
+
+    Only the node kinds listed above are accepted; at most :data:`MAX_NODES` nodes nested at
+    most :data:`MAX_DEPTH` deep, strings of at most :data:`MAX_STRING` characters and integers of
+    at most :data:`MAX_DIGITS` digits.  Iterative (no recursion), so any input is refused with
+    :class:`CacheFormatError` instead of exhausting the stack or the memory."""
+    done: list = []                   # values of finished nodes, in order
+    todo = [(tree, 0, False)]         # (node, depth, children already decoded)
+    count = 0
+    while todo:
+        node, depth, expanded = todo.pop()
+        if expanded:
+            start = len(done) - (len(node) - 1 - _BRANCHES[node[0]])
+            args = done[start:]
+            del done[start:]
+            done.append(_construct(_branch, node, args))
+            continue
+        count += 1
+        if count > MAX_NODES:
+            raise CacheFormatError(f"more than {MAX_NODES} nodes")
+        if depth > MAX_DEPTH:
+            raise CacheFormatError(f"nested more than {MAX_DEPTH} levels")
+        if not isinstance(node, list) or not node or not isinstance(node[0], str):
+            raise CacheFormatError("a node is not a list starting with its kind")
+        kind = node[0]
+        if kind in _LEAVES:
+            done.append(_construct(_leaf, node))
+        elif kind in _BRANCHES:
+            if len(node) <= _BRANCHES[kind]:
+                raise CacheFormatError(f"bad {kind} node")
+            todo.append((node, depth, True))
+            todo.extend((child, depth + 1, False) for child in reversed(node[1 + _BRANCHES[kind]:]))
+        else:
+            raise CacheFormatError(f"unknown node kind {kind[:40]!r}")
+    if len(done) != 1:
+        raise CacheFormatError("not one tree")
+    return done[0]
+
+
+# ---------------------------------------------------------------------------------------------
+# Entries
+# ---------------------------------------------------------------------------------------------
+
+def stored_fields() -> tuple[str, ...]:
+    """Names of the :class:`Equations` fields an entry holds (all but :data:`REBUILT_FIELDS`)."""
+    return tuple(f.name for f in dataclasses.fields(Equations) if f.name not in REBUILT_FIELDS)
+
+
+def _mac(secret: bytes, key: str, payload: bytes) -> bytes:
+    return hmac.new(secret, key.encode() + b"\n" + payload, hashlib.sha256).hexdigest().encode()
+
+
+def pack(eqs: Equations, key: str, secret: bytes) -> bytes:
+    """The bytes of the entry for ``eqs`` under cache key ``key`` (see the module docstring)."""
+    fields = {name: encode(getattr(eqs, name)) for name in stored_fields()}
+    payload = json.dumps({"format": FORMAT, "key": key, "fields": fields},
+                         separators=(",", ":"), ensure_ascii=True).encode()
+    return MAGIC + _mac(secret, key, payload) + b"\n" + payload
+
+
+def _refuse(text):
+    raise CacheFormatError(f"unexpected JSON value {text[:20]!r}")
+
+
+def _json_int(text: str) -> int:
+    if len(text) > 9:
+        raise CacheFormatError("JSON integer too long")
+    return int(text)
+
+
+def unpack(blob: bytes, key: str, secret: bytes) -> dict | None:
+    """The stored fields ``{name: value}`` of an entry, or ``None`` if it is not a valid entry
+    for ``key`` under ``secret`` (wrong framing, MAC, key, format or tree)."""
+    if len(blob) > MAX_ENTRY_BYTES or not blob.startswith(MAGIC):
+        return None
+    mac, newline, payload = blob[len(MAGIC):].partition(b"\n")
+    if not newline or not hmac.compare_digest(mac, _mac(secret, key, payload)):
+        return None
+    try:
+        doc = json.loads(payload.decode("utf-8"), parse_float=_refuse, parse_constant=_refuse,
+                         parse_int=_json_int)
+        if not isinstance(doc, dict) or doc.get("format") != FORMAT or doc.get("key") != key:
             return None
-        header, payload = blob[len(MAGIC):].split(b"\n", 1)
-        stored_key, checksum = header.decode().split(" ")
-        if stored_key != key or hashlib.sha256(payload).hexdigest() != checksum:
+        trees = doc.get("fields")
+        if not isinstance(trees, dict) or sorted(trees) != sorted(stored_fields()):
             return None
-        return pickle.loads(payload)
-    except Exception:  # any damage means: rebuild
+        return {name: decode(tree) for name, tree in trees.items()}
+    except (ValueError, TypeError, RecursionError, MemoryError):  # CacheFormatError is a ValueError
         return None
 
 
-def derive_cached(robot, method: str = "newton-euler", outputs=None, use_cache: bool = True) -> Equations:
-    """:func:`symdyn.derive` with the on-disk cache (``use_cache=False`` bypasses it)."""
+def _build(robot, method: str, wanted: tuple[str, ...], fields: dict) -> Equations | None:
+    """Equations from stored fields, or ``None`` if they do not fit the request."""
+    from .kinematics import joint_symbols
+    outputs, program = fields.get("outputs"), fields.get("program")
+    if not isinstance(program, Program) or not isinstance(outputs, tuple) \
+            or tuple(o[0] if isinstance(o, tuple) and len(o) == 2 else None for o in outputs) != wanted \
+            or not all(isinstance(m, sp.ImmutableMatrix) for _, m in outputs):
+        return None
+    q, qd, qdd, tau = joint_symbols(robot.dof)
+    try:
+        return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau, **fields)
+    except TypeError:
+        return None
+
+
+# ---------------------------------------------------------------------------------------------
+# The directory, its key file and entry files
+# ---------------------------------------------------------------------------------------------
+
+class Untrusted(Exception):
+    """The cache directory (or an entry in it) must not be used; the message says why."""
+
+
+def _warn(directory: str, reason: str) -> None:
+    """One ``symdyn: warning:`` line on stderr, at most once per process."""
+    global _warned
+    if not _warned:
+        _warned = True
+        warn(f"not using the derivation cache {directory}: {reason}")
+
+
+def _open_dir(path: str) -> int:
+    """A descriptor of the cache directory (created with mode 0700 if missing); raises
+    :class:`Untrusted` unless it is a directory, not a link, owned by this user and not
+    writable by group or others."""
+    if not hasattr(os, "geteuid"):
+        raise Untrusted("file ownership cannot be checked on this system")
+    try:
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        os.mkdir(path, 0o700)
+    except FileExistsError:
+        pass  # checked below, whatever it is
+    except OSError as exc:
+        raise Untrusted(f"cannot create it ({exc.strerror})") from None
+    try:
+        if stat.S_ISLNK(os.lstat(path).st_mode):
+            raise Untrusted("it is a symbolic link")
+        fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW | os.O_CLOEXEC)
+    except OSError as exc:
+        raise Untrusted(f"cannot open it ({exc.strerror})") from None
+    st = os.fstat(fd)
+    reason = (None if stat.S_ISDIR(st.st_mode) else "it is not a directory") \
+        or (f"it is owned by uid {st.st_uid}, not by uid {os.geteuid()}" if st.st_uid != os.geteuid() else None) \
+        or ("it is writable by group or others" if st.st_mode & 0o022 else None)
+    if reason:
+        os.close(fd)
+        raise Untrusted(reason)
+    return fd
+
+
+def _read_file(dir_fd: int, name: str, limit: int, private: bool = False) -> bytes | None:
+    """Contents of ``name`` in the directory: ``None`` if missing, at most ``limit + 1`` bytes.
+    Never follows a link nor blocks; raises :class:`Untrusted` for anything but a regular file
+    owned by this user (``private``: and not readable or writable by group or others)."""
+    try:
+        st = os.stat(name, dir_fd=dir_fd, follow_symlinks=False)
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        raise Untrusted(f"cannot read {name} ({exc.strerror})") from None
+    _check_regular(name, st)
+    try:
+        fd = os.open(name, os.O_RDONLY | os.O_NONBLOCK | os.O_NOFOLLOW | os.O_CLOEXEC, dir_fd=dir_fd)
+    except FileNotFoundError:
+        return None
+    except OSError as exc:  # a link (ELOOP) or a socket (ENXIO) put there since the stat
+        raise Untrusted(f"cannot read {name} ({exc.strerror})") from None
+    try:
+        st = os.fstat(fd)
+        _check_regular(name, st)
+        if private and st.st_mode & 0o066:
+            raise Untrusted(f"{name} is readable or writable by group or others")
+        chunks, size = [], 0
+        while size <= limit:
+            chunk = os.read(fd, min(limit + 1 - size, 1 << 20))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
+
+
+def _check_regular(name: str, st: os.stat_result) -> None:
+    if not stat.S_ISREG(st.st_mode):
+        raise Untrusted(f"{name} is not a regular file")
+    if st.st_uid != os.geteuid():
+        raise Untrusted(f"{name} is owned by uid {st.st_uid}, not by uid {os.geteuid()}")
+
+
+def _write_file(dir_fd: int, name: str, data: bytes, replace: bool = True) -> None:
+    """Write ``name`` (mode 0600) atomically: a new temporary file in the directory, then a
+    rename (``replace=False``: a hard link, which fails if ``name`` exists)."""
+    tmp = f".tmp-{secrets.token_hex(8)}"
+    fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC, 0o600,
+                 dir_fd=dir_fd)
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data)
+            handle.flush()
+            os.fsync(handle.fileno())
+        if replace:
+            os.replace(tmp, name, src_dir_fd=dir_fd, dst_dir_fd=dir_fd)
+        else:
+            os.link(tmp, name, src_dir_fd=dir_fd, dst_dir_fd=dir_fd, follow_symlinks=False)
+    finally:
+        try:
+            os.unlink(tmp, dir_fd=dir_fd)
+        except FileNotFoundError:
+            pass
+
+
+def _secret(dir_fd: int) -> bytes:
+    """The directory's secret key, created (``os.urandom``, mode 0600, atomically) if missing;
+    raises :class:`Untrusted` if the key file is not a private regular file of 32 bytes."""
+    for _ in range(2):
+        data = _read_file(dir_fd, KEY_FILE, KEY_BYTES, private=True)
+        if data is not None:
+            if len(data) != KEY_BYTES:
+                raise Untrusted(f"{KEY_FILE} is not {KEY_BYTES} bytes long")
+            return data
+        try:
+            _write_file(dir_fd, KEY_FILE, os.urandom(KEY_BYTES), replace=False)
+        except FileExistsError:
+            pass  # another process made it first: read theirs
+        except OSError as exc:
+            raise Untrusted(f"cannot create {KEY_FILE} ({exc.strerror})") from None
+    raise Untrusted(f"cannot create {KEY_FILE}")
+
+
+def _load(path: str, key: str):
+    """The stored fields of the entry at ``path`` under cache key ``key`` (``None`` if it is
+    missing, damaged, or its directory or key file is not trusted); nothing is written."""
+    directory, name = os.path.split(os.path.abspath(path))
+    try:
+        dir_fd = _open_dir(directory)
+        try:
+            secret = _secret(dir_fd)
+            blob = _read_file(dir_fd, name, MAX_ENTRY_BYTES)
+        finally:
+            os.close(dir_fd)
+    except Untrusted:
+        return None
+    return None if blob is None else unpack(blob, key, secret)
+
+
+def derive_cached(robot, method: str = "newton-euler", outputs=None, use_cache: bool = True,
+                  progress=None) -> Equations:
+    """:func:`symdyn.derive` with the on-disk cache (``use_cache=False`` bypasses it;
+    ``progress`` is passed on to the derivation when one runs)."""
     from .equations import OUTPUTS, _normalize_method
     method = _normalize_method(method)
     wanted = tuple(o for o in OUTPUTS if o in (outputs or OUTPUTS))
     if not use_cache:
-        return derive(robot, method, wanted)
+        return derive(robot, method, wanted, progress)
     key = cache_key(robot, method, wanted)
-    path = os.path.join(cache_dir(), f"{key}.pickle")
-    state = _load(path, key)
-    if state is not None:
-        assignments, outputs_tuple, seconds = state
-        from .kinematics import joint_symbols
-        q, qd, qdd, tau = joint_symbols(robot.dof)
-        return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,
-                         program=Program(assignments), outputs=outputs_tuple, seconds=seconds)
-    eqs = derive(robot, method, wanted)
-    payload = pickle.dumps((eqs.program.assignments, eqs.outputs, eqs.seconds), protocol=4)
-    blob = MAGIC + f"{key} {hashlib.sha256(payload).hexdigest()}\n".encode() + payload
+    directory, name = cache_dir(), f"{key}{SUFFIX}"
     try:
-        os.makedirs(os.path.dirname(path), exist_ok=True)
-        write_atomic(path, blob)
-    except OSError:
-        pass  # an unwritable cache only costs time
-    return eqs
+        dir_fd = _open_dir(directory)
+    except Untrusted as exc:
+        _warn(directory, str(exc))
+        return derive(robot, method, wanted, progress)
+    try:
+        try:
+            secret = _secret(dir_fd)
+            blob = _read_file(dir_fd, name, MAX_ENTRY_BYTES)
+        except Untrusted as exc:
+            _warn(directory, str(exc))
+            return derive(robot, method, wanted, progress)
+        if blob is not None:
+            fields = unpack(blob, key, secret)
+            eqs = _build(robot, method, wanted, fields) if fields is not None else None
+            if eqs is not None:
+                return eqs
+        eqs = derive(robot, method, wanted, progress)
+        try:
+            _write_file(dir_fd, name, pack(eqs, key, secret))
+        except CacheFormatError as exc:
+            _warn(directory, f"cannot store this derivation ({exc})")
+        except OSError:
+            pass  # an unwritable cache only costs time
+        return eqs
+    finally:
+        os.close(dir_fd)

@@ -33,7 +33,7 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Iterable, Mapping
+from typing import Callable, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
@@ -213,7 +213,8 @@ def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> tuple[sp.Mat
     return sp.Matrix(x), tuple((d[j], M[j, j]) for j in range(n))
 
 
-def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | None = None) -> Equations:
+def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | None = None,
+           progress: Callable[[str], None] | None = None) -> Equations:
     """Derive the equations of motion of ``robot``.
 
     Parameters
@@ -221,6 +222,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     robot : the robot description (see :func:`symdyn.load`).
     method : ``'newton-euler'`` (recursive, Table 3.2; D by composite rigid bodies) or ``'lagrange-euler'`` (trace form).
     outputs : names from :data:`OUTPUTS` to derive (default: all of them).
+    progress : called with a short text as each part starts (for long derivations).
 
     Returns
     -------
@@ -232,6 +234,10 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
         if name not in OUTPUTS:
             raise ValueError(f"unknown output {name!r}; known: {', '.join(OUTPUTS)}")
     start = time.perf_counter()
+
+    def report(part: str) -> None:
+        if progress is not None:
+            progress(f"{robot.name}: {method}: {part} ({time.perf_counter() - start:.1f} s)")
     chain = make_chain(robot)
     b = chain.builder
     n = chain.n
@@ -246,22 +252,29 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
 
     if method == "newton-euler":
         if "gravity" in need:
+            report("gravity")
             result["gravity"] = joint_forces(chain, zero, zero, chain.gravity, "g")
         if need & {"coriolis", "coriolis_matrix"}:
+            report("coriolis")
             h = joint_forces(chain, qd, zero, no_gravity, "h")
             result["coriolis"] = h
             if "coriolis_matrix" in need:
+                report("coriolis_matrix (derivative of h by qd)")
                 columns = differentiate(b.build(), h, qd, b, "dh")
                 C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i] / 2))
                 result["coriolis_matrix"] = C
         if "mass_matrix" in need:
+            report("mass_matrix (composite rigid bodies)")
             result["mass_matrix"] = composite_mass_matrix(chain)
         if "inverse_dynamics" in need:
+            report("inverse_dynamics")
             rigid = joint_forces(chain, qd, qdd, chain.gravity, "")
             result["inverse_dynamics"] = rigid + friction
         if "forward_dynamics" in need:
+            report("forward_dynamics (bias forces)")
             bias = joint_forces(chain, qd, zero, chain.gravity, "b")
     else:
+        report("link transforms, U_ij, U_ijk")
         le = LagrangeEuler(chain)
         if need & {"mass_matrix", "inverse_dynamics"}:
             result["mass_matrix"] = le.mass_matrix()
@@ -280,6 +293,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     pivots: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
     if "forward_dynamics" in need:
         M = result["mass_matrix"] + sp.diag(*[link.armature for link in robot.links])
+        report("forward_dynamics (LDL^T solve)")
         check_not_singular(robot, b.build(), M)
         rhs = sp.Matrix(tau) - bias - friction.subs({v: 0 for v in qdd})
         rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])

@@ -200,7 +200,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     store = f"({real})" if internal != precision else ""
     if checked:
         used |= set().union(*(sp.sympify(e).free_symbols for e in final_checks))
-        limit = "FLT_MAX" if precision == "float" else "DBL_MAX"
+        limit = "(double)FLT_MAX" if precision == "float" else "DBL_MAX"  # compared in double
         results = []
         for (target, _), expr in zip(targets, final_outputs):
             if isinstance(expr, sp.Symbol) and expr in names:
@@ -240,12 +240,18 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
 
 
 def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
-               source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = ()) -> dict[str, str]:
+               source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = (),
+               progress=None) -> dict[str, str]:
     """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` (or one header of static inline
-    functions when ``header_only``).  Returns ``{file name: text}``."""
+    functions when ``header_only``).  Returns ``{file name: text}``.  ``progress`` (optional) is
+    called with a short text as each function's C is built."""
     functions = [f for f in OUTPUTS if f in (functions or OUTPUTS)]
     prefix = eqs.robot.name
-    built = [c for f in functions for c in build_functions(eqs, f, precision, prefix)]
+    built = []
+    for f in functions:
+        if progress is not None:
+            progress(f"{prefix}: C for {f}")
+        built.extend(build_functions(eqs, f, precision, prefix))
     externals = [f"{prefix}_{f.name}" for f in built]
     if len({e[:31] for e in externals}) < len(externals):
         warn(f"robot name '{prefix}': the generated function names ({', '.join(externals)}) are not "

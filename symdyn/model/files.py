@@ -1,22 +1,594 @@
-"""File access shared by every stage: atomic writing of output and cache files."""
+"""Writing output and cache files safely: all of one run's files land as one unit, only regular
+files are ever replaced, inputs are never overwritten, and concurrent runs take turns.
+
+:func:`write_files` writes a set of files into one directory as a transaction;
+:func:`write_atomic` is the same for one file (the derivation cache uses it);
+:func:`check_output_dir` / :func:`output_directory` check (and create) an output directory before
+any long work starts.  Every failure is an :class:`OutputError`: a :class:`SymdynError` (the
+command line prints it as one line) that is also an :class:`OSError` (so a caller that treats any
+failure to write as harmless, like the derivation cache, keeps doing so).
+
+What a write guarantees
+-----------------------
+- **Modes.**  A new file gets the mode the umask gives (0644 under umask 022); a file that replaces
+  an existing one keeps that file's permission bits (``rwx`` bits only: set-user-ID, set-group-ID
+  and sticky are dropped); ``mode=`` forces a mode.  A temporary never has wider permissions than
+  the file it becomes.
+- **Only regular files are replaced.**  If a target name holds a symbolic link, a device, a FIFO,
+  a socket or a directory, the whole write is refused (naming the path) before anything is
+  written.  (A rename never writes through a link; the check keeps a user's link or node from being
+  silently destroyed, and a refused link's target is never touched.)
+- **Inputs are never overwritten.**  A target that is the same file (``st_dev``, ``st_ino``) as one
+  of the ``protect`` paths (the run's input files) is refused.
+- **One unit.**  Every file is first written to a temporary ``.symdyn-tmp-*`` in the output
+  directory and fsynced; only then are the temporaries renamed over their final names.  A failure
+  before the renames (a refusal, a full disk, ^C) removes every temporary and leaves the old files
+  as they were.  A rename that fails half-way puts back the files already renamed (from hard links
+  to the old files taken just before), so the old set stays whole.
+- **Serialized.**  An exclusive ``flock`` on the output directory itself (an ``O_RDONLY``
+  descriptor of it: no lock file) is held from the first check to the last rename, so concurrent
+  symdyn runs into one directory take turns; a reader that wants a consistent set takes it too
+  (:func:`lock_directory`).
+- **Signals.**  SIGINT, SIGTERM and SIGHUP are blocked while the renames run and delivered right
+  after, so ^C or ``kill`` cannot leave a new ``.h`` next to an old ``.c``.  (If a ^C arrived just
+  before the block, Python may raise ``KeyboardInterrupt`` inside the renames: they are then
+  completed before it propagates.)
+- **Journal.**  Before the renames, ``.symdyn-commit`` (written atomically) lists them; it is removed
+  after.  If the process dies between the two (SIGKILL, power loss), the next write into the
+  directory, under the lock, *rolls the commit forward*: it completes the renames whose temporaries
+  still exist, then deletes leftover symdyn temporaries (only regular files named
+  ``.symdyn-tmp-*``).  A rollback after a failed rename is journaled the
+  same way, so an interrupted rollback is completed too.
+
+What it does not guarantee
+--------------------------
+- Until the next symdyn write into the directory, a commit cut short by SIGKILL stays half done
+  (some files new, some old, temporaries and the journal present).
+- A reader that does not take the lock can see, during the few microseconds of the renames, a new
+  file next to an old one.
+- ``flock`` is advisory and only serializes symdyn runs; where a directory cannot be locked (NFS
+  emulates ``flock`` with byte-range locks, which need a writable descriptor) the write goes ahead
+  unlocked.  Another program changing the directory between the checks and the renames is not
+  prevented (the renames still never follow links).
+- A journal owned by another user is not acted on: the write is refused with a message saying so.
+- Blocking signals covers the calling thread: in a multi-threaded program a signal delivered to
+  another thread still reaches Python's handler (the renames are then completed as above).
+- The owner and group of a replaced file are not kept (the new file belongs to the writer).
+- A second failure *during* the rollback of a failed rename (an I/O error, or SIGKILL when the
+  rollback journal could not be written) can leave a mixed set.
+
+POSIX only (``fcntl``, ``dir_fd``); directories are handled through a descriptor, so renaming or
+replacing the output directory's path during a write does not redirect it.
+"""
 
 from __future__ import annotations
 
+import contextlib
 import os
-import tempfile
+import secrets
+import signal
+import stat
+from typing import Iterable, Iterator, Mapping
+
+try:
+    import fcntl
+except ImportError:  # not POSIX: no locking
+    fcntl = None
+
+from .errors import SymdynError, one_line
+
+#: prefix of every temporary symdyn creates in an output directory (and deletes when left over)
+TEMP_PREFIX = ".symdyn-tmp-"
+#: name of the commit journal in an output directory
+JOURNAL = ".symdyn-commit"
+_JOURNAL_HEADER = b"symdyn-commit 1\n"
+_MAX_JOURNAL = 1 << 20
+_SIGNALS = {getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)}
+_O_CLOEXEC = getattr(os, "O_CLOEXEC", 0)
+_O_NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
+_O_NONBLOCK = getattr(os, "O_NONBLOCK", 0)
+_O_DIRECTORY = getattr(os, "O_DIRECTORY", 0)
+_CREATE = os.O_WRONLY | os.O_CREAT | os.O_EXCL | _O_NOFOLLOW | _O_CLOEXEC
 
 
-def write_atomic(path: str, data: bytes) -> None:
-    """Write ``data`` to ``path`` through a temporary file in the same directory and a rename."""
-    directory = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".tmp-", dir=directory)
+class OutputError(SymdynError, OSError):
+    """A file could not be written, or writing it was refused (one line, naming the path)."""
+
+
+def _reason(exc: OSError) -> str:
+    return exc.strerror or str(exc)
+
+
+def _kind(mode: int) -> str:
+    """What a non-regular directory entry is, in words."""
+    if stat.S_ISLNK(mode):
+        return "a symbolic link"
+    if stat.S_ISDIR(mode):
+        return "a directory"
+    if stat.S_ISFIFO(mode):
+        return "a FIFO"
+    if stat.S_ISSOCK(mode):
+        return "a socket"
+    if stat.S_ISCHR(mode) or stat.S_ISBLK(mode):
+        return "a device"
+    return "a special file"
+
+
+def _check_name(name: str) -> None:
+    """A target must be a plain file name of the directory, outside symdyn's own names."""
+    if (not isinstance(name, str) or name in ("", ".", "..") or "/" in name or os.sep in name
+            or any(ord(ch) < 32 or ord(ch) == 127 for ch in name)
+            or name.startswith(TEMP_PREFIX) or name == JOURNAL):
+        raise OutputError(f"cannot write a file named {one_line(repr(name), 120)}: not a plain file name")
+
+
+# ---------------------------------------------------------------------------------------------
+# The output directory: checked before the work, locked during the write
+
+def check_output_dir(directory: str, option: str = "--out") -> list[str]:
+    """Make sure ``directory`` can receive output, before any long work: create it (and its
+    missing parents) if missing, refuse a path that exists and is not a directory
+    (``"--out X is a file, not a directory"``; ``option`` names the option in the message) and a
+    directory that is not writable (asked with ``os.access`` and, since root passes that, by
+    creating and removing a temporary there).  Returns the directories it created, outermost
+    first (see :func:`output_directory`).  Raises :class:`OutputError`."""
+    directory = os.fspath(directory)
     try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-            handle.flush()
-            os.fsync(handle.fileno())
-        os.replace(tmp, path)
+        info = os.stat(directory)
+    except OSError:
+        info = None
+    if info is not None and not stat.S_ISDIR(info.st_mode):
+        what = "a file" if stat.S_ISREG(info.st_mode) else _kind(info.st_mode)
+        raise OutputError(f"{option} {directory} is {what}, not a directory")
+    created = []
+    if info is None:
+        missing, path = [], os.path.abspath(directory)
+        while not os.path.lexists(path) and path != os.path.dirname(path):
+            missing.append(path)
+            path = os.path.dirname(path)
+        try:
+            os.makedirs(directory, exist_ok=True)
+        except OSError as exc:
+            raise OutputError(f"cannot create output directory {directory}: {_reason(exc)}") from None
+        created = missing[::-1]
+    try:
+        if not os.access(directory, os.W_OK | os.X_OK):
+            raise OutputError(f"output directory {directory} is not writable")
+        try:
+            _probe_writable(directory)
+        except OSError as exc:
+            raise OutputError(f"output directory {directory} is not writable: {_reason(exc)}") from None
     except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        _remove_dirs(created)
         raise
+    return created
+
+
+def _probe_writable(directory: str) -> None:
+    """Create and remove a temporary in ``directory``; raises OSError if that is not possible."""
+    path = os.path.join(directory, f"{TEMP_PREFIX}probe-{secrets.token_hex(6)}")
+    os.close(os.open(path, _CREATE, 0o600))
+    with contextlib.suppress(FileNotFoundError):  # a concurrent write's clean-up may beat us to it
+        os.unlink(path)
+
+
+def _remove_dirs(created: list[str]) -> None:
+    """Remove the directories :func:`check_output_dir` created, innermost first, if still empty."""
+    for path in reversed(created):
+        try:
+            os.rmdir(path)
+        except OSError:
+            break
+
+
+@contextlib.contextmanager
+def output_directory(directory: str, option: str = "--out") -> Iterator[str]:
+    """``with output_directory(out):`` runs :func:`check_output_dir` and, if the body then fails,
+    removes the directories it created (when empty), so a failed run leaves no trace."""
+    created = check_output_dir(directory, option)
+    try:
+        yield directory
+    except BaseException:
+        _remove_dirs(created)
+        raise
+
+
+@contextlib.contextmanager
+def lock_directory(directory: str) -> Iterator[int]:
+    """Hold the exclusive symdyn lock of ``directory`` (``flock`` on a descriptor of the directory
+    itself); yields that descriptor.  Blocks while another symdyn write into it runs.  Where the
+    file system cannot lock a directory, yields without the lock."""
+    try:
+        dfd = os.open(directory, os.O_RDONLY | _O_DIRECTORY | _O_CLOEXEC)
+    except OSError as exc:
+        raise OutputError(f"cannot open output directory {directory}: {_reason(exc)}") from None
+    try:
+        if fcntl is not None:
+            try:
+                fcntl.flock(dfd, fcntl.LOCK_EX)
+            except OSError:
+                pass  # e.g. NFS (EBADF/ENOLCK): documented as unlocked
+        yield dfd
+    finally:
+        os.close(dfd)  # releases the lock
+
+
+def _block_signals():
+    """Block SIGINT/SIGTERM/SIGHUP for this thread; returns what to restore (None: nothing)."""
+    if not hasattr(signal, "pthread_sigmask"):
+        return None
+    return signal.pthread_sigmask(signal.SIG_BLOCK, _SIGNALS)
+
+
+def _restore_signals(previous) -> None:
+    """Restore the mask; a signal that came meanwhile is delivered now."""
+    if previous is not None:
+        signal.pthread_sigmask(signal.SIG_SETMASK, previous)
+
+
+def _file_ids(paths: Iterable[str]) -> set[tuple[int, int]]:
+    """(st_dev, st_ino) of each existing path (and of a link itself when a path is a link)."""
+    ids = set()
+    for path in paths:
+        for follow in (True, False):
+            try:
+                info = os.stat(path, follow_symlinks=follow)
+            except (OSError, ValueError):
+                continue
+            ids.add((info.st_dev, info.st_ino))
+    return ids
+
+
+def _check_target(dfd: int, directory: str, name: str, protected) -> int | None:
+    """Refuse to replace anything but a regular file that is not an input; returns the
+    permission bits of the file being replaced, None when the name is free."""
+    path = os.path.join(directory, name)
+    try:
+        info = os.stat(name, dir_fd=dfd, follow_symlinks=False)
+    except FileNotFoundError:
+        return None
+    except OSError as exc:
+        raise OutputError(f"cannot write {path}: {_reason(exc)}") from None
+    if not stat.S_ISREG(info.st_mode):
+        what = _kind(info.st_mode)
+        if stat.S_ISLNK(info.st_mode):
+            with contextlib.suppress(OSError):
+                what += f" to {one_line(os.readlink(name, dir_fd=dfd), 200)}"
+        raise OutputError(f"refusing to replace {path}: it is {what}, not a regular file "
+                          "(nothing was written; remove it or write elsewhere)")
+    if (info.st_dev, info.st_ino) in protected:
+        raise OutputError(f"refusing to overwrite {path}: it is an input file of this run (nothing was written)")
+    return stat.S_IMODE(info.st_mode) & 0o777
+
+
+def check_targets(directory: str, names: Iterable[str], protect: Iterable[str] = ()) -> None:
+    """Check, without writing, that :func:`write_files` would accept ``names`` in ``directory``
+    (plain names; no link, device, FIFO, socket, directory or input file in the way); for an early
+    refusal before long work.  Raises :class:`OutputError`."""
+    names = list(names)
+    for name in names:
+        _check_name(name)
+    protected = _file_ids(protect)
+    try:
+        dfd = os.open(directory, os.O_RDONLY | _O_DIRECTORY | _O_CLOEXEC)
+    except OSError as exc:
+        raise OutputError(f"cannot open output directory {directory}: {_reason(exc)}") from None
+    try:
+        for name in names:
+            _check_target(dfd, directory, name, protected)
+    finally:
+        os.close(dfd)
+
+
+# ---------------------------------------------------------------------------------------------
+# The journal: a list of ("rename", src, dst) and ("unlink", dst, inode) steps, replayed at most once
+
+def _encode_journal(steps) -> bytes:
+    lines = [_JOURNAL_HEADER]
+    for op, a, b in steps:
+        lines.append(b"\t".join((op.encode(), os.fsencode(str(a)), os.fsencode(str(b)))) + b"\n")
+    return b"".join(lines)
+
+
+def _parse_journal(data: bytes):
+    """The journal's steps; lines that are not well-formed symdyn steps are dropped."""
+    if not data.startswith(_JOURNAL_HEADER):
+        return None
+    steps = []
+    for line in data[len(_JOURNAL_HEADER):].split(b"\n"):
+        parts = line.split(b"\t")
+        if len(parts) != 3:
+            continue
+        op, a, b = parts[0], os.fsdecode(parts[1]), os.fsdecode(parts[2])
+        try:
+            if op == b"rename" and a.startswith(TEMP_PREFIX) and "/" not in a:
+                _check_name(b)
+                steps.append(("rename", a, b))
+            elif op == b"unlink" and b.isdigit():
+                _check_name(a)
+                steps.append(("unlink", a, int(b)))
+        except OutputError:
+            continue
+    return steps
+
+
+def _lstat(dfd: int, name: str):
+    try:
+        return os.stat(name, dir_fd=dfd, follow_symlinks=False)
+    except FileNotFoundError:
+        return None
+
+
+def _replay(dfd: int, steps, protected) -> None:
+    """Apply journal steps that are still pending (idempotent): rename a temporary that still
+    exists over its target (unless the target is not a regular file or is an input); unlink a
+    target that is still the file the journal created."""
+    euid = os.geteuid()
+    for op, a, b in steps:
+        if op == "rename":
+            src, dst = _lstat(dfd, a), _lstat(dfd, b)
+            if src is None or not stat.S_ISREG(src.st_mode):
+                continue  # already renamed
+            if dst is not None and (not stat.S_ISREG(dst.st_mode) or (dst.st_dev, dst.st_ino) in protected):
+                continue
+            os.replace(a, b, src_dir_fd=dfd, dst_dir_fd=dfd)
+        else:
+            dst = _lstat(dfd, a)
+            if dst is not None and stat.S_ISREG(dst.st_mode) and dst.st_ino == b and dst.st_uid == euid:
+                os.unlink(a, dir_fd=dfd)
+
+
+def _recover(dfd: int, directory: str, protected) -> None:
+    """Under the lock: finish a commit (or rollback) a killed run left half done, then delete
+    leftover symdyn temporaries owned by this user."""
+    euid = os.geteuid()
+    journal_path = os.path.join(directory, JOURNAL)
+    try:
+        info = _lstat(dfd, JOURNAL)
+        if info is not None:
+            if not stat.S_ISREG(info.st_mode):
+                raise OutputError(f"{journal_path} is {_kind(info.st_mode)}, not a symdyn journal: remove it")
+            if info.st_uid != euid:
+                raise OutputError(f"{journal_path}: an interrupted write by another user (uid {info.st_uid}) "
+                                  "is pending in this directory: run symdyn there as that user, or remove the file")
+            fd = os.open(JOURNAL, os.O_RDONLY | _O_NOFOLLOW | _O_NONBLOCK | _O_CLOEXEC, dir_fd=dfd)
+            try:
+                data = os.read(fd, _MAX_JOURNAL)
+            finally:
+                os.close(fd)
+            steps = _parse_journal(data)
+            if steps is None:
+                raise OutputError(f"{journal_path} is not a journal this symdyn can read: remove it")
+            blocked = _block_signals()
+            try:
+                _replay(dfd, steps, protected)
+                os.fsync(dfd)
+                os.unlink(JOURNAL, dir_fd=dfd)
+                os.fsync(dfd)
+            finally:
+                _restore_signals(blocked)
+        for name in os.listdir(dfd):
+            if name.startswith(TEMP_PREFIX):
+                leftover = _lstat(dfd, name)
+                if leftover is not None and stat.S_ISREG(leftover.st_mode):
+                    with contextlib.suppress(FileNotFoundError, PermissionError):  # sticky directory
+                        os.unlink(name, dir_fd=dfd)
+    except OSError as exc:
+        if isinstance(exc, OutputError):
+            raise
+        raise OutputError(f"cannot finish an interrupted write in {directory}: {_reason(exc)}") from None
+
+
+# ---------------------------------------------------------------------------------------------
+# The transaction
+
+class _Transaction:
+    """Temporaries of one write in a locked directory, and their commit or removal."""
+
+    def __init__(self, dfd: int, directory: str):
+        self.dfd = dfd
+        self.directory = directory
+        self.staged: list[list] = []  # [temp, final, inode, backup or None]
+        self.scratch: list[str] = []  # every name this transaction created (removed at the end)
+        self.unresolved = False  # a journal is in place that the next run must replay
+
+    def _path(self, name: str) -> str:
+        return os.path.join(self.directory, name)
+
+    def _create(self, suffix: str, mode: int) -> tuple[str, int]:
+        while True:
+            name = f"{TEMP_PREFIX}{secrets.token_hex(8)}{suffix}"
+            self.scratch.append(name)  # before creating: an interrupt right after still cleans up
+            try:
+                return name, os.open(name, _CREATE, mode, dir_fd=self.dfd)
+            except FileExistsError:
+                self.scratch.pop()
+
+    def _write(self, fd: int, data: bytes) -> None:
+        view = memoryview(data)
+        while view:
+            view = view[os.write(fd, view):]
+        os.fsync(fd)
+
+    def stage(self, final: str, data: bytes, mode: int | None) -> None:
+        """Write ``data`` to a new temporary (fsynced) that will become ``final`` with ``mode``
+        (None: the umask's)."""
+        try:
+            # created 0600 when a mode will be set, so that no one can open it with wider rights
+            temp, fd = self._create(".new", 0o666 if mode is None else 0o600)
+            try:
+                if mode is not None:
+                    os.fchmod(fd, mode)
+                self._write(fd, bytes(data))
+                inode = os.fstat(fd).st_ino
+            finally:
+                os.close(fd)
+        except OSError as exc:
+            raise OutputError(f"cannot write {self._path(final)}: {_reason(exc)}") from None
+        self.staged.append([temp, final, inode, None])
+
+    def _backup(self, entry) -> None:
+        """Keep the file ``entry`` replaces under a temporary name (a hard link, else a copy)."""
+        final = entry[1]
+        if _lstat(self.dfd, final) is None:
+            return
+        while True:
+            name = f"{TEMP_PREFIX}{secrets.token_hex(8)}.old"
+            self.scratch.append(name)
+            try:
+                os.link(final, name, src_dir_fd=self.dfd, dst_dir_fd=self.dfd, follow_symlinks=False)
+                break
+            except FileExistsError:
+                self.scratch.pop()
+            except OSError:  # no hard links here: copy
+                self.scratch.pop()
+                name = self._copy(final)
+                break
+        entry[3] = name
+
+    def _copy(self, final: str) -> str:
+        src = os.open(final, os.O_RDONLY | _O_NOFOLLOW | _O_NONBLOCK | _O_CLOEXEC, dir_fd=self.dfd)
+        try:
+            info = os.fstat(src)
+            if not stat.S_ISREG(info.st_mode):
+                raise OSError(0, f"it became {_kind(info.st_mode)}")
+            name, dst = self._create(".old", 0o600)
+            try:
+                os.fchmod(dst, stat.S_IMODE(info.st_mode) & 0o777)
+                chunks = []
+                while chunk := os.read(src, 1 << 20):
+                    chunks.append(chunk)
+                self._write(dst, b"".join(chunks))
+            finally:
+                os.close(dst)
+        finally:
+            os.close(src)
+        return name
+
+    def _journal(self, steps) -> None:
+        """Atomically put ``steps`` in place as the directory's journal."""
+        name, fd = self._create(".journal", 0o600)
+        try:
+            self._write(fd, _encode_journal(steps))
+        finally:
+            os.close(fd)
+        os.replace(name, JOURNAL, src_dir_fd=self.dfd, dst_dir_fd=self.dfd)
+        os.fsync(self.dfd)
+        self.unresolved = True
+
+    def _close_journal(self) -> None:
+        os.fsync(self.dfd)
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(JOURNAL, dir_fd=self.dfd)
+        self.unresolved = False
+
+    def commit(self) -> None:
+        """Rename every temporary over its final name, as one unit (see the module docstring).
+        The journal in place is the commit point: from then on an interrupt completes the commit."""
+        try:
+            for entry in self.staged:
+                self._backup(entry)
+        except OSError as exc:
+            raise OutputError(f"cannot write into {self.directory}: {_reason(exc)}") from None
+        blocked = _block_signals()
+        try:
+            try:
+                self._journal([("rename", temp, final) for temp, final, _, _ in self.staged])
+            except BaseException as exc:
+                if self.unresolved:  # a ^C right after the journal was in place and synced:
+                    self._finish()  # the commit point was passed
+                    raise
+                with contextlib.suppress(OSError):
+                    os.unlink(JOURNAL, dir_fd=self.dfd)
+                if isinstance(exc, OSError) and not isinstance(exc, OutputError):
+                    raise OutputError(f"cannot write into {self.directory}: {_reason(exc)}") from None
+                raise
+            done = 0
+            try:
+                for temp, final, _, _ in self.staged:
+                    os.replace(temp, final, src_dir_fd=self.dfd, dst_dir_fd=self.dfd)
+                    done += 1
+            except OSError as exc:
+                self._rollback(self.staged[:done], exc)
+            except BaseException:
+                # a signal that reached Python just before the block: the commit point was
+                # passed, so finish the commit, then let the interrupt through
+                self._finish()
+                raise
+            try:
+                self._close_journal()
+            except OSError:
+                pass  # the files are in place; a journal left behind is replayed harmlessly
+            self.discard()
+        finally:
+            _restore_signals(blocked)
+
+    def _finish(self) -> None:
+        """Complete the journaled renames (idempotent: one that already happened is skipped)."""
+        _replay(self.dfd, [("rename", temp, final) for temp, final, _, _ in self.staged], set())
+        self._close_journal()
+
+    def _rollback(self, done, exc: OSError) -> None:
+        """Put back what the first ``done`` renames replaced, then raise the failure."""
+        failed = self.staged[len(done)][1]
+        steps = [("rename", backup, final) if backup else ("unlink", final, inode)
+                 for _, final, inode, backup in done]
+        try:
+            self._journal(steps)  # an interrupted rollback is completed by the next run
+        except OSError:
+            pass  # the commit journal stays; a kill now may leave a mixed set (documented)
+        try:
+            _replay(self.dfd, steps, set())
+            self._close_journal()
+        except OSError as again:
+            raise OutputError(f"cannot write {self._path(failed)}: {_reason(exc)}; putting back the "
+                              f"previous files failed too ({_reason(again)}): the next symdyn write into "
+                              f"{self.directory} will finish it") from None
+        self.discard()
+        raise OutputError(f"cannot write {self._path(failed)}: {_reason(exc)} "
+                          "(the previous files were left as they were)") from None
+
+    def discard(self) -> None:
+        """Remove every temporary this transaction created, unless a journal still needs them."""
+        if self.unresolved:
+            return
+        for name in self.scratch:
+            with contextlib.suppress(OSError):
+                os.unlink(name, dir_fd=self.dfd)
+        self.scratch = []
+
+
+def write_files(directory: str, files: Mapping[str, bytes], protect: Iterable[str] = (), *,
+                mode: int | None = None) -> list[str]:
+    """Write ``files`` ({plain file name: content}) into the existing ``directory`` as one unit.
+
+    ``protect``: paths of the run's input files, which are never overwritten.  ``mode``: the
+    permission bits of every file (default: the umask's for a new file, the old file's for a
+    replaced one).  Returns the paths written, in the order of ``files``.  Raises
+    :class:`OutputError` (nothing changed, except for the documented double faults); the
+    guarantees are in the module docstring."""
+    names = list(files)
+    for name in names:
+        _check_name(name)
+    if not names:
+        return []
+    protected = _file_ids(protect)
+    with lock_directory(directory) as dfd:
+        _recover(dfd, directory, protected)
+        modes = {name: _check_target(dfd, directory, name, protected) for name in names}
+        transaction = _Transaction(dfd, directory)
+        try:
+            for name in names:
+                transaction.stage(name, files[name], mode if mode is not None else modes[name])
+            transaction.commit()
+        except BaseException:
+            transaction.discard()
+            raise
+    return [os.path.join(directory, name) for name in names]
+
+
+def write_atomic(path: str, data: bytes, *, mode: int | None = None, protect: Iterable[str] = ()) -> None:
+    """Replace ``path`` with ``data`` atomically: :func:`write_files` for one file, in the
+    directory of ``path`` (which must exist).  Raises :class:`OutputError` (an OSError)."""
+    directory, name = os.path.split(os.path.abspath(os.fspath(path)))
+    write_files(directory, {name: data}, protect, mode=mode)
