@@ -46,9 +46,18 @@ def snapshot(*roots):
 def run_cli(argv, capsys, expect):
     """main(argv) with the exit status ``expect``; returns stderr's lines (exactly one line, an
     error, when ``expect`` is 1)."""
+    argv = [str(a) for a in argv]
+    outputs = [argv[k + 1] for k, a in enumerate(argv[:-1]) if a == "--out"]
+    here = pathlib.Path.cwd()
+
+    def others():  # every file under the working directory but the output
+        return {path: info for path, info in snapshot(here).items()
+                if not any(path == out or path.startswith(out.rstrip("/") + "/") for out in outputs)}
+    before = others()
     start = time.perf_counter()
-    status = main([str(a) for a in argv])
+    status = main(argv)
     seconds = time.perf_counter() - start
+    assert others() == before, "a file outside the output changed"
     captured = capsys.readouterr()
     lines = captured.err.strip().splitlines()
     assert status == expect, (status, captured.err[-2000:])
