@@ -13,7 +13,7 @@ Public API::
 from ._version import __version__
 from . import derive  # the derivation package, callable: symdyn.derive(robot, method, outputs)
 from .derive.equations import METHODS, OUTPUTS, Equations
-from .model.errors import RobotFileError, SymdynError
+from .model.errors import RobotFileError, SymdynError, SymdynWarning
 from .model.robot import Link, Robot, load, loads
 
 
@@ -25,4 +25,4 @@ def to_casadi(source, functions=None, method="newton-euler", prefix="", use_cach
 
 
 __all__ = ["__version__", "load", "loads", "derive", "Robot", "Link", "Equations", "OUTPUTS",
-           "METHODS", "RobotFileError", "SymdynError", "to_casadi"]
+           "METHODS", "RobotFileError", "SymdynError", "SymdynWarning", "to_casadi"]

@@ -38,10 +38,13 @@ def main(argv=None) -> int:
         parser.print_help()
         return 2
     try:
-        with _warnings_as_lines():
+        with _warnings_as_lines(strict=getattr(args, "strict", False)):
             return int(args.run(args) or 0)
     except SymdynError as exc:
         print(f"symdyn: error: {exc}", file=sys.stderr)
+        return 1
+    except SymdynWarning as exc:  # --strict: a warning is an error
+        print(f"symdyn: error: {one_line(exc)} (--strict)", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("symdyn: interrupted", file=sys.stderr)
@@ -59,8 +62,9 @@ def main(argv=None) -> int:
 
 
 @contextlib.contextmanager
-def _warnings_as_lines():
-    """Show each :class:`SymdynWarning` as one ``symdyn: warning: ...`` line on stderr."""
+def _warnings_as_lines(strict: bool = False):
+    """Show each :class:`SymdynWarning` as one ``symdyn: warning: ...`` line on stderr (``strict``:
+    raise it instead, so that the command fails with it as its error)."""
     previous = warnings.showwarning
 
     def show(message, category, filename, lineno, file=None, line=None):
@@ -71,7 +75,7 @@ def _warnings_as_lines():
     warnings.showwarning = show
     try:
         with warnings.catch_warnings():
-            warnings.simplefilter("always", SymdynWarning)
+            warnings.simplefilter("error" if strict else "always", SymdynWarning)
             warnings.showwarning = show
             yield
     finally:

@@ -31,6 +31,10 @@ DEFAULT_MAX_JOINTS = 40
 
 
 def add_size_options(parser) -> None:
+    """--strict and --max-joints, shared by every subcommand that reads robots."""
+    parser.add_argument("--strict", action="store_true",
+                        help="treat every warning (inertia breaking the triangle inequality, angles that "
+                             "look like degrees, a mass without inertia, ...) as an error")
     parser.add_argument("--max-joints", type=int, default=DEFAULT_MAX_JOINTS, metavar="N",
                         help=f"refuse robots with more than N joints before deriving (default "
                              f"{DEFAULT_MAX_JOINTS}; 20 joints take about a minute, 30 about two)")

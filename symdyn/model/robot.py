@@ -9,6 +9,7 @@ function that changes one returns a new value.
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import os
 import re
@@ -17,7 +18,7 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
-from .errors import RobotFileError, describe, one_line
+from .errors import RobotFileError, describe, one_line, warn
 from .expr import NAME_PATTERN, ExpressionError, number_to_rational, parse_expression
 from .inputs import decode_text, load_yaml, read_input
 
@@ -36,7 +37,8 @@ _RESERVED_NAME = re.compile(r"(q|qd|qdd|tau|p)[0-9]*\Z")
 _RESERVED_WORDS = frozenset({"pi", "e", "E", "I", "sin", "cos", "sqrt"})
 _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any case
 
-TOP_KEYS = ("format", "name", "convention", "gravity", "parameters", "links")
+TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "parameters", "links")
+ANGLE_UNITS = ("radians", "degrees")
 LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "mass", "com", "inertia",
              "armature", "damping", "coulomb")
 INERTIA_KEYS = ("xx", "yy", "zz", "xy", "xz", "yz")
@@ -191,7 +193,7 @@ class _Reader:
         self.constants: dict[str, sp.Expr] = {}
         self.runtime: dict[str, sp.Symbol] = {}
         self.runtime_nominal: dict[str, sp.Expr | None] = {}
-        self.free: dict[str, sp.Symbol] = {}
+        self.degrees = False  # angles: degrees
 
     def fail(self, reason: str, link: str | None = None, fld: str | None = None):
         raise RobotFileError(self.path, reason, link=link, field=fld)
@@ -204,21 +206,28 @@ class _Reader:
                       "I, sin, cos, sqrt, nan, inf, oo, zoo or a joint variable name (q1, qd1, qdd1, "
                       "tau1, p...)", link, fld)
 
-    def resolver(self, link, fld, allow_free=True):
+    def warn(self, reason: str, link: str | None = None, fld: str | None = None):
+        """A one-line :class:`SymdynWarning` naming the file, link and field."""
+        where = [one_line(self.path, 200)] + ([one_line(link, 120)] if link else []) + \
+            ([f"field '{one_line(fld, 80)}'"] if fld else [])
+        warn(f"{': '.join(where)}: {reason}")
+
+    def resolver(self, link, fld, earlier=False):
+        """Names resolve to the parameters declared under ``parameters:`` (``earlier``: inside
+        ``parameters:``, only those declared before); any other name is an error."""
         def resolve(name: str) -> sp.Expr:
             if name in self.constants:
                 return self.constants[name]
             if name in self.runtime:
                 return self.runtime[name]
-            if not allow_free:
-                raise ExpressionError(f"unknown name '{name}' (define it earlier under parameters)")
-            self.check_name(name, link, fld)
-            if name not in self.free:
-                self.free[name] = parameter_symbol(name)
-            return self.free[name]
+            known = list(self.constants) + list(self.runtime)
+            close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+            hint = f"; did you mean '{close[0]}'?" if close else ""
+            where = "earlier under parameters" if earlier else "under parameters: (name: {runtime: true} for a symbol)"
+            raise ExpressionError(f"unknown name '{name}': declare it {where}{hint}")
         return resolve
 
-    def number(self, value: Any, link: str | None, fld: str, allow_free: bool = True) -> sp.Expr:
+    def number(self, value: Any, link: str | None, fld: str, earlier: bool = False) -> sp.Expr:
         """The exact value of a numeric field: a finite number of magnitude at most
         :data:`MAX_MAGNITUDE` (after folding named constants), or an expression of names."""
         if isinstance(value, bool) or value is None:
@@ -231,7 +240,7 @@ class _Reader:
             result = number_to_rational(repr(value))
         elif isinstance(value, str):
             try:
-                result = parse_expression(value, self.resolver(link, fld, allow_free))
+                result = parse_expression(value, self.resolver(link, fld, earlier))
             except ExpressionError as exc:
                 self.fail(f"bad expression: {exc}", link, fld)
         else:
@@ -255,8 +264,6 @@ class _Reader:
             if not isinstance(name, str):
                 self.fail(f"parameter names must be text, got {describe(name)}", None, "parameters")
             self.check_name(name, None, fld, "parameter name")
-            if name in self.free:
-                self.fail(f"parameter '{name}' is used before it is defined", None, fld)
             runtime = False
             if isinstance(spec, dict):
                 unknown = sorted(set(map(str, spec)) - {"value", "runtime"})
@@ -270,7 +277,7 @@ class _Reader:
                 raw = spec.get("value")
             else:
                 raw = spec
-            value = None if raw is None else self.number(raw, None, fld if not isinstance(spec, dict) else f"{fld}.value", allow_free=False)
+            value = None if raw is None else self.number(raw, None, fld if not isinstance(spec, dict) else f"{fld}.value", earlier=True)
             if value is None and not runtime:
                 self.fail("a parameter needs a value (or runtime: true)", None, fld)
             if runtime:
@@ -306,18 +313,35 @@ class _Reader:
             if key not in raw:
                 self.fail("missing required field", label, key)
             geometry[key] = self.number(raw[key], label, key)
+            if key in ("alpha", "theta"):
+                geometry[key] = self.angle(geometry[key], label, key)
         mass = self.number(raw.get("mass", 0), label, "mass")
         if mass.is_number and mass < 0:
             self.fail(f"mass must not be negative, got {float(mass):g}", label, "mass")
         com = self.vector(raw.get("com", [0, 0, 0]), 3, label, "com")
-        inertia = self.read_inertia(raw.get("inertia", [0] * 6), label)
+        if "inertia" not in raw and mass != 0:
+            self.warn("a mass but no inertia: a point mass is assumed (write 'inertia: 0' to say so)",
+                      label, "inertia")
+        inertia = self.read_inertia(raw.get("inertia", 0), label)
         extras = {key: self.number(raw.get(key, 0), label, key) for key in ("armature", "damping", "coulomb")}
         for key, value in extras.items():
             if value.is_number and value < 0:
                 self.fail(f"{key} must not be negative, got {float(value):g}", label, key)
         return Link(name=name, joint=joint, mass=mass, com=com, inertia=inertia, **geometry, **extras)
 
+    def angle(self, value: sp.Expr, label: str, fld: str) -> sp.Expr:
+        """An angle field in rad: converted from degrees under ``angles: degrees``; a magnitude
+        above 2 pi under radians draws a warning."""
+        if self.degrees:
+            return value * sp.pi / 180
+        if value.is_number and abs(value) > 2 * sp.pi:
+            self.warn(f"{float(value):g} rad looks like degrees (more than 2 pi); write 'angles: degrees' "
+                      "at the top of the file if the angles are in degrees", label, fld)
+        return value
+
     def read_inertia(self, raw: Any, label: str) -> tuple[sp.Expr, ...]:
+        if isinstance(raw, int) and not isinstance(raw, bool) and raw == 0:
+            return (sp.S.Zero,) * 6  # 'inertia: 0': a point mass, said explicitly
         if isinstance(raw, dict):
             for key in raw:
                 if key not in INERTIA_KEYS:
@@ -331,8 +355,10 @@ class _Reader:
             self.fail("expected a mapping {xx, yy, zz, xy, xz, yz} or a list of 6 values", label, "inertia")
         if all(v.is_number for v in values):
             problem = inertia_problem([float(v) for v in values])
-            if problem:
+            if problem and "negative" in problem:
                 self.fail(problem, label, "inertia")
+            if problem:
+                self.warn(problem + " (computed as given)", label, "inertia")
         return values
 
 
@@ -344,7 +370,7 @@ def inertia_problem(values: Iterable[float]) -> str | None:
     tol = 1e-12 * scale
     eig = np.linalg.eigvalsh(matrix)
     if eig[0] < -tol:
-        return f"inertia is not positive semi-definite (smallest principal moment {eig[0]:.6g})"
+        return f"inertia has a negative principal moment ({eig[0]:.6g}): not positive semi-definite"
     for k in range(3):
         others = eig.sum() - eig[k]
         if eig[k] > others + tol:
@@ -383,6 +409,10 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
         reader.fail("missing required field (standard or modified)", None, "convention")
     if convention not in CONVENTIONS:
         reader.fail(f"unknown convention {describe(convention)} (expected standard or modified)", None, "convention")
+    angles = doc.get("angles", "radians")
+    if angles not in ANGLE_UNITS:
+        reader.fail(f"unknown angle unit {describe(angles)} (expected radians or degrees)", None, "angles")
+    reader.degrees = angles == "degrees"
     reader.read_parameters(doc.get("parameters"))
     gravity = (reader.vector(doc["gravity"], 3, None, "gravity") if "gravity" in doc
                else DEFAULT_GRAVITY)
@@ -398,8 +428,8 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     runtime_syms = list(reader.runtime.values())
     used = set().union(*(e.free_symbols for link in links for e in link.expressions()),
                        *(sp.sympify(g).free_symbols for g in gravity))
-    parameters = tuple(runtime_syms) + tuple(reader.free.values())
-    nominal = tuple(reader.runtime_nominal[s.name] for s in runtime_syms) + (None,) * len(reader.free)
+    parameters = tuple(runtime_syms)
+    nominal = tuple(reader.runtime_nominal[s.name] for s in runtime_syms)
     # Drop runtime parameters that nothing uses: they cannot affect any output.
     keep = [(s, v) for s, v in zip(parameters, nominal) if s in used]
     return Robot(

@@ -9,14 +9,17 @@ every derivation and emitter works on it unchanged.
 
 from __future__ import annotations
 
+import difflib
 import hashlib
 import math
 import os
+import re
+import warnings
 from dataclasses import dataclass, replace
 
 import sympy as sp
 
-from .errors import RobotFileError, SymdynError, describe, display_path, one_line
+from .errors import RobotFileError, SymdynError, SymdynWarning, describe, display_path, one_line, warn
 from .geometry import joint_geometry, joint_motion
 from .outputs import OUTPUTS
 from .inputs import decode_text, load_yaml, read_input
@@ -25,6 +28,7 @@ from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, loa
 SCENE_VERSION = 1
 SCENE_KEYS = ("scene", "robot", "name", "functions", "precision", "lock", "payload", "runtime", "values")
 PAYLOAD_KEYS = ("mass", "com", "inertia")
+NAME_TOKEN = re.compile(r"(?<![0-9.])\b[A-Za-z_][A-Za-z0-9_]*")
 #: the largest magnitude of a lock value (rad or m)
 MAX_LOCK_VALUE = 1e6
 
@@ -51,6 +55,17 @@ def load_input(path: str):
         scene = _build_scene(path, raw, doc)
         return scene.robot, scene
     return from_document(doc, path, hashlib.sha256(raw).hexdigest()), None
+
+
+def _payload_names(payload) -> set[str]:
+    """The names the payload's fields use (best effort: the robot reader checks them again)."""
+    if not isinstance(payload, dict):
+        return set()
+    texts = []
+    for value in payload.values():
+        items = value.values() if isinstance(value, dict) else value if isinstance(value, list) else [value]
+        texts.extend(v for v in items if isinstance(v, str))
+    return {name for text in texts for name in NAME_TOKEN.findall(text)} - {"pi"}
 
 
 def _fail(path, reason, fld=None):
@@ -176,25 +191,36 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
 
     # Parameters: the scene decides which stay runtime inputs; the rest fold to their values.
     params = dict(robot_doc.get("parameters") or {})
+    payload_names = _payload_names(doc.get("payload"))
+    for name in sorted(payload_names - set(params)):
+        if name not in runtime and name not in values:
+            _fail(path, f"the payload uses '{name}', which is not a parameter of robot {display_path(doc['robot'])}: "
+                        "list it under runtime: (an input of the code) or give it under values:", "payload")
+    for fld, names in (("runtime", runtime), ("values", list(values))):
+        for name in names:
+            if name not in params and name not in payload_names:
+                close = difflib.get_close_matches(name, list(params), n=1, cutoff=0.6)
+                hint = f"; did you mean '{close[0]}'?" if close else ""
+                known = f" (it has: {', '.join(params)})" if params else " (it has none)"
+                _fail(path, f"robot {display_path(doc['robot'])} has no parameter {describe(name)}{known}{hint}",
+                      f"{fld}")
     notes = [f"scene: {display_path(os.path.basename(path))} (sha256 {hashlib.sha256(raw).hexdigest()})",
              f"robot: {display_path(doc['robot'])} (sha256 {hashlib.sha256(robot_raw).hexdigest()})"]
     folded = []
+    for name in sorted(payload_names - set(params), key=lambda n: (n not in runtime, runtime.index(n) if n in runtime else 0, n)):
+        params[name] = {"runtime": True} if name in runtime else values[name]
     for name, spec in list(params.items()):
         value = spec.get("value") if isinstance(spec, dict) else spec
         if name in values:
             value = values[name]
         if name in runtime:
-            params[name] = {"value": value, "runtime": True}
+            params[name] = {"value": value, "runtime": True} if value is not None else {"runtime": True}
+        elif value is None:
+            _fail(path, f"parameter '{name}' of the robot has no value: give one under values: or list it "
+                        "under runtime:", "values")
         else:
             params[name] = value
             folded.append(f"{name}={value}")
-    for name in values:
-        if name not in params and name not in runtime:
-            params[name] = values[name]
-            folded.append(f"{name}={values[name]}")
-    for name in runtime:
-        if name not in params:
-            params[name] = {"value": values.get(name, 0), "runtime": True}
     robot_doc = dict(robot_doc)
     if params:
         robot_doc["parameters"] = params
@@ -214,7 +240,9 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
                       "inertia": payload.get("inertia", [0, 0, 0, 0, 0, 0])})
     robot_doc["links"] = links
     try:
-        robot = from_document(robot_doc, robot_path)
+        with warnings.catch_warnings():  # the robot file's warnings were given by the check above
+            warnings.simplefilter("ignore", SymdynWarning)
+            robot = from_document(robot_doc, robot_path)
     except RobotFileError as exc:
         raise RobotFileError(path, f"in robot {display_path(doc['robot'])}: {exc.reason}", link=exc.link, field=exc.field) from None
     if payload is not None:
@@ -223,6 +251,7 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
         robot = replace(robot, links=robot.links[:-2] + (_with_body(last, m, c, inertia),))
         notes.append(f"payload: mass {carrier.mass}, com ({', '.join(map(str, carrier.com))}) in the frame of "
                      f"link {robot.dof} ({last.name}), merged into that link")
+    degrees = robot_doc.get("angles") == "degrees"
     lock = doc.get("lock", {}) or {}
     if not isinstance(lock, dict):
         _fail(path, "expected a mapping of joint (1-based index or link name) to value", "lock")
@@ -238,6 +267,13 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
         if not math.isfinite(value) or abs(value) > MAX_LOCK_VALUE:
             _fail(path, f"expected a finite number of magnitude at most {MAX_LOCK_VALUE:g} (rad or m), not {describe(value)}", where)
         locked[index] = sp.nsimplify(value, rational=True)
+        if robot.links[index].is_revolute:  # an angle: in the robot file's unit
+            if degrees:
+                locked[index] = locked[index] * sp.pi / 180
+            elif abs(value) > 2 * math.pi:
+                warn(f"{one_line(path, 200)}: field '{where}': {value:g} rad looks like degrees (more than "
+                     "2 pi); lock values of revolute joints are in the robot file's angle unit "
+                     "('angles: degrees' there makes them degrees)")
     if locked:
         notes.append("locked: " + ", ".join(f"joint {k + 1} ({robot.links[k].name}) at {float(v):g}"
                                             for k, v in sorted(locked.items())))
