@@ -98,8 +98,10 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
 
     robot = robot.with_nominal_values()
     if robot.parameters:
-        raise SymdynError(f"{robot.source}: bench needs numbers, but {', '.join(s.name for s in robot.parameters)} "
-                          "have no value (give them values under 'parameters:')")
+        names = [s.name for s in robot.parameters]
+        raise SymdynError(f"{robot.source}: bench needs numbers, but {', '.join(names)} "
+                          f"{'has' if len(names) == 1 else 'have'} no value (give "
+                          f"{'it a value' if len(names) == 1 else 'them values'} under 'parameters:')")
     n = robot.dof
     name = robot.name
     progress(f"{name}: 50-digit reference at {count} states")
@@ -243,7 +245,8 @@ def markdown_table(results: list[Result]) -> str:
     for r in sorted(results, key=lambda r: (r.robot, r.function, VARIANTS.index(r.variant))):
         ns = f"{r.ns:.0f}" if r.ns is not None else "-"
         ops = str(r.ops) if r.ops is not None else "-"
-        lines.append(f"| {r.robot} | {r.function} | {r.variant} | {ns} | {ops} | {r.error:.1e} |")
+        variant = "pinocchio (Python bindings)" if r.variant == "pinocchio" else r.variant
+        lines.append(f"| {r.robot} | {r.function} | {variant} | {ns} | {ops} | {r.error:.1e} |")
     return "\n".join(lines) + "\n"
 
 
@@ -272,9 +275,12 @@ def plot(results: list[Result], path: str) -> None:
     handles = [plt.Line2D([], [], marker=markers[v], linestyle="", color="gray", label=v) for v in VARIANTS
                if any(r.variant == v for r in results)]
     handles += [plt.Line2D([], [], marker="s", linestyle="", color=colors[f], label=f) for f in functions]
-    fig.legend(handles=handles, loc="lower center", ncol=min(len(handles), 6), fontsize=8)
-    fig.tight_layout(rect=(0, 0.12, 1, 1))
-    fig.savefig(path, dpi=110)
+    # a legend that fits the figure's width: about three entries per 5.5-inch panel per row
+    columns = max(1, min(len(handles), 3 * len(robots)))
+    rows = -(-len(handles) // columns)
+    fig.legend(handles=handles, loc="lower center", ncol=columns, fontsize=8)
+    fig.tight_layout(rect=(0, 0.05 + 0.05 * rows, 1, 1))
+    fig.savefig(path, dpi=110, bbox_inches="tight")  # nothing cut at the edges
     plt.close(fig)
 
 

@@ -13,7 +13,7 @@ from ..emit.cprinter import PRECISIONS
 from ..derive.equations import OUTPUTS
 from ..model.errors import SymdynError
 from ..model.scene import load_input
-from .common import add_method_option, add_size_options, check_size, progress_printer
+from .common import add_method_option, add_size_options, check_size, parse_functions, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
 DEFAULT_TOLERANCE = {"double": 1e-10, "float": 1e-4}
@@ -27,7 +27,10 @@ def add_parser(sub) -> None:
                        "Needs the pin package (pip install 'symdyn[test]').")
     p.add_argument("robot", metavar="ROBOT.yaml")
     p.add_argument("--states", type=int, default=50, help="number of random states (default 50)")
-    p.add_argument("--precision", default="double", choices=PRECISIONS)
+    p.add_argument("--precision", default=None, choices=PRECISIONS,
+                   help="default: the scene's precision, else double")
+    p.add_argument("--functions", metavar="LIST",
+                   help="comma-separated functions to check (default: the scene's functions, else all)")
     p.add_argument("--tolerance", type=float, help="normalized error bound (default 1e-10 double, 1e-4 float)")
     p.add_argument("--seed", type=int, default=0, help="random seed for the states (default 0)")
     add_method_option(p)
@@ -43,33 +46,37 @@ def run(args) -> int:
     from ..check.pinocchio_model import PinocchioReference, compare
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
-    robot, _ = load_input(args.robot)
+    robot, scene = load_input(args.robot)
     check_size(robot, args, args.robot)
+    functions = parse_functions(args.functions) if args.functions else (
+        scene.functions if scene is not None and scene.functions else OUTPUTS)
+    precision = args.precision or (scene.precision if scene is not None and scene.precision else "double")
     rng = np.random.default_rng(args.seed)
     values = {}
     for sym, nominal in zip(robot.parameters, robot.nominal):
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
-    eqs = derive_cached(robot, args.method, progress=progress_printer(args))
-    files = generate_c(eqs, OUTPUTS, args.precision, source_name=args.robot, source_hash=robot.source_hash)
+    wanted = set(functions) | ({"mass_matrix"} if "forward_dynamics" in functions else set())
+    eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args))
+    files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
-        lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), args.precision, workdir)
+        lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir)
         ref = PinocchioReference(robot, values)
         n = robot.dof
         states = []
         for _ in range(args.states):
             state = [rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n), rng.uniform(-5, 5, n),
                      rng.uniform(-20, 20, n)]
-            if args.precision == "float":  # judge the arithmetic, not the rounding of the inputs
+            if precision == "float":  # judge the arithmetic, not the rounding of the inputs
                 state = [x.astype(np.float32).astype(float) for x in state]
             states.append(state)
-        errors = compare(lib, ref, states, OUTPUTS, p)
-    tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[args.precision]
-    print(f"symdyn verify {args.robot}: {robot.dof} joints, {args.method}, {args.precision}, "
+        errors = compare(lib, ref, states, functions, p)
+    tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
+    print(f"symdyn verify {args.robot}: {robot.dof} joints, {args.method}, {precision}, "
           f"{args.states} random states, tolerance {tolerance:g}")
     print(f"{'function':<18} {'normalized error':>16}  status")
     failed = False
-    for name in OUTPUTS:
+    for name in functions:
         err = errors[name]
         ok = bool(np.isfinite(err) and err <= tolerance)
         failed |= not ok

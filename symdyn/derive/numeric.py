@@ -74,6 +74,17 @@ class NumericEquations:
         return self._cache[name]
 
     def _call(self, name, args, p):
+        n, m = self.eqs.n, len(self.eqs.parameters)
+        for label, value in zip(OUTPUT_INPUTS[name], args):
+            size = np.size(value)
+            if size != n:
+                raise ValueError(f"{name}: {label} has {size} entries, expected {n} (one per joint)")
+        if m and (p is None or np.size(p) != m):
+            given = "none" if p is None else f"{np.size(p)}"
+            raise ValueError(f"{name}: p has {given} entries, expected {m} "
+                             f"({', '.join(s.name for s in self.eqs.parameters)})")
+        if not m and p is not None and np.size(p):
+            raise ValueError(f"{name}: this robot has no runtime parameters, but p has {np.size(p)} entries")
         out = self._function(name)(*args, p if p is not None else [])
         return out[:, 0] if out.shape[1] == 1 else out
 

@@ -70,9 +70,14 @@ class CFunction:
     @property
     def ops_text(self) -> str:
         o = self.ops
-        text = f"{o['mul']} multiplications, {o['add']} additions/subtractions, {o['div']} divisions, {o['trig']} sin/cos"
+
+        def count(k, one, many):
+            return f"{k} {one if k == 1 else many}"
+        text = (f"{count(o['mul'], 'multiplication', 'multiplications')}, "
+                f"{count(o['add'], 'addition/subtraction', 'additions/subtractions')}, "
+                f"{count(o['div'], 'division', 'divisions')}, {o['trig']} sin/cos")
         if o["sqrt"]:
-            text += f", {o['sqrt']} square roots"
+            text += f", {count(o['sqrt'], 'square root', 'square roots')}"
         if o["other"]:
             text += f", {o['other']} other (sign, pow)"
         return text
@@ -93,6 +98,45 @@ def _merge_cse(program_assigns, replacements):
         merged.append(item)
         merged.extend(buckets.get(k, []))
     return merged
+
+
+#: the unit of each field of a link, for the header's description of parameters and constants
+FIELD_UNITS = {"a": "m", "alpha": "rad", "d": "m", "theta": "rad", "mass": "kg", "com": "m",
+               "inertia": "kg m^2", "armature": "kg m^2 or kg", "damping": "N m s/rad or N s/m",
+               "coulomb": "N m or N"}
+
+
+def _link_fields(link):
+    return (("a", (link.a,)), ("alpha", (link.alpha,)), ("d", (link.d,)), ("theta", (link.theta,)),
+            ("mass", (link.mass,)), ("com", link.com), ("inertia", link.inertia),
+            ("armature", (link.armature,)), ("damping", (link.damping,)), ("coulomb", (link.coulomb,)))
+
+
+def parameter_uses(robot, symbol) -> str:
+    """Where a runtime parameter enters the model, with the fields' units: what it means."""
+    uses = []
+    if any(symbol in sp.sympify(g).free_symbols for g in robot.gravity):
+        uses.append("gravity (m/s^2)")
+    for k, link in enumerate(robot.links):
+        fields = [f"{name} ({FIELD_UNITS[name]})" for name, values in _link_fields(link)
+                  if any(symbol in sp.sympify(v).free_symbols for v in values)]
+        if link.fixed is not None and any(symbol in sp.sympify(v).free_symbols for v in link.fixed):
+            fields.append("placement")
+        if fields:
+            uses.append(f"link {k + 1} ({link.name}): " + ", ".join(fields))
+    return "; ".join(uses) if uses else "unused"
+
+
+def model_constants(robot) -> list[str]:
+    """The numbers folded into the code, one line each: gravity and every link's mass, COM and
+    inertia about the COM (entries that depend on runtime parameters are marked)."""
+    def show(values):
+        return ", ".join(f"{float(v):.6g}" if sp.sympify(v).is_number else "(runtime)" for v in values)
+    lines = [f"gravity [{show(robot.gravity)}] m/s^2"]
+    for k, link in enumerate(robot.links):
+        lines.append(f"link {k + 1} ({link.name}): mass {show((link.mass,))} kg, com [{show(link.com)}] m, "
+                     f"inertia [xx yy zz xy xz yz] [{show(link.inertia)}] kg m^2")
+    return lines
 
 
 def _prune(statements, results):
@@ -269,9 +313,10 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "real": "float" if precision == "float" else "double",
         "dof": robot.dof,
         "convention": robot.convention,
-        "parameters": [(k, s.name, "runtime parameter" if s.name in robot.runtime_names else "free symbol",
-                        (repr(float(v)) if v is not None else None))
+        "parameters": [(k, s.name, "runtime parameter" if v is not None else "runtime parameter, no nominal value",
+                        (repr(float(v)) if v is not None else None), parameter_uses(robot, s))
                        for k, (s, v) in enumerate(zip(robot.parameters, robot.nominal))],
+        "constants": model_constants(robot),
         "joints": [(k + 1, link.name, link.joint) for k, link in enumerate(robot.links)],
         "functions": built,
         "header_only": header_only,

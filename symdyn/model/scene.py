@@ -23,7 +23,7 @@ from .errors import RobotFileError, SymdynError, SymdynWarning, describe, displa
 from .geometry import joint_geometry, joint_motion
 from .outputs import OUTPUTS
 from .inputs import decode_text, load_yaml, read_input
-from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, load
+from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document
 
 SCENE_VERSION = 1
 SCENE_KEYS = ("scene", "robot", "name", "functions", "precision", "lock", "payload", "runtime", "values")
@@ -199,11 +199,12 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     for fld, names in (("runtime", runtime), ("values", list(values))):
         for name in names:
             if name not in params and name not in payload_names:
-                close = difflib.get_close_matches(name, list(params), n=1, cutoff=0.6)
+                candidates = list(params) + sorted(payload_names)
+                close = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
                 hint = f"; did you mean '{close[0]}'?" if close else ""
                 known = f" (it has: {', '.join(params)})" if params else " (it has none)"
-                _fail(path, f"robot {display_path(doc['robot'])} has no parameter {describe(name)}{known}{hint}",
-                      f"{fld}")
+                _fail(path, f"robot {display_path(doc['robot'])} has no parameter {describe(name)}{known}, and "
+                            f"the payload does not use it{hint}", f"{fld}")
     notes = [f"scene: {display_path(os.path.basename(path))} (sha256 {hashlib.sha256(raw).hexdigest()})",
              f"robot: {display_path(doc['robot'])} (sha256 {hashlib.sha256(robot_raw).hexdigest()})"]
     folded = []
