@@ -23,6 +23,23 @@ typedef double chain12_real;
 #define chain12_NP 0
 
 /*
+ * Model constants folded into the code:
+ *   gravity [0, 0, -9.81] m/s^2
+ *   link 1 (j1): mass 2.832 kg, com [-0.071, -0.098, -0.025] m, inertia [xx yy zz xy xz yz] [0.021, 0.0424, 0.0418, 0.0004, 0, 0] kg m^2
+ *   link 2 (j2): mass 1.068 kg, com [0.081, -0.088, 0.064] m, inertia [xx yy zz xy xz yz] [0.013, 0.0375, 0.0344, -0.0004, 0, 0] kg m^2
+ *   link 3 (j3): mass 0.713 kg, com [0.083, 0.002, -0.082] m, inertia [xx yy zz xy xz yz] [0.0495, 0.0479, 0.0088, -0.0003, 0, 0] kg m^2
+ *   link 4 (j4): mass 2.675 kg, com [-0.067, 0.039, -0.09] m, inertia [xx yy zz xy xz yz] [0.0168, 0.0426, 0.0367, -0.0003, 0, 0] kg m^2
+ *   link 5 (j5): mass 3.042 kg, com [0.093, 0.095, 0.033] m, inertia [xx yy zz xy xz yz] [0.0243, 0.0245, 0.0352, 0.0007, 0, 0] kg m^2
+ *   link 6 (j6): mass 1.772 kg, com [0.002, 0.062, 0] m, inertia [xx yy zz xy xz yz] [0.0111, 0.0429, 0.0408, 0.0001, 0, 0] kg m^2
+ *   link 7 (j7): mass 1.859 kg, com [0.054, -0.079, 0.01] m, inertia [xx yy zz xy xz yz] [0.0171, 0.0378, 0.0237, -0.0009, 0, 0] kg m^2
+ *   link 8 (j8): mass 1.231 kg, com [-0.044, -0.005, 0.092] m, inertia [xx yy zz xy xz yz] [0.0292, 0.0482, 0.0259, 0.0017, 0, 0] kg m^2
+ *   link 9 (j9): mass 3.12 kg, com [0.082, -0.099, -0.046] m, inertia [xx yy zz xy xz yz] [0.0408, 0.0237, 0.0266, -0.002, 0, 0] kg m^2
+ *   link 10 (j10): mass 3.943 kg, com [0.1, 0.001, -0.095] m, inertia [xx yy zz xy xz yz] [0.0229, 0.0415, 0.0451, 0.0006, 0, 0] kg m^2
+ *   link 11 (j11): mass 1.419 kg, com [0.089, 0.079, -0.068] m, inertia [xx yy zz xy xz yz] [0.0217, 0.0449, 0.0321, 0.0018, 0, 0] kg m^2
+ *   link 12 (j12): mass 2.966 kg, com [-0.057, -0.043, -0.049] m, inertia [xx yy zz xy xz yz] [0.0373, 0.0378, 0.0088, 0.0015, 0, 0] kg m^2
+ */
+
+/*
  * Joints (index: name, type):
  *   1: j1, revolute
  *   2: j2, revolute

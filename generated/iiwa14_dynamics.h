@@ -23,6 +23,18 @@ typedef double iiwa14_real;
 #define iiwa14_NP 0
 
 /*
+ * Model constants folded into the code:
+ *   gravity [0, 0, -9.81] m/s^2
+ *   link 1 (j1): mass 4 kg, com [0, 0.08, -0.03] m, inertia [xx yy zz xy xz yz] [0.1, 0.02, 0.09, 0, 0, 0] kg m^2
+ *   link 2 (j2): mass 4 kg, com [0.0003, 0.042, 0.059] m, inertia [xx yy zz xy xz yz] [0.05, 0.044, 0.018, 0, 0, 0] kg m^2
+ *   link 3 (j3): mass 3 kg, com [0, -0.03, -0.07] m, inertia [xx yy zz xy xz yz] [0.08, 0.075, 0.01, 0, 0, 0] kg m^2
+ *   link 4 (j4): mass 2.7 kg, com [0, 0.034, 0.067] m, inertia [xx yy zz xy xz yz] [0.03, 0.029, 0.01, 0, 0, 0] kg m^2
+ *   link 5 (j5): mass 1.7 kg, com [0.0001, -0.021, -0.124] m, inertia [xx yy zz xy xz yz] [0.02, 0.018, 0.005, 0, 0, 0] kg m^2
+ *   link 6 (j6): mass 1.8 kg, com [0, 0.0004, 0.0006] m, inertia [xx yy zz xy xz yz] [0.005, 0.0047, 0.0036, 0, 0, 0] kg m^2
+ *   link 7 (j7): mass 0.3 kg, com [0, 0, -0.106] m, inertia [xx yy zz xy xz yz] [0.001, 0.001, 0.001, 0, 0, 0] kg m^2
+ */
+
+/*
  * Joints (index: name, type):
  *   1: j1, revolute
  *   2: j2, revolute

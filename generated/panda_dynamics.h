@@ -23,6 +23,18 @@ typedef double panda_real;
 #define panda_NP 0
 
 /*
+ * Model constants folded into the code:
+ *   gravity [0, 0, -9.81] m/s^2
+ *   link 1 (j1): mass 4.97068 kg, com [0.003875, 0.002081, -0.04762] m, inertia [xx yy zz xy xz yz] [0.70337, 0.70661, 0.009117, -0.000139, 0.006772, 0.019169] kg m^2
+ *   link 2 (j2): mass 0.646926 kg, com [-0.003141, -0.02872, 0.003495] m, inertia [xx yy zz xy xz yz] [0.007962, 0.02811, 0.025995, -0.003925, 0.010254, 0.000704] kg m^2
+ *   link 3 (j3): mass 3.2286 kg, com [0.027518, 0.039252, -0.066502] m, inertia [xx yy zz xy xz yz] [0.037242, 0.036155, 0.01083, -0.004761, -0.011396, -0.012805] kg m^2
+ *   link 4 (j4): mass 3.5879 kg, com [-0.05317, 0.104419, 0.027454] m, inertia [xx yy zz xy xz yz] [0.025853, 0.019552, 0.028323, 0.007796, -0.001332, 0.008641] kg m^2
+ *   link 5 (j5): mass 1.22595 kg, com [-0.011953, 0.041065, -0.038437] m, inertia [xx yy zz xy xz yz] [0.035549, 0.029474, 0.008627, -0.002117, -0.004037, 0.000229] kg m^2
+ *   link 6 (j6): mass 1.66656 kg, com [0.060149, -0.014117, -0.010517] m, inertia [xx yy zz xy xz yz] [0.001964, 0.004354, 0.005433, 0.000109, -0.001158, 0.000341] kg m^2
+ *   link 7 (j7): mass 0.735522 kg, com [0.010517, -0.004252, 0.061597] m, inertia [xx yy zz xy xz yz] [0.012516, 0.010027, 0.004815, -0.000428, -0.001196, -0.000741] kg m^2
+ */
+
+/*
  * Joints (index: name, type):
  *   1: j1, revolute
  *   2: j2, revolute

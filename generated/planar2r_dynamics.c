@@ -4,7 +4,7 @@
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
  *   generator : symdyn 0.1.0 (newton-euler, double precision)
  *   input     : planar2r.yaml
- *   sha256    : 1dab641d89c840c101250af899c7c14729f93175d26d8cedea18d780547e9f8c
+ *   sha256    : 086b6c674f0dbe0543d869373cbd4427195ffc7be448fd3367a82a7213766de8
  */
 #include <math.h>
 #include <float.h>

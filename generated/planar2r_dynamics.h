@@ -4,7 +4,7 @@
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
  *   generator : symdyn 0.1.0 (newton-euler, double precision)
  *   input     : planar2r.yaml
- *   sha256    : 1dab641d89c840c101250af899c7c14729f93175d26d8cedea18d780547e9f8c
+ *   sha256    : 086b6c674f0dbe0543d869373cbd4427195ffc7be448fd3367a82a7213766de8
  */
 #ifndef PLANAR2R_DYNAMICS_H
 #define PLANAR2R_DYNAMICS_H
@@ -22,15 +22,30 @@ typedef double planar2r_real;
 /* Number of runtime parameters NP (the array p, when present, is the last input). */
 #define planar2r_NP 8
 /*
- * Runtime parameters, in the order of p:
- *   p[0] = g  (free symbol)
- *   p[1] = m1  (free symbol)
- *   p[2] = lc1  (free symbol)
- *   p[3] = I1  (free symbol)
- *   p[4] = l1  (free symbol)
- *   p[5] = m2  (free symbol)
- *   p[6] = lc2  (free symbol)
- *   p[7] = I2  (free symbol)
+ * Runtime parameters, in the order of p (where each enters the model, with its unit):
+ *   p[0] = g  (runtime parameter, no nominal value)
+ *          gravity (m/s^2)
+ *   p[1] = m1  (runtime parameter, no nominal value)
+ *          link 1 (shoulder): mass (kg)
+ *   p[2] = lc1  (runtime parameter, no nominal value)
+ *          link 1 (shoulder): com (m)
+ *   p[3] = I1  (runtime parameter, no nominal value)
+ *          link 1 (shoulder): inertia (kg m^2)
+ *   p[4] = l1  (runtime parameter, no nominal value)
+ *          link 2 (elbow): a (m)
+ *   p[5] = m2  (runtime parameter, no nominal value)
+ *          link 2 (elbow): mass (kg)
+ *   p[6] = lc2  (runtime parameter, no nominal value)
+ *          link 2 (elbow): com (m)
+ *   p[7] = I2  (runtime parameter, no nominal value)
+ *          link 2 (elbow): inertia (kg m^2)
+ */
+
+/*
+ * Model constants folded into the code:
+ *   gravity [0, (runtime), 0] m/s^2
+ *   link 1 (shoulder): mass (runtime) kg, com [(runtime), 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, (runtime), 0, 0, 0] kg m^2
+ *   link 2 (elbow): mass (runtime) kg, com [(runtime), 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, (runtime), 0, 0, 0] kg m^2
  */
 
 /*

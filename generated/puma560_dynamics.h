@@ -23,6 +23,17 @@ typedef double puma560_real;
 #define puma560_NP 0
 
 /*
+ * Model constants folded into the code:
+ *   gravity [0, 0, -9.81] m/s^2
+ *   link 1 (waist): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0.175, 0.35, 0.175, 0, 0, 0] kg m^2
+ *   link 2 (shoulder): mass 17.4 kg, com [-0.3638, 0.006, 0.2275] m, inertia [xx yy zz xy xz yz] [0.13, 0.524, 0.539, 0, 0, 0] kg m^2
+ *   link 3 (elbow): mass 4.8 kg, com [-0.0203, -0.0141, 0.07] m, inertia [xx yy zz xy xz yz] [0.066, 0.086, 0.02, 0, 0, 0] kg m^2
+ *   link 4 (wrist_roll): mass 0.82 kg, com [0, 0.019, 0] m, inertia [xx yy zz xy xz yz] [0.0018, 0.0013, 0.0018, 0, 0, 0] kg m^2
+ *   link 5 (wrist_bend): mass 0.34 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0.0003, 0.0004, 0.0003, 0, 0, 0] kg m^2
+ *   link 6 (flange): mass 0.09 kg, com [0, 0, 0.032] m, inertia [xx yy zz xy xz yz] [0.00015, 0.00015, 4e-05, 0, 0, 0] kg m^2
+ */
+
+/*
  * Joints (index: name, type):
  *   1: waist, revolute
  *   2: shoulder, revolute

@@ -23,6 +23,15 @@ typedef double scara_real;
 #define scara_NP 0
 
 /*
+ * Model constants folded into the code:
+ *   gravity [0, 0, -9.81] m/s^2
+ *   link 1 (base_rotation): mass 6 kg, com [-0.2, 0, 0] m, inertia [xx yy zz xy xz yz] [0.01, 0.08, 0.085, 0, 0, 0] kg m^2
+ *   link 2 (elbow): mass 3.5 kg, com [-0.125, 0, 0] m, inertia [xx yy zz xy xz yz] [0.005, 0.0182292, 0.0202292, 0, 0, 0] kg m^2
+ *   link 3 (quill): mass 1.2 kg, com [0, 0, 0.1] m, inertia [xx yy zz xy xz yz] [0.004, 0.004, 0.0004, 0, 0, 0] kg m^2
+ *   link 4 (tool_roll): mass 0.4 kg, com [0, 0, 0.02] m, inertia [xx yy zz xy xz yz] [0.0004, 0.0004, 0.0003, 0, 0, 0] kg m^2
+ */
+
+/*
  * Joints (index: name, type):
  *   1: base_rotation, revolute
  *   2: elbow, revolute

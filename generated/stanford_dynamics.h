@@ -23,6 +23,17 @@ typedef double stanford_real;
 #define stanford_NP 0
 
 /*
+ * Model constants folded into the code:
+ *   gravity [0, 0, -9.81] m/s^2
+ *   link 1 (j1): mass 9.29 kg, com [0, 0.0175, -0.1105] m, inertia [xx yy zz xy xz yz] [0.276, 0.255, 0.071, 0, 0, 0] kg m^2
+ *   link 2 (j2): mass 5.01 kg, com [0, -0.01054, 0] m, inertia [xx yy zz xy xz yz] [0.108, 0.018, 0.1, 0, 0, 0] kg m^2
+ *   link 3 (j3): mass 4.25 kg, com [0, 0, -0.06447] m, inertia [xx yy zz xy xz yz] [2.51, 2.51, 0.006, 0, 0, 0] kg m^2
+ *   link 4 (j4): mass 1.08 kg, com [0, 0.00092, -0.00054] m, inertia [xx yy zz xy xz yz] [0.002, 0.001, 0.001, 0, 0, 0] kg m^2
+ *   link 5 (j5): mass 0.63 kg, com [0, 0.00566, 3e-05] m, inertia [xx yy zz xy xz yz] [0.003, 0.003, 0.0004, 0, 0, 0] kg m^2
+ *   link 6 (j6): mass 0.51 kg, com [0, 0, 0.01554] m, inertia [xx yy zz xy xz yz] [0.013, 0.013, 0.0003, 0, 0, 0] kg m^2
+ */
+
+/*
  * Joints (index: name, type):
  *   1: j1, revolute
  *   2: j2, revolute

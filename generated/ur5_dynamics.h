@@ -23,6 +23,17 @@ typedef double ur5_real;
 #define ur5_NP 0
 
 /*
+ * Model constants folded into the code:
+ *   gravity [0, 0, -9.81] m/s^2
+ *   link 1 (shoulder_pan): mass 3.7 kg, com [0, -0.02561, 0.00193] m, inertia [xx yy zz xy xz yz] [0.0102675, 0.00666, 0.0102675, 0, 0, 0] kg m^2
+ *   link 2 (shoulder_lift): mass 8.393 kg, com [0.2125, 0, 0.11336] m, inertia [xx yy zz xy xz yz] [0.0151074, 0.133886, 0.133886, 0, 0, 0] kg m^2
+ *   link 3 (elbow): mass 2.33 kg, com [0.15, 0, 0.0265] m, inertia [xx yy zz xy xz yz] [0.004194, 0.0319715, 0.0319715, 0, 0, 0] kg m^2
+ *   link 4 (wrist_1): mass 1.219 kg, com [0, -0.0018, 0.01634] m, inertia [xx yy zz xy xz yz] [0.0025599, 0.0025599, 0.0021942, 0, 0, 0] kg m^2
+ *   link 5 (wrist_2): mass 1.219 kg, com [0, 0.0018, 0.01634] m, inertia [xx yy zz xy xz yz] [0.0025599, 0.0025599, 0.0021942, 0, 0, 0] kg m^2
+ *   link 6 (wrist_3): mass 0.1879 kg, com [0, 0, -0.001159] m, inertia [xx yy zz xy xz yz] [0.000172117, 0.000172117, 0.000132117, 0, 0, 0] kg m^2
+ */
+
+/*
  * Joints (index: name, type):
  *   1: shoulder_pan, revolute
  *   2: shoulder_lift, revolute

@@ -14,7 +14,8 @@ from ._version import __version__
 from . import derive  # the derivation package, callable: symdyn.derive(robot, method, outputs)
 from .derive.equations import METHODS, OUTPUTS, Equations
 from .model.errors import RobotFileError, SymdynError, SymdynWarning
-from .model.robot import Link, Robot, load, loads
+from .model.robot import Link, Robot, loads
+from .model.scene import load  # a robot file or a scene
 
 
 def to_casadi(source, functions=None, method="newton-euler", prefix="", use_cache=True):

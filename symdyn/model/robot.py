@@ -440,11 +440,11 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
 
 
 def load(path: str | os.PathLike) -> Robot:
-    """Read a robot file (format version 1, YAML or JSON) or a scene (a file with a top-level
-    ``scene`` key, docs/scene-format.md: the specialized robot is returned).
+    """Read a robot file (format version 1, YAML or JSON); :func:`symdyn.model.scene.load`
+    (``symdyn.load``) reads scenes too.
 
     Raises :class:`RobotFileError` naming the file, link and field for any problem, including a
     file that cannot be read (see :mod:`symdyn.model.inputs` for the size and type limits).
     """
-    from .scene import load_input  # scenes build on robots
-    return load_input(os.fspath(path))[0]
+    path = os.fspath(path)
+    return loads(decode_text(read_input(path), path), path)

@@ -57,6 +57,11 @@ def load_input(path: str):
     return from_document(doc, path, hashlib.sha256(raw).hexdigest()), None
 
 
+def load(path) -> Robot:
+    """The robot of a robot file or of a scene (``symdyn.load``): a scene's specialized robot."""
+    return load_input(os.fspath(path))[0]
+
+
 def _payload_names(payload) -> set[str]:
     """The names the payload's fields use (best effort: the robot reader checks them again)."""
     if not isinstance(payload, dict):
