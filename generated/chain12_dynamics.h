@@ -24,7 +24,7 @@ typedef double chain12_real;
 
 /*
  * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2
+ *   gravity [0, 0, -9.81] m/s^2 (world frame)
  *   link 1 (j1): mass 2.832 kg, com [-0.071, -0.098, -0.025] m, inertia [xx yy zz xy xz yz] [0.021, 0.0424, 0.0418, 0.0004, 0, 0] kg m^2
  *   link 2 (j2): mass 1.068 kg, com [0.081, -0.088, 0.064] m, inertia [xx yy zz xy xz yz] [0.013, 0.0375, 0.0344, -0.0004, 0, 0] kg m^2
  *   link 3 (j3): mass 0.713 kg, com [0.083, 0.002, -0.082] m, inertia [xx yy zz xy xz yz] [0.0495, 0.0479, 0.0088, -0.0003, 0, 0] kg m^2
@@ -126,6 +126,31 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
  * Cost: 2344 multiplications, 1884 additions/subtractions, 12 divisions, 18 sin/cos.
  */
 void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 202 multiplications, 136 additions/subtractions, 0 divisions, 18 sin/cos.
+ */
+void chain12_forward_kinematics(const chain12_real *q, chain12_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 258 multiplications, 184 additions/subtractions, 0 divisions, 16 sin/cos.
+ */
+void chain12_jacobian(const chain12_real *q, chain12_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 439 multiplications, 274 additions/subtractions, 0 divisions, 18 sin/cos.
+ */
+void chain12_jacobian_dot_qd(const chain12_real *q, const chain12_real *qd, chain12_real *a);
 
 #ifdef __cplusplus
 }

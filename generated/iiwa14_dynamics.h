@@ -24,7 +24,7 @@ typedef double iiwa14_real;
 
 /*
  * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2
+ *   gravity [0, 0, -9.81] m/s^2 (world frame)
  *   link 1 (j1): mass 4 kg, com [0, 0.08, -0.03] m, inertia [xx yy zz xy xz yz] [0.1, 0.02, 0.09, 0, 0, 0] kg m^2
  *   link 2 (j2): mass 4 kg, com [0.0003, 0.042, 0.059] m, inertia [xx yy zz xy xz yz] [0.05, 0.044, 0.018, 0, 0, 0] kg m^2
  *   link 3 (j3): mass 3 kg, com [0, -0.03, -0.07] m, inertia [xx yy zz xy xz yz] [0.08, 0.075, 0.01, 0, 0, 0] kg m^2
@@ -116,6 +116,31 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
  * Cost: 648 multiplications, 450 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 71 multiplications, 35 additions/subtractions, 0 divisions, 14 sin/cos.
+ */
+void iiwa14_forward_kinematics(const iiwa14_real *q, iiwa14_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 115 multiplications, 70 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void iiwa14_jacobian(const iiwa14_real *q, iiwa14_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 172 multiplications, 96 additions/subtractions, 0 divisions, 14 sin/cos.
+ */
+void iiwa14_jacobian_dot_qd(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *a);
 
 #ifdef __cplusplus
 }

@@ -24,7 +24,7 @@ typedef double panda_real;
 
 /*
  * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2
+ *   gravity [0, 0, -9.81] m/s^2 (world frame)
  *   link 1 (j1): mass 4.97068 kg, com [0.003875, 0.002081, -0.04762] m, inertia [xx yy zz xy xz yz] [0.70337, 0.70661, 0.009117, -0.000139, 0.006772, 0.019169] kg m^2
  *   link 2 (j2): mass 0.646926 kg, com [-0.003141, -0.02872, 0.003495] m, inertia [xx yy zz xy xz yz] [0.007962, 0.02811, 0.025995, -0.003925, 0.010254, 0.000704] kg m^2
  *   link 3 (j3): mass 3.2286 kg, com [0.027518, 0.039252, -0.066502] m, inertia [xx yy zz xy xz yz] [0.037242, 0.036155, 0.01083, -0.004761, -0.011396, -0.012805] kg m^2
@@ -116,6 +116,31 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
  * Cost: 864 multiplications, 656 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 77 multiplications, 41 additions/subtractions, 0 divisions, 14 sin/cos.
+ */
+void panda_forward_kinematics(const panda_real *q, panda_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 119 multiplications, 74 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void panda_jacobian(const panda_real *q, panda_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 194 multiplications, 107 additions/subtractions, 0 divisions, 14 sin/cos.
+ */
+void panda_jacobian_dot_qd(const panda_real *q, const panda_real *qd, panda_real *a);
 
 #ifdef __cplusplus
 }

@@ -43,7 +43,7 @@ typedef double planar2r_real;
 
 /*
  * Model constants folded into the code:
- *   gravity [0, (runtime), 0] m/s^2
+ *   gravity [0, (runtime), 0] m/s^2 (world frame)
  *   link 1 (shoulder): mass (runtime) kg, com [(runtime), 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, (runtime), 0, 0, 0] kg m^2
  *   link 2 (elbow): mass (runtime) kg, com [(runtime), 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, (runtime), 0, 0, 0] kg m^2
  */
@@ -132,6 +132,34 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
  * Cost: 35 multiplications, 19 additions/subtractions, 2 divisions, 4 sin/cos.
  */
 void planar2r_forward_dynamics(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   p: runtime parameters, NP, in the order listed above
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 6 multiplications, 2 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void planar2r_forward_kinematics(const planar2r_real *q, const planar2r_real *p, planar2r_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   p: runtime parameters, NP, in the order listed above
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 2 multiplications, 0 additions/subtractions, 0 divisions, 2 sin/cos.
+ */
+void planar2r_jacobian(const planar2r_real *q, const planar2r_real *p, planar2r_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   p: runtime parameters, NP, in the order listed above
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 12 multiplications, 4 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void planar2r_jacobian_dot_qd(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *p, planar2r_real *a);
 
 #ifdef __cplusplus
 }

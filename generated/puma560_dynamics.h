@@ -24,7 +24,7 @@ typedef double puma560_real;
 
 /*
  * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2
+ *   gravity [0, 0, -9.81] m/s^2 (world frame)
  *   link 1 (waist): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0.175, 0.35, 0.175, 0, 0, 0] kg m^2
  *   link 2 (shoulder): mass 17.4 kg, com [-0.3638, 0.006, 0.2275] m, inertia [xx yy zz xy xz yz] [0.13, 0.524, 0.539, 0, 0, 0] kg m^2
  *   link 3 (elbow): mass 4.8 kg, com [-0.0203, -0.0141, 0.07] m, inertia [xx yy zz xy xz yz] [0.066, 0.086, 0.02, 0, 0, 0] kg m^2
@@ -114,6 +114,31 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
  * Cost: 514 multiplications, 371 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 64 multiplications, 33 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void puma560_forward_kinematics(const puma560_real *q, puma560_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 68 multiplications, 39 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void puma560_jacobian(const puma560_real *q, puma560_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 154 multiplications, 85 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void puma560_jacobian_dot_qd(const puma560_real *q, const puma560_real *qd, puma560_real *a);
 
 #ifdef __cplusplus
 }

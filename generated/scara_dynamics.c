@@ -307,3 +307,110 @@ void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const sca
 {
     (void)scara_forward_dynamics_checked(q, qd, tau, qdd);
 }
+
+void scara_forward_kinematics(const scara_real *q, scara_real *T)
+{
+    const scara_real c1 = cos(q[0]);
+    const scara_real s1 = sin(q[0]);
+    const scara_real c2 = cos(q[1]);
+    const scara_real cse0 = c1*c2;
+    const scara_real cse3 = c2*s1;
+    const scara_real s2 = sin(q[1]);
+    const scara_real cse1 = s1*s2;
+    const scara_real cse2 = c1*s2;
+    const scara_real c4 = cos(q[3]);
+    const scara_real s4 = sin(q[3]);
+    const scara_real T01_03 = (0.4)*c1;
+    const scara_real T01_13 = (0.4)*s1;
+    const scara_real T02_00 = cse0 - cse1;
+    const scara_real T02_01 = cse2 + cse3;
+    const scara_real T02_03 = T01_03 + (0.25)*cse0 - 0.25*cse1;
+    const scara_real T02_13 = T01_13 + (0.25)*cse2 + (0.25)*cse3;
+    const scara_real T03_23 = 0.3 - q[2];
+    const scara_real T04_00 = T02_00*c4 + T02_01*s4;
+    const scara_real T04_01 = -T02_00*s4 + T02_01*c4;
+    const scara_real T04_23 = T03_23 - 0.1;
+    T[0] = T04_00;
+    T[1] = T04_01;
+    T[2] = 0.0;
+    T[3] = T02_03;
+    T[4] = T04_01;
+    T[5] = -T04_00;
+    T[6] = 0.0;
+    T[7] = T02_13;
+    T[8] = 0.0;
+    T[9] = 0.0;
+    T[10] = -1.0;
+    T[11] = T04_23;
+    T[12] = 0.0;
+    T[13] = 0.0;
+    T[14] = 0.0;
+    T[15] = 1.0;
+}
+
+void scara_jacobian(const scara_real *q, scara_real *J)
+{
+    const scara_real c1 = cos(q[0]);
+    const scara_real s1 = sin(q[0]);
+    const scara_real c2 = cos(q[1]);
+    const scara_real cse1 = (0.25)*c2;
+    const scara_real s2 = sin(q[1]);
+    const scara_real cse0 = (0.25)*s2;
+    const scara_real T01_03 = (0.4)*c1;
+    const scara_real T01_13 = (0.4)*s1;
+    const scara_real T02_03 = T01_03 + c1*cse1 - s1*cse0;
+    const scara_real T02_13 = T01_13 + c1*cse0 + s1*cse1;
+    const scara_real cse2 = -T02_13;
+    J[0] = cse2;
+    J[1] = T01_13 + cse2;
+    J[2] = 0.0;
+    J[3] = 0.0;
+    J[4] = T02_03;
+    J[5] = -T01_03 + T02_03;
+    J[6] = 0.0;
+    J[7] = 0.0;
+    J[8] = 0.0;
+    J[9] = 0.0;
+    J[10] = -1.0;
+    J[11] = 0.0;
+    J[12] = 0.0;
+    J[13] = 0.0;
+    J[14] = 0.0;
+    J[15] = 0.0;
+    J[16] = 0.0;
+    J[17] = 0.0;
+    J[18] = 0.0;
+    J[19] = 0.0;
+    J[20] = 1.0;
+    J[21] = 1.0;
+    J[22] = 0.0;
+    J[23] = -1.0;
+}
+
+void scara_jacobian_dot_qd(const scara_real *q, const scara_real *qd, scara_real *a)
+{
+    const scara_real c1 = cos(q[0]);
+    const scara_real s1 = sin(q[0]);
+    const scara_real c2 = cos(q[1]);
+    const scara_real s2 = sin(q[1]);
+    const scara_real c4 = cos(q[3]);
+    const scara_real s4 = sin(q[3]);
+    const scara_real wr1h_1 = (0.4)*qd[0];
+    const scara_real vd1h_0 = -wr1h_1*qd[0];
+    const scara_real w2h_2 = -qd[0] - qd[1];
+    const scara_real wr2h_1 = (0.25)*w2h_2;
+    const scara_real vd2h_0 = c2*vd1h_0 - w2h_2*wr2h_1;
+    const scara_real vd2h_1 = s2*vd1h_0;
+    const scara_real vd4h_0 = c4*vd2h_0 + s4*vd2h_1;
+    const scara_real vd4h_1 = c4*vd2h_1 - s4*vd2h_0;
+    const scara_real T02_00 = c1*c2 - s1*s2;
+    const scara_real T02_01 = c1*s2 + c2*s1;
+    const scara_real T04_00 = T02_00*c4 + T02_01*s4;
+    const scara_real T04_01 = -T02_00*s4 + T02_01*c4;
+    a[0] = T04_00*vd4h_0 + T04_01*vd4h_1;
+    a[1] = -T04_00*vd4h_1 + T04_01*vd4h_0;
+    a[2] = 0.0;
+    a[3] = 0.0;
+    a[4] = 0.0;
+    a[5] = 0.0;
+}

@@ -24,7 +24,7 @@ typedef double scara_real;
 
 /*
  * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2
+ *   gravity [0, 0, -9.81] m/s^2 (world frame)
  *   link 1 (base_rotation): mass 6 kg, com [-0.2, 0, 0] m, inertia [xx yy zz xy xz yz] [0.01, 0.08, 0.085, 0, 0, 0] kg m^2
  *   link 2 (elbow): mass 3.5 kg, com [-0.125, 0, 0] m, inertia [xx yy zz xy xz yz] [0.005, 0.0182292, 0.0202292, 0, 0, 0] kg m^2
  *   link 3 (quill): mass 1.2 kg, com [0, 0, 0.1] m, inertia [xx yy zz xy xz yz] [0.004, 0.004, 0.0004, 0, 0, 0] kg m^2
@@ -110,6 +110,31 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
  * Cost: 65 multiplications, 42 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 14 multiplications, 10 additions/subtractions, 0 divisions, 6 sin/cos.
+ */
+void scara_forward_kinematics(const scara_real *q, scara_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 8 multiplications, 6 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void scara_jacobian(const scara_real *q, scara_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 22 multiplications, 10 additions/subtractions, 0 divisions, 6 sin/cos.
+ */
+void scara_jacobian_dot_qd(const scara_real *q, const scara_real *qd, scara_real *a);
 
 #ifdef __cplusplus
 }

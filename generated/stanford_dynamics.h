@@ -24,7 +24,7 @@ typedef double stanford_real;
 
 /*
  * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2
+ *   gravity [0, 0, -9.81] m/s^2 (world frame)
  *   link 1 (j1): mass 9.29 kg, com [0, 0.0175, -0.1105] m, inertia [xx yy zz xy xz yz] [0.276, 0.255, 0.071, 0, 0, 0] kg m^2
  *   link 2 (j2): mass 5.01 kg, com [0, -0.01054, 0] m, inertia [xx yy zz xy xz yz] [0.108, 0.018, 0.1, 0, 0, 0] kg m^2
  *   link 3 (j3): mass 4.25 kg, com [0, 0, -0.06447] m, inertia [xx yy zz xy xz yz] [2.51, 2.51, 0.006, 0, 0, 0] kg m^2
@@ -114,6 +114,31 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
  * Cost: 431 multiplications, 295 additions/subtractions, 6 divisions, 8 sin/cos.
  */
 void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 46 multiplications, 22 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void stanford_forward_kinematics(const stanford_real *q, stanford_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 70 multiplications, 43 additions/subtractions, 0 divisions, 8 sin/cos.
+ */
+void stanford_jacobian(const stanford_real *q, stanford_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 126 multiplications, 69 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void stanford_jacobian_dot_qd(const stanford_real *q, const stanford_real *qd, stanford_real *a);
 
 #ifdef __cplusplus
 }

@@ -24,7 +24,7 @@ typedef double ur5_real;
 
 /*
  * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2
+ *   gravity [0, 0, -9.81] m/s^2 (world frame)
  *   link 1 (shoulder_pan): mass 3.7 kg, com [0, -0.02561, 0.00193] m, inertia [xx yy zz xy xz yz] [0.0102675, 0.00666, 0.0102675, 0, 0, 0] kg m^2
  *   link 2 (shoulder_lift): mass 8.393 kg, com [0.2125, 0, 0.11336] m, inertia [xx yy zz xy xz yz] [0.0151074, 0.133886, 0.133886, 0, 0, 0] kg m^2
  *   link 3 (elbow): mass 2.33 kg, com [0.15, 0, 0.0265] m, inertia [xx yy zz xy xz yz] [0.004194, 0.0319715, 0.0319715, 0, 0, 0] kg m^2
@@ -114,6 +114,31 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
  * Cost: 525 multiplications, 367 additions/subtractions, 6 divisions, 10 sin/cos.
  */
 void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 67 multiplications, 37 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void ur5_forward_kinematics(const ur5_real *q, ur5_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 90 multiplications, 59 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void ur5_jacobian(const ur5_real *q, ur5_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 164 multiplications, 93 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void ur5_jacobian_dot_qd(const ur5_real *q, const ur5_real *qd, ur5_real *a);
 
 #ifdef __cplusplus
 }

@@ -44,7 +44,8 @@ def test_casadi_agrees_with_pinocchio(derived, name):
     states = random_states(eqs.n, 30, seed=11)
     for fname, f in fns.items():
         assert f.name_out(0) == {"inverse_dynamics": "tau", "mass_matrix": "D", "coriolis": "h",
-                                 "coriolis_matrix": "C", "gravity": "c", "forward_dynamics": "qdd"}[fname]
+                                 "coriolis_matrix": "C", "gravity": "c", "forward_dynamics": "qdd",
+                                 "forward_kinematics": "T", "jacobian": "J", "jacobian_dot_qd": "a"}[fname]
         assert [f.name_in(k) for k in range(f.n_in())] == list(ARGS[fname]) + (["p"] if p else [])
         mine, theirs = [], []
         for q, qd, qdd, tau in states:

@@ -46,8 +46,8 @@ def test_bad_robot_file(tmp_path, capsys):
 
 
 def test_unknown_function_name(tmp_path, capsys):
-    assert main(["generate", PUMA, "--out", str(tmp_path), "--functions", "gravity,jacobian"]) == 1
-    assert "jacobian" in one_error_line(capsys)
+    assert main(["generate", PUMA, "--out", str(tmp_path), "--functions", "gravity,jacobain"]) == 1
+    assert "jacobain" in one_error_line(capsys)
     assert os.listdir(tmp_path) == []
 
 

@@ -63,7 +63,7 @@ def test_toolbox_puma560_generates_with_warnings_and_agrees_with_pinocchio(tmp_p
     assert (tmp_path / "out" / "puma_toolbox_dynamics.c").is_file()
     assert main(["verify", str(robot), "--states", "10"]) == 0  # every function within 1e-10
     out, _ = stderr_lines(capsys)
-    assert out.count(" ok") == 6 and "FAIL" not in out
+    assert out.count(" ok") == 9 and "FAIL" not in out
     assert main(["generate", str(robot), "--out", str(tmp_path / "strict"), "--strict"]) == 1
     _, lines = stderr_lines(capsys)
     assert len(lines) == 1 and lines[0].startswith("symdyn: error: ") and "triangle" in lines[0]

@@ -72,6 +72,15 @@ class CompiledDynamics:
     def forward_dynamics(self, q, qd, tau, p=None):
         return self._call("forward_dynamics", (q, qd, tau), p, self.n)
 
+    def forward_kinematics(self, q, p=None):
+        return self._call("forward_kinematics", (q,), p, 16).reshape(4, 4)
+
+    def jacobian(self, q, p=None):
+        return self._call("jacobian", (q,), p, 6 * self.n).reshape(6, self.n)
+
+    def jacobian_dot_qd(self, q, qd, p=None):
+        return self._call("jacobian_dot_qd", (q, qd), p, 6)
+
     def forward_dynamics_checked(self, q, qd, tau, p=None, qdd=None):
         """``(status, qdd)`` from ``NAME_forward_dynamics_checked``; ``qdd`` (default zeros) is the
         array passed in, returned as the function left it."""

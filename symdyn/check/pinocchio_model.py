@@ -10,6 +10,11 @@ Pinocchio frames: joint k's frame is where the joint's motion (Rz or Tz) happens
   in DH frame k) is placed by ``Tz(d) Tx(a) Rx(alpha)`` (with ``Rz(theta)`` for prismatic joints).
 - modified DH ``T_k = Rx(alpha_{k-1}) Tx(a_{k-1}) Rz(theta_k + q_k) Tz(d_k)``: the joint frame is
   DH frame k (up to the revolute offset theta), the inertia sits in it directly.
+- general (origin O_k, unit axis a_k): the joint frame is O_k, the joint is Pinocchio's
+  revolute/prismatic joint about the unaligned axis a_k, and the inertia sits in the joint frame.
+
+The robot's ``base`` placement is the placement of the first joint in Pinocchio's world (gravity
+stays in world axes), and a frame ``tool`` on the last joint is the robot's tool frame.
 
 A revolute offset theta becomes part of the joint placement (a rotation about the joint axis),
 so q = 0 means the same pose in both codes.
@@ -65,6 +70,9 @@ def numeric_links(robot: Robot) -> list[dict]:
             "coulomb": _value(link.coulomb, f"{tag} coulomb"),
             "fixed": (np.eye(4) if link.fixed is None else
                       np.array([_value(c, f"{tag} fixed") for c in link.fixed]).reshape(4, 4)),
+            "origin": (None if link.origin is None else
+                       np.array([_value(c, f"{tag} origin") for c in link.origin.matrix()]).reshape(4, 4)),
+            "axis": None if link.axis is None else np.array([_value(c, f"{tag} axis") for c in link.axis]),
         })
     return rows
 
@@ -88,10 +96,15 @@ def build_model(robot: Robot, values: Mapping | None = None):
     model.name = robot.name
     model.gravity.linear = gravity
     parent = 0
-    placement = np.eye(4)  # constant transform from the parent joint frame to this joint frame
+    # constant transform from the parent joint frame to this joint frame (the first: the base)
+    placement = np.array([_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
     for k, row in enumerate(links):
         placement = placement @ row["fixed"]
-        if robot.convention == "standard":
+        if robot.convention == "general":
+            joint_placement = placement @ row["origin"]
+            body = np.eye(4)
+            next_placement = np.eye(4)
+        elif robot.convention == "standard":
             joint_placement = placement
             if row["revolute"]:
                 joint_placement = joint_placement @ _rz(row["theta"])
@@ -103,7 +116,12 @@ def build_model(robot: Robot, values: Mapping | None = None):
             joint_placement = placement @ _rx(row["alpha"]) @ _t(x=row["a"]) @ _rz(row["theta"]) @ _t(z=row["d"])
             body = np.eye(4)
             next_placement = np.eye(4)
-        joint = pin.JointModelRZ() if row["revolute"] else pin.JointModelPZ()
+        if robot.convention == "general":
+            x, y, z = row["axis"]
+            joint = (pin.JointModelRevoluteUnaligned(x, y, z) if row["revolute"]
+                     else pin.JointModelPrismaticUnaligned(x, y, z))
+        else:
+            joint = pin.JointModelRZ() if row["revolute"] else pin.JointModelPZ()
         se3 = pin.SE3(joint_placement[:3, :3].copy(), joint_placement[:3, 3].copy())
         joint_id = model.addJoint(parent, joint, se3, f"joint{k + 1}")
         model.addJointFrame(joint_id, -1)  # frames: needed by buildReducedModel and friends
@@ -115,6 +133,9 @@ def build_model(robot: Robot, values: Mapping | None = None):
         parent = joint_id
         placement = next_placement
     model.armature = np.array([row["armature"] for row in links])
+    tool = body @ np.array([_value(c, "tool") for c in robot.tool_matrix()]).reshape(4, 4)
+    model.addFrame(pin.Frame("tool", parent, pin.SE3(tool[:3, :3].copy(), tool[:3, 3].copy()),
+                             pin.FrameType.OP_FRAME))
     info = {"damping": np.array([row["damping"] for row in links]),
             "last_body": body,  # pose of the last link frame in its joint frame
             "coulomb": np.array([row["coulomb"] for row in links])}
@@ -188,7 +209,8 @@ class PinocchioReference:
         return self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
 
     def coriolis(self, q, qd):
-        return self.pin.nonLinearEffects(self.model, self.data, q, qd).copy() - self.gravity(q)
+        gravity = self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
+        return self.pin.nonLinearEffects(self.model, self.data, q, qd).copy() - gravity
 
     def coriolis_matrix(self, q, qd):
         return self.pin.computeCoriolisMatrix(self.model, self.data, q, qd).copy()
@@ -201,3 +223,82 @@ class PinocchioReference:
 
     def forward_dynamics(self, q, qd, tau):
         return self.pin.aba(self.model, self.data, q, qd, tau - self.friction(qd)).copy()
+
+    @property
+    def tool_frame(self) -> int:
+        return self.model.getFrameId("tool")
+
+    def forward_kinematics(self, q):
+        self.pin.framesForwardKinematics(self.model, self.data, q)
+        return self.data.oMf[self.tool_frame].homogeneous.copy()
+
+    def jacobian(self, q):
+        self.pin.computeJointJacobians(self.model, self.data, q)
+        self.pin.updateFramePlacements(self.model, self.data)
+        return self.pin.getFrameJacobian(self.model, self.data, self.tool_frame,
+                                         self.pin.ReferenceFrame.LOCAL_WORLD_ALIGNED).copy()
+
+    def jacobian_dot_qd(self, q, qd):
+        self.pin.forwardKinematics(self.model, self.data, q, qd, np.zeros(self.model.nv))
+        self.pin.updateFramePlacements(self.model, self.data)
+        acc = self.pin.getFrameClassicalAcceleration(self.model, self.data, self.tool_frame,
+                                                     self.pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        return np.concatenate([acc.linear, acc.angular])
+
+
+class UrdfReference(PinocchioReference):
+    """Pinocchio's values for the chain of a URDF file, from Pinocchio's own URDF parser
+    (``buildModelFromUrdf``): an independent reading of the file, to check symdyn's.
+
+    The chain runs from the root to the link ``tip``; joints off it are locked at their neutral
+    position (``buildReducedModel``), as symdyn merges them.  Continuous joints (Pinocchio's
+    (cos, sin) configuration) take symdyn's angle.  ``tool``: the link whose frame is the tool
+    (default ``tip``).  Viscous and Coulomb friction come from the file's ``<dynamics>``.
+    """
+
+    def __init__(self, path: str, tip: str, tool: str | None = None):
+        import pinocchio as pin
+        self.pin = pin
+        full = pin.buildModelFromUrdf(str(path))
+        if not full.existFrame(tip):
+            raise ValueError(f"no link {tip!r} in {path}")
+        joint = full.frames[full.getFrameId(tip)].parentJoint
+        chain = []
+        while joint > 0:
+            chain.append(joint)
+            joint = full.parents[joint]
+        chain.reverse()
+        locked = [j for j in range(1, full.njoints) if j not in chain]
+        self.model = pin.buildReducedModel(full, locked, pin.neutral(full)) if locked else full
+        names = [full.names[j] for j in chain]
+        if list(self.model.names)[1:] != names:
+            raise ValueError(f"reduced model joints {list(self.model.names)[1:]} differ from the chain {names}")
+        self.data = self.model.createData()
+        self.continuous = [self.model.joints[j].nq == 2 for j in range(1, self.model.njoints)]
+        self.damping = np.array(self.model.damping, dtype=float)
+        self.coulomb = np.array(self.model.friction, dtype=float)
+        self.armature = np.array(self.model.armature, dtype=float)
+        self._tool = self.model.getFrameId(tool or tip)
+
+    @property
+    def tool_frame(self) -> int:
+        return self._tool
+
+    def configuration(self, q) -> np.ndarray:
+        """Pinocchio's configuration vector for symdyn's joint angles ``q``."""
+        out = []
+        for value, continuous in zip(np.asarray(q, dtype=float), self.continuous):
+            out.extend([np.cos(value), np.sin(value)] if continuous else [value])
+        return np.array(out)
+
+
+def _configured(method):
+    def wrapped(self, q, *rest):
+        return method(self, self.configuration(q), *rest)
+    wrapped.__name__ = method.__name__
+    return wrapped
+
+
+for _name in ("mass_matrix", "gravity", "coriolis", "coriolis_matrix", "inverse_dynamics",
+              "forward_dynamics", "forward_kinematics", "jacobian", "jacobian_dot_qd"):
+    setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))

@@ -57,10 +57,15 @@ class MpReference:
                 "com": self.ctx.matrix([mpf(c) for c in link.com]),
                 "inertia": self.ctx.matrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]),
                 "armature": mpf(link.armature), "damping": mpf(link.damping), "coulomb": mpf(link.coulomb),
+                "origin": (None if link.origin is None else
+                           self.ctx.matrix([[mpf(link.origin.matrix()[r, c]) for c in range(4)] for r in range(4)])),
+                "axis": None if link.axis is None else self.ctx.matrix([mpf(c) for c in link.axis]),
                 "fixed": (self.ctx.eye(4) if link.fixed is None else
                           self.ctx.matrix([[mpf(link.fixed[4 * r + c]) for c in range(4)] for r in range(4)])),
             })
-        self.g_vector = self.ctx.matrix([mpf(g) for g in robot.gravity])
+        self.g_vector = self.ctx.matrix([mpf(g) for g in robot.base_gravity])
+        self.base = self.ctx.matrix([[mpf(robot.base_matrix()[r, c]) for c in range(4)] for r in range(4)])
+        self.tool = self.ctx.matrix([[mpf(robot.tool_matrix()[r, c]) for c in range(4)] for r in range(4)])
 
     def _mp(self, v):
         """An input number as mpf, exactly (floats and float32 convert without rounding)."""
@@ -78,6 +83,17 @@ class MpReference:
         c, s = self.ctx.cos(angle), self.ctx.sin(angle)
         return self.ctx.matrix([[1, 0, 0, 0], [0, c, -s, 0], [0, s, c, 0], [0, 0, 0, 1]])
 
+    def _rotation(self, axis, angle):
+        """Rotation by ``angle`` about the unit ``axis`` (Rodrigues), 4x4."""
+        ctx = self.ctx
+        c, s = ctx.cos(angle), ctx.sin(angle)
+        x, y, z = axis[0], axis[1], axis[2]
+        t = 1 - c
+        return ctx.matrix([[c + x * x * t, x * y * t - z * s, x * z * t + y * s, 0],
+                           [y * x * t + z * s, c + y * y * t, y * z * t - x * s, 0],
+                           [z * x * t - y * s, z * y * t + x * s, c + z * z * t, 0],
+                           [0, 0, 0, 1]])
+
     def _trans(self, x=0, y=0, z=0):
         return self.ctx.matrix([[1, 0, 0, x], [0, 1, 0, y], [0, 0, 1, z], [0, 0, 0, 1]])
 
@@ -89,7 +105,17 @@ class MpReference:
             angle = row["theta"] + (q[k] if row["revolute"] else 0)
             offset = row["d"] + (0 if row["revolute"] else q[k])
             current = current * row["fixed"]
-            if self.robot.convention == "standard":
+            if self.robot.convention == "general":
+                frame = current * row["origin"]
+                axis = frame[0:3, 0:3] * row["axis"]
+                if row["revolute"]:
+                    link = frame * self._rotation(row["axis"], q[k])
+                else:
+                    link = frame * self._trans(*(row["axis"] * q[k]))
+                joint = self.ctx.eye(4)  # only its axis (column 2) and point (column 3) are used
+                for r in range(3):
+                    joint[r, 2], joint[r, 3] = axis[r], frame[r, 3]
+            elif self.robot.convention == "standard":
                 joint = current * self._rot_z(angle) * self._trans(z=offset)
                 link = joint * self._trans(x=row["a"]) * self._rot_x(row["alpha"])
             else:
@@ -221,6 +247,55 @@ class MpReference:
         rhs = ctx.matrix([self._mp(tau[k]) - bias[k] - friction[k] for k in range(n)])
         qdd = ctx.lu_solve(D, rhs)
         return self._floats(qdd)
+
+    # Kinematics of the tool frame, world axes (base placement * chain * tool)
+    def _tool_pose(self, q):
+        joints, links = self._frames([self._mp(v) for v in q])
+        return joints, links, self.base * links[-1] * self.tool
+
+    def forward_kinematics(self, q):
+        pose = self._tool_pose(q)[2]
+        return np.array([[float(pose[r, c]) for c in range(4)] for r in range(4)])
+
+    def jacobian(self, q):
+        joints, _, pose = self._tool_pose(q)
+        p = self._col(pose, 3)
+        J = np.zeros((6, self.n))
+        for j, row in enumerate(self.links):
+            frame = self.base * joints[j]
+            z, point = self._col(frame, 2), self._col(frame, 3)
+            linear = self._cross(z, p - point) if row["revolute"] else z
+            for r in range(3):
+                J[r, j] = float(linear[r])
+                J[3 + r, j] = float(z[r]) if row["revolute"] else 0.0
+        return J
+
+    def jacobian_dot_qd(self, q, qd):
+        """Classical acceleration of the tool origin and angular acceleration at qdd = 0: a
+        forward pass of velocities and accelerations in base axes, then rotated to the world."""
+        joints, links, _ = self._tool_pose(q)
+        qd = [self._mp(v) for v in qd]
+        cross = self._cross
+        zero = self.ctx.matrix([0, 0, 0])
+        omega, omegad, accel, previous = zero, zero, zero, zero
+        for k, row in enumerate(self.links):
+            z, point, origin = self._col(joints[k], 2), self._col(joints[k], 3), self._col(links[k], 3)
+            if row["revolute"]:
+                r = point - previous
+                a_point = accel + cross(omegad, r) + cross(omega, cross(omega, r))
+                omega_new = omega + z * qd[k]
+                omegad_new = omegad + cross(omega, z * qd[k])
+                s = origin - point
+                accel = a_point + cross(omegad_new, s) + cross(omega_new, cross(omega_new, s))
+            else:
+                r = origin - previous
+                accel = accel + cross(omegad, r) + cross(omega, cross(omega, r)) + 2 * cross(omega, z * qd[k])
+                omega_new, omegad_new = omega, omegad
+            omega, omegad, previous = omega_new, omegad_new, origin
+        r = self._col(links[-1] * self.tool, 3) - previous
+        accel = accel + cross(omegad, r) + cross(omega, cross(omega, r))
+        R = self.base[0:3, 0:3]
+        return self._floats(list(R * accel) + list(R * omegad))
 
     def condition_number(self, q) -> float:
         """2-norm condition number of D + diag(armature) at q."""

@@ -8,8 +8,7 @@ import tempfile
 
 from ..model.files import output_directory, write_files
 from ..model.errors import SymdynError
-from ..model.scene import load_input
-from .common import add_size_options, check_size, parse_functions
+from .common import add_size_options, check_size, load_robot, parse_functions
 
 HELP = "time each generation variant and measure its error against a 50-digit reference"
 
@@ -44,7 +43,7 @@ def run(args) -> int:
             raise SymdynError(f"unknown variant '{unknown[0] if unknown else ''}' in --variants (known: {', '.join(bench.VARIANTS)})")
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
-    loaded = [load_input(path) for path in args.robots]  # every file is checked before any work
+    loaded = [load_robot(path, args) for path in args.robots]  # every file is checked before any work
     robots = []
     for path, (robot, scene) in zip(args.robots, loaded):
         check_size(robot, args, path)

@@ -31,13 +31,24 @@ DEFAULT_MAX_JOINTS = 40
 
 
 def add_size_options(parser) -> None:
-    """--strict and --max-joints, shared by every subcommand that reads robots."""
+    """--strict, --max-joints, --tip and --tool, shared by every subcommand that reads robots."""
+    parser.add_argument("--tip", metavar="LINK", default=None,
+                        help="URDF input: the link the chain ends at (needed when the tree has several leaves)")
+    parser.add_argument("--tool", metavar="LINK", default=None,
+                        help="URDF input: a link rigidly attached to the last moving link whose frame is the "
+                             "tool frame (default: the tip link's frame)")
     parser.add_argument("--strict", action="store_true",
                         help="treat every warning (inertia breaking the triangle inequality, angles that "
                              "look like degrees, a mass without inertia, ...) as an error")
     parser.add_argument("--max-joints", type=int, default=DEFAULT_MAX_JOINTS, metavar="N",
                         help=f"refuse robots with more than N joints before deriving (default "
                              f"{DEFAULT_MAX_JOINTS}; 20 joints take about a minute, 30 about two)")
+
+
+def load_robot(path, args):
+    """``(robot, scene or None)`` of a robot file, URDF (with ``--tip``/``--tool``) or scene."""
+    from ..model.scene import load_input
+    return load_input(path, getattr(args, "tip", None), getattr(args, "tool", None))
 
 
 def check_size(robot, args, path) -> None:

@@ -10,8 +10,7 @@ from ..model.files import check_output_dir, check_targets, write_files
 from ..derive.derivation import STEPS, derive_steps
 from ..model.errors import SymdynError
 from ..emit.printout import FORMATS, render
-from ..model.scene import load_input
-from .common import add_method_option, add_size_options, check_size
+from .common import add_method_option, add_size_options, check_size, load_robot
 
 HELP = "print the derivation of the equations of motion (text, LaTeX or Markdown)"
 
@@ -41,7 +40,7 @@ def run(args) -> int:
     """Load, check where ``--out`` goes (before the derivation, which can take long), derive,
     render, and print or write (:func:`symdyn.model.files.write_files`, the inputs protected)."""
     from .generate import input_files
-    robot, _ = load_input(args.robot)
+    robot, _ = load_robot(args.robot, args)
     check_size(robot, args, args.robot)
     closed = {"auto": None, "closed": True, "named": False}[args.form]
     if args.out:

@@ -12,7 +12,7 @@ from ..model.errors import SymdynError
 from ..derive.equations import OUTPUTS
 from ..model.inputs import decode_text, load_yaml, read_input
 from ..model.scene import load_input
-from .common import add_method_option, add_size_options, check_size, parse_functions, progress_printer
+from .common import add_method_option, add_size_options, check_size, load_robot, parse_functions, progress_printer
 
 HELP = "generate C code (NAME_dynamics.h/.c) or CasADi functions for robot files"
 TARGETS = ("c", "casadi", "casadi-c")
@@ -67,7 +67,7 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
     ``loaded``: ``load_input(path)`` when the caller already has it; ``progress``: called with a
     short text per derivation part and emitted function."""
     robot, scene = loaded if loaded is not None else load_input(path)
-    notes: tuple[str, ...] = ()
+    notes: tuple[str, ...] = robot.notes
     source_hash = robot.source_hash
     if scene is not None:
         functions = functions or scene.functions
@@ -95,7 +95,7 @@ def run(args) -> int:
     functions = parse_functions(args.functions) if args.functions else None
     if args.target != "c" and (args.precision not in (None, "double") or args.header_only):
         raise SymdynError(f"--precision and --header-only apply to the c target only, not {args.target}")
-    loaded = [load_input(path) for path in args.robots]  # every file is checked before any work
+    loaded = [load_robot(path, args) for path in args.robots]  # every file is checked before any work
     for path, (robot, _) in zip(args.robots, loaded):
         check_size(robot, args, path)
     protect = [p for path in args.robots for p in input_files(path)]

@@ -12,8 +12,7 @@ from ..emit.cgen import generate_c
 from ..emit.cprinter import PRECISIONS
 from ..derive.equations import OUTPUTS
 from ..model.errors import SymdynError
-from ..model.scene import load_input
-from .common import add_method_option, add_size_options, check_size, parse_functions, progress_printer
+from .common import add_method_option, add_size_options, check_size, load_robot, parse_functions, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
 DEFAULT_TOLERANCE = {"double": 1e-10, "float": 1e-4}
@@ -46,7 +45,7 @@ def run(args) -> int:
     from ..check.pinocchio_model import PinocchioReference, compare
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
-    robot, scene = load_input(args.robot)
+    robot, scene = load_robot(args.robot, args)
     check_size(robot, args, args.robot)
     functions = parse_functions(args.functions) if args.functions else (
         scene.functions if scene is not None and scene.functions else OUTPUTS)

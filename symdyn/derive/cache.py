@@ -79,7 +79,8 @@ def cache_dir() -> str:
 def robot_fingerprint(robot) -> str:
     """Hash of everything in a robot that affects its equations (not where it was read from)."""
     parts = [robot.name, robot.convention, sp.srepr(tuple(robot.gravity)),
-             sp.srepr(robot.parameters), repr(robot.runtime_names)]
+             sp.srepr(robot.parameters), repr(robot.runtime_names),
+             sp.srepr(tuple(robot.base_matrix())), sp.srepr(tuple(robot.tool_matrix()))]
     for link in robot.links:
         parts.append(link.joint)
         parts.append(sp.srepr(link.expressions()))
@@ -88,7 +89,7 @@ def robot_fingerprint(robot) -> str:
 
 #: modules whose code decides what a derivation produces
 DERIVATION_MODULES = ("derive/chain", "derive/composite", "derive/equations", "derive/kinematics",
-                      "derive/lagrange_euler", "derive/newton_euler", "derive/program", "model/expr",
+                      "derive/lagrange_euler", "derive/newton_euler", "derive/program", "derive/tool", "model/expr",
                       "model/geometry", "model/outputs", "model/robot")
 
 

@@ -41,7 +41,7 @@ class Chain:
 
     @property
     def gravity(self) -> sp.Matrix:
-        return sp.Matrix(self.robot.gravity)
+        return sp.Matrix(self.robot.base_gravity)  # base frame (the world rotated by base)
 
 
 def make_chain(robot: Robot, prefix: str = "_") -> Chain:

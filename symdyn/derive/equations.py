@@ -44,10 +44,11 @@ from .composite import mass_matrix as composite_mass_matrix
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
-from ..model.outputs import OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS  # noqa: F401 (part of this module's API)
+from ..model.outputs import KINEMATIC_OUTPUTS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS  # noqa: F401 (part of this module's API)
 from ..model.robot import Robot
 from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
+from .tool import tool_kinematics
 
 METHODS = ("newton-euler", "lagrange-euler")
 METHOD_ALIASES = {"ne": "newton-euler", "newton-euler": "newton-euler", "rne": "newton-euler",
@@ -104,6 +105,12 @@ class Equations:
     gravity = property(lambda self: self.output("gravity"), doc="c(q), n x 1")
     inverse_dynamics = property(lambda self: self.output("inverse_dynamics"), doc="tau, n x 1")
     forward_dynamics = property(lambda self: self.output("forward_dynamics"), doc="qdd, n x 1")
+    forward_kinematics = property(lambda self: self.output("forward_kinematics"),
+                                  doc="tool pose in the world, 4 x 4 homogeneous")
+    jacobian = property(lambda self: self.output("jacobian"),
+                        doc="tool Jacobian, 6 x n: linear (rows 0-2) and angular velocity, world axes")
+    jacobian_dot_qd = property(lambda self: self.output("jacobian_dot_qd"),
+                               doc="J-dot qd, 6 x 1: tool classical acceleration at qdd = 0, world axes")
 
     def assignments_for(self, names: Iterable[str]):
         """The intermediate assignments the named outputs need, in order."""
@@ -289,6 +296,11 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                                           + result["gravity"] + friction)
         if "forward_dynamics" in need:
             bias = result["coriolis"] + result["gravity"]
+
+    kinematic = [name for name in KINEMATIC_OUTPUTS if name in need]
+    if kinematic:
+        report("tool kinematics")
+        result.update(tool_kinematics(chain, kinematic))
 
     pivots: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
     if "forward_dynamics" in need:

@@ -105,3 +105,15 @@ class NumericEquations:
 
     def forward_dynamics(self, q, qd, tau, p=None):
         return self._call("forward_dynamics", (q, qd, tau), p)
+
+    def forward_kinematics(self, q, p=None):
+        """Tool pose in the world, (4, 4)."""
+        return self._call("forward_kinematics", (q,), p)
+
+    def jacobian(self, q, p=None):
+        """Tool Jacobian (6, n), world axes: linear rows 0-2, angular rows 3-5."""
+        return self._call("jacobian", (q,), p)
+
+    def jacobian_dot_qd(self, q, qd, p=None):
+        """J-dot qd (6,): classical acceleration of the tool at qdd = 0, world axes."""
+        return self._call("jacobian_dot_qd", (q, qd), p)

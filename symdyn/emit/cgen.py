@@ -34,6 +34,9 @@ OUTPUT_ARGS = {
     "coriolis_matrix": ("C", "Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)"),
     "gravity": ("c", "gravity vector c(q), N (N m or N)"),
     "forward_dynamics": ("qdd", "joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N"),
+    "forward_kinematics": ("T", "pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)"),
+    "jacobian": ("J", "tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)"),
+    "jacobian_dot_qd": ("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),
 }
 
 SUMMARIES = {
@@ -43,6 +46,9 @@ SUMMARIES = {
     "coriolis_matrix": "Coriolis matrix C(q, qd), C qd = h.",
     "gravity": "Gravity torques c(q).",
     "forward_dynamics": "Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).",
+    "forward_kinematics": "Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",
+    "jacobian": "Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.",
+    "jacobian_dot_qd": "J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.",
 }
 
 
@@ -103,13 +109,14 @@ def _merge_cse(program_assigns, replacements):
 #: the unit of each field of a link, for the header's description of parameters and constants
 FIELD_UNITS = {"a": "m", "alpha": "rad", "d": "m", "theta": "rad", "mass": "kg", "com": "m",
                "inertia": "kg m^2", "armature": "kg m^2 or kg", "damping": "N m s/rad or N s/m",
-               "coulomb": "N m or N"}
+               "coulomb": "N m or N", "origin": "m and rad", "limits": "rad or m, per s, N m or N"}
 
 
 def _link_fields(link):
     return (("a", (link.a,)), ("alpha", (link.alpha,)), ("d", (link.d,)), ("theta", (link.theta,)),
             ("mass", (link.mass,)), ("com", link.com), ("inertia", link.inertia),
-            ("armature", (link.armature,)), ("damping", (link.damping,)), ("coulomb", (link.coulomb,)))
+            ("armature", (link.armature,)), ("damping", (link.damping,)), ("coulomb", (link.coulomb,)),
+            ("origin", link.origin.expressions() if link.origin is not None else ()))
 
 
 def parameter_uses(robot, symbol) -> str:
@@ -117,6 +124,9 @@ def parameter_uses(robot, symbol) -> str:
     uses = []
     if any(symbol in sp.sympify(g).free_symbols for g in robot.gravity):
         uses.append("gravity (m/s^2)")
+    for label, placement in (("base", robot.base), ("tool", robot.tool)):
+        if placement is not None and any(symbol in sp.sympify(v).free_symbols for v in placement.expressions()):
+            uses.append(f"{label} placement (m and rad)")
     for k, link in enumerate(robot.links):
         fields = [f"{name} ({FIELD_UNITS[name]})" for name, values in _link_fields(link)
                   if any(symbol in sp.sympify(v).free_symbols for v in values)]
@@ -132,10 +142,22 @@ def model_constants(robot) -> list[str]:
     inertia about the COM (entries that depend on runtime parameters are marked)."""
     def show(values):
         return ", ".join(f"{float(v):.6g}" if sp.sympify(v).is_number else "(runtime)" for v in values)
-    lines = [f"gravity [{show(robot.gravity)}] m/s^2"]
+    lines = [f"gravity [{show(robot.gravity)}] m/s^2 (world frame)"]
+    for label, placement, frame in (("base", robot.base, "in the world"),
+                                    ("tool", robot.tool, "in the last link's frame")):
+        if placement is not None:
+            lines.append(f"{label} {frame}: xyz [{show(placement.xyz)}] m, rpy [{show(placement.rpy)}] rad")
     for k, link in enumerate(robot.links):
+        if link.origin is not None:
+            lines.append(f"joint {k + 1} ({link.name}): origin xyz [{show(link.origin.xyz)}] m, rpy "
+                         f"[{show(link.origin.rpy)}] rad, axis [{show(link.axis)}]")
         lines.append(f"link {k + 1} ({link.name}): mass {show((link.mass,))} kg, com [{show(link.com)}] m, "
                      f"inertia [xx yy zz xy xz yz] [{show(link.inertia)}] kg m^2")
+        if link.limits is not None:
+            limits = link.limits
+            parts = [f"{name} {show((value,))}" for name, value in (("lower", limits.lower), ("upper", limits.upper),
+                     ("velocity", limits.velocity), ("effort", limits.effort)) if value is not None]
+            lines.append(f"joint {k + 1} ({link.name}) limits (not used by these functions): {', '.join(parts)}")
     return lines
 
 
@@ -174,18 +196,19 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     targets: list[tuple[str, sp.Expr]] = []
     aliases: list[tuple[str, str]] = []
     checked = name == "forward_dynamics" and bool(eqs.pivots)
+    rows, cols = matrix.shape
     if checked:  # results go to locals first: qdd is written only when every check passes
         targets = [(f"result{i}", matrix[i]) for i in range(n)]
-    elif matrix.shape[1] == 1:
-        targets = [(f"{out_name}[{i}]", matrix[i]) for i in range(n)]
+    elif cols == 1:
+        targets = [(f"{out_name}[{i}]", matrix[i]) for i in range(rows)]
     else:
         symmetric = name == "mass_matrix"
-        for i in range(n):
-            for j in range(n):
+        for i in range(rows):
+            for j in range(cols):
                 if symmetric and j < i:
-                    aliases.append((f"{out_name}[{i * n + j}]", f"{out_name}[{j * n + i}]"))
+                    aliases.append((f"{out_name}[{i * cols + j}]", f"{out_name}[{j * cols + i}]"))
                 else:
-                    targets.append((f"{out_name}[{i * n + j}]", matrix[i, j]))
+                    targets.append((f"{out_name}[{i * cols + j}]", matrix[i, j]))
     checks = [e for pair in eqs.pivots for e in pair] if checked else []
     assigns = list(eqs.program.needed_for([e for _, e in targets] + checks))
     folded = [(s, fold_constants(r)) for s, r in assigns]

@@ -149,16 +149,27 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
     for k, link in enumerate(robot.links):
         com = ", ".join(printer.value(c) for c in link.com)
         inertia = ", ".join(printer.value(c) for c in link.inertia)
-        dh.append({"index": k + 1, "name": link.name, "joint": link.joint,
-                   "a": printer.value(link.a), "alpha": printer.value(link.alpha),
-                   "d": printer.value(link.d), "theta": printer.value(link.theta),
-                   "mass": printer.value(link.mass), "com": com, "inertia": inertia})
+        row = {"index": k + 1, "name": link.name, "joint": link.joint,
+               "a": printer.value(link.a), "alpha": printer.value(link.alpha),
+               "d": printer.value(link.d), "theta": printer.value(link.theta),
+               "mass": printer.value(link.mass), "com": com, "inertia": inertia}
+        if robot.convention == "general":
+            row.update(xyz=", ".join(printer.value(v) for v in link.origin.xyz),
+                       rpy=", ".join(printer.value(v) for v in link.origin.rpy),
+                       axis=", ".join(printer.value(v) for v in link.axis))
+        dh.append(row)
+    placements = [(label, ", ".join(printer.value(v) for v in placement.xyz),
+                   ", ".join(printer.value(v) for v in placement.rpy))
+                  for label, placement in (("base", robot.base), ("tool", robot.tool)) if placement is not None]
     context = {
         "robot": robot.name, "dof": robot.dof, "convention": robot.convention,
         "method": derivation.method, "steps": derivation.steps, "closed_form": derivation.closed_form,
         "version": __version__, "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
-        "gravity": printer.value(sp.Matrix(robot.gravity).T if fmt == "text" else sp.Matrix(robot.gravity)),
+        "gravity": printer.value(sp.Matrix(robot.base_gravity).T if fmt == "text" else sp.Matrix(robot.base_gravity)),
+        "convention_text": ("general joint placements (origin, axis)" if robot.convention == "general"
+                            else f"{robot.convention} Denavit–Hartenberg convention"),
+        "placements": placements,
         "dh": dh, "sections": sections, "shorthand": shorthand, "where": where,
         "revolute": [link.is_revolute for link in robot.links],
     }

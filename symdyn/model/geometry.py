@@ -4,7 +4,11 @@ around the joint's motion, ``T_i = Pre_i * Joint_i(q_i) * Post_i``.
 - standard:  ``A_i = Rz(theta_i + q_i) Tz(d_i) Tx(a_i) Rx(alpha_i)``
   -> ``Pre = I``, ``Post = Rz(theta) Tz(d) Tx(a) Rx(alpha)`` (joint i moves about z_{i-1});
 - modified:  ``T_i = Rx(alpha_{i-1}) Tx(a_{i-1}) Rz(theta_i + q_i) Tz(d_i)``
-  -> ``Pre = Rx(alpha) Tx(a) Rz(theta) Tz(d)``, ``Post = I`` (joint i moves about z_i).
+  -> ``Pre = Rx(alpha) Tx(a) Rz(theta) Tz(d)``, ``Post = I`` (joint i moves about z_i);
+- general (``origin`` O and unit ``axis`` a, as URDF): ``T_i = O_i Rot(a_i, q_i)`` (revolute) or
+  ``O_i Trans(a_i q_i)`` (prismatic) -> ``Pre = O R_a``, ``Post = R_a^T`` with R_a a constant
+  rotation taking z to a (the identity for a = z, a signed permutation for +-x, +-y, -z), so the
+  joint again moves about (or along) z between Pre and Post, and zeros fold as in the DH case.
 
 (Rz and Tz commute with each other, which is why the joint's offset can move into Pre/Post.)
 All matrices are 4x4 homogeneous SymPy transforms, lengths in m, angles in rad.  This is part of
@@ -47,13 +51,33 @@ class JointGeometry:
     revolute: bool
 
 
+def axis_rotation(axis) -> sp.Matrix:
+    """A constant 4x4 rotation taking z to the unit vector ``axis`` (exact): the identity for
+    +z, ``Rx(pi)`` for -z, else the rotation about ``z x axis`` (Rodrigues' formula)."""
+    x, y, z = (sp.sympify(v) for v in axis)
+    out = sp.eye(4)
+    if x == 0 and y == 0:
+        if z.is_number and z < 0:
+            out[1, 1] = out[2, 2] = -1
+        return out
+    k = 1 / (1 + z)
+    out[:3, :3] = sp.Matrix([[sp.radsimp(1 - x * x * k), sp.radsimp(-x * y * k), x],
+                             [sp.radsimp(-x * y * k), sp.radsimp(1 - y * y * k), y],
+                             [-x, -y, z]])
+    return out
+
+
 def joint_geometry(link: Link, convention: str) -> JointGeometry:
     """Split a link's DH transform into constant ``pre``/``post`` around the joint motion.
 
     For a revolute joint the constant offset theta goes with the joint's rotation only through
     ``sin/cos(theta + q)`` (see :func:`link_transform`), so it is left out of pre/post here.
     """
-    if convention == "standard":
+    if convention == "general":
+        turn = axis_rotation(link.axis)
+        pre = sp.Matrix(link.origin.matrix()) * turn
+        post = turn.T
+    elif convention == "standard":
         pre = sp.eye(4)
         post = trans(z=link.d) * trans(x=link.a) * rot_x(link.alpha)
         if not link.is_revolute:

@@ -4,7 +4,10 @@ from __future__ import annotations
 
 #: every output, in the order generated code and documentation list them
 OUTPUTS = ("inverse_dynamics", "mass_matrix", "coriolis", "coriolis_matrix", "gravity",
-           "forward_dynamics")
+           "forward_dynamics", "forward_kinematics", "jacobian", "jacobian_dot_qd")
+
+#: the outputs about the tool frame (the others are joint-space dynamics)
+KINEMATIC_OUTPUTS = ("forward_kinematics", "jacobian", "jacobian_dot_qd")
 
 #: the inputs each output depends on, in the order of the generated functions' arguments
 OUTPUT_INPUTS = {
@@ -14,6 +17,9 @@ OUTPUT_INPUTS = {
     "coriolis_matrix": ("q", "qd"),
     "gravity": ("q",),
     "forward_dynamics": ("q", "qd", "tau"),
+    "forward_kinematics": ("q",),
+    "jacobian": ("q",),
+    "jacobian_dot_qd": ("q", "qd"),
 }
 
 #: the symbol of each output in the notes (and the name of its output argument everywhere)
@@ -24,4 +30,13 @@ OUTPUT_SYMBOLS = {
     "coriolis_matrix": "C",
     "gravity": "c",
     "forward_dynamics": "qdd",
+    "forward_kinematics": "T",
+    "jacobian": "J",
+    "jacobian_dot_qd": "a",
 }
+
+
+def output_shape(name: str, n: int) -> tuple[int, int]:
+    """Rows and columns of an output for a robot of ``n`` joints."""
+    return {"forward_kinematics": (4, 4), "jacobian": (6, n), "jacobian_dot_qd": (6, 1),
+            "mass_matrix": (n, n), "coriolis_matrix": (n, n)}.get(name, (n, 1))

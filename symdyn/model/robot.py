@@ -23,7 +23,7 @@ from .expr import NAME_PATTERN, ExpressionError, number_to_rational, parse_expre
 from .inputs import decode_text, load_yaml, read_input
 
 FORMAT_VERSION = 1
-CONVENTIONS = ("standard", "modified")
+CONVENTIONS = ("standard", "modified", "general")
 JOINT_TYPES = ("revolute", "prismatic")
 ROBOT_NAME_PATTERN = re.compile(r"[a-z][a-z0-9_]*\Z")
 #: link names: C-identifier-like, so that they can appear in generated text unescaped
@@ -37,12 +37,72 @@ _RESERVED_NAME = re.compile(r"(q|qd|qdd|tau|p)[0-9]*\Z")
 _RESERVED_WORDS = frozenset({"pi", "e", "E", "I", "sin", "cos", "sqrt"})
 _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any case
 
-TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "parameters", "links")
+TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "tool", "parameters", "links")
 ANGLE_UNITS = ("radians", "degrees")
-LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "mass", "com", "inertia",
-             "armature", "damping", "coulomb")
+LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "origin", "axis", "mass", "com", "inertia",
+             "armature", "damping", "coulomb", "limits")
+DH_KEYS = ("a", "alpha", "d", "theta")
+GENERAL_KEYS = ("origin", "axis")
+PLACEMENT_KEYS = ("xyz", "rpy")
+LIMIT_KEYS = ("lower", "upper", "velocity", "effort")
 INERTIA_KEYS = ("xx", "yy", "zz", "xy", "xz", "yz")
 DEFAULT_GRAVITY = (0, 0, number_to_rational("-9.81"))
+
+
+def _rpy_matrix(roll, pitch, yaw) -> sp.Matrix:
+    """``Rz(yaw) Ry(pitch) Rx(roll)`` (rotations about the fixed x, y, z axes, as in URDF), 3x3."""
+    cr, sr, cp, spt, cy, sy = (sp.cos(roll), sp.sin(roll), sp.cos(pitch), sp.sin(pitch),
+                               sp.cos(yaw), sp.sin(yaw))
+    rx = sp.Matrix([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    ry = sp.Matrix([[cp, 0, spt], [0, 1, 0], [-spt, 0, cp]])
+    rz = sp.Matrix([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
+    return rz * ry * rx
+
+
+@dataclass(frozen=True)
+class Placement:
+    """A constant frame placement ``{xyz, rpy}``: translation (m), then rotation by roll, pitch,
+    yaw (rad) about the fixed x, y, z axes, as URDF's ``<origin>``."""
+
+    xyz: tuple[sp.Expr, sp.Expr, sp.Expr]
+    rpy: tuple[sp.Expr, sp.Expr, sp.Expr]
+
+    def matrix(self) -> sp.ImmutableMatrix:
+        """The 4x4 homogeneous transform (exact)."""
+        out = sp.eye(4)
+        out[:3, :3] = _rpy_matrix(*self.rpy)
+        out[:3, 3] = sp.Matrix(self.xyz)
+        return sp.ImmutableMatrix(out)
+
+    @property
+    def is_identity(self) -> bool:
+        return all(sp.sympify(v) == 0 for v in (*self.xyz, *self.rpy))
+
+    def expressions(self) -> tuple[sp.Expr, ...]:
+        return (*self.xyz, *self.rpy)
+
+    def subs(self, mapping) -> "Placement":
+        return Placement(tuple(sp.sympify(v).xreplace(mapping) for v in self.xyz),
+                         tuple(sp.sympify(v).xreplace(mapping) for v in self.rpy))
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Joint limits (informative: the dynamics do not use them; headers and URDF output list
+    them). Each is an expression or None: position (rad or m), velocity (rad/s or m/s), effort
+    (N m or N)."""
+
+    lower: sp.Expr | None = None
+    upper: sp.Expr | None = None
+    velocity: sp.Expr | None = None
+    effort: sp.Expr | None = None
+
+    def expressions(self) -> tuple[sp.Expr, ...]:
+        return tuple(v for v in (self.lower, self.upper, self.velocity, self.effort) if v is not None)
+
+    def subs(self, mapping) -> "Limits":
+        return Limits(*(None if v is None else sp.sympify(v).xreplace(mapping)
+                        for v in (self.lower, self.upper, self.velocity, self.effort)))
 
 
 @dataclass(frozen=True)
@@ -71,6 +131,11 @@ class Link:
     #: constant 4x4 transform (16 entries, row-major) applied before the link's DH transform, or
     #: None; not part of the file format: scenes set it when they lock joints (symdyn.model.scene)
     fixed: tuple[sp.Expr, ...] | None = None
+    #: general convention only: the joint frame in the previous link's frame, and the joint axis
+    #: in it (unit, exact); the link frame is the joint frame moved by the joint
+    origin: Placement | None = None
+    axis: tuple[sp.Expr, sp.Expr, sp.Expr] | None = None
+    limits: Limits | None = None
 
     @property
     def is_revolute(self) -> bool:
@@ -84,7 +149,9 @@ class Link:
 
     def expressions(self) -> tuple[sp.Expr, ...]:
         return (self.a, self.alpha, self.d, self.theta, self.mass, *self.com, *self.inertia,
-                self.armature, self.damping, self.coulomb, *(self.fixed or ()))
+                self.armature, self.damping, self.coulomb, *(self.fixed or ()),
+                *(self.origin.expressions() if self.origin else ()), *(self.axis or ()),
+                *(self.limits.expressions() if self.limits else ()))
 
     def subs(self, mapping: Mapping[sp.Symbol, sp.Expr]) -> "Link":
         def s(e):
@@ -94,7 +161,10 @@ class Link:
             mass=s(self.mass), com=tuple(s(c) for c in self.com),
             inertia=tuple(s(c) for c in self.inertia), armature=s(self.armature),
             damping=s(self.damping), coulomb=s(self.coulomb),
-            fixed=None if self.fixed is None else tuple(s(c) for c in self.fixed))
+            fixed=None if self.fixed is None else tuple(s(c) for c in self.fixed),
+            origin=None if self.origin is None else self.origin.subs(mapping),
+            axis=None if self.axis is None else tuple(s(c) for c in self.axis),
+            limits=None if self.limits is None else self.limits.subs(mapping))
 
 
 @dataclass(frozen=True)
@@ -104,8 +174,11 @@ class Robot:
     Attributes
     ----------
     name : C identifier prefix of generated code.
-    convention : ``'standard'`` or ``'modified'`` DH.
-    gravity : gravity acceleration (m/s^2) in the base frame, 3 expressions.
+    convention : ``'standard'`` or ``'modified'`` DH, or ``'general'`` (origin and axis per link).
+    gravity : gravity acceleration (m/s^2) in the world frame, 3 expressions (the base frame
+        when ``base`` is None); :attr:`base_gravity` is it in the base frame.
+    base : placement of the chain's base frame in the world, or None (identity).
+    tool : the tool frame in the last link's frame, or None (the last link frame).
     links : the links, base to tip.
     parameters : symbols that stay inputs (runtime parameters first, in file order, then free
         symbols in order of first appearance); this is the order of the ``p`` array in C.
@@ -123,6 +196,31 @@ class Robot:
     source: str = "<memory>"
     source_hash: str = ""
     runtime_names: tuple[str, ...] = field(default=())  # parameters marked runtime: true
+    base: Placement | None = None
+    tool: Placement | None = None
+    notes: tuple[str, ...] = ()  # what reading the file did (URDF merges), for headers
+    #: constant 4x4 transform (16 entries) from the last link's frame to the frame ``tool`` is
+    #: given in, or None; not part of the file format: set by scenes that lock the last joints
+    tool_fixed: tuple[sp.Expr, ...] | None = None
+
+    @property
+    def base_gravity(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        """Gravity (m/s^2) in the base frame: ``R_base^T g`` (the dynamics are computed there)."""
+        if self.base is None:
+            return self.gravity
+        rotation = sp.Matrix(self.base.matrix())[:3, :3]
+        g = rotation.T * sp.Matrix(self.gravity)
+        return tuple(sp.expand(e) for e in g)
+
+    def base_matrix(self) -> sp.ImmutableMatrix:
+        return sp.ImmutableMatrix(sp.eye(4)) if self.base is None else self.base.matrix()
+
+    def tool_matrix(self) -> sp.ImmutableMatrix:
+        """The tool frame in the last link's frame, 4x4."""
+        tool = sp.eye(4) if self.tool is None else sp.Matrix(self.tool.matrix())
+        if self.tool_fixed is not None:
+            tool = sp.Matrix(4, 4, list(self.tool_fixed)) * tool
+        return sp.ImmutableMatrix(tool)
 
     @property
     def dof(self) -> int:
@@ -154,6 +252,10 @@ class Robot:
             self,
             gravity=tuple(sp.sympify(g).xreplace(mapping) for g in self.gravity),
             links=tuple(link.subs(mapping) for link in self.links),
+            base=None if self.base is None else self.base.subs(mapping),
+            tool=None if self.tool is None else self.tool.subs(mapping),
+            tool_fixed=None if self.tool_fixed is None else tuple(sp.sympify(c).xreplace(mapping)
+                                                                    for c in self.tool_fixed),
             parameters=tuple(s for s, _ in keep),
             nominal=tuple(v for _, v in keep),
             runtime_names=tuple(n for n in self.runtime_names if by_name.get(n) not in mapping),
@@ -194,6 +296,7 @@ class _Reader:
         self.runtime: dict[str, sp.Symbol] = {}
         self.runtime_nominal: dict[str, sp.Expr | None] = {}
         self.degrees = False  # angles: degrees
+        self.convention = "standard"
 
     def fail(self, reason: str, link: str | None = None, fld: str | None = None):
         raise RobotFileError(self.path, reason, link=link, field=fld)
@@ -309,12 +412,25 @@ class _Reader:
         if joint not in JOINT_TYPES:
             self.fail(f"unknown joint type {describe(joint)} (expected revolute or prismatic)", label, "joint")
         geometry = {}
-        for key in ("a", "alpha", "d", "theta"):
-            if key not in raw:
-                self.fail("missing required field", label, key)
-            geometry[key] = self.number(raw[key], label, key)
-            if key in ("alpha", "theta"):
-                geometry[key] = self.angle(geometry[key], label, key)
+        if self.convention == "general":
+            for key in DH_KEYS:
+                if key in raw:
+                    self.fail(f"'{key}' is a Denavit-Hartenberg field; under convention: general a link gives "
+                              "origin: {xyz, rpy} and axis", label, key)
+            geometry = {key: sp.S.Zero for key in DH_KEYS}
+            geometry["origin"] = self.placement(raw.get("origin", {}), label, "origin")
+            geometry["axis"] = self.axis(raw.get("axis", [0, 0, 1]), label)
+        else:
+            for key in GENERAL_KEYS:
+                if key in raw:
+                    self.fail(f"'{key}' needs convention: general (this file uses {self.convention} "
+                              "Denavit-Hartenberg parameters)", label, key)
+            for key in DH_KEYS:
+                if key not in raw:
+                    self.fail("missing required field", label, key)
+                geometry[key] = self.number(raw[key], label, key)
+                if key in ("alpha", "theta"):
+                    geometry[key] = self.angle(geometry[key], label, key)
         mass = self.number(raw.get("mass", 0), label, "mass")
         if mass.is_number and mass < 0:
             self.fail(f"mass must not be negative, got {float(mass):g}", label, "mass")
@@ -327,7 +443,50 @@ class _Reader:
         for key, value in extras.items():
             if value.is_number and value < 0:
                 self.fail(f"{key} must not be negative, got {float(value):g}", label, key)
-        return Link(name=name, joint=joint, mass=mass, com=com, inertia=inertia, **geometry, **extras)
+        limits = self.limits(raw["limits"], label) if "limits" in raw else None
+        return Link(name=name, joint=joint, mass=mass, com=com, inertia=inertia, limits=limits,
+                    **geometry, **extras)
+
+    def placement(self, raw: Any, label: str | None, fld: str) -> Placement:
+        """``{xyz: [3 m], rpy: [3 angles]}`` (both optional, default zero)."""
+        if not isinstance(raw, dict):
+            self.fail("expected a mapping {xyz: [x, y, z], rpy: [roll, pitch, yaw]}", label, fld)
+        for key in raw:
+            if key not in PLACEMENT_KEYS:
+                self.fail(f"unknown key {describe(key)} (allowed: xyz, rpy)", label, f"{fld}.{one_line(str(key), 40)}")
+        xyz = self.vector(raw.get("xyz", [0, 0, 0]), 3, label, f"{fld}.xyz")
+        rpy = self.vector(raw.get("rpy", [0, 0, 0]), 3, label, f"{fld}.rpy")
+        rpy = tuple(self.angle(v, label, f"{fld}.rpy[{k}]") for k, v in enumerate(rpy))
+        return Placement(xyz, rpy)
+
+    def axis(self, raw: Any, label: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+        """A joint axis: three numbers, not all zero, normalized exactly."""
+        values = self.vector(raw, 3, label, "axis")
+        if any(v.free_symbols for v in values):
+            self.fail("the axis must be numbers (no parameter names)", label, "axis")
+        norm2 = sum(v * v for v in values)
+        if norm2 == 0:
+            self.fail("the axis is zero: give a direction such as [0, 0, 1]", label, "axis")
+        if norm2 == 1:
+            return values
+        norm = sp.sqrt(norm2)
+        return tuple(sp.radsimp(v / norm) for v in values)
+
+    def limits(self, raw: Any, label: str) -> Limits:
+        if not isinstance(raw, dict):
+            self.fail("expected a mapping {lower, upper, velocity, effort}", label, "limits")
+        for key in raw:
+            if key not in LIMIT_KEYS:
+                self.fail(f"unknown key {describe(key)} (allowed: {', '.join(LIMIT_KEYS)})", label,
+                          f"limits.{one_line(str(key), 40)}")
+        values = {key: self.number(raw[key], label, f"limits.{key}") for key in LIMIT_KEYS if key in raw}
+        for key in ("velocity", "effort"):
+            if key in values and values[key].is_number and values[key] < 0:
+                self.fail(f"{key} limit must not be negative", label, f"limits.{key}")
+        lower, upper = values.get("lower"), values.get("upper")
+        if lower is not None and upper is not None and (upper - lower).is_number and upper < lower:
+            self.fail("lower limit above upper limit", label, "limits")
+        return Limits(**values)
 
     def angle(self, value: sp.Expr, label: str, fld: str) -> sp.Expr:
         """An angle field in rad: converted from degrees under ``angles: degrees``; a magnitude
@@ -406,14 +565,17 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
                     f"starting with a letter, at most {MAX_NAME} characters", None, "name")
     convention = doc.get("convention")
     if convention is None:
-        reader.fail("missing required field (standard or modified)", None, "convention")
+        reader.fail("missing required field (standard, modified or general)", None, "convention")
     if convention not in CONVENTIONS:
-        reader.fail(f"unknown convention {describe(convention)} (expected standard or modified)", None, "convention")
+        reader.fail(f"unknown convention {describe(convention)} (expected standard, modified or general)", None, "convention")
     angles = doc.get("angles", "radians")
     if angles not in ANGLE_UNITS:
         reader.fail(f"unknown angle unit {describe(angles)} (expected radians or degrees)", None, "angles")
     reader.degrees = angles == "degrees"
+    reader.convention = convention
     reader.read_parameters(doc.get("parameters"))
+    base = reader.placement(doc["base"], None, "base") if "base" in doc else None
+    tool = reader.placement(doc["tool"], None, "tool") if "tool" in doc else None
     gravity = (reader.vector(doc["gravity"], 3, None, "gravity") if "gravity" in doc
                else DEFAULT_GRAVITY)
     links_raw = doc.get("links")
@@ -426,8 +588,9 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     names_seen: set = set()
     links = tuple(reader.read_link(k, raw, names_seen) for k, raw in enumerate(links_raw))
     runtime_syms = list(reader.runtime.values())
+    placements = [e for p in (base, tool) if p is not None for e in p.expressions()]
     used = set().union(*(e.free_symbols for link in links for e in link.expressions()),
-                       *(sp.sympify(g).free_symbols for g in gravity))
+                       *(sp.sympify(g).free_symbols for g in (*gravity, *placements)))
     parameters = tuple(runtime_syms)
     nominal = tuple(reader.runtime_nominal[s.name] for s in runtime_syms)
     # Drop runtime parameters that nothing uses: they cannot affect any output.
@@ -435,7 +598,7 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     return Robot(
         name=name, convention=convention, gravity=tuple(sp.sympify(g) for g in gravity),
         links=links, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
-        source=path, source_hash=source_hash,
+        source=path, source_hash=source_hash, base=base, tool=tool,
         runtime_names=tuple(s.name for s in runtime_syms if s in used))
 
 

@@ -26,7 +26,8 @@ from .inputs import decode_text, load_yaml, read_input
 from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document
 
 SCENE_VERSION = 1
-SCENE_KEYS = ("scene", "robot", "name", "functions", "precision", "lock", "payload", "runtime", "values")
+SCENE_KEYS = ("scene", "robot", "tip", "tool", "name", "functions", "precision", "lock", "payload", "runtime",
+              "values")
 PAYLOAD_KEYS = ("mass", "com", "inertia")
 NAME_TOKEN = re.compile(r"(?<![0-9.])\b[A-Za-z_][A-Za-z0-9_]*")
 #: the largest magnitude of a lock value (rad or m)
@@ -45,21 +46,43 @@ class Scene:
     source_hash: str
 
 
-def load_input(path: str):
-    """A robot file or a scene (told apart by a top-level ``scene`` key), read once: returns
-    ``(robot, scene or None)``."""
-    path = os.fspath(path)
+def is_urdf(path) -> bool:
+    """Whether ``path`` names a URDF file (by its extension, ``.urdf`` in any case)."""
+    return os.fspath(path).lower().endswith(".urdf")
+
+
+def read_robot_document(path: str, tip: str | None = None, tool: str | None = None,
+                        option: str = "--tip/--tool"):
+    """``(document, raw bytes, notes)`` of a robot file: a YAML/JSON robot file (or scene) as
+    parsed, or a URDF turned into the format's general form (:mod:`symdyn.model.urdf`;
+    ``tip``/``tool`` name its tip and tool links)."""
     raw = read_input(path)
-    doc = load_yaml(decode_text(raw, path), path)
+    text = decode_text(raw, path)
+    if is_urdf(path):
+        from .urdf import read_urdf
+        doc, notes = read_urdf(text, path, tip=tip, tool=tool)
+        return doc, raw, tuple(notes)
+    if tip is not None or tool is not None:
+        raise RobotFileError(path, f"{option} apply to URDF files only (a robot file names its tool with 'tool:')")
+    return load_yaml(text, path), raw, ()
+
+
+def load_input(path: str, tip: str | None = None, tool: str | None = None):
+    """A robot file, a URDF or a scene (told apart by a top-level ``scene`` key), read once:
+    returns ``(robot, scene or None)``.  ``tip``/``tool``: a URDF's tip and tool links."""
+    path = os.fspath(path)
+    doc, raw, notes = read_robot_document(path, tip, tool)
     if isinstance(doc, dict) and "scene" in doc:
         scene = _build_scene(path, raw, doc)
         return scene.robot, scene
-    return from_document(doc, path, hashlib.sha256(raw).hexdigest()), None
+    robot = from_document(doc, path, hashlib.sha256(raw).hexdigest())
+    return (replace(robot, notes=notes) if notes else robot), None
 
 
-def load(path) -> Robot:
-    """The robot of a robot file or of a scene (``symdyn.load``): a scene's specialized robot."""
-    return load_input(os.fspath(path))[0]
+def load(path, tip: str | None = None, tool: str | None = None) -> Robot:
+    """The robot of a robot file, a URDF (``tip``/``tool``: its tip and tool links) or a scene
+    (``symdyn.load``): a scene's specialized robot."""
+    return load_input(os.fspath(path), tip, tool)[0]
 
 
 def _payload_names(payload) -> set[str]:
@@ -132,12 +155,17 @@ def lock_joints(robot: Robot, locked: dict[int, sp.Expr]) -> Robot:
         pending = sp.eye(4)
     if not kept:
         raise SymdynError("a scene must leave at least one joint free")
-    return _drop_unused(replace(robot, links=tuple(kept)))
+    tool_fixed = robot.tool_fixed
+    if pending != sp.eye(4):  # the last joints are locked: the tool rides on the last free link
+        previous = sp.eye(4) if tool_fixed is None else sp.Matrix(4, 4, list(tool_fixed))
+        tool_fixed = tuple((pending * previous).applyfunc(sp.simplify))
+    return _drop_unused(replace(robot, links=tuple(kept), tool_fixed=tool_fixed))
 
 
 def _drop_unused(robot: Robot) -> Robot:
     used = set().union(*(e.free_symbols for link in robot.links for e in link.expressions()),
-                       *(sp.sympify(g).free_symbols for g in robot.gravity))
+                       *(sp.sympify(g).free_symbols for g in (*robot.gravity, *robot.base_matrix(),
+                                                             *robot.tool_matrix())))
     keep = [(s, v) for s, v in zip(robot.parameters, robot.nominal) if s in used]
     return replace(robot, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
                    runtime_names=tuple(n for n in robot.runtime_names if any(s.name == n for s, _ in keep)))
@@ -162,9 +190,12 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     if not isinstance(doc.get("robot"), str) or not doc["robot"].strip():
         _fail(path, "missing or invalid robot file path", "robot")
     robot_path = os.path.join(os.path.dirname(os.path.abspath(path)), doc["robot"])
+    tip, tool = doc.get("tip"), doc.get("tool")
+    for fld, value in (("tip", tip), ("tool", tool)):
+        if value is not None and not isinstance(value, str):
+            _fail(path, f"expected a link name of the URDF, not {describe(value)}", fld)
     try:
-        robot_raw = read_input(robot_path)
-        robot_doc = load_yaml(decode_text(robot_raw, robot_path), robot_path)
+        robot_doc, robot_raw, robot_notes = read_robot_document(robot_path, tip, tool, "tip: and tool:")
     except RobotFileError as exc:
         raise RobotFileError(path, f"robot file {display_path(doc['robot'])}: {exc.reason}", field="robot") from None
     # The robot file must be valid as it is before the scene changes anything in it (its own
@@ -211,7 +242,8 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
                 _fail(path, f"robot {display_path(doc['robot'])} has no parameter {describe(name)}{known}, and "
                             f"the payload does not use it{hint}", f"{fld}")
     notes = [f"scene: {display_path(os.path.basename(path))} (sha256 {hashlib.sha256(raw).hexdigest()})",
-             f"robot: {display_path(doc['robot'])} (sha256 {hashlib.sha256(robot_raw).hexdigest()})"]
+             f"robot: {display_path(doc['robot'])} (sha256 {hashlib.sha256(robot_raw).hexdigest()})",
+             *robot_notes]
     folded = []
     for name in sorted(payload_names - set(params), key=lambda n: (n not in runtime, runtime.index(n) if n in runtime else 0, n)):
         params[name] = {"runtime": True} if name in runtime else values[name]
@@ -241,9 +273,11 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
         # read the payload with the robot's own (safe) number parser, as one more link's fields
         taken = {link.get("name") for link in links if isinstance(link, dict)}
         carrier_name = next(n for n in (f"payload{k}" if k else "payload" for k in range(len(links) + 1)) if n not in taken)
-        links.append({"name": carrier_name, "joint": "revolute", "a": 0, "alpha": 0, "d": 0, "theta": 0,
-                      "mass": payload.get("mass", 0), "com": payload.get("com", [0, 0, 0]),
-                      "inertia": payload.get("inertia", [0, 0, 0, 0, 0, 0])})
+        carrier = {"name": carrier_name, "joint": "revolute", "mass": payload.get("mass", 0),
+                   "com": payload.get("com", [0, 0, 0]), "inertia": payload.get("inertia", [0, 0, 0, 0, 0, 0])}
+        if robot_doc.get("convention") != "general":
+            carrier.update(a=0, alpha=0, d=0, theta=0)
+        links.append(carrier)
     robot_doc["links"] = links
     try:
         with warnings.catch_warnings():  # the robot file's warnings were given by the check above
