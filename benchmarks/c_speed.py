@@ -3,7 +3,7 @@
 Usage:  python benchmarks/c_speed.py [ROBOT ...]      (default: puma560 ur5 iiwa14)
 
 For each robot: generates double-precision C, compiles it with -O3 -march=native together with a
-timing loop (ns per call, median of 7 repeats of 20000 calls over 64 random states), builds
+timing loop (ns per call, median of 7 repeats of 20000 calls cycling over 10,000 distinct random states), builds
 benchmarks/pinocchio_bench.cpp against the headers and libraries that the pin wheel ships (Eigen
 from the casadi wheel), saves the equivalent Pinocchio model as text and times rnea, crba,
 computeGeneralizedGravity, computeCoriolisMatrix and aba.  Prints a Markdown table with the

@@ -18,10 +18,10 @@ PRELUDE = r"""#define _POSIX_C_SOURCE 199309L
 #define REAL double
 #endif
 #define N %(dof)d
-#define S 64
+#define S 10000 /* distinct random states, cycled */
 static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
 static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
-static REAL q[S][N], qd[S][N], qdd[S][N], out[N * N];
+static REAL q[S][N], qd[S][N], qdd[S][N], out[N * N + 6 * N + 16];
 static volatile double sink;
 #define TIME(label, call) do { double runs[7]; int r, i; for (r = 0; r < 7; ++r) { double t0 = now(); \
     for (i = 0; i < 20000; ++i) { int k = i %% S; call; sink += out[0]; } runs[r] = (now() - t0) / 20000; } \
@@ -41,7 +41,8 @@ def parse(text):
 
 
 ARGUMENTS = {"inverse_dynamics": "q[k], qd[k], qdd[k]", "mass_matrix": "q[k]", "coriolis": "q[k], qd[k]",
-             "coriolis_matrix": "q[k], qd[k]", "gravity": "q[k]", "forward_dynamics": "q[k], qd[k], qdd[k]"}
+             "coriolis_matrix": "q[k], qd[k]", "gravity": "q[k]", "forward_dynamics": "q[k], qd[k], qdd[k]",
+             "forward_kinematics": "q[k]", "jacobian": "q[k]", "jacobian_dot_qd": "q[k], qd[k]"}
 
 
 def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", parameters=()) -> str:

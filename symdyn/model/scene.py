@@ -129,6 +129,13 @@ def _with_body(link: Link, m, c, inertia) -> Link:
                    inertia=tuple(simplify(x) for x in (I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2])))
 
 
+def _tidy(e):
+    """Simplify a symbolic entry; an exact number is left as it is (simplifying products of
+    cos/sin of non-special angles is slow and gains nothing: emitters fold them)."""
+    e = sp.sympify(e)
+    return e if e.is_number else sp.simplify(e)
+
+
 def _body(link: Link):
     return link.mass, sp.Matrix(link.com), sp.Matrix(link.inertia_matrix)
 
@@ -150,7 +157,7 @@ def lock_joints(robot: Robot, locked: dict[int, sp.Expr]) -> Robot:
                 kept[-1] = _with_body(kept[-1], m, c, inertia)
             continue
         fixed = pending * (sp.Matrix(4, 4, list(link.fixed)) if link.fixed is not None else sp.eye(4))
-        fixed = fixed.applyfunc(sp.simplify)
+        fixed = fixed.applyfunc(_tidy)
         kept.append(replace(link, fixed=None if fixed == sp.eye(4) else tuple(fixed)))
         pending = sp.eye(4)
     if not kept:
@@ -158,7 +165,7 @@ def lock_joints(robot: Robot, locked: dict[int, sp.Expr]) -> Robot:
     tool_fixed = robot.tool_fixed
     if pending != sp.eye(4):  # the last joints are locked: the tool rides on the last free link
         previous = sp.eye(4) if tool_fixed is None else sp.Matrix(4, 4, list(tool_fixed))
-        tool_fixed = tuple((pending * previous).applyfunc(sp.simplify))
+        tool_fixed = tuple((pending * previous).applyfunc(_tidy))
     return _drop_unused(replace(robot, links=tuple(kept), tool_fixed=tool_fixed))
 
 

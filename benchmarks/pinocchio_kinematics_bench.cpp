@@ -1,0 +1,63 @@
+// Times Pinocchio's C++ kinematics of one frame on a model saved by benchmarks/kinematics_speed.py
+// (pinocchio::Model::saveToText).  Usage: pinkin MODEL.txt FRAME.  Prints "name ns_per_call"
+// lines (median of 7 repeats of 20000 calls cycling over 10,000 distinct random states).
+#include <pinocchio/multibody.hpp>
+#include <pinocchio/algorithm/frames.hpp>
+#include <pinocchio/algorithm/jacobian.hpp>
+#include <pinocchio/algorithm/kinematics.hpp>
+#include <pinocchio/serialization.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <vector>
+
+template <typename F> double time_ns(F f, int calls) {
+  std::vector<double> runs;
+  for (int r = 0; r < 7; ++r) {
+    auto t0 = std::chrono::steady_clock::now();
+    for (int i = 0; i < calls; ++i) f(i);
+    auto t1 = std::chrono::steady_clock::now();
+    runs.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() / calls);
+  }
+  std::sort(runs.begin(), runs.end());
+  return runs[runs.size() / 2];
+}
+
+int main(int argc, char **argv) {
+  if (argc < 3) return 2;
+  pinocchio::Model model;
+  model.loadFromText(argv[1]);
+  pinocchio::Data data(model);
+  const pinocchio::FrameIndex frame = model.getFrameId(argv[2]);
+  if (frame >= model.frames.size()) return 3;
+  const int calls = 20000, states = 10000;
+  std::vector<Eigen::VectorXd> q, v;
+  for (int k = 0; k < states; ++k) {
+    q.push_back(pinocchio::randomConfiguration(model, -Eigen::VectorXd::Ones(model.nq), Eigen::VectorXd::Ones(model.nq)));
+    v.push_back(Eigen::VectorXd::Random(model.nv));
+  }
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.nv);
+  pinocchio::Data::Matrix6x J(6, model.nv);
+  double sink = 0;
+  const auto lwa = pinocchio::LOCAL_WORLD_ALIGNED;
+  // as the issue states it: joint Jacobians + frame placements, then the frame's Jacobian
+  std::printf("computeJointJacobians_framesForwardKinematics %.1f\n", time_ns([&](int i) {
+    pinocchio::computeJointJacobians(model, data, q[i % states]);
+    pinocchio::framesForwardKinematics(model, data, q[i % states]);
+    J.setZero();
+    pinocchio::getFrameJacobian(model, data, frame, lwa, J);
+    sink += J(0, 0) + data.oMf[frame].translation()[0]; }, calls));
+  // Pinocchio's leanest way to the same two results
+  std::printf("computeFrameJacobian %.1f\n", time_ns([&](int i) {
+    J.setZero();
+    pinocchio::computeFrameJacobian(model, data, q[i % states], frame, lwa, J);
+    sink += J(0, 0) + data.oMf[frame].translation()[0]; }, calls));
+  std::printf("updateFramePlacement %.1f\n", time_ns([&](int i) {
+    pinocchio::forwardKinematics(model, data, q[i % states]);
+    sink += pinocchio::updateFramePlacement(model, data, frame).translation()[0]; }, calls));
+  std::printf("getFrameClassicalAcceleration %.1f\n", time_ns([&](int i) {
+    pinocchio::forwardKinematics(model, data, q[i % states], v[i % states], zero);
+    sink += pinocchio::getFrameClassicalAcceleration(model, data, frame, lwa).linear()[0]; }, calls));
+  std::fprintf(stderr, "checksum %g\n", sink);
+  return 0;
+}
