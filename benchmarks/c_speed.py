@@ -39,14 +39,15 @@ HARNESS = PRELUDE.replace("%(includes)s", '#include "%(n)s_dynamics.h"') + r"""
 """
 
 
-def pinocchio_bench_binary(workdir):
+def pinocchio_bench_binary(workdir, source="pinocchio_bench.cpp", name="pinbench"):
+    """Compile a C++ timing program against the Pinocchio that the pin wheel ships."""
     site = sysconfig.get_paths()["purelib"]
     prefix = os.path.join(site, "cmeel.prefix")
     eigen = os.path.join(site, "casadi", "include", "eigen3")
-    exe = os.path.join(workdir, "pinbench")
+    exe = os.path.join(workdir, name)
     cmd = ["g++", "-O3", "-w", "-DNDEBUG", "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_MPL_LIMIT_LIST_SIZE=30",
            "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30", "-DBOOST_FUSION_INVOKE_MAX_ARITY=12",
-           "-DBOOST_FUSION_INVOKE_FUNCTION_OBJECT_MAX_ARITY=12", "-DBOOST_FUSION_INVOKE_PROCEDURE_MAX_ARITY=12", "-std=c++17", "-march=native", os.path.join(HERE, "pinocchio_bench.cpp"),
+           "-DBOOST_FUSION_INVOKE_FUNCTION_OBJECT_MAX_ARITY=12", "-DBOOST_FUSION_INVOKE_PROCEDURE_MAX_ARITY=12", "-std=c++17", "-march=native", os.path.join(HERE, source),
            f"-I{prefix}/include", f"-I{eigen}", f"-L{prefix}/lib", "-lpinocchio_default", "-lboost_serialization",
            f"-Wl,-rpath,{prefix}/lib", "-o", exe]
     subprocess.run(cmd, check=True)

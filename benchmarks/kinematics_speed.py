@@ -9,7 +9,8 @@ the chain locked), and the bundled DH robots ur5 and panda.  Timing: ns per call
 repeats of 20000 calls cycling over 10,000 distinct random states, gcc -O3 -march=native for
 symdyn's C.  Ratios are Pinocchio / symdyn (> 1: symdyn is faster):
 
-- FK + J: symdyn's ``forward_kinematics`` + ``jacobian`` (two calls) against
+- FK + J: symdyn's ``kinematics`` (pose and Jacobian in one call; the two single functions cost
+  about twice as much, each computing the joints' sin/cos) against
   ``computeJointJacobians`` + ``framesForwardKinematics`` + ``getFrameJacobian`` (as the issue
   puts it) and against ``computeFrameJacobian`` (Pinocchio's leanest path to both results);
 - FK: ``forward_kinematics`` against ``forwardKinematics`` + ``updateFramePlacement``;
@@ -26,6 +27,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
+sys.path.insert(0, HERE)
 
 import symdyn  # noqa: E402
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference  # noqa: E402
@@ -33,6 +35,7 @@ from symdyn.check.timing import time_generated  # noqa: E402
 from symdyn.emit.cgen import generate_c  # noqa: E402
 
 KINEMATICS = ("forward_kinematics", "jacobian", "jacobian_dot_qd")
+TIMED = KINEMATICS + ("kinematics",)
 
 
 def example_robot_data() -> str:
@@ -48,16 +51,8 @@ URDFS = [  # (label, path under example-robot-data, tip, tool, bundled DH robot 
 
 
 def pinocchio_binary(workdir):
-    site = sysconfig.get_paths()["purelib"]
-    prefix = os.path.join(site, "cmeel.prefix")
-    eigen = os.path.join(site, "casadi", "include", "eigen3")
-    exe = os.path.join(workdir, "pinkin")
-    subprocess.run(["g++", "-O3", "-w", "-DNDEBUG", "-std=c++17", "-march=native",
-                    "-DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS", "-DBOOST_MPL_LIMIT_LIST_SIZE=30",
-                    "-DBOOST_MPL_LIMIT_VECTOR_SIZE=30", os.path.join(HERE, "pinocchio_kinematics_bench.cpp"),
-                    f"-I{prefix}/include", f"-I{eigen}", f"-L{prefix}/lib", "-lpinocchio_default",
-                    "-lboost_serialization", f"-Wl,-rpath,{prefix}/lib", "-o", exe], check=True)
-    return exe
+    from c_speed import pinocchio_bench_binary
+    return pinocchio_bench_binary(workdir, "pinocchio_kinematics_bench.cpp", "pinkin")
 
 
 def pinocchio_times(binary, model, frame, workdir, label):
@@ -70,7 +65,7 @@ def pinocchio_times(binary, model, frame, workdir, label):
 def symdyn_times(robot, workdir):
     eqs = symdyn.derive(robot, outputs=list(KINEMATICS))
     folder = tempfile.mkdtemp(dir=workdir)
-    return eqs, time_generated(generate_c(eqs, KINEMATICS), robot.name, robot.dof, KINEMATICS, "double", folder)
+    return eqs, time_generated(generate_c(eqs, KINEMATICS), robot.name, robot.dof, TIMED, "double", folder)
 
 
 def derivation_seconds(robot, repeats=3):
@@ -102,7 +97,7 @@ def main():
         for label, robot, model, frame in cases:
             _, mine = symdyn_times(robot, workdir)
             theirs = pinocchio_times(binary, model, frame, workdir, label)
-            fk_j = mine["forward_kinematics"] + mine["jacobian"]
+            fk_j = mine["kinematics"]
             rows.append((label, fk_j, theirs["computeJointJacobians_framesForwardKinematics"],
                          theirs["computeFrameJacobian"], mine["forward_kinematics"], theirs["updateFramePlacement"],
                          mine["jacobian_dot_qd"], theirs["getFrameClassicalAcceleration"]))

@@ -142,6 +142,15 @@ void iiwa14_jacobian(const iiwa14_real *q, iiwa14_real *J);
  */
 void iiwa14_jacobian_dot_qd(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *a);
 
+/*
+ * Pose and Jacobian of the tool in one call: the same results as iiwa14_forward_kinematics and iiwa14_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 133 multiplications, 79 additions/subtractions, 0 divisions, 14 sin/cos.
+ */
+void iiwa14_kinematics(const iiwa14_real *q, iiwa14_real *T, iiwa14_real *J);
+
 #ifdef __cplusplus
 }
 #endif

@@ -142,6 +142,15 @@ void panda_jacobian(const panda_real *q, panda_real *J);
  */
 void panda_jacobian_dot_qd(const panda_real *q, const panda_real *qd, panda_real *a);
 
+/*
+ * Pose and Jacobian of the tool in one call: the same results as panda_forward_kinematics and panda_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 131 multiplications, 80 additions/subtractions, 0 divisions, 14 sin/cos.
+ */
+void panda_kinematics(const panda_real *q, panda_real *T, panda_real *J);
+
 #ifdef __cplusplus
 }
 #endif

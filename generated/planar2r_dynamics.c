@@ -248,3 +248,43 @@ void planar2r_jacobian_dot_qd(const planar2r_real *q, const planar2r_real *qd, c
     a[4] = 0.0;
     a[5] = 0.0;
 }
+
+void planar2r_kinematics(const planar2r_real *q, const planar2r_real *p, planar2r_real *T, planar2r_real *J)
+{
+    const planar2r_real c1 = cos(q[0]);
+    const planar2r_real s1 = sin(q[0]);
+    const planar2r_real c2 = cos(q[1]);
+    const planar2r_real s2 = sin(q[1]);
+    const planar2r_real o2_0 = c1*p[4];
+    const planar2r_real o2_1 = s1*p[4];
+    const planar2r_real T02_00 = c1*c2 - s1*s2;
+    const planar2r_real T02_01 = -c1*s2 - c2*s1;
+    T[0] = T02_00;
+    T[1] = T02_01;
+    T[2] = 0.0;
+    T[3] = o2_0;
+    T[4] = -T02_01;
+    T[5] = T02_00;
+    T[6] = 0.0;
+    T[7] = o2_1;
+    T[8] = 0.0;
+    T[9] = 0.0;
+    T[10] = 1.0;
+    T[11] = 0.0;
+    T[12] = 0.0;
+    T[13] = 0.0;
+    T[14] = 0.0;
+    T[15] = 1.0;
+    J[0] = -o2_1;
+    J[1] = 0.0;
+    J[2] = o2_0;
+    J[3] = 0.0;
+    J[4] = 0.0;
+    J[5] = 0.0;
+    J[6] = 0.0;
+    J[7] = 0.0;
+    J[8] = 0.0;
+    J[9] = 0.0;
+    J[10] = 1.0;
+    J[11] = 1.0;
+}

@@ -161,6 +161,16 @@ void planar2r_jacobian(const planar2r_real *q, const planar2r_real *p, planar2r_
  */
 void planar2r_jacobian_dot_qd(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *p, planar2r_real *a);
 
+/*
+ * Pose and Jacobian of the tool in one call: the same results as planar2r_forward_kinematics and planar2r_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   p: runtime parameters, NP, in the order listed above
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 6 multiplications, 2 additions/subtractions, 0 divisions, 4 sin/cos.
+ */
+void planar2r_kinematics(const planar2r_real *q, const planar2r_real *p, planar2r_real *T, planar2r_real *J);
+
 #ifdef __cplusplus
 }
 #endif

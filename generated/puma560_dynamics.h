@@ -140,6 +140,15 @@ void puma560_jacobian(const puma560_real *q, puma560_real *J);
  */
 void puma560_jacobian_dot_qd(const puma560_real *q, const puma560_real *qd, puma560_real *a);
 
+/*
+ * Pose and Jacobian of the tool in one call: the same results as puma560_forward_kinematics and puma560_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 86 multiplications, 48 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void puma560_kinematics(const puma560_real *q, puma560_real *T, puma560_real *J);
+
 #ifdef __cplusplus
 }
 #endif

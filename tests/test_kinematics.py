@@ -13,6 +13,7 @@ import yaml
 import symdyn
 from helpers import (REPO, ROBOTS, TOL, PinocchioReference, parameter_values, random_states,
                      robot_path)
+from symdyn.check.cbuild import CompiledDynamics, compile_shared
 from symdyn.check.pinocchio_model import compare
 from symdyn.check.reference import MpReference
 from symdyn.cli import main
@@ -173,13 +174,22 @@ def test_degrees_apply_to_rpy_and_big_rpy_warns():
         from_document(doc, "general.yaml")
 
 
-def test_generated_c_for_general_robot_compiles_and_agrees(tmp_path, capsys):
+def test_generated_c_for_general_robot_compiles_and_agrees(tmp_path, capsys, general):
     """The CLI end to end on the general robot: generate, then verify (compiled C against
-    Pinocchio, every function) in double and float."""
+    Pinocchio, every function) in double and float; the combined NAME_kinematics gives the
+    same pose and Jacobian as the two single functions."""
     assert main(["generate", GENERAL, "--out", str(tmp_path), "--quiet", "--no-cache"]) == 0
     header = (tmp_path / "general_arm_dynamics.h").read_text()
     assert "void general_arm_jacobian(const general_arm_real *q, general_arm_real *J);" in header
+    assert "void general_arm_kinematics(const general_arm_real *q, general_arm_real *T, general_arm_real *J);" in header
     assert "base in the world: xyz [0.1, -0.2, 0.5] m" in header
+    lib = CompiledDynamics(compile_shared(str(tmp_path / "general_arm_dynamics.c"), str(tmp_path)),
+                           "general_arm", general.n, 0)
+    for q, *_ in random_states(general.n, 5, seed=9):
+        T, J = lib.kinematics(q)
+        assert np.allclose(T, lib.forward_kinematics(q), rtol=1e-14, atol=1e-15)
+        assert np.allclose(J, lib.jacobian(q), rtol=1e-14, atol=1e-15)
+        assert np.allclose(T, general.numeric.forward_kinematics(q), rtol=1e-12, atol=1e-13)
     assert main(["verify", GENERAL]) == 0
     assert main(["verify", GENERAL, "--precision", "float"]) == 0
     out = capsys.readouterr().out

@@ -81,6 +81,18 @@ class CompiledDynamics:
     def jacobian_dot_qd(self, q, qd, p=None):
         return self._call("jacobian_dot_qd", (q, qd), p, 6)
 
+    def kinematics(self, q, p=None):
+        """``(T, J)`` from ``NAME_kinematics`` (pose and Jacobian in one call)."""
+        fn = getattr(self.lib, f"{self.prefix}_kinematics")
+        arrays = [np.ascontiguousarray(q, dtype=self.dtype)]
+        if self.np:
+            arrays.append(np.ascontiguousarray(p, dtype=self.dtype))
+        T, J = np.zeros(16, dtype=self.dtype), np.zeros(6 * self.n, dtype=self.dtype)
+        pointer = ctypes.POINTER(self.ctype)
+        fn.restype = None
+        fn(*[a.ctypes.data_as(pointer) for a in arrays + [T, J]])
+        return T.reshape(4, 4), J.reshape(6, self.n)
+
     def forward_dynamics_checked(self, q, qd, tau, p=None, qdd=None):
         """``(status, qdd)`` from ``NAME_forward_dynamics_checked``; ``qdd`` (default zeros) is the
         array passed in, returned as the function left it."""

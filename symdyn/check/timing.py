@@ -42,7 +42,8 @@ def parse(text):
 
 ARGUMENTS = {"inverse_dynamics": "q[k], qd[k], qdd[k]", "mass_matrix": "q[k]", "coriolis": "q[k], qd[k]",
              "coriolis_matrix": "q[k], qd[k]", "gravity": "q[k]", "forward_dynamics": "q[k], qd[k], qdd[k]",
-             "forward_kinematics": "q[k]", "jacobian": "q[k]", "jacobian_dot_qd": "q[k], qd[k]"}
+             "forward_kinematics": "q[k]", "jacobian": "q[k]", "jacobian_dot_qd": "q[k], qd[k]",
+             "kinematics": "q[k], out + 6 * N"}  # T after J in out
 
 
 def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", parameters=()) -> str:

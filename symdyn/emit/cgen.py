@@ -49,8 +49,13 @@ SUMMARIES = {
     "forward_kinematics": "Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",
     "jacobian": "Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.",
     "jacobian_dot_qd": "J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.",
+    "kinematics": "Pose and Jacobian of the tool in one call: the same results as NAME_forward_kinematics and NAME_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).",
 }
 
+
+#: functions that write several outputs in one call (sharing their intermediate quantities),
+#: emitted beside the single ones when all their parts are generated
+COMBINED = {"kinematics": ("forward_kinematics", "jacobian")}
 
 STATUS_DOC = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its "
               "LDL^T factorization is not above {rtol:g} times its diagonal entry, or is not a "
@@ -191,24 +196,25 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     """Straight-line C body of one output function (forward dynamics: the checked function)."""
     n = eqs.n
     real = f"{prefix}_real"
-    matrix = eqs.output(name)
-    out_name, out_doc = OUTPUT_ARGS[name]
+    parts = COMBINED.get(name, (name,))  # the outputs this function writes, one argument each
+    out_name, out_doc = OUTPUT_ARGS[parts[0]]
     targets: list[tuple[str, sp.Expr]] = []
     aliases: list[tuple[str, str]] = []
     checked = name == "forward_dynamics" and bool(eqs.pivots)
-    rows, cols = matrix.shape
     if checked:  # results go to locals first: qdd is written only when every check passes
+        matrix = eqs.output(name)
         targets = [(f"result{i}", matrix[i]) for i in range(n)]
-    elif cols == 1:
-        targets = [(f"{out_name}[{i}]", matrix[i]) for i in range(rows)]
-    else:
-        symmetric = name == "mass_matrix"
+    for part in (() if checked else parts):
+        matrix = eqs.output(part)
+        part_name = OUTPUT_ARGS[part][0]
+        rows, cols = matrix.shape
+        symmetric = part == "mass_matrix"
         for i in range(rows):
             for j in range(cols):
                 if symmetric and j < i:
-                    aliases.append((f"{out_name}[{i * cols + j}]", f"{out_name}[{j * cols + i}]"))
+                    aliases.append((f"{part_name}[{i * cols + j}]", f"{part_name}[{j * cols + i}]"))
                 else:
-                    targets.append((f"{out_name}[{i * cols + j}]", matrix[i, j]))
+                    targets.append((f"{part_name}[{i * cols + j}]", matrix[i, j]))
     checks = [e for pair in eqs.pivots for e in pair] if checked else []
     assigns = list(eqs.program.needed_for([e for _, e in targets] + checks))
     folded = [(s, fold_constants(r)) for s, r in assigns]
@@ -228,7 +234,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     local_type = real if internal == precision else internal
     cast = "(double)" if internal != precision else ""
     names: dict[sp.Symbol, str] = {}
-    inputs = OUTPUT_INPUTS[name]
+    inputs = OUTPUT_INPUTS[parts[0]]
     for group in inputs:
         for k, sym in enumerate(getattr(eqs, group)):
             names[sym] = f"{cast}{group}[{k}]"
@@ -294,10 +300,10 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     args = [(f"const {real} *", group, ARG_DOCS[group], False) for group in inputs]
     if eqs.parameters:
         args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
-    args.append((f"{real} *", out_name, out_doc, True))
+    args.extend((f"{real} *", *OUTPUT_ARGS[part], True) for part in parts)
     unused = [a for _, a, _, is_out in args if not is_out and not any(
         names.get(s, "").startswith(cast + a + "[") for s in used)]
-    summary = SUMMARIES[name]
+    summary = SUMMARIES[name].replace("NAME", prefix)
     if internal != precision:
         summary += " Computed internally in double precision (float inputs and outputs): D can be ill-conditioned, and float rounding of D alone would cost up to ~1e-3."
     if checked:
@@ -319,6 +325,9 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         if progress is not None:
             progress(f"{prefix}: C for {f}")
         built.extend(build_functions(eqs, f, precision, prefix))
+    for combined, parts in COMBINED.items():
+        if all(part in functions for part in parts):
+            built.append(build_function(eqs, combined, precision, prefix))
     externals = [f"{prefix}_{f.name}" for f in built]
     if len({e[:31] for e in externals}) < len(externals):
         warn(f"robot name '{prefix}': the generated function names ({', '.join(externals)}) are not "

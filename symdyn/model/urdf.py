@@ -1,0 +1,714 @@
+"""Reading URDF files: a serial chain of a URDF tree as a robot document (the format's general
+form, ``convention: general``), which :func:`symdyn.model.robot.from_document` then reads.
+
+XML is parsed with the standard library's expat binding (:mod:`xml.parsers.expat`, the parser
+behind :mod:`xml.etree.ElementTree`, kept up to date with Python) building an ElementTree through
+:class:`xml.etree.ElementTree.TreeBuilder`.  The expat parser is driven directly because the C
+``ElementTree.XMLParser`` does not expose it: its ``StartDoctypeDeclHandler`` and
+``EntityDeclHandler`` refuse any DOCTYPE or entity declaration before it is read, so no entity is
+ever defined or expanded (no "billion laughs", no external files).  A URDF needs neither.
+
+What is read (see ``docs/urdf.md``), matching Pinocchio's ``buildModelFromUrdf`` for the chain
+from the root link to the tip link:
+
+- ``revolute`` and ``continuous`` joints become ``revolute`` (one coordinate: the angle),
+  ``prismatic`` stays; ``fixed`` joints are merged; any other joint type or a ``<mimic>`` on the
+  chain is refused.  A missing ``<axis>`` is (1, 0, 0), as in the URDF specification and
+  Pinocchio; a zero axis is refused.
+- A fixed joint's child link is merged into the moving link above it (its inertia moved by the
+  fixed transforms, combined by the parallel-axis theorem); the fixed transforms compose into the
+  next moving joint's ``origin``, or into the ``tool`` frame after the last moving joint.  Links
+  before the first moving joint are fixed to the ground: their inertia is left out.
+- Subtrees off the chain are merged into the link they hang from with every joint in them at
+  position 0 (moving joints so locked draw a warning), as Pinocchio's ``buildReducedModel`` at
+  the neutral configuration does.
+- An rpy angle within 1e-9 rad of a multiple of pi/2 is taken as that multiple (URDFs write
+  1.57079632679 for pi/2), so that zeros fold exactly.
+
+Numbers are carried exactly: the file's decimal text when a value is used as written, exact
+rationals (SymPy) when transforms compose with quarter-turn rotations, and 50-digit floating point
+(written as ``repr(float)``) when other rotations are involved.
+"""
+
+from __future__ import annotations
+
+import difflib
+import math
+import os
+import re
+import xml.parsers.expat as expat
+from dataclasses import dataclass
+from xml.etree.ElementTree import TreeBuilder
+
+import sympy as sp
+
+from .errors import RobotFileError, describe, one_line, warn
+from .expr import MAX_LITERAL, ExpressionError, number_to_rational
+from .robot import FORMAT_VERSION, MAX_NAME
+
+#: joint types of the URDF specification
+JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
+#: the most links (and joints) a URDF may have
+MAX_LINKS = 5000
+#: the largest rpy angle read (rad)
+MAX_ANGLE = 1e6
+#: an rpy angle this close to a multiple of pi/2 (rad) is taken as that multiple
+QUARTER_TOLERANCE = 1e-9
+#: digits of the floating-point arithmetic used where rotations are not quarter turns
+DIGITS = 50
+_SNAP = sp.Float("1e-30", DIGITS)
+_NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
+_NAMES_SHOWN = 6
+
+
+# ---------------------------------------------------------------------------------------------
+# XML
+
+
+class _Refused(Exception):
+    """Raised inside the expat handlers for a construct the reader does not accept."""
+
+
+def parse_xml(text: str, path: str):
+    """The root element of the XML ``text`` (the content of ``path``); DOCTYPE and entity
+    declarations are refused, and every problem is one :class:`RobotFileError` line."""
+    builder = TreeBuilder()
+    parser = expat.ParserCreate()
+
+    def refuse(what):
+        def handler(*_):
+            raise _Refused(what)
+        return handler
+    parser.StartDoctypeDeclHandler = refuse("a DOCTYPE declaration")
+    parser.EntityDeclHandler = refuse("an entity declaration")
+    parser.UnparsedEntityDeclHandler = refuse("an entity declaration")
+    parser.ExternalEntityRefHandler = refuse("an external entity")
+    parser.StartElementHandler = builder.start
+    parser.EndElementHandler = builder.end
+    parser.CharacterDataHandler = builder.data
+    parser.buffer_text = True
+    try:
+        parser.Parse(text, True)
+        return builder.close()
+    except _Refused as exc:
+        raise RobotFileError(path, f"not accepted: the file has {exc} (line {parser.CurrentLineNumber}); "
+                                   "a URDF needs none, and they are refused so that no entity is ever "
+                                   "expanded") from None
+    except expat.ExpatError as exc:
+        raise RobotFileError(path, f"not valid XML (line {exc.lineno}, column {exc.offset + 1}): "
+                                   f"{expat.ErrorString(exc.code)}") from None
+    except RecursionError:
+        raise RobotFileError(path, "not accepted: elements nested too deeply") from None
+
+
+# ---------------------------------------------------------------------------------------------
+# Numbers and frames
+
+
+def quarter_text(k: int) -> str:
+    """``k * pi/2`` as an expression the robot format reads: 0, pi/2, -pi, 3*pi/2 ..."""
+    if k == 0:
+        return "0"
+    if k % 2 == 0:
+        half = k // 2
+        return "pi" if half == 1 else "-pi" if half == -1 else f"{half}*pi"
+    return "pi/2" if k == 1 else "-pi/2" if k == -1 else f"{k}*pi/2"
+
+
+def number_text(value) -> str:
+    """A computed number as robot-file text: an exact rational as a terminating decimal or
+    ``p/q``; a multiple of pi/2 by :func:`quarter_text`; anything else ``repr(float)``."""
+    value = sp.sympify(value)
+    if value.is_Rational:
+        p, q = int(value.p), int(value.q)
+        if q == 1:
+            text = str(p)
+            if len(text) <= MAX_LITERAL:
+                return text
+        else:
+            rest, twos, fives = q, 0, 0
+            while rest % 2 == 0:
+                rest, twos = rest // 2, twos + 1
+            while rest % 5 == 0:
+                rest, fives = rest // 5, fives + 1
+            if rest == 1:
+                places = max(twos, fives)
+                digits = str(abs(p) * 10 ** places // q).rjust(places + 1, "0")
+                text = f"{'-' if p < 0 else ''}{digits[:-places]}.{digits[-places:]}"
+                if len(text) <= MAX_LITERAL:
+                    return text
+            if len(str(abs(p))) <= MAX_LITERAL and len(str(q)) <= MAX_LITERAL:
+                return f"{p}/{q}"
+    ratio = value / (sp.pi / 2)
+    if ratio.is_Rational and ratio.q == 1:
+        return quarter_text(int(ratio))
+    number = float(value.evalf(DIGITS))
+    if abs(number) < 1e-40:
+        return "0"
+    return repr(number)
+
+
+def _cos_sin(angle) -> tuple:
+    """Exact cos and sin of a multiple of pi/2, else 50-digit values."""
+    ratio = angle / (sp.pi / 2)
+    if ratio.is_Rational and ratio.q == 1:
+        return ((1, 0), (0, 1), (-1, 0), (0, -1))[int(ratio) % 4]
+    return sp.cos(angle).evalf(DIGITS), sp.sin(angle).evalf(DIGITS)
+
+
+def rpy_rotation(rpy) -> sp.Matrix:
+    """``Rz(yaw) Ry(pitch) Rx(roll)``, exact for quarter turns (3x3)."""
+    (cr, sr), (cp, spt), (cy, sy) = (_cos_sin(a) for a in rpy)
+    rx = sp.Matrix([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    ry = sp.Matrix([[cp, 0, spt], [0, 1, 0], [-spt, 0, cp]])
+    rz = sp.Matrix([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
+    return rz * ry * rx
+
+
+def transform(xyz, rpy) -> sp.Matrix:
+    """The 4x4 transform of a URDF ``<origin>`` (exact where the rotation allows)."""
+    out = sp.eye(4)
+    out[:3, :3] = rpy_rotation(rpy)
+    out[:3, 3] = sp.Matrix(list(xyz))
+    return out
+
+
+def _snap(angle):
+    """``angle`` as an exact multiple of pi/2 when it is one to 30 digits, else as is."""
+    value = sp.sympify(angle)
+    k = round(float(value.evalf(DIGITS)) / (math.pi / 2))
+    if abs((value - k * sp.pi / 2).evalf(DIGITS)) < _SNAP:
+        return k * sp.pi / 2
+    return value.evalf(DIGITS)
+
+
+def matrix_rpy(rotation) -> tuple:
+    """Roll, pitch, yaw of a 3x3 rotation (``R = Rz(yaw) Ry(pitch) Rx(roll)``), each an exact
+    multiple of pi/2 when it is one, else a 50-digit float.  At pitch = +-pi/2 (gimbal lock) yaw
+    is 0 and the roll carries the whole turn about z."""
+    R = sp.Matrix(rotation).evalf(DIGITS)
+    if abs(R[2, 0]) >= 1 - _SNAP:
+        if R[2, 0] < 0:  # pitch = pi/2: R[0,1] = sin(roll - yaw), R[1,1] = cos(roll - yaw)
+            return _snap(sp.atan2(R[0, 1], R[1, 1])), sp.pi / 2, sp.S.Zero
+        return _snap(sp.atan2(-R[0, 1], R[1, 1])), -sp.pi / 2, sp.S.Zero
+    pitch = sp.atan2(-R[2, 0], sp.sqrt(R[0, 0] ** 2 + R[1, 0] ** 2))
+    return _snap(sp.atan2(R[2, 1], R[2, 2])), _snap(pitch), _snap(sp.atan2(R[1, 0], R[0, 0]))
+
+
+def placement_texts(matrix) -> dict:
+    """``{xyz: [...], rpy: [...]}`` (texts) of a 4x4 transform."""
+    M = sp.Matrix(matrix)
+    return {"xyz": [number_text(M[k, 3]) for k in range(3)],
+            "rpy": [number_text(a) for a in matrix_rpy(M[:3, :3])]}
+
+
+def _is_identity(matrix) -> bool:
+    return all(sp.sympify(e) == (1 if i // 4 == i % 4 else 0) for i, e in enumerate(matrix))
+
+
+@dataclass
+class _Origin:
+    """A URDF ``<origin>``: exact values, the texts to write when it is used as it stands, and
+    its matrix."""
+
+    xyz: tuple
+    rpy: tuple
+    texts: dict
+
+    def matrix(self) -> sp.Matrix:
+        return transform(self.xyz, self.rpy)
+
+    @property
+    def is_identity(self) -> bool:
+        return all(v == 0 for v in (*self.xyz, *self.rpy))
+
+
+@dataclass
+class _Body:
+    """Mass, COM (3x1) and inertia about the COM (3x3) in one frame; ``texts`` holds the file's
+    own texts (mass, com, inertia) while the values are as read."""
+
+    mass: sp.Expr
+    com: sp.Matrix
+    inertia: sp.Matrix
+    texts: tuple | None = None
+
+    @property
+    def is_empty(self) -> bool:
+        return self.mass == 0 and all(e == 0 for e in self.inertia)
+
+    def moved(self, matrix: sp.Matrix) -> "_Body":
+        """The body seen from a frame in which its frame sits at ``matrix``."""
+        if _is_identity(matrix) or self.is_empty:
+            return self
+        R, t = matrix[:3, :3], matrix[:3, 3]
+        return _Body(self.mass, R * self.com + t, R * self.inertia * R.T)
+
+    def plus(self, other: "_Body") -> "_Body":
+        """Both bodies as one rigid body (parallel-axis theorem)."""
+        if other.is_empty:
+            return self
+        if self.is_empty:
+            return other
+        mass = self.mass + other.mass
+        if mass == 0:
+            return _Body(mass, sp.zeros(3, 1), self.inertia + other.inertia)
+        com = (self.mass * self.com + other.mass * other.com) / mass
+        inertia = sp.zeros(3, 3)
+        for body in (self, other):
+            d = body.com - com
+            inertia += body.inertia + body.mass * ((d.T * d)[0] * sp.eye(3) - d * d.T)
+        return _Body(mass, com, inertia)
+
+    def fields(self) -> dict:
+        if self.texts is not None:
+            mass, com, inertia = self.texts
+            return {"mass": mass, "com": list(com), "inertia": list(inertia)}
+        I = self.inertia
+        return {"mass": number_text(self.mass), "com": [number_text(c) for c in self.com],
+                "inertia": [number_text(I[i, j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))]}
+
+
+_EMPTY = _Body(sp.S.Zero, sp.zeros(3, 1), sp.zeros(3, 3), ("0", ("0", "0", "0"), ("0",) * 6))
+
+
+# ---------------------------------------------------------------------------------------------
+# The URDF tree
+
+
+@dataclass
+class _Joint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    origin: _Origin
+    element: object
+    index: int
+
+
+def _names(names, limit: int = _NAMES_SHOWN) -> str:
+    """A bounded list of quoted names for messages."""
+    names = list(names)
+    shown = ", ".join(describe(n, 60) for n in names[:limit])
+    return shown + (f" and {len(names) - limit} more" if len(names) > limit else "")
+
+
+class _Reader:
+    """One URDF file's links and joints, and the chain from its root to a tip."""
+
+    def __init__(self, text: str, path: str):
+        self.path = path
+        root = parse_xml(text, path)
+        if root.tag != "robot":
+            self.fail(f"the top element is <{one_line(root.tag, 40)}>, not <robot>: not a URDF file")
+        name = root.get("name")
+        if name is None:
+            self.fail("the <robot> element has no name attribute")
+        self.robot_name = name
+        self.links: dict[str, object] = {}
+        self.joints: dict[str, _Joint] = {}
+        self.bodies: dict[str, _Body] = {}
+        for element in root:
+            if element.tag == "link":
+                link = self.name_of(element, "link")
+                if link in self.links:
+                    self.fail(f"two links are named {describe(link)}", f"link {describe(link)}")
+                self.links[link] = element
+            elif element.tag == "joint":
+                joint = self.read_joint(element, len(self.joints))
+                if joint.name in self.joints:
+                    self.fail(f"two joints are named {describe(joint.name)}", f"joint {describe(joint.name)}")
+                self.joints[joint.name] = joint
+            if len(self.links) > MAX_LINKS or len(self.joints) > MAX_LINKS:
+                self.fail(f"more than {MAX_LINKS} links or joints: not accepted")
+        if not self.links:
+            self.fail("the file has no <link>")
+        self.parent_joint: dict[str, _Joint] = {}
+        self.child_joints: dict[str, list[_Joint]] = {name: [] for name in self.links}
+        for joint in self.joints.values():
+            for role in ("parent", "child"):
+                link = getattr(joint, role)
+                if link not in self.links:
+                    close = difflib.get_close_matches(link, list(self.links), n=1, cutoff=0.6)
+                    hint = f"; did you mean {describe(close[0])}?" if close else ""
+                    self.fail(f"{role} link {describe(link)} is not a link of the file{hint}",
+                              self.where(joint), role)
+            if joint.child in self.parent_joint:
+                self.fail(f"link {describe(joint.child)} is the child of two joints "
+                          f"({describe(self.parent_joint[joint.child].name)} and {describe(joint.name)}): "
+                          "a URDF is a tree", self.where(joint), "child")
+            self.parent_joint[joint.child] = joint
+            self.child_joints[joint.parent].append(joint)
+        roots = [name for name in self.links if name not in self.parent_joint]
+        if not roots:
+            self.fail("every link is the child of a joint: the joints form a cycle (a URDF is a tree "
+                      "with one root link)")
+        if len(roots) > 1:
+            self.fail(f"{len(roots)} root links ({_names(roots)}): a URDF is one tree, with one link "
+                      "that is no joint's child")
+        self.root = roots[0]
+        reached, stack = {self.root}, [self.root]
+        while stack:
+            for joint in self.child_joints[stack.pop()]:
+                if joint.child not in reached:
+                    reached.add(joint.child)
+                    stack.append(joint.child)
+        lost = [name for name in self.links if name not in reached]
+        if lost:
+            self.fail(f"links {_names(lost)} are not connected to the root link {describe(self.root)}: "
+                      "their joints form a cycle")
+
+    # -- messages
+
+    def fail(self, reason: str, where: str | None = None, attribute: str | None = None):
+        raise RobotFileError(self.path, reason, link=where, field=attribute)
+
+    def warn(self, reason: str, where: str | None = None, attribute: str | None = None) -> None:
+        parts = [one_line(self.path, 200)] + ([one_line(where, 120)] if where else []) + \
+            ([f"field '{one_line(attribute, 80)}'"] if attribute else [])
+        warn(f"{': '.join(parts)}: {reason}")
+
+    @staticmethod
+    def where(joint: _Joint) -> str:
+        return f"joint {describe(joint.name)}"
+
+    # -- elements
+
+    def name_of(self, element, kind: str) -> str:
+        name = element.get("name")
+        if not name:
+            self.fail(f"<{kind}> number {len(self.links if kind == 'link' else self.joints) + 1} of the file "
+                      "has no name")
+        return name
+
+    def number(self, text: str, where: str, attribute: str) -> tuple[sp.Rational, str]:
+        """The exact value and the text of one number of an attribute."""
+        if not _NUMBER.match(text):
+            self.fail(f"{describe(text)} is not a decimal number", where, attribute)
+        try:
+            return number_to_rational(text), text.lstrip("+") or text
+        except ExpressionError as exc:
+            self.fail(str(exc), where, attribute)
+
+    def numbers(self, element, attribute: str, count: int, default: str | None, where: str,
+                label: str) -> list[tuple[sp.Rational, str]]:
+        """The ``count`` numbers of ``element``'s ``attribute`` (``default`` when absent)."""
+        text = element.get(attribute) if element is not None else None
+        if text is None:
+            if default is None:
+                self.fail("missing attribute", where, label)
+            text = default
+        parts = text.split()
+        if len(parts) != count:
+            self.fail(f"expected {count} number{'s' if count > 1 else ''}, got {describe(one_line(text, 60))}",
+                      where, label)
+        return [self.number(part, where, label) for part in parts]
+
+    def origin(self, element, where: str, label: str) -> _Origin:
+        """An ``<origin xyz rpy>`` (absent: identity), angles near quarter turns made exact."""
+        xyz = self.numbers(element, "xyz", 3, "0 0 0", where, f"{label} xyz")
+        rpy = []
+        for value, text in self.numbers(element, "rpy", 3, "0 0 0", where, f"{label} rpy"):
+            number = float(value)
+            if not abs(number) <= MAX_ANGLE:
+                self.fail(f"angle {describe(text)} is larger than {MAX_ANGLE:g} rad", where, f"{label} rpy")
+            k = round(number / (math.pi / 2))
+            if abs(number - k * math.pi / 2) <= QUARTER_TOLERANCE:
+                rpy.append((k * sp.pi / 2, quarter_text(k)))
+            else:
+                rpy.append((value, text))
+        return _Origin(tuple(v for v, _ in xyz), tuple(v for v, _ in rpy),
+                       {"xyz": [t for _, t in xyz], "rpy": [t for _, t in rpy]})
+
+    def read_joint(self, element, index: int) -> _Joint:
+        name = self.name_of(element, "joint")
+        where = f"joint {describe(name)}"
+        kind = element.get("type")
+        if kind not in JOINT_TYPES:
+            self.fail(f"unknown joint type {describe(kind)} (URDF has {', '.join(JOINT_TYPES)})", where, "type")
+        links = {}
+        for role in ("parent", "child"):
+            item = element.find(role)
+            if item is None or not item.get("link"):
+                self.fail(f"missing <{role} link=...>", where, role)
+            links[role] = item.get("link")
+        if links["parent"] == links["child"]:
+            self.fail(f"the joint connects link {describe(links['parent'])} to itself", where, "child")
+        origin = self.origin(element.find("origin"), where, "origin")
+        return _Joint(name, kind, links["parent"], links["child"], origin, element, index)
+
+    def body(self, link: str) -> _Body:
+        """A link's ``<inertial>`` in the link frame (none: no mass)."""
+        if link in self.bodies:
+            return self.bodies[link]
+        inertial = self.links[link].find("inertial")
+        where = f"link {describe(link)}"
+        if inertial is None:
+            body = _EMPTY
+        else:
+            mass_element = inertial.find("mass")
+            if mass_element is None:
+                self.fail("<inertial> without <mass value=...>", where, "inertial mass")
+            (mass, mass_text), = self.numbers(mass_element, "value", 1, None, where, "inertial mass value")
+            inertia_element = inertial.find("inertia")
+            if inertia_element is None:
+                self.fail("<inertial> without <inertia ixx=... iyy=... izz=... ixy=... ixz=... iyz=...>",
+                          where, "inertial inertia")
+            values = [self.numbers(inertia_element, key, 1, None, where, f"inertial inertia {key}")[0]
+                      for key in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")]
+            xx, yy, zz, xy, xz, yz = (v for v, _ in values)
+            frame = self.origin(inertial.find("origin"), where, "inertial origin")
+            inertia = sp.Matrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+            com = sp.Matrix(list(frame.xyz))
+            if all(a == 0 for a in frame.rpy):
+                body = _Body(mass, com, inertia, (mass_text, tuple(frame.texts["xyz"]), tuple(t for _, t in values)))
+            else:
+                R = rpy_rotation(frame.rpy)
+                body = _Body(mass, com, R * inertia * R.T)
+        self.bodies[link] = body
+        return body
+
+    # -- the chain
+
+    def tip(self, tip: str | None) -> str:
+        if tip is not None:
+            if tip not in self.links:
+                close = difflib.get_close_matches(tip, list(self.links), n=1, cutoff=0.6)
+                hint = f"; did you mean {describe(close[0])}?" if close else ""
+                self.fail(f"tip link {describe(tip)} is not a link of the file{hint}")
+            return tip
+        leaves = [name for name in self.links if not self.child_joints[name]]
+        if len(leaves) == 1:
+            return leaves[0]
+        self.fail(f"the tree has {len(leaves)} leaf links ({_names(leaves)}): choose one with --tip LINK "
+                  "(or `tip:` in a scene) to say where the chain ends")
+
+    def chain(self, tip: str) -> list[_Joint]:
+        """The joints from the root to ``tip``."""
+        joints, link = [], tip
+        while link in self.parent_joint:
+            joints.append(self.parent_joint[link])
+            link = joints[-1].parent
+        return joints[::-1]
+
+
+# ---------------------------------------------------------------------------------------------
+# Names
+
+
+def _link_name(name: str, taken: set) -> str:
+    """A valid, unused link name for the URDF joint ``name``."""
+    out = re.sub(r"[^A-Za-z0-9_]", "_", name) or "_"
+    if out[0].isdigit():
+        out = "_" + out
+    out = out[:MAX_NAME]
+    candidate, k = out, 2
+    while candidate in taken:
+        suffix = f"_{k}"
+        candidate, k = out[:MAX_NAME - len(suffix)] + suffix, k + 1
+    return candidate
+
+
+def _robot_name(name: str) -> str:
+    out = re.sub(r"[^a-z0-9_]", "_", name.lower())
+    if not out or not ("a" <= out[0] <= "z"):
+        out = "robot_" + out if out else "robot"
+    return out[:MAX_NAME]
+
+
+# ---------------------------------------------------------------------------------------------
+# The document
+
+
+def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None) -> tuple[dict, list[str]]:
+    """The robot document (``convention: general``, see ``docs/urdf.md``) of the chain of a URDF
+    from its root link to ``tip`` (default: the only leaf), and notes saying what was merged,
+    locked or left out.  ``tool``: a link rigidly attached to the last moving link whose frame is
+    the tool frame (default: the tip's frame when fixed joints lead to it).  ``text`` is the
+    file's content, ``path`` names it in messages.  Problems raise :class:`RobotFileError` (one
+    line); doubtful readings give a :func:`~symdyn.model.errors.warn` line."""
+    urdf = _Reader(text, path)
+    tip = urdf.tip(tip)
+    chain = urdf.chain(tip)
+    on_chain = {j.name for j in chain}
+    for joint in chain:
+        if joint.type in ("floating", "planar"):
+            urdf.fail(f"a {joint.type} joint is on the chain from {describe(urdf.root)} to {describe(tip)}: "
+                      "only revolute, continuous, prismatic and fixed joints can be", urdf.where(joint), "type")
+        if joint.type != "fixed" and joint.element.find("mimic") is not None:
+            urdf.fail(f"a mimic joint (<mimic>) is on the chain from {describe(urdf.root)} to {describe(tip)}: "
+                      "symdyn gives every joint its own coordinate", urdf.where(joint), "mimic")
+    moving = [j for j in chain if j.type != "fixed"]
+    if not moving:
+        urdf.fail(f"no moving joint (revolute, continuous or prismatic) on the chain from {describe(urdf.root)} "
+                  f"to {describe(tip)}")
+
+    name = _robot_name(urdf.robot_name)
+    if name != urdf.robot_name:
+        urdf.warn(f"robot name {describe(urdf.robot_name)} is not a valid symdyn name (lower-case letters, "
+                  f"digits and '_', at most {MAX_NAME} characters): it is called '{name}'", None, "robot name")
+
+    notes = [f"read from URDF {os.path.basename(path)}: chain {urdf.root} -> {tip}, "
+             f"{len(moving)} moving joint{'s' if len(moving) != 1 else ''}"]
+    links: list[dict] = []
+    bodies: list[_Body] = []  # of each moving link, in its frame
+    ground = {"body": _EMPTY, "links": []}
+    locked: dict[int, list] = {}  # target (-1: ground) -> [joint names, mass]
+    rigid: dict[int, list] = {}  # target -> off-chain links merged through fixed joints only
+    fixed_merged: list[str] = []
+    taken: set = set()
+    pending = sp.eye(4)  # current link in the frame of the last moving link (or the root)
+    pending_joints: list[_Joint] = []
+
+    def absorb(link: str, frame: sp.Matrix) -> None:
+        """Merge ``link`` (at ``frame``) and every subtree off the chain hanging from it into
+        the current moving link (or the ground)."""
+        target = len(bodies) - 1
+        body = urdf.body(link).moved(frame)
+        for joint in urdf.child_joints[link]:
+            if joint.name in on_chain:
+                continue
+            stack, names, mass = [(joint, frame)], [], sp.S.Zero
+            while stack:
+                j, above = stack.pop()
+                if j.type != "fixed":
+                    names.append(j.name)
+                at = above * j.origin.matrix()  # a moving joint at position 0
+                part = urdf.body(j.child)
+                mass += part.mass
+                body = body.plus(part.moved(at))
+                stack.extend((c, at) for c in reversed(urdf.child_joints[j.child]))
+            if names:
+                entry = locked.setdefault(target, [[], sp.S.Zero])
+                entry[0].extend(sorted(names, key=lambda n: urdf.joints[n].index))
+                entry[1] += mass
+            else:
+                rigid.setdefault(target, []).append(joint.child)
+        if target < 0:
+            ground["body"] = ground["body"].plus(body)
+            ground["links"].append(link)
+        else:
+            bodies[target] = bodies[target].plus(body)
+
+    absorb(urdf.root, pending)
+    dynamics = False
+    for joint in chain:
+        if joint.type == "fixed":
+            pending = pending * joint.origin.matrix()
+            pending_joints.append(joint)
+            if bodies:
+                fixed_merged.append(joint.name)
+            absorb(joint.child, pending)
+            continue
+        where = urdf.where(joint)
+        if all(j.origin.is_identity for j in pending_joints):
+            origin = {"xyz": list(joint.origin.texts["xyz"]), "rpy": list(joint.origin.texts["rpy"])}
+        else:
+            origin = placement_texts(pending * joint.origin.matrix())
+        axis = urdf.numbers(joint.element.find("axis"), "xyz", 3, "1 0 0", where, "axis xyz")
+        if all(v == 0 for v, _ in axis):
+            urdf.fail("the axis is zero: give a direction such as \"0 0 1\"", where, "axis xyz")
+        link_name = _link_name(joint.name, taken)
+        taken.add(link_name)
+        if link_name != joint.name:
+            urdf.warn(f"the joint name is not a valid symdyn link name (letters, digits and '_', not starting "
+                      f"with a digit, at most {MAX_NAME} characters, distinct): it is called '{link_name}'",
+                      where, "name")
+        entry = {"name": link_name, "joint": "prismatic" if joint.type == "prismatic" else "revolute",
+                 "origin": origin, "axis": [t for _, t in axis]}
+        extra = {}
+        element = joint.element.find("dynamics")
+        if element is not None:
+            for attribute, key in (("damping", "damping"), ("friction", "coulomb")):
+                if element.get(attribute) is not None:
+                    extra[key] = urdf.numbers(element, attribute, 1, None, where, f"dynamics {attribute}")[0][1]
+                    dynamics = True
+        element = joint.element.find("limit")
+        limits = {}
+        if element is not None:
+            for key in ("lower", "upper", "velocity", "effort"):
+                if element.get(key) is not None and not (joint.type == "continuous" and key in ("lower", "upper")):
+                    limits[key] = urdf.numbers(element, key, 1, None, where, f"limit {key}")[0][1]
+        if limits:
+            extra["limits"] = limits
+        links.append((entry, extra))
+        bodies.append(_EMPTY)
+        pending, pending_joints = sp.eye(4), []
+        absorb(joint.child, pending)
+
+    last = moving[-1]
+    doc = {"format": FORMAT_VERSION, "name": name, "convention": "general", "gravity": [0, 0, "-9.81"]}
+    if tool is not None:
+        tool_frame = _tool_frame(urdf, tool, last)
+        if tool_frame is not None:
+            doc["tool"] = tool_frame
+        notes.append(f"tool frame: link {tool}")
+    elif pending_joints and not _is_identity(pending):
+        if len(pending_joints) == 1:
+            doc["tool"] = {"xyz": list(pending_joints[0].origin.texts["xyz"]),
+                           "rpy": list(pending_joints[0].origin.texts["rpy"])}
+        else:
+            doc["tool"] = placement_texts(pending)
+        notes.append(f"tool frame: tip link {tip}")
+    doc["links"] = []
+    for (entry, extra), body in zip(links, bodies):
+        doc["links"].append({**entry, **body.fields(), **extra})
+
+    # notes and warnings on what was merged
+    continuous = [j.name for j in moving if j.type == "continuous"]
+    if continuous:
+        notes.append(f"continuous joints read as revolute (the angle is the coordinate): {_plain(continuous)}")
+    if fixed_merged:
+        notes.append(f"fixed joints merged (child inertia added to the moving link above): {_plain(fixed_merged)}")
+    before = [j.name for j in chain[:chain.index(moving[0])]]
+    if before:
+        notes.append(f"fixed joints before the first moving joint composed into its origin: {_plain(before)}")
+    ground_mass = ground["body"].mass
+    if ground_mass != 0 or rigid.get(-1) or locked.get(-1):
+        notes.append(f"fixed to the ground, inertia left out ({float(ground_mass):.6g} kg): links "
+                     f"{_plain(ground['links'] + rigid.get(-1, []))}")
+    for target, names in sorted(rigid.items()):
+        if target >= 0:
+            notes.append(f"off the chain, merged rigidly into {links[target][0]['name']}: links {_plain(names)}")
+    for target, (names, mass) in sorted(locked.items()):
+        into = "left out with the ground (they never move)" if target < 0 else \
+            f"merged into link {target + 1} ('{links[target][0]['name']}')"
+        urdf.warn(f"joints {_names(names)} are not on the chain to {describe(tip)}: locked at position 0 and "
+                  f"their links ({float(mass):.6g} kg) {into}")
+        notes.append(f"off the chain, locked at 0 and {into}: joints {_plain(names)}")
+    if dynamics:
+        notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
+    return doc, notes
+
+
+def _plain(names, limit: int = _NAMES_SHOWN) -> str:
+    names = [one_line(n, 60) for n in names]
+    return ", ".join(names[:limit]) + (f" and {len(names) - limit} more" if len(names) > limit else "")
+
+
+def _tool_frame(urdf: _Reader, tool: str, last: _Joint) -> dict | None:
+    """The frame of link ``tool`` in the last moving link's frame (None: the same frame); the
+    link must hang from it through fixed joints only."""
+    if tool not in urdf.links:
+        close = difflib.get_close_matches(tool, list(urdf.links), n=1, cutoff=0.6)
+        hint = f"; did you mean {describe(close[0])}?" if close else ""
+        urdf.fail(f"tool link {describe(tool)} is not a link of the file{hint}")
+    joints, link = [], tool
+    while link != last.child:
+        joint = urdf.parent_joint.get(link)
+        if joint is None or joint.type != "fixed":
+            urdf.fail(f"tool link {describe(tool)} is not rigidly attached to link {describe(last.child)} (the "
+                      f"child of the last moving joint {describe(last.name)}): the tool must hang from it "
+                      "through fixed joints only")
+        joints.append(joint)
+        link = joint.parent
+    joints.reverse()
+    if all(joint.origin.is_identity for joint in joints):
+        return None
+    if len(joints) == 1:
+        return {"xyz": list(joints[0].origin.texts["xyz"]), "rpy": list(joints[0].origin.texts["rpy"])}
+    frame = sp.eye(4)
+    for joint in joints:
+        frame = frame * joint.origin.matrix()
+    return None if _is_identity(frame) else placement_texts(frame)
