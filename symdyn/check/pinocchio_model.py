@@ -256,10 +256,12 @@ class UrdfReference(PinocchioReference):
     (default ``tip``).  Viscous and Coulomb friction come from the file's ``<dynamics>``.
     """
 
-    def __init__(self, path: str, tip: str, tool: str | None = None):
+    def __init__(self, path: str, tip: str | None = None, tool: str | None = None):
         import pinocchio as pin
         self.pin = pin
         full = pin.buildModelFromUrdf(str(path))
+        if tip is None:  # the only leaf link (symdyn refuses a branching file without a tip)
+            tip = _only_leaf(str(path))
         if not full.existFrame(tip):
             raise ValueError(f"no link {tip!r} in {path}")
         joint = full.frames[full.getFrameId(tip)].parentJoint
@@ -290,6 +292,16 @@ class UrdfReference(PinocchioReference):
         for value, continuous in zip(np.asarray(q, dtype=float), self.continuous):
             out.extend([np.cos(value), np.sin(value)] if continuous else [value])
         return np.array(out)
+
+
+def _only_leaf(path: str) -> str:
+    import xml.etree.ElementTree as ET  # a trusted test input: the caller's own file
+    root = ET.parse(path).getroot()
+    parents = {joint.find("parent").get("link") for joint in root.findall("joint")}
+    leaves = [link.get("name") for link in root.findall("link") if link.get("name") not in parents]
+    if len(leaves) != 1:
+        raise ValueError(f"{path}: several leaf links ({', '.join(leaves)}): give the tip")
+    return leaves[0]
 
 
 def _configured(method):

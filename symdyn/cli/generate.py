@@ -36,7 +36,8 @@ def add_parser(sub) -> None:
                         "only; default: the scene's precision, else double")
     p.add_argument("--functions", metavar="LIST",
                    help="comma-separated subset of: inverse_dynamics, mass_matrix, coriolis, "
-                        "coriolis_matrix, gravity, forward_dynamics (default: the scene's functions, else all)")
+                        "coriolis_matrix, gravity, forward_dynamics, forward_kinematics, jacobian, "
+                        "jacobian_dot_qd (default: the scene's functions, else all)")
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
     add_method_option(p)

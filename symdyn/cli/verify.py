@@ -42,7 +42,8 @@ def run(args) -> int:
         import pinocchio  # noqa: F401
     except ImportError:
         raise SymdynError("symdyn verify needs Pinocchio: pip install pin (or 'symdyn[test]')") from None
-    from ..check.pinocchio_model import PinocchioReference, compare
+    from ..check.pinocchio_model import PinocchioReference, UrdfReference, compare
+    from ..model.scene import is_urdf
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
     robot, scene = load_robot(args.robot, args)
@@ -60,7 +61,12 @@ def run(args) -> int:
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir)
-        ref = PinocchioReference(robot, values)
+        if is_urdf(args.robot) and scene is None:  # Pinocchio reads the file itself: an independent reading
+            ref = UrdfReference(args.robot, args.tip, args.tool)
+            reading = "Pinocchio's own URDF parser"
+        else:
+            ref = PinocchioReference(robot, values)
+            reading = "a Pinocchio model of symdyn's reading"
         n = robot.dof
         states = []
         for _ in range(args.states):
@@ -72,7 +78,7 @@ def run(args) -> int:
         errors = compare(lib, ref, states, functions, p)
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
     print(f"symdyn verify {args.robot}: {robot.dof} joints, {args.method}, {precision}, "
-          f"{args.states} random states, tolerance {tolerance:g}")
+          f"{args.states} random states, tolerance {tolerance:g}, against {reading}")
     print(f"{'function':<18} {'normalized error':>16}  status")
     failed = False
     for name in functions:
