@@ -256,10 +256,14 @@ class UrdfReference(PinocchioReference):
     (default ``tip``).  Viscous and Coulomb friction come from the file's ``<dynamics>``.
     """
 
-    def __init__(self, path: str, tip: str | None = None, tool: str | None = None):
+    def __init__(self, path: str, tip: str | None = None, tool: str | None = None,
+                 quarter_turns: float | None = None):
         import pinocchio as pin
         self.pin = pin
-        full = pin.buildModelFromUrdf(str(path))
+        if quarter_turns:  # the file with near-quarter-turn rpy angles made exact, as symdyn reads it
+            full = pin.buildModelFromXML(_exact_quarter_turns(str(path), quarter_turns))
+        else:
+            full = pin.buildModelFromUrdf(str(path))
         if tip is None:  # the only leaf link (symdyn refuses a branching file without a tip)
             tip = _only_leaf(str(path))
         if not full.existFrame(tip):
@@ -292,6 +296,24 @@ class UrdfReference(PinocchioReference):
         for value, continuous in zip(np.asarray(q, dtype=float), self.continuous):
             out.extend([np.cos(value), np.sin(value)] if continuous else [value])
         return np.array(out)
+
+
+def _exact_quarter_turns(path: str, tolerance: float) -> str:
+    """The URDF text of ``path`` with every rpy angle within ``tolerance`` of a multiple of pi/2
+    written as that multiple to full double precision (how symdyn reads it by default)."""
+    import xml.etree.ElementTree as ET  # a file symdyn has already read (and checked) itself
+    tree = ET.parse(path)
+    for origin in tree.getroot().iter("origin"):
+        rpy = origin.get("rpy")
+        if rpy is None:
+            continue
+        values = []
+        for text in rpy.split():
+            value = float(text)
+            k = round(value / (np.pi / 2))
+            values.append(repr(k * np.pi / 2) if abs(value - k * np.pi / 2) <= tolerance else text)
+        origin.set("rpy", " ".join(values))
+    return ET.tostring(tree.getroot(), encoding="unicode")
 
 
 def _only_leaf(path: str) -> str:

@@ -37,6 +37,10 @@ def add_size_options(parser) -> None:
     parser.add_argument("--tool", metavar="LINK", default=None,
                         help="URDF input: a link rigidly attached to the last moving link whose frame is the "
                              "tool frame (default: the tip link's frame)")
+    parser.add_argument("--exact-angles", action="store_true",
+                        help="URDF input: keep rpy angles as written (default: an angle within 1e-9 rad of a "
+                             "multiple of pi/2, such as 1.57079632679, is taken as that multiple so that zeros "
+                             "fold; the header lists them)")
     parser.add_argument("--strict", action="store_true",
                         help="treat every warning (inertia breaking the triangle inequality, angles that "
                              "look like degrees, a mass without inertia, ...) as an error")
@@ -48,7 +52,8 @@ def add_size_options(parser) -> None:
 def load_robot(path, args):
     """``(robot, scene or None)`` of a robot file, URDF (with ``--tip``/``--tool``) or scene."""
     from ..model.scene import load_input
-    return load_input(path, getattr(args, "tip", None), getattr(args, "tool", None))
+    return load_input(path, getattr(args, "tip", None), getattr(args, "tool", None),
+                      getattr(args, "exact_angles", False))
 
 
 def check_size(robot, args, path) -> None:

@@ -62,8 +62,12 @@ def run(args) -> int:
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir)
         if is_urdf(args.robot) and scene is None:  # Pinocchio reads the file itself: an independent reading
-            ref = UrdfReference(args.robot, args.tip, args.tool)
-            reading = "Pinocchio's own URDF parser"
+            from ..model.urdf import QUARTER_TOLERANCE
+            snapped = not args.exact_angles and any("multiple of pi/2" in note for note in robot.notes)
+            ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None)
+            reading = "Pinocchio's own URDF parser" + (
+                " (near-quarter-turn rpy angles made exact, as symdyn reads them; --exact-angles "
+                "keeps them as written)" if snapped else "")
         else:
             ref = PinocchioReference(robot, values)
             reading = "a Pinocchio model of symdyn's reading"

@@ -26,7 +26,7 @@ from .inputs import decode_text, load_yaml, read_input
 from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document
 
 SCENE_VERSION = 1
-SCENE_KEYS = ("scene", "robot", "tip", "tool", "name", "functions", "precision", "lock", "payload", "runtime",
+SCENE_KEYS = ("scene", "robot", "tip", "tool", "exact_angles", "name", "functions", "precision", "lock", "payload", "runtime",
               "values")
 PAYLOAD_KEYS = ("mass", "com", "inertia")
 NAME_TOKEN = re.compile(r"(?<![0-9.])\b[A-Za-z_][A-Za-z0-9_]*")
@@ -52,26 +52,30 @@ def is_urdf(path) -> bool:
 
 
 def read_robot_document(path: str, tip: str | None = None, tool: str | None = None,
-                        option: str = "--tip/--tool"):
+                        option: str = "--tip/--tool", exact_angles: bool = False):
     """``(document, raw bytes, notes)`` of a robot file: a YAML/JSON robot file (or scene) as
     parsed, or a URDF turned into the format's general form (:mod:`symdyn.model.urdf`;
-    ``tip``/``tool`` name its tip and tool links)."""
+    ``tip``/``tool`` name its tip and tool links, ``exact_angles`` keeps near-quarter-turn rpy
+    angles as written)."""
     raw = read_input(path)
     text = decode_text(raw, path)
     if is_urdf(path):
         from .urdf import read_urdf
-        doc, notes = read_urdf(text, path, tip=tip, tool=tool)
+        doc, notes = read_urdf(text, path, tip=tip, tool=tool, exact_angles=exact_angles)
         return doc, raw, tuple(notes)
     if tip is not None or tool is not None:
         raise RobotFileError(path, f"{option} apply to URDF files only (a robot file names its tool with 'tool:')")
+    if exact_angles:
+        raise RobotFileError(path, "exact angles apply to URDF files only (a scene of a URDF says 'exact_angles: true')")
     return load_yaml(text, path), raw, ()
 
 
-def load_input(path: str, tip: str | None = None, tool: str | None = None):
+def load_input(path: str, tip: str | None = None, tool: str | None = None, exact_angles: bool = False):
     """A robot file, a URDF or a scene (told apart by a top-level ``scene`` key), read once:
-    returns ``(robot, scene or None)``.  ``tip``/``tool``: a URDF's tip and tool links."""
+    returns ``(robot, scene or None)``.  ``tip``/``tool``/``exact_angles``: how to read a URDF
+    (:func:`symdyn.model.urdf.read_urdf`)."""
     path = os.fspath(path)
-    doc, raw, notes = read_robot_document(path, tip, tool)
+    doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles)
     if isinstance(doc, dict) and "scene" in doc:
         scene = _build_scene(path, raw, doc)
         return scene.robot, scene
@@ -79,10 +83,11 @@ def load_input(path: str, tip: str | None = None, tool: str | None = None):
     return (replace(robot, notes=notes) if notes else robot), None
 
 
-def load(path, tip: str | None = None, tool: str | None = None) -> Robot:
-    """The robot of a robot file, a URDF (``tip``/``tool``: its tip and tool links) or a scene
-    (``symdyn.load``): a scene's specialized robot."""
-    return load_input(os.fspath(path), tip, tool)[0]
+def load(path, tip: str | None = None, tool: str | None = None, exact_angles: bool = False) -> Robot:
+    """The robot of a robot file, a URDF (``tip``/``tool``: its tip and tool links;
+    ``exact_angles``: rpy angles as written, see :func:`symdyn.model.urdf.read_urdf`) or a
+    scene (``symdyn.load``): a scene's specialized robot."""
+    return load_input(os.fspath(path), tip, tool, exact_angles)[0]
 
 
 def _payload_names(payload) -> set[str]:
@@ -201,8 +206,11 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     for fld, value in (("tip", tip), ("tool", tool)):
         if value is not None and not isinstance(value, str):
             _fail(path, f"expected a link name of the URDF, not {describe(value)}", fld)
+    exact_angles = doc.get("exact_angles", False)
+    if not isinstance(exact_angles, bool):
+        _fail(path, "expected true or false", "exact_angles")
     try:
-        robot_doc, robot_raw, robot_notes = read_robot_document(robot_path, tip, tool, "tip: and tool:")
+        robot_doc, robot_raw, robot_notes = read_robot_document(robot_path, tip, tool, "tip: and tool:", exact_angles)
     except RobotFileError as exc:
         raise RobotFileError(path, f"robot file {display_path(doc['robot'])}: {exc.reason}", field="robot") from None
     # The robot file must be valid as it is before the scene changes anything in it (its own

@@ -26,8 +26,9 @@ from the root link to the tip link:
   1.57079632679 for pi/2), so that zeros fold exactly.
 
 Numbers are carried exactly: the file's decimal text when a value is used as written, exact
-rationals (SymPy) when transforms compose with quarter-turn rotations, and 50-digit floating point
-(written as ``repr(float)``) when other rotations are involved.
+rationals (:class:`fractions.Fraction`, read from the decimal text) when transforms compose with
+quarter-turn rotations, and 50-digit floating point (mpmath, written as ``repr(float)``) when
+other rotations are involved.
 """
 
 from __future__ import annotations
@@ -38,25 +39,26 @@ import os
 import re
 import xml.parsers.expat as expat
 from dataclasses import dataclass
+from fractions import Fraction
 from xml.etree.ElementTree import TreeBuilder
 
+import mpmath
 import sympy as sp
 
-from .errors import RobotFileError, describe, one_line, warn
+from .errors import RobotFileError, describe, display_path, one_line, warn
 from .expr import MAX_LITERAL, ExpressionError, number_to_rational
-from .robot import FORMAT_VERSION, MAX_NAME
+from .robot import FORMAT_VERSION, MAX_MAGNITUDE, MAX_NAME
 
 #: joint types of the URDF specification
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 #: the most links (and joints) a URDF may have
-MAX_LINKS = 5000
+MAX_LINKS = 2000
 #: the largest rpy angle read (rad)
 MAX_ANGLE = 1e6
 #: an rpy angle this close to a multiple of pi/2 (rad) is taken as that multiple
 QUARTER_TOLERANCE = 1e-9
 #: digits of the floating-point arithmetic used where rotations are not quarter turns
 DIGITS = 50
-_SNAP = sp.Float("1e-30", DIGITS)
 _NUMBER = re.compile(r"[+-]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?\Z")
 _NAMES_SHOWN = 6
 
@@ -115,12 +117,47 @@ def quarter_text(k: int) -> str:
     return "pi/2" if k == 1 else "-pi/2" if k == -1 else f"{k}*pi/2"
 
 
+@dataclass(frozen=True)
+class Quarter:
+    """The angle ``k * pi/2`` (exact)."""
+
+    k: int
+
+    def __float__(self) -> float:
+        return self.k * math.pi / 2
+
+
+_MP = mpmath.MPContext()  # a private context: the module never changes mpmath's global precision
+_MP.dps = DIGITS
+_SNAP = _MP.mpf("1e-30")
+
+
+def _mp(value):
+    """``value`` (int, Fraction, Quarter, 50-digit float or SymPy number) as a 50-digit float."""
+    if isinstance(value, Quarter):
+        return value.k * _MP.pi / 2
+    if isinstance(value, Fraction):
+        return _MP.mpf(value.numerator) / value.denominator
+    if isinstance(value, (int, _MP.mpf)):
+        return _MP.mpf(value)
+    return _MP.mpf(str(sp.sympify(value).evalf(DIGITS + 10)))
+
+
 def number_text(value) -> str:
-    """A computed number as robot-file text: an exact rational as a terminating decimal or
-    ``p/q``; a multiple of pi/2 by :func:`quarter_text`; anything else ``repr(float)``."""
-    value = sp.sympify(value)
-    if value.is_Rational:
-        p, q = int(value.p), int(value.q)
+    """A number as robot-file text: an exact rational (int, Fraction, SymPy Rational) as a
+    terminating decimal or ``p/q``; a :class:`Quarter` or a multiple of pi/2 by
+    :func:`quarter_text`; anything else as ``repr(float)`` (0 below 1e-40)."""
+    if isinstance(value, Quarter):
+        return quarter_text(value.k)
+    if isinstance(value, sp.Basic):
+        value = sp.sympify(value)
+        ratio = value / (sp.pi / 2)
+        if value != 0 and ratio.is_Rational and ratio.q == 1:
+            return quarter_text(int(ratio))
+        if value.is_Rational:
+            value = Fraction(int(value.p), int(value.q))
+    if isinstance(value, (int, Fraction)):
+        p, q = value.numerator, value.denominator
         if q == 1:
             text = str(p)
             if len(text) <= MAX_LITERAL:
@@ -139,84 +176,124 @@ def number_text(value) -> str:
                     return text
             if len(str(abs(p))) <= MAX_LITERAL and len(str(q)) <= MAX_LITERAL:
                 return f"{p}/{q}"
-    ratio = value / (sp.pi / 2)
-    if ratio.is_Rational and ratio.q == 1:
-        return quarter_text(int(ratio))
-    number = float(value.evalf(DIGITS))
-    if abs(number) < 1e-40:
-        return "0"
-    return repr(number)
+    number = float(_mp(value))
+    return "0" if abs(number) < 1e-40 else repr(number)
+
+
+_ZERO, _ONE = Fraction(0), Fraction(1)
+_I3 = ((_ONE, _ZERO, _ZERO), (_ZERO, _ONE, _ZERO), (_ZERO, _ZERO, _ONE))
+_Z3 = ((_ZERO,) * 3,) * 3
 
 
 def _cos_sin(angle) -> tuple:
-    """Exact cos and sin of a multiple of pi/2, else 50-digit values."""
-    ratio = angle / (sp.pi / 2)
-    if ratio.is_Rational and ratio.q == 1:
-        return ((1, 0), (0, 1), (-1, 0), (0, -1))[int(ratio) % 4]
-    return sp.cos(angle).evalf(DIGITS), sp.sin(angle).evalf(DIGITS)
+    """Exact cos and sin of a multiple of pi/2 (a :class:`Quarter` or 0), else 50-digit values."""
+    if isinstance(angle, Quarter):
+        return ((_ONE, _ZERO), (_ZERO, _ONE), (-_ONE, _ZERO), (_ZERO, -_ONE))[angle.k % 4]
+    if angle == 0:
+        return _ONE, _ZERO
+    value = _mp(angle)
+    return _MP.cos(value), _MP.sin(value)
 
 
-def rpy_rotation(rpy) -> sp.Matrix:
-    """``Rz(yaw) Ry(pitch) Rx(roll)``, exact for quarter turns (3x3)."""
+def _times(a, b):
+    """``a * b``, skipping the work for exact 0 and +-1 (most rotation entries)."""
+    for x, y in ((a, b), (b, a)):
+        if type(x) is Fraction and x.denominator == 1 and -1 <= x <= 1:
+            return x if x == 0 else y if x == 1 else -y
+    return a * b
+
+
+def _dot(row, column):
+    total = _ZERO
+    for x, y in zip(row, column):
+        term = _times(x, y)
+        if not (type(term) is Fraction and term == 0):
+            total = term if (type(total) is Fraction and total == 0) else total + term
+    return total
+
+
+def _mul(A, B):
+    """Product of two 3x3 matrices (tuples of rows)."""
+    columns = tuple(zip(*B))
+    return tuple(tuple(_dot(row, column) for column in columns) for row in A)
+
+
+def _apply(A, v):
+    return tuple(_dot(row, v) for row in A)
+
+
+def _transpose(A):
+    return tuple(zip(*A))
+
+
+def rpy_rotation(rpy) -> tuple:
+    """``Rz(yaw) Ry(pitch) Rx(roll)`` as a 3x3 tuple of rows; angles are Fractions (rad) or
+    :class:`Quarter` s, and the entries exact (Fractions) for quarter turns, else 50-digit."""
     (cr, sr), (cp, spt), (cy, sy) = (_cos_sin(a) for a in rpy)
-    rx = sp.Matrix([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
-    ry = sp.Matrix([[cp, 0, spt], [0, 1, 0], [-spt, 0, cp]])
-    rz = sp.Matrix([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]])
-    return rz * ry * rx
+    rx = ((_ONE, _ZERO, _ZERO), (_ZERO, cr, -sr), (_ZERO, sr, cr))
+    ry = ((cp, _ZERO, spt), (_ZERO, _ONE, _ZERO), (-spt, _ZERO, cp))
+    rz = ((cy, -sy, _ZERO), (sy, cy, _ZERO), (_ZERO, _ZERO, _ONE))
+    return _mul(rz, _mul(ry, rx))
 
 
-def transform(xyz, rpy) -> sp.Matrix:
-    """The 4x4 transform of a URDF ``<origin>`` (exact where the rotation allows)."""
-    out = sp.eye(4)
-    out[:3, :3] = rpy_rotation(rpy)
-    out[:3, 3] = sp.Matrix(list(xyz))
-    return out
+@dataclass(frozen=True)
+class Frame:
+    """A rigid transform: rotation ``R`` (3x3 tuple of rows) and translation ``t`` (3-tuple) of
+    exact Fractions, or 50-digit floats where rotations are not quarter turns."""
+
+    R: tuple = _I3
+    t: tuple = (_ZERO, _ZERO, _ZERO)
+
+    @staticmethod
+    def of(xyz, rpy) -> "Frame":
+        """The frame of a URDF ``<origin xyz rpy>`` (Fractions; angles may be Quarters)."""
+        return Frame(rpy_rotation(rpy), tuple(xyz))
+
+    def __mul__(self, other: "Frame") -> "Frame":
+        moved = _apply(self.R, other.t)
+        return Frame(_mul(self.R, other.R), tuple(a + b for a, b in zip(moved, self.t)))
+
+    @property
+    def is_identity(self) -> bool:
+        return all(self.R[i][j] == (1 if i == j else 0) for i in range(3) for j in range(3)) and \
+            all(v == 0 for v in self.t)
+
+    def texts(self) -> dict:
+        """``{xyz: [...], rpy: [...]}`` (robot-file texts) of this frame."""
+        return {"xyz": [number_text(v) for v in self.t], "rpy": [number_text(a) for a in matrix_rpy(self.R)]}
 
 
 def _snap(angle):
-    """``angle`` as an exact multiple of pi/2 when it is one to 30 digits, else as is."""
-    value = sp.sympify(angle)
-    k = round(float(value.evalf(DIGITS)) / (math.pi / 2))
-    if abs((value - k * sp.pi / 2).evalf(DIGITS)) < _SNAP:
-        return k * sp.pi / 2
-    return value.evalf(DIGITS)
+    """``angle`` (50-digit) as a :class:`Quarter` when it is one to 30 digits, else as is."""
+    k = round(float(angle) / (math.pi / 2))
+    return Quarter(k) if abs(angle - k * _MP.pi / 2) < _SNAP else angle
 
 
 def matrix_rpy(rotation) -> tuple:
-    """Roll, pitch, yaw of a 3x3 rotation (``R = Rz(yaw) Ry(pitch) Rx(roll)``), each an exact
-    multiple of pi/2 when it is one, else a 50-digit float.  At pitch = +-pi/2 (gimbal lock) yaw
-    is 0 and the roll carries the whole turn about z."""
-    R = sp.Matrix(rotation).evalf(DIGITS)
-    if abs(R[2, 0]) >= 1 - _SNAP:
-        if R[2, 0] < 0:  # pitch = pi/2: R[0,1] = sin(roll - yaw), R[1,1] = cos(roll - yaw)
-            return _snap(sp.atan2(R[0, 1], R[1, 1])), sp.pi / 2, sp.S.Zero
-        return _snap(sp.atan2(-R[0, 1], R[1, 1])), -sp.pi / 2, sp.S.Zero
-    pitch = sp.atan2(-R[2, 0], sp.sqrt(R[0, 0] ** 2 + R[1, 0] ** 2))
-    return _snap(sp.atan2(R[2, 1], R[2, 2])), _snap(pitch), _snap(sp.atan2(R[1, 0], R[0, 0]))
-
-
-def placement_texts(matrix) -> dict:
-    """``{xyz: [...], rpy: [...]}`` (texts) of a 4x4 transform."""
-    M = sp.Matrix(matrix)
-    return {"xyz": [number_text(M[k, 3]) for k in range(3)],
-            "rpy": [number_text(a) for a in matrix_rpy(M[:3, :3])]}
-
-
-def _is_identity(matrix) -> bool:
-    return all(sp.sympify(e) == (1 if i // 4 == i % 4 else 0) for i, e in enumerate(matrix))
+    """Roll, pitch, yaw of a 3x3 rotation (rows, or a SymPy matrix) with
+    ``R = Rz(yaw) Ry(pitch) Rx(roll)``: each a :class:`Quarter` when it is a multiple of pi/2 (to
+    30 digits), else a 50-digit mpmath float.  At pitch = +-pi/2 (gimbal lock) yaw is 0 and roll
+    carries the turn about z."""
+    if hasattr(rotation, "shape"):
+        rotation = [[rotation[i, j] for j in range(3)] for i in range(3)]
+    R = [[_mp(e) for e in row] for row in rotation]
+    if abs(R[2][0]) >= 1 - _SNAP:
+        if R[2][0] < 0:  # pitch = pi/2: R[0][1] = sin(roll - yaw), R[1][1] = cos(roll - yaw)
+            return _snap(_MP.atan2(R[0][1], R[1][1])), Quarter(1), Quarter(0)
+        return _snap(_MP.atan2(-R[0][1], R[1][1])), Quarter(-1), Quarter(0)  # roll + yaw
+    pitch = _MP.atan2(-R[2][0], _MP.sqrt(R[0][0] ** 2 + R[1][0] ** 2))
+    return _snap(_MP.atan2(R[2][1], R[2][2])), _snap(pitch), _snap(_MP.atan2(R[1][0], R[0][0]))
 
 
 @dataclass
 class _Origin:
     """A URDF ``<origin>``: exact values, the texts to write when it is used as it stands, and
-    its matrix."""
+    its frame."""
 
     xyz: tuple
     rpy: tuple
     texts: dict
-
-    def matrix(self) -> sp.Matrix:
-        return transform(self.xyz, self.rpy)
+    frame: Frame
 
     @property
     def is_identity(self) -> bool:
@@ -225,24 +302,24 @@ class _Origin:
 
 @dataclass
 class _Body:
-    """Mass, COM (3x1) and inertia about the COM (3x3) in one frame; ``texts`` holds the file's
-    own texts (mass, com, inertia) while the values are as read."""
+    """Mass, COM (3-tuple) and inertia about the COM (3x3 rows) in one frame; ``texts`` holds
+    the file's own texts (mass, com, inertia) while the values are as read."""
 
-    mass: sp.Expr
-    com: sp.Matrix
-    inertia: sp.Matrix
+    mass: Fraction
+    com: tuple
+    inertia: tuple
     texts: tuple | None = None
 
     @property
     def is_empty(self) -> bool:
-        return self.mass == 0 and all(e == 0 for e in self.inertia)
+        return self.mass == 0 and all(e == 0 for row in self.inertia for e in row)
 
-    def moved(self, matrix: sp.Matrix) -> "_Body":
-        """The body seen from a frame in which its frame sits at ``matrix``."""
-        if _is_identity(matrix) or self.is_empty:
+    def moved(self, frame: Frame) -> "_Body":
+        """The body seen from a frame in which its own frame sits at ``frame``."""
+        if frame.is_identity or self.is_empty:
             return self
-        R, t = matrix[:3, :3], matrix[:3, 3]
-        return _Body(self.mass, R * self.com + t, R * self.inertia * R.T)
+        com = tuple(a + b for a, b in zip(_apply(frame.R, self.com), frame.t))
+        return _Body(self.mass, com, _mul(frame.R, _mul(self.inertia, _transpose(frame.R))))
 
     def plus(self, other: "_Body") -> "_Body":
         """Both bodies as one rigid body (parallel-axis theorem)."""
@@ -252,13 +329,17 @@ class _Body:
             return other
         mass = self.mass + other.mass
         if mass == 0:
-            return _Body(mass, sp.zeros(3, 1), self.inertia + other.inertia)
-        com = (self.mass * self.com + other.mass * other.com) / mass
-        inertia = sp.zeros(3, 3)
+            return _Body(mass, (_ZERO,) * 3, tuple(tuple(a + b for a, b in zip(r1, r2))
+                                                   for r1, r2 in zip(self.inertia, other.inertia)))
+        com = tuple((self.mass * a + other.mass * b) / mass for a, b in zip(self.com, other.com))
+        inertia = [[_ZERO] * 3 for _ in range(3)]
         for body in (self, other):
-            d = body.com - com
-            inertia += body.inertia + body.mass * ((d.T * d)[0] * sp.eye(3) - d * d.T)
-        return _Body(mass, com, inertia)
+            d = [c + -m for c, m in zip(body.com, com)]  # (Fraction - mpf is not defined)
+            square = d[0] ** 2 + d[1] ** 2 + d[2] ** 2
+            for i in range(3):
+                for j in range(3):
+                    inertia[i][j] += body.inertia[i][j] + body.mass * ((square if i == j else 0) + -(d[i] * d[j]))
+        return _Body(mass, com, tuple(tuple(row) for row in inertia))
 
     def fields(self) -> dict:
         if self.texts is not None:
@@ -266,10 +347,10 @@ class _Body:
             return {"mass": mass, "com": list(com), "inertia": list(inertia)}
         I = self.inertia
         return {"mass": number_text(self.mass), "com": [number_text(c) for c in self.com],
-                "inertia": [number_text(I[i, j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))]}
+                "inertia": [number_text(I[i][j]) for i, j in ((0, 0), (1, 1), (2, 2), (0, 1), (0, 2), (1, 2))]}
 
 
-_EMPTY = _Body(sp.S.Zero, sp.zeros(3, 1), sp.zeros(3, 3), ("0", ("0", "0", "0"), ("0",) * 6))
+_EMPTY = _Body(_ZERO, (_ZERO,) * 3, _Z3, ("0", ("0", "0", "0"), ("0",) * 6))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -287,6 +368,15 @@ class _Joint:
     index: int
 
 
+def _hint(name: str, known) -> str:
+    """``; did you mean 'x'?`` for the known name closest to ``name`` (names of at most 200
+    characters are compared, so that the work stays small), or nothing."""
+    if len(name) > 200:
+        return ""
+    close = difflib.get_close_matches(name, [k for k in known if len(k) <= 200], n=1, cutoff=0.6)
+    return f"; did you mean {describe(close[0])}?" if close else ""
+
+
 def _names(names, limit: int = _NAMES_SHOWN) -> str:
     """A bounded list of quoted names for messages."""
     names = list(names)
@@ -297,8 +387,10 @@ def _names(names, limit: int = _NAMES_SHOWN) -> str:
 class _Reader:
     """One URDF file's links and joints, and the chain from its root to a tip."""
 
-    def __init__(self, text: str, path: str):
+    def __init__(self, text: str, path: str, exact_angles: bool = False):
         self.path = path
+        self.exact_angles = exact_angles
+        self.snapped: list[str] = []  # the rpy texts taken as exact quarter turns
         root = parse_xml(text, path)
         if root.tag != "robot":
             self.fail(f"the top element is <{one_line(root.tag, 40)}>, not <robot>: not a URDF file")
@@ -330,9 +422,7 @@ class _Reader:
             for role in ("parent", "child"):
                 link = getattr(joint, role)
                 if link not in self.links:
-                    close = difflib.get_close_matches(link, list(self.links), n=1, cutoff=0.6)
-                    hint = f"; did you mean {describe(close[0])}?" if close else ""
-                    self.fail(f"{role} link {describe(link)} is not a link of the file{hint}",
+                    self.fail(f"{role} link {describe(link)} is not a link of the file{_hint(link, self.links)}",
                               self.where(joint), role)
             if joint.child in self.parent_joint:
                 self.fail(f"link {describe(joint.child)} is the child of two joints "
@@ -382,17 +472,21 @@ class _Reader:
                       "has no name")
         return name
 
-    def number(self, text: str, where: str, attribute: str) -> tuple[sp.Rational, str]:
+    def number(self, text: str, where: str, attribute: str) -> tuple[Fraction, str]:
         """The exact value and the text of one number of an attribute."""
         if not _NUMBER.match(text):
             self.fail(f"{describe(text)} is not a decimal number", where, attribute)
         try:
-            return number_to_rational(text), text.lstrip("+") or text
+            value = number_to_rational(text)  # checks the literal's length and exponent
         except ExpressionError as exc:
             self.fail(str(exc), where, attribute)
+        if abs(value) > int(MAX_MAGNITUDE):
+            self.fail(f"{describe(text)} is too large (more than 1e100 in magnitude): check the units",
+                      where, attribute)
+        return Fraction(int(value.p), int(value.q)), text.lstrip("+")
 
     def numbers(self, element, attribute: str, count: int, default: str | None, where: str,
-                label: str) -> list[tuple[sp.Rational, str]]:
+                label: str) -> list[tuple[Fraction, str]]:
         """The ``count`` numbers of ``element``'s ``attribute`` (``default`` when absent)."""
         text = element.get(attribute) if element is not None else None
         if text is None:
@@ -410,16 +504,17 @@ class _Reader:
         xyz = self.numbers(element, "xyz", 3, "0 0 0", where, f"{label} xyz")
         rpy = []
         for value, text in self.numbers(element, "rpy", 3, "0 0 0", where, f"{label} rpy"):
-            number = float(value)
-            if not abs(number) <= MAX_ANGLE:
+            if abs(value) > MAX_ANGLE:
                 self.fail(f"angle {describe(text)} is larger than {MAX_ANGLE:g} rad", where, f"{label} rpy")
-            k = round(number / (math.pi / 2))
-            if abs(number - k * math.pi / 2) <= QUARTER_TOLERANCE:
-                rpy.append((k * sp.pi / 2, quarter_text(k)))
+            k = round(float(value) / (math.pi / 2))
+            if not self.exact_angles and abs(float(value) - k * math.pi / 2) <= QUARTER_TOLERANCE:
+                rpy.append((Quarter(k) if k else _ZERO, quarter_text(k)))
+                if float(value) != k * math.pi / 2 and text not in self.snapped:
+                    self.snapped.append(text)
             else:
                 rpy.append((value, text))
-        return _Origin(tuple(v for v, _ in xyz), tuple(v for v, _ in rpy),
-                       {"xyz": [t for _, t in xyz], "rpy": [t for _, t in rpy]})
+        values = tuple(v for v, _ in xyz), tuple(v for v, _ in rpy)
+        return _Origin(*values, {"xyz": [t for _, t in xyz], "rpy": [t for _, t in rpy]}, Frame.of(*values))
 
     def read_joint(self, element, index: int) -> _Joint:
         name = self.name_of(element, "joint")
@@ -451,6 +546,8 @@ class _Reader:
             if mass_element is None:
                 self.fail("<inertial> without <mass value=...>", where, "inertial mass")
             (mass, mass_text), = self.numbers(mass_element, "value", 1, None, where, "inertial mass value")
+            if mass < 0:
+                self.fail(f"mass must not be negative, got {describe(mass_text)}", where, "inertial mass value")
             inertia_element = inertial.find("inertia")
             if inertia_element is None:
                 self.fail("<inertial> without <inertia ixx=... iyy=... izz=... ixy=... ixz=... iyz=...>",
@@ -459,13 +556,13 @@ class _Reader:
                       for key in ("ixx", "iyy", "izz", "ixy", "ixz", "iyz")]
             xx, yy, zz, xy, xz, yz = (v for v, _ in values)
             frame = self.origin(inertial.find("origin"), where, "inertial origin")
-            inertia = sp.Matrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-            com = sp.Matrix(list(frame.xyz))
+            inertia = ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
             if all(a == 0 for a in frame.rpy):
-                body = _Body(mass, com, inertia, (mass_text, tuple(frame.texts["xyz"]), tuple(t for _, t in values)))
+                body = _Body(mass, frame.xyz, inertia, (mass_text, tuple(frame.texts["xyz"]),
+                                                        tuple(t for _, t in values)))
             else:
-                R = rpy_rotation(frame.rpy)
-                body = _Body(mass, com, R * inertia * R.T)
+                body = _Body(mass, (_ZERO,) * 3, inertia).moved(Frame(frame.frame.R))
+                body = _Body(mass, frame.xyz, body.inertia)
         self.bodies[link] = body
         return body
 
@@ -474,9 +571,7 @@ class _Reader:
     def tip(self, tip: str | None) -> str:
         if tip is not None:
             if tip not in self.links:
-                close = difflib.get_close_matches(tip, list(self.links), n=1, cutoff=0.6)
-                hint = f"; did you mean {describe(close[0])}?" if close else ""
-                self.fail(f"tip link {describe(tip)} is not a link of the file{hint}")
+                self.fail(f"tip link {describe(tip)} is not a link of the file{_hint(tip, self.links)}")
             return tip
         leaves = [name for name in self.links if not self.child_joints[name]]
         if len(leaves) == 1:
@@ -521,14 +616,17 @@ def _robot_name(name: str) -> str:
 # The document
 
 
-def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None) -> tuple[dict, list[str]]:
+def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None,
+              exact_angles: bool = False) -> tuple[dict, list[str]]:
     """The robot document (``convention: general``, see ``docs/urdf.md``) of the chain of a URDF
     from its root link to ``tip`` (default: the only leaf), and notes saying what was merged,
     locked or left out.  ``tool``: a link rigidly attached to the last moving link whose frame is
     the tool frame (default: the tip's frame when fixed joints lead to it).  ``text`` is the
     file's content, ``path`` names it in messages.  Problems raise :class:`RobotFileError` (one
-    line); doubtful readings give a :func:`~symdyn.model.errors.warn` line."""
-    urdf = _Reader(text, path)
+    line); doubtful readings give a :func:`~symdyn.model.errors.warn` line.  ``exact_angles``:
+    keep every rpy angle as written (default: angles within :data:`QUARTER_TOLERANCE` of a
+    multiple of pi/2 are taken as that multiple, so that zeros fold)."""
+    urdf = _Reader(text, path, exact_angles)
     tip = urdf.tip(tip)
     chain = urdf.chain(tip)
     on_chain = {j.name for j in chain}
@@ -549,7 +647,8 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
         urdf.warn(f"robot name {describe(urdf.robot_name)} is not a valid symdyn name (lower-case letters, "
                   f"digits and '_', at most {MAX_NAME} characters): it is called '{name}'", None, "robot name")
 
-    notes = [f"read from URDF {os.path.basename(path)}: chain {urdf.root} -> {tip}, "
+    notes = [f"read from URDF {display_path(os.path.basename(path))}: chain {one_line(urdf.root, 60)} -> "
+             f"{one_line(tip, 60)}, "
              f"{len(moving)} moving joint{'s' if len(moving) != 1 else ''}"]
     links: list[dict] = []
     bodies: list[_Body] = []  # of each moving link, in its frame
@@ -558,10 +657,10 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
     rigid: dict[int, list] = {}  # target -> off-chain links merged through fixed joints only
     fixed_merged: list[str] = []
     taken: set = set()
-    pending = sp.eye(4)  # current link in the frame of the last moving link (or the root)
+    pending = Frame()  # current link in the frame of the last moving link (or the root)
     pending_joints: list[_Joint] = []
 
-    def absorb(link: str, frame: sp.Matrix) -> None:
+    def absorb(link: str, frame: Frame) -> None:
         """Merge ``link`` (at ``frame``) and every subtree off the chain hanging from it into
         the current moving link (or the ground)."""
         target = len(bodies) - 1
@@ -569,18 +668,18 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
         for joint in urdf.child_joints[link]:
             if joint.name in on_chain:
                 continue
-            stack, names, mass = [(joint, frame)], [], sp.S.Zero
+            stack, names, mass = [(joint, frame)], [], _ZERO
             while stack:
                 j, above = stack.pop()
                 if j.type != "fixed":
                     names.append(j.name)
-                at = above * j.origin.matrix()  # a moving joint at position 0
+                at = above * j.origin.frame  # a moving joint at position 0
                 part = urdf.body(j.child)
                 mass += part.mass
                 body = body.plus(part.moved(at))
                 stack.extend((c, at) for c in reversed(urdf.child_joints[j.child]))
             if names:
-                entry = locked.setdefault(target, [[], sp.S.Zero])
+                entry = locked.setdefault(target, [[], _ZERO])
                 entry[0].extend(sorted(names, key=lambda n: urdf.joints[n].index))
                 entry[1] += mass
             else:
@@ -595,9 +694,9 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
     dynamics = False
     for joint in chain:
         if joint.type == "fixed":
-            pending = pending * joint.origin.matrix()
+            pending = pending * joint.origin.frame
             pending_joints.append(joint)
-            if bodies:
+            if bodies and not urdf.body(joint.child).is_empty:
                 fixed_merged.append(joint.name)
             absorb(joint.child, pending)
             continue
@@ -605,7 +704,7 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
         if all(j.origin.is_identity for j in pending_joints):
             origin = {"xyz": list(joint.origin.texts["xyz"]), "rpy": list(joint.origin.texts["rpy"])}
         else:
-            origin = placement_texts(pending * joint.origin.matrix())
+            origin = (pending * joint.origin.frame).texts()
         axis = urdf.numbers(joint.element.find("axis"), "xyz", 3, "1 0 0", where, "axis xyz")
         if all(v == 0 for v, _ in axis):
             urdf.fail("the axis is zero: give a direction such as \"0 0 1\"", where, "axis xyz")
@@ -634,7 +733,7 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
             extra["limits"] = limits
         links.append((entry, extra))
         bodies.append(_EMPTY)
-        pending, pending_joints = sp.eye(4), []
+        pending, pending_joints = Frame(), []
         absorb(joint.child, pending)
 
     last = moving[-1]
@@ -643,14 +742,14 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
         tool_frame = _tool_frame(urdf, tool, last)
         if tool_frame is not None:
             doc["tool"] = tool_frame
-        notes.append(f"tool frame: link {tool}")
-    elif pending_joints and not _is_identity(pending):
+        notes.append(f"tool frame: link {one_line(tool, 60)}")
+    elif pending_joints and not pending.is_identity:
         if len(pending_joints) == 1:
             doc["tool"] = {"xyz": list(pending_joints[0].origin.texts["xyz"]),
                            "rpy": list(pending_joints[0].origin.texts["rpy"])}
         else:
-            doc["tool"] = placement_texts(pending)
-        notes.append(f"tool frame: tip link {tip}")
+            doc["tool"] = pending.texts()
+        notes.append(f"tool frame: tip link {one_line(tip, 60)}")
     doc["links"] = []
     for (entry, extra), body in zip(links, bodies):
         doc["links"].append({**entry, **body.fields(), **extra})
@@ -666,7 +765,7 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
         notes.append(f"fixed joints before the first moving joint composed into its origin: {_plain(before)}")
     ground_mass = ground["body"].mass
     if ground_mass != 0 or rigid.get(-1) or locked.get(-1):
-        notes.append(f"fixed to the ground, inertia left out ({float(ground_mass):.6g} kg): links "
+        notes.append(f"fixed to the ground, inertia left out ({_kg(ground_mass)} kg): links "
                      f"{_plain(ground['links'] + rigid.get(-1, []))}")
     for target, names in sorted(rigid.items()):
         if target >= 0:
@@ -675,11 +774,18 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
         into = "left out with the ground (they never move)" if target < 0 else \
             f"merged into link {target + 1} ('{links[target][0]['name']}')"
         urdf.warn(f"joints {_names(names)} are not on the chain to {describe(tip)}: locked at position 0 and "
-                  f"their links ({float(mass):.6g} kg) {into}")
+                  f"their links ({_kg(mass)} kg) {into}")
         notes.append(f"off the chain, locked at 0 and {into}: joints {_plain(names)}")
     if dynamics:
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
+    if urdf.snapped:
+        notes.append(f"rpy angles within {QUARTER_TOLERANCE:g} rad of a multiple of pi/2 taken as that multiple "
+                     f"(--exact-angles keeps them as written): {_plain(urdf.snapped)}")
     return doc, notes
+
+
+def _kg(mass) -> str:
+    return f"{float(_mp(mass)):.6g}"
 
 
 def _plain(names, limit: int = _NAMES_SHOWN) -> str:
@@ -691,9 +797,7 @@ def _tool_frame(urdf: _Reader, tool: str, last: _Joint) -> dict | None:
     """The frame of link ``tool`` in the last moving link's frame (None: the same frame); the
     link must hang from it through fixed joints only."""
     if tool not in urdf.links:
-        close = difflib.get_close_matches(tool, list(urdf.links), n=1, cutoff=0.6)
-        hint = f"; did you mean {describe(close[0])}?" if close else ""
-        urdf.fail(f"tool link {describe(tool)} is not a link of the file{hint}")
+        urdf.fail(f"tool link {describe(tool)} is not a link of the file{_hint(tool, urdf.links)}")
     joints, link = [], tool
     while link != last.child:
         joint = urdf.parent_joint.get(link)
@@ -708,7 +812,7 @@ def _tool_frame(urdf: _Reader, tool: str, last: _Joint) -> dict | None:
         return None
     if len(joints) == 1:
         return {"xyz": list(joints[0].origin.texts["xyz"]), "rpy": list(joints[0].origin.texts["rpy"])}
-    frame = sp.eye(4)
+    frame = Frame()
     for joint in joints:
-        frame = frame * joint.origin.matrix()
-    return None if _is_identity(frame) else placement_texts(frame)
+        frame = frame * joint.origin.frame
+    return None if frame.is_identity else frame.texts()
