@@ -112,15 +112,51 @@ def _mutated_text(text: str, rng: random.Random) -> str:
     return "".join(chars)
 
 
+URDFS = sorted((REPO / "tests" / "data" / "urdf").glob("*.urdf"))
+ODD_ATTRIBUTES = ["", " ", "nan", "inf", "-inf", "1e999", "1e-320", "abc", "0 0", "1 2 3 4", "0 0 0",
+                  "-1", "1e100 0 0", "floating", "planar", "continuous", "fixed", "&amp;", "x\ny",
+                  "1.57079632679 0 0", "é", "0x10", "1_000", "+.5 -.5 .5"]
+
+
+def _mutated_urdf(text: str, rng: random.Random) -> str:
+    """A URDF with attribute values replaced, elements dropped or doubled, or bytes changed."""
+    import re
+    choice = rng.random()
+    if choice < 0.6:
+        values = list(re.finditer(r'="([^"]*)"', text))
+        for _ in range(rng.randint(1, 3)):
+            match = rng.choice(values)
+            text = text[:match.start(1)] + rng.choice(ODD_ATTRIBUTES + [match.group(1)[::-1]]) + text[match.end(1):]
+            values = list(re.finditer(r'="([^"]*)"', text))
+        return text
+    lines = text.splitlines(keepends=True)
+    if choice < 0.8:
+        k = rng.randrange(len(lines))
+        return "".join(lines[:k] + (lines[k:k + 1] * 2 if rng.random() < 0.5 else []) + lines[k + 1:])
+    if choice < 0.9:
+        return text[:rng.randrange(len(text))]
+    chars = list(text)
+    for _ in range(rng.randint(1, 5)):
+        chars[rng.randrange(len(chars))] = rng.choice(list('<>/="& \n!?[]-0aZ\u00e9'))
+    return "".join(chars)
+
+
 def _cases(rng: random.Random, root):
     """Endless (label, file to generate, functions) cases; scenes name a mutated robot beside them."""
     robots = {name: (REPO / "robots" / f"{name}.yaml").read_text() for name in SOURCES}
     scenes = {path.name: path.read_text() for path in SCENES}
+    urdfs = {path.name: path.read_text() for path in URDFS}
     index = 0
     while True:
         index += 1
         case = root / f"case{index}"
         case.mkdir()
+        if rng.random() < 0.2:
+            name, text = rng.choice(sorted(urdfs.items()))
+            target = case / name
+            target.write_text(_mutated_urdf(text, rng), encoding="utf-8")
+            yield f"case{index} ({name})", target, rng.choice(FUNCTION_SETS)
+            continue
         if rng.random() < 0.25:
             name, text = rng.choice(sorted(scenes.items()))
             doc = yaml.safe_load(text)

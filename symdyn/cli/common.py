@@ -30,8 +30,8 @@ def add_method_option(parser) -> None:
 DEFAULT_MAX_JOINTS = 40
 
 
-def add_size_options(parser) -> None:
-    """--strict, --max-joints, --tip and --tool, shared by every subcommand that reads robots."""
+def add_urdf_options(parser) -> None:
+    """--tip, --tool and --exact-angles: how a URDF input is read."""
     parser.add_argument("--tip", metavar="LINK", default=None,
                         help="URDF input: the link the chain ends at (needed when the tree has several leaves)")
     parser.add_argument("--tool", metavar="LINK", default=None,
@@ -41,6 +41,11 @@ def add_size_options(parser) -> None:
                         help="URDF input: keep rpy angles as written (default: an angle within 1e-9 rad of a "
                              "multiple of pi/2, such as 1.57079632679, is taken as that multiple so that zeros "
                              "fold; the header lists them)")
+
+
+def add_size_options(parser) -> None:
+    """--strict, --max-joints and the URDF options, shared by every subcommand that reads robots."""
+    add_urdf_options(parser)
     parser.add_argument("--strict", action="store_true",
                         help="treat every warning (inertia breaking the triangle inequality, angles that "
                              "look like degrees, a mass without inertia, ...) as an error")

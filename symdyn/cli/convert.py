@@ -25,6 +25,7 @@ from ..model.errors import SymdynError, display_path, one_line
 from ..model.files import write_atomic
 from ..model.robot import from_document
 from ..model.scene import is_urdf, load_input, read_robot_document
+from .common import add_urdf_options
 from .generate import input_files
 
 HELP = "convert a URDF to a robot file (YAML), or a robot file or scene to URDF"
@@ -41,14 +42,7 @@ def add_parser(sub) -> None:
     p.add_argument("--to", required=True, choices=FORMATS, help="urdf: a URDF file; yaml: a robot file "
                    "(from a URDF)")
     p.add_argument("--out", metavar="FILE", default=None, help="write to FILE (default: standard output)")
-    p.add_argument("--tip", metavar="LINK", default=None,
-                   help="URDF input: the link the chain ends at (needed when the tree has several leaves)")
-    p.add_argument("--tool", metavar="LINK", default=None,
-                   help="URDF input: a link rigidly attached to the last moving link whose frame is the "
-                        "tool frame (default: the tip link's frame)")
-    p.add_argument("--exact-angles", action="store_true",
-                   help="URDF input: keep rpy angles as written (default: within 1e-9 rad of a multiple of "
-                        "pi/2 taken as that multiple, listed in the notes)")
+    add_urdf_options(p)
     p.add_argument("--strict", action="store_true",
                    help="treat every warning (joints locked off the chain, renamed joints, armature or "
                         "gravity that URDF cannot hold, ...) as an error")
