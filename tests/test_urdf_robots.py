@@ -141,3 +141,21 @@ def test_urdf_to_yaml_to_symdyn_equals_urdf_to_symdyn(case, tmp_path):
     states = random_states(eqs.n, 10, seed=23)
     errors = compare(again.numeric, eqs.numeric, states, symdyn.OUTPUTS)
     assert all(e <= 1e-12 for e in errors.values()), errors
+
+
+def test_derivation_printouts_of_a_urdf(tmp_path, capsys):
+    """symdyn derive on a URDF: general placements instead of the DH table, both methods; the
+    LaTeX compiles where pdflatex is installed (.ci/run installs it)."""
+    import shutil
+    import subprocess
+    from symdyn.cli import main
+    for method in ("newton-euler", "lagrange-euler"):
+        assert main(["derive", HANDMADE, "--method", method, "--format", "markdown", "--steps", "summary",
+                     "--out", str(tmp_path / f"{method}.md")]) == 0
+        text = (tmp_path / f"{method}.md").read_text()
+        assert "general joint placements (origin, axis)" in text and "origin $rpy$" in text
+    assert main(["derive", HANDMADE, "--format", "latex", "--out", str(tmp_path / "arm.tex")]) == 0
+    if shutil.which("pdflatex"):
+        result = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "arm.tex"],
+                                cwd=tmp_path, capture_output=True, text=True, timeout=120)
+        assert result.returncode == 0, result.stdout[-2000:]
