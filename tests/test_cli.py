@@ -137,3 +137,12 @@ def test_cache_key_covers_derivation_code(monkeypatch):
     cache.code_fingerprint.cache_clear()
     monkeypatch.setattr(cache, "code_fingerprint", lambda: "0" * 64)
     assert cache.cache_key(robot, "newton-euler", ["gravity"]) != key
+
+
+def test_verify_by_the_jacobian_projected_method(capsys):
+    """The third formulation through the CLI: generated C by the Jacobian-projected
+    Newton-Euler, every function within 1e-10 of Pinocchio."""
+    assert main(["verify", str(REPO / "robots" / "scara.yaml"), "--method", "jacobian-newton-euler",
+                 "--states", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "jacobian-newton-euler" in out and out.count(" ok") == 9

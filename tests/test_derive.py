@@ -64,7 +64,7 @@ def test_planar2r_newton_euler_link_accelerations_match_the_worked_example():
     assert not all(_is_zero(e) for e in wrong)
 
 
-@pytest.mark.parametrize("method", ["lagrange-euler", "newton-euler"])
+@pytest.mark.parametrize("method", ["lagrange-euler", "newton-euler", "jacobian-newton-euler"])
 def test_planar2r_ends_with_the_textbook_equations(method):
     d = steps_of("planar2r", method)
     m1, m2, l1, lc1, lc2, I1, I2, g = _symbols("m1", "m2", "l1", "lc1", "lc2", "I1", "I2", "g")
@@ -84,18 +84,23 @@ def test_planar2r_ends_with_the_textbook_equations(method):
     if method == "lagrange-euler":
         h112 = d.to_joint_symbols(d.quantity("h_entry", 1, 1, 2))
         assert _is_zero(h112 + m2 * l1 * lc2 * s2)  # h_112 = -m2 l1 lc2 s2
+    if method == "jacobian-newton-euler":  # H is the sum of the printed projected link mass matrices
+        H = d.to_joint_symbols(d.quantity("projected", 1)) + d.to_joint_symbols(d.quantity("projected", 2))
+        assert all(_is_zero(e) for e in H - D), f"sum of J_ci^T M_i J_ci: {H}"
 
 
 CASES = [("planar2r", "lagrange-euler", None), ("planar2r", "newton-euler", None),
          ("three_standard", "lagrange-euler", None), ("three_modified", "newton-euler", None),
          ("puma560", "newton-euler", None), ("puma560", "lagrange-euler", None),
-         ("scara", "newton-euler", "closed")]
+         ("scara", "newton-euler", "closed"), ("planar2r", "jacobian-newton-euler", None),
+         ("three_standard", "jacobian-newton-euler", None), ("puma560", "jacobian-newton-euler", None)]
 
 
 @pytest.mark.parametrize("name,method,form", CASES)
 def test_printed_results_equal_the_derived_equations(derived, name, method, form):
-    """D, h, c as printed (closed form or with the x_k intermediates), and for Newton-Euler
-    every tau_i of the backward recursion, evaluated at seeded states against the equations."""
+    """D, h, c as printed (closed form or with the x_k intermediates), and for the Newton-Euler
+    methods every tau_i of the backward recursion (Jacobian-projected: at qdd = 0, so h + c),
+    evaluated at seeded states against the equations."""
     from symdyn.derive.numeric import compile_function
     d = steps_of(name, method, form)
     eqs = derived(name, method)
@@ -105,7 +110,7 @@ def test_printed_results_equal_the_derived_equations(derived, name, method, form
     program = d.program()
     fns = {k: compile_function(inputs, program, sp.Matrix(d.quantity(k))) for k in ("D", "h", "c")}
     taus = None
-    if method == "newton-euler" and any(q.kind == "tau" for s in d.sections for q in s.quantities):
+    if method != "lagrange-euler" and any(q.kind == "tau" for s in d.sections for q in s.quantities):
         taus = compile_function(inputs, program, sp.Matrix([d.quantity("tau", i + 1) for i in range(eqs.n)]))
     p = [values[s] for s in robot.parameters]
     num = eqs.numeric
@@ -115,7 +120,10 @@ def test_printed_results_equal_the_derived_equations(derived, name, method, form
         np.testing.assert_allclose(fns["D"](*args), num.mass_matrix(q, pp), rtol=1e-9, atol=1e-9)
         np.testing.assert_allclose(fns["h"](*args).ravel(), num.coriolis(q, qd, pp), rtol=1e-9, atol=1e-9)
         np.testing.assert_allclose(fns["c"](*args).ravel(), num.gravity(q, pp), rtol=1e-9, atol=1e-9)
-        if taus is not None:
+        if taus is not None and method == "jacobian-newton-euler":
+            np.testing.assert_allclose(taus(*args).ravel(), num.coriolis(q, qd, pp) + num.gravity(q, pp),
+                                       rtol=1e-9, atol=1e-9)
+        elif taus is not None:
             friction = np.array([float(l.armature) * a + float(l.damping) * v + float(l.coulomb) * np.sign(v)
                                  for l, a, v in zip(robot.links, qdd, qd)])
             np.testing.assert_allclose(taus(*args).ravel(),
@@ -130,6 +138,7 @@ def test_printed_results_equal_the_derived_equations(derived, name, method, form
 
 @pytest.mark.skipif(shutil.which("pdflatex") is None, reason="pdflatex not installed (.ci/run installs it)")
 @pytest.mark.parametrize("name,method", [("planar2r", "lagrange-euler"), ("planar2r", "newton-euler"),
+                                         ("planar2r", "jacobian-newton-euler"),
                                          ("puma560", "newton-euler")])
 def test_latex_output_compiles(tmp_path, name, method):
     tex = tmp_path / f"{name}.tex"
@@ -171,7 +180,8 @@ def test_derive_cli_errors(tmp_path, capsys):
 
 DOCS = [("planar2r", "newton-euler", "planar2r_newton_euler.md"),
         ("planar2r", "lagrange-euler", "planar2r_lagrange_euler.md"),
-        ("puma560", "newton-euler", "puma560_newton_euler.md")]
+        ("puma560", "newton-euler", "puma560_newton_euler.md"),
+        ("planar2r", "jacobian-newton-euler", "planar2r_jacobian_newton_euler.md")]
 
 
 @pytest.mark.parametrize("name,method,filename", DOCS)

@@ -155,10 +155,12 @@ def test_bench_measures_every_variant(tmp_path, capsys):
     from symdyn.cli import main
     robot = symdyn.load(robot_path("three_modified"))
     results = bench.bench_robot(robot, ("inverse_dynamics", "mass_matrix", "forward_dynamics"),
-                                ("ne-double", "ne-float", "closed-double", "casadi-sx", "casadi-c", "pinocchio"),
+                                ("ne-double", "ne-float", "jne-double", "closed-double", "casadi-sx", "casadi-c",
+                                 "pinocchio"),
                                 count=3, workdir=str(tmp_path))
     seen = {(r.variant, r.function) for r in results}
     assert ("closed-double", "mass_matrix") in seen and ("casadi-c", "forward_dynamics") in seen
+    assert ("jne-double", "inverse_dynamics") in seen
     assert ("closed-double", "forward_dynamics") not in seen  # not offered for the closed form
     for r in results:
         bound = 1e-4 if r.variant == "ne-float" else 1e-12

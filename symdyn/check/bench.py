@@ -7,6 +7,7 @@ Variants (each where it applies):
 ``ne-double``      symdyn C, Newton-Euler with intermediate symbols (the default), double
 ``ne-float``       the same in float (inputs rounded to float; the reference sees them rounded)
 ``le-double``      symdyn C from the Lagrange-Euler derivation, double
+``jne-double``     symdyn C from the Jacobian-projected Newton-Euler derivation, double
 ``closed-double``  symdyn C from the fully expanded closed form (trig-simplified when small);
                    up to 3 joints, where it derives in reasonable time; no forward dynamics
 ``casadi-sx``      the CasADi Function on CasADi's SX virtual machine
@@ -44,7 +45,10 @@ from .reference import MpReference
 from ..model.robot import Robot
 from .timing import parse, time_generated
 
-VARIANTS = ("ne-double", "ne-float", "le-double", "closed-double", "casadi-sx", "casadi-c", "pinocchio")
+VARIANTS = ("ne-double", "ne-float", "le-double", "jne-double", "closed-double", "casadi-sx", "casadi-c", "pinocchio")
+#: the derivation method of each symdyn C variant
+VARIANT_METHODS = {"ne-double": "newton-euler", "ne-float": "newton-euler", "le-double": "lagrange-euler",
+                   "jne-double": "jacobian-newton-euler", "closed-double": "newton-euler"}
 DEFAULT_FUNCTIONS = ("inverse_dynamics", "mass_matrix", "forward_dynamics")
 #: for each function, the positions of its inputs in a state [q, qd, qdd, tau]
 INPUTS = {f: tuple(("q", "qd", "qdd", "tau").index(g) for g in groups) for f, groups in OUTPUT_INPUTS.items()}
@@ -126,8 +130,8 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
 
     methods = {"ne": derive_cached(robot, "newton-euler", wanted)}
     for variant in variants:
-        if variant in ("ne-double", "ne-float", "le-double", "closed-double"):
-            method = "lagrange-euler" if variant.startswith("le") else "newton-euler"
+        if variant in VARIANT_METHODS:
+            method = VARIANT_METHODS[variant]
             precision = "float" if variant.endswith("float") else "double"
             if method not in methods:
                 progress(f"{name}: deriving by {method}")

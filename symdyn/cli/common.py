@@ -22,7 +22,8 @@ def parse_functions(text: str | None) -> tuple[str, ...]:
 
 def add_method_option(parser) -> None:
     parser.add_argument("--method", default="newton-euler", choices=sorted(set(METHOD_ALIASES)),
-                        help="derivation: newton-euler (default; recursive, smallest code) or lagrange-euler")
+                        help="derivation: newton-euler (default; recursive, smallest code), lagrange-euler (trace form) or "
+                             "jacobian-newton-euler (world-frame link Jacobians, H = sum J_ci^T M_i J_ci)")
 
 
 #: default of --max-joints: derivation time grows quickly with the joint count (every function of

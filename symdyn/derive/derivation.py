@@ -32,6 +32,7 @@ import sympy as sp
 
 from .chain import make_chain
 from .equations import _normalize_method, derive
+from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler, _q_operator, pseudo_inertia
 from .newton_euler import recursion
 from ..model.robot import Robot
@@ -80,6 +81,13 @@ KINDS = {
     "f": "f_i, force on link i from link i-1",
     "n": "n_i, moment on link i from link i-1 about O_i",
     "tau": "tau_i, joint force",
+    "jc": "J_ci, 6 x n: centre-of-mass and angular velocity of link i per joint rate (world axes)",
+    "projected": "J_ci^T M_i J_ci, n x n: link i's mass matrix projected on the joints",
+    "omega_w": "omega_i, 3x1, world axes",
+    "omegadot_w": "omegadot_i at qdd = 0 (gamma), world axes",
+    "vdot_w": "vdot_i of the centre of mass at qdd = 0 (gamma, with -g at the base), world axes",
+    "fJ": "f_Ji, force through joint i",
+    "tJ": "t_Ji, torque through joint i about its axis point",
     "D": "D(q), n x n",
     "h": "h(q, qdot), n x 1",
     "c": "c(q), n x 1",
@@ -420,6 +428,67 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
             results = (notation.textbook_matrix(D), notation.textbook_matrix(h), notation.textbook_matrix(c))
         else:
             eqs = derive(robot, "lagrange-euler", ["mass_matrix", "coriolis", "gravity"])
+            results, where = _named_results(eqs, notation)
+    elif method == "jacobian-newton-euler":
+        jne = JacobianNewtonEuler(chain)
+        jacobians = [jne.link_jacobian(i) for i in range(n)]
+        zero = [sp.S.Zero] * n
+        motions = jne.forward(chain.qd, zero, chain.gravity, "b")
+        jne.backward(motions, "b")
+        program = chain.builder.build()
+        namer = None if closed else _Namer(program, notation)
+        if namer is not None:
+            for i in range(n):
+                for label, vec in (("k", jne.k[i]), ("d", jne.d[i]), ("h", jne.h[i]), ("r", jne.r[i])):
+                    for a in range(3):
+                        namer.name(vec[a], sp.Symbol(f"{label}_{i + 1}{AXES[a]}", real=True))
+                for a in range(3):
+                    for c in range(a, 3):
+                        namer.name(jne.inertia[i][a, c], sp.Symbol(f"I_{i + 1}{AXES[a]}{AXES[c]}", real=True))
+
+        def show(value):
+            if closed:
+                return closed_value(value)
+            if isinstance(value, sp.MatrixBase):
+                return sp.ImmutableMatrix(sp.Matrix(value).applyfunc(namer.definition))
+            return namer.definition(value)
+        if steps == "all":
+            sections.append(Section("jacobian_link", tuple(Quantity("jc", (i + 1,), show(jacobians[i])) for i in range(n))))
+            if closed:
+                projected = []
+                for i, link in enumerate(robot.links):
+                    J = jacobians[i]
+                    Mi = sp.diag(link.mass, link.mass, link.mass, 1, 1, 1)
+                    Mi[3:, 3:] = jne.inertia[i]
+                    projected.append(Quantity("projected", (i + 1,), show(J.T * Mi * J)))
+                sections.append(Section("projected", tuple(projected)))
+            if namer is not None:
+                for i, m in enumerate(motions):
+                    for attr, name in (("omega", "omega"), ("omegadot", "omegadot"), ("vdot", "vdot"),
+                                       ("f_J", "f_J"), ("t_J", "t_J")):
+                        vec = getattr(m, attr)
+                        for a in range(3):
+                            namer.name(vec[a], sp.Symbol(f"{name}{i + 1}{AXES[a]}", real=True))
+            forward_q = []
+            for i, m in enumerate(motions):
+                forward_q += [Quantity("omega_w", (i + 1,), show(m.omega)),
+                              Quantity("omegadot_w", (i + 1,), show(m.omegadot)),
+                              Quantity("vdot_w", (i + 1,), show(m.vdot))]
+            backward_q = []
+            for i in reversed(range(n)):
+                m = motions[i]
+                backward_q += [Quantity("fJ", (i + 1,), show(m.f_J)), Quantity("tJ", (i + 1,), show(m.t_J)),
+                               Quantity("tau", (i + 1,), show(m.tau))]
+            sections.append(Section("jne_forward", tuple(forward_q)))
+            sections.append(Section("jne_backward", tuple(backward_q)))
+            if namer is not None:
+                named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
+                              if sym in namer.rhs and sym not in notation.trig)
+        eqs = derive(robot, "jacobian-newton-euler", ["mass_matrix", "coriolis", "gravity"])
+        if closed:
+            results = tuple(notation.textbook_matrix(notation.to_trig_symbols(eqs.program, eqs.output(name)))
+                            for name in ("mass_matrix", "coriolis", "gravity"))
+        else:
             results, where = _named_results(eqs, notation)
     else:
         states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "")

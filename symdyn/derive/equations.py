@@ -41,6 +41,7 @@ import sympy as sp
 from ..model.errors import SymdynError
 from .chain import make_chain
 from .composite import mass_matrix as composite_mass_matrix
+from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
@@ -50,9 +51,10 @@ from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
 from .tool import tool_kinematics
 
-METHODS = ("newton-euler", "lagrange-euler")
+METHODS = ("newton-euler", "lagrange-euler", "jacobian-newton-euler")
 METHOD_ALIASES = {"ne": "newton-euler", "newton-euler": "newton-euler", "rne": "newton-euler",
-                  "le": "lagrange-euler", "lagrange-euler": "lagrange-euler", "lagrange": "lagrange-euler"}
+                  "le": "lagrange-euler", "lagrange-euler": "lagrange-euler", "lagrange": "lagrange-euler",
+                  "jne": "jacobian-newton-euler", "jacobian-newton-euler": "jacobian-newton-euler"}
 
 @dataclass(frozen=True)
 class Equations:
@@ -136,7 +138,7 @@ class Equations:
 def _normalize_method(method: str) -> str:
     key = method.lower().replace("_", "-")
     if key not in METHOD_ALIASES:
-        raise ValueError(f"unknown method {method!r}; use newton-euler or lagrange-euler")
+        raise ValueError(f"unknown method {method!r}; use newton-euler, lagrange-euler or jacobian-newton-euler")
     return METHOD_ALIASES[key]
 
 
@@ -280,6 +282,29 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
         if "forward_dynamics" in need:
             report("forward_dynamics (bias forces)")
             bias = joint_forces(chain, qd, zero, chain.gravity, "b")
+    elif method == "jacobian-newton-euler":
+        report("world-frame link quantities (k_i, d_i, h_i, I_i)")
+        jne = JacobianNewtonEuler(chain)
+        if "gravity" in need:
+            report("gravity (backward recursion at qd = qdd = 0)")
+            result["gravity"] = jne.joint_forces(zero, zero, chain.gravity, "g")
+        if need & {"coriolis", "coriolis_matrix"}:
+            report("coriolis (J_c^T (M gamma + u_n))")
+            h = jne.joint_forces(qd, zero, no_gravity, "h")
+            result["coriolis"] = h
+            if "coriolis_matrix" in need:
+                report("coriolis_matrix (derivative of h by qd)")
+                columns = differentiate(b.build(), h, qd, b, "dh")
+                result["coriolis_matrix"] = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i] / 2))
+        if "mass_matrix" in need:
+            report("mass_matrix (sum of J_ci^T M_i J_ci)")
+            result["mass_matrix"] = jne.mass_matrix()
+        if "inverse_dynamics" in need:
+            report("inverse_dynamics")
+            result["inverse_dynamics"] = jne.joint_forces(qd, qdd, chain.gravity, "") + friction
+        if "forward_dynamics" in need:
+            report("forward_dynamics (bias forces)")
+            bias = jne.joint_forces(qd, zero, chain.gravity, "b")
     else:
         report("link transforms, U_ij, U_ijk")
         le = LagrangeEuler(chain)
