@@ -2,7 +2,7 @@
  * chain12_dynamics — equations of motion of robot 'chain12' (12 joints, modified DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : chain12.yaml
  *   sha256    : 1aa9009c929e2fd0d86ff36cae8f4e88189c8724cd2d728ecf32e27db1c90d31
  */

@@ -2,7 +2,7 @@
  * iiwa14_dynamics — equations of motion of robot 'iiwa14' (7 joints, standard DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : iiwa14.yaml
  *   sha256    : bb9ae76121f1b45419cf55df0f149ed01242e97474437572271d40165e92d74a
  */

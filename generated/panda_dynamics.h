@@ -2,7 +2,7 @@
  * panda_dynamics — equations of motion of robot 'panda' (7 joints, modified DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : panda.yaml
  *   sha256    : 38e63329690612d56672ffeea325710a3822b8c02df9caf43f43f81f72b92e43
  */

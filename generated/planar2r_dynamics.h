@@ -2,7 +2,7 @@
  * planar2r_dynamics — equations of motion of robot 'planar2r' (2 joints, modified DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : planar2r.yaml
  *   sha256    : 086b6c674f0dbe0543d869373cbd4427195ffc7be448fd3367a82a7213766de8
  */

@@ -2,7 +2,7 @@
  * puma560_dynamics — equations of motion of robot 'puma560' (6 joints, standard DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : puma560.yaml
  *   sha256    : 3d2ac5f0ab83a1a3e65cd2f3cd55eed08dcae8e7650346f9308b590968c73d14
  */

@@ -2,7 +2,7 @@
  * scara_dynamics — equations of motion of robot 'scara' (4 joints, standard DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : scara.yaml
  *   sha256    : 0a7a32e7314995d04c0f541c34ef4f611bb5ca2bc912f19f3ffb18e0c80931ee
  */

@@ -2,7 +2,7 @@
  * stanford_dynamics — equations of motion of robot 'stanford' (6 joints, standard DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : stanford.yaml
  *   sha256    : 83739e3c36743844ddeaa3d6c49c1412572c7af9c9d2ec94ea6649a3a2b8c2b4
  */

@@ -2,7 +2,7 @@
  * ur5_dynamics — equations of motion of robot 'ur5' (6 joints, standard DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : ur5.yaml
  *   sha256    : 2aec31518849d593f4f52ec7fbf92a91dbb1d9835f5a8fa2761b363f4cc7a48d
  */

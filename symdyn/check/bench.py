@@ -96,8 +96,10 @@ def _c_ops(eqs, name, precision):
 
 
 def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, count: int = 20,
-                progress: Callable[[str], None] = lambda text: None, workdir: str | None = None) -> list[Result]:
-    """Measure every variant of ``robot`` (numbers only: no runtime parameters left)."""
+                progress: Callable[[str], None] = lambda text: None, workdir: str | None = None,
+                fd_method: str = "ldlt") -> list[Result]:
+    """Measure every variant of ``robot`` (numbers only: no runtime parameters left);
+    ``fd_method`` solves the symdyn variants' forward dynamics (``'ldlt'`` or ``'aba'``)."""
     from ..emit.cgen import generate_c
 
     robot = robot.with_nominal_values()
@@ -128,14 +130,14 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
             return float("inf")
         return normalized_error(mine, (refs_float if float_inputs else refs)[f])
 
-    methods = {"ne": derive_cached(robot, "newton-euler", wanted)}
+    methods = {"ne": derive_cached(robot, "newton-euler", wanted, fd_method=fd_method)}
     for variant in variants:
         if variant in VARIANT_METHODS:
             method = VARIANT_METHODS[variant]
             precision = "float" if variant.endswith("float") else "double"
             if method not in methods:
                 progress(f"{name}: deriving by {method}")
-                methods[method] = derive_cached(robot, method, wanted)
+                methods[method] = derive_cached(robot, method, wanted, fd_method=fd_method)
             eqs = methods[method]
             fns = functions
             if variant == "closed-double":

@@ -8,7 +8,7 @@ import tempfile
 
 from ..model.files import output_directory, write_files
 from ..model.errors import SymdynError
-from .common import add_size_options, check_size, load_robot, parse_functions
+from .common import add_fd_method_option, add_size_options, check_size, load_robot, parse_functions
 
 HELP = "time each generation variant and measure its error against a 50-digit reference"
 
@@ -28,6 +28,7 @@ def add_parser(sub) -> None:
                         "a precision, the symdyn C variants of that precision and the others)")
     p.add_argument("--states", type=int, default=20, metavar="N", help="states for the error (default 20)")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
+    add_fd_method_option(p)
     add_size_options(p)
     p.set_defaults(run=run)
 
@@ -105,6 +106,6 @@ def _bench(args, robots, functions, variants) -> list:
         robot, (functions, variants) = robot
         _progress(args, f"[{k + 1}/{len(robots)}] {robot.name}")
         results.extend(bench.bench_robot(robot, functions, variants, args.states,
-                                         lambda text: _progress(args, text)))
+                                         lambda text: _progress(args, text), fd_method=args.fd_method))
     sys.stdout.write(bench.markdown_table(results))
     return results

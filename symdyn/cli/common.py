@@ -20,6 +20,13 @@ def parse_functions(text: str | None) -> tuple[str, ...]:
     return tuple(n for n in OUTPUTS if n in names)
 
 
+def add_fd_method_option(parser) -> None:
+    parser.add_argument("--fd-method", default="ldlt", choices=("ldlt", "aba"),
+                        help="forward dynamics by an LDL^T factorization of D (default: fewer operations and "
+                             "faster on the bundled 6-12 joint arms, docs/benchmarks.md) or by the "
+                             "articulated-body algorithm")
+
+
 def add_method_option(parser) -> None:
     parser.add_argument("--method", default="newton-euler", choices=sorted(set(METHOD_ALIASES)),
                         help="derivation: newton-euler (default; recursive, smallest code), lagrange-euler (trace form) or "

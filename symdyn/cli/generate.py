@@ -12,7 +12,7 @@ from ..model.errors import SymdynError
 from ..derive.equations import OUTPUTS
 from ..model.inputs import decode_text, load_yaml, read_input
 from ..model.scene import load_input
-from .common import add_method_option, add_size_options, check_size, load_robot, parse_functions, progress_printer
+from .common import add_fd_method_option, add_method_option, add_size_options, check_size, load_robot, parse_functions, progress_printer
 
 HELP = "generate C code (NAME_dynamics.h/.c) or CasADi functions for robot files"
 TARGETS = ("c", "casadi", "casadi-c")
@@ -41,6 +41,7 @@ def add_parser(sub) -> None:
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
     add_method_option(p)
+    add_fd_method_option(p)
     add_size_options(p)
     p.add_argument("--no-cache", action="store_true", help="do not read or write the derivation cache")
     p.add_argument("--quiet", action="store_true", help="print nothing on success")
@@ -62,7 +63,8 @@ def input_files(path: str) -> list[str]:
 
 
 def generate_files(path: str, functions, precision, header_only: bool, method: str,
-                   use_cache: bool = True, target: str = "c", loaded=None, progress=None) -> dict[str, bytes]:
+                   use_cache: bool = True, target: str = "c", loaded=None, progress=None,
+                   fd_method: str = "ldlt") -> dict[str, bytes]:
     """Load (robot or scene), derive (cached) and emit; returns {file name: content} without
     writing anything.  ``functions``/``precision`` None: the scene's, else all / double.
     ``loaded``: ``load_input(path)`` when the caller already has it; ``progress``: called with a
@@ -79,7 +81,7 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
     wanted = set(functions)
     if "forward_dynamics" in wanted:
         wanted |= {"mass_matrix"}
-    eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache, progress=progress)
+    eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache, progress=progress, fd_method=fd_method)
     source = os.path.basename(path)
     if target == "c":
         files = generate_c(eqs, functions, precision, header_only, source_name=source,
@@ -106,7 +108,8 @@ def run(args) -> int:
         for path, inputs in zip(args.robots, loaded):
             for name, text in generate_files(path, functions, args.precision, args.header_only,
                                              args.method, not args.no_cache, args.target,
-                                             loaded=inputs, progress=progress_printer(args)).items():
+                                             loaded=inputs, progress=progress_printer(args),
+                                             fd_method=args.fd_method).items():
                 if name in rendered:
                     raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
                 rendered[name] = text

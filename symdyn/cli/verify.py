@@ -12,7 +12,7 @@ from ..emit.cgen import generate_c
 from ..emit.cprinter import PRECISIONS
 from ..derive.equations import OUTPUTS
 from ..model.errors import SymdynError
-from .common import add_method_option, add_size_options, check_size, load_robot, parse_functions, progress_printer
+from .common import add_fd_method_option, add_method_option, add_size_options, check_size, load_robot, parse_functions, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
 DEFAULT_TOLERANCE = {"double": 1e-10, "float": 1e-4}
@@ -33,6 +33,7 @@ def add_parser(sub) -> None:
     p.add_argument("--tolerance", type=float, help="normalized error bound (default 1e-10 double, 1e-4 float)")
     p.add_argument("--seed", type=int, default=0, help="random seed for the states (default 0)")
     add_method_option(p)
+    add_fd_method_option(p)
     add_size_options(p)
     p.set_defaults(run=run)
 
@@ -57,7 +58,7 @@ def run(args) -> int:
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
     wanted = set(functions) | ({"mass_matrix"} if "forward_dynamics" in functions else set())
-    eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args))
+    eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args), fd_method=args.fd_method)
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir)

@@ -88,7 +88,7 @@ def robot_fingerprint(robot) -> str:
 
 
 #: modules whose code decides what a derivation produces
-DERIVATION_MODULES = ("derive/chain", "derive/composite", "derive/equations", "derive/jacobian_newton_euler", "derive/kinematics",
+DERIVATION_MODULES = ("derive/articulated_body", "derive/chain", "derive/composite", "derive/equations", "derive/jacobian_newton_euler", "derive/kinematics",
                       "derive/lagrange_euler", "derive/newton_euler", "derive/program", "derive/tool", "model/expr",
                       "model/geometry", "model/outputs", "model/robot")
 
@@ -104,9 +104,9 @@ def code_fingerprint() -> str:
     return digest.hexdigest()
 
 
-def cache_key(robot, method: str, outputs) -> str:
+def cache_key(robot, method: str, outputs, fd_method: str = "ldlt") -> str:
     text = "|".join([__version__, code_fingerprint(), robot_fingerprint(robot), method,
-                     ",".join(sorted(outputs))])
+                     ",".join(sorted(outputs))] + ([f"fd={fd_method}"] if fd_method != "ldlt" else []))
     return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -534,34 +534,35 @@ def _load(path: str, key: str):
 
 
 def derive_cached(robot, method: str = "newton-euler", outputs=None, use_cache: bool = True,
-                  progress=None) -> Equations:
+                  progress=None, fd_method: str = "ldlt") -> Equations:
     """:func:`symdyn.derive` with the on-disk cache (``use_cache=False`` bypasses it;
-    ``progress`` is passed on to the derivation when one runs)."""
+    ``progress`` is passed on to the derivation when one runs; ``fd_method``: how forward
+    dynamics is solved, ``'ldlt'`` or ``'aba'``)."""
     from .equations import OUTPUTS, _normalize_method
     method = _normalize_method(method)
     wanted = tuple(o for o in OUTPUTS if o in (outputs or OUTPUTS))
     if not use_cache:
-        return derive(robot, method, wanted, progress)
-    key = cache_key(robot, method, wanted)
+        return derive(robot, method, wanted, progress, fd_method)
+    key = cache_key(robot, method, wanted, fd_method)
     directory, name = cache_dir(), f"{key}{SUFFIX}"
     try:
         dir_fd = _open_dir(directory)
     except Untrusted as exc:
         _warn(directory, str(exc))
-        return derive(robot, method, wanted, progress)
+        return derive(robot, method, wanted, progress, fd_method)
     try:
         try:
             secret = _secret(dir_fd)
             blob = _read_file(dir_fd, name, MAX_ENTRY_BYTES)
         except Untrusted as exc:
             _warn(directory, str(exc))
-            return derive(robot, method, wanted, progress)
+            return derive(robot, method, wanted, progress, fd_method)
         if blob is not None:
             fields = unpack(blob, key, secret)
             eqs = _build(robot, method, wanted, fields) if fields is not None else None
             if eqs is not None:
                 return eqs
-        eqs = derive(robot, method, wanted, progress)
+        eqs = derive(robot, method, wanted, progress, fd_method)
         try:
             _write_file(dir_fd, name, pack(eqs, key, secret))
         except CacheFormatError as exc:

@@ -39,6 +39,7 @@ import numpy as np
 import sympy as sp
 
 from ..model.errors import SymdynError
+from .articulated_body import forward_dynamics as articulated_body_fd
 from .chain import make_chain
 from .composite import mass_matrix as composite_mass_matrix
 from .jacobian_newton_euler import JacobianNewtonEuler
@@ -80,6 +81,8 @@ class Equations:
     #: Emitters check ``d_j > PIVOT_RTOL * M_jj`` at run time: M is (numerically) singular
     #: at that state otherwise.
     pivots: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
+    #: how forward dynamics was solved ("ldlt" or "aba"; empty when it was not derived)
+    fd_method: str = ""
 
     @property
     def n(self) -> int:
@@ -222,8 +225,13 @@ def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> tuple[sp.Mat
     return sp.Matrix(x), tuple((d[j], M[j, j]) for j in range(n))
 
 
+#: how forward dynamics is solved: an LDL^T factorization of D unrolled for the robot, or the
+#: articulated-body algorithm (:mod:`symdyn.derive.articulated_body`)
+FD_METHODS = ("ldlt", "aba")
+
+
 def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | None = None,
-           progress: Callable[[str], None] | None = None) -> Equations:
+           progress: Callable[[str], None] | None = None, fd_method: str = "ldlt") -> Equations:
     """Derive the equations of motion of ``robot``.
 
     Parameters
@@ -232,12 +240,16 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     method : ``'newton-euler'`` (recursive, Table 3.2; D by composite rigid bodies) or ``'lagrange-euler'`` (trace form).
     outputs : names from :data:`OUTPUTS` to derive (default: all of them).
     progress : called with a short text as each part starts (for long derivations).
+    fd_method : ``'ldlt'`` (solve with D, the default) or ``'aba'`` (articulated-body algorithm)
+        for forward dynamics.
 
     Returns
     -------
     Equations, immutable.
     """
     method = _normalize_method(method)
+    if fd_method not in FD_METHODS:
+        raise ValueError(f"unknown forward-dynamics method {fd_method!r}; use {' or '.join(FD_METHODS)}")
     wanted = tuple(OUTPUTS) if outputs is None else tuple(outputs)
     for name in wanted:
         if name not in OUTPUTS:
@@ -279,7 +291,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             report("inverse_dynamics")
             rigid = joint_forces(chain, qd, qdd, chain.gravity, "")
             result["inverse_dynamics"] = rigid + friction
-        if "forward_dynamics" in need:
+        if "forward_dynamics" in need and fd_method == "ldlt":
             report("forward_dynamics (bias forces)")
             bias = joint_forces(chain, qd, zero, chain.gravity, "b")
     elif method == "jacobian-newton-euler":
@@ -302,7 +314,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
         if "inverse_dynamics" in need:
             report("inverse_dynamics")
             result["inverse_dynamics"] = jne.joint_forces(qd, qdd, chain.gravity, "") + friction
-        if "forward_dynamics" in need:
+        if "forward_dynamics" in need and fd_method == "ldlt":
             report("forward_dynamics (bias forces)")
             bias = jne.joint_forces(qd, zero, chain.gravity, "b")
     else:
@@ -332,12 +344,17 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
         M = result["mass_matrix"] + sp.diag(*[link.armature for link in robot.links])
         report("forward_dynamics (LDL^T solve)")
         check_not_singular(robot, b.build(), M)
-        rhs = sp.Matrix(tau) - bias - friction.subs({v: 0 for v in qdd})
-        rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
-        result["forward_dynamics"], pivots = _ldlt_solve(b, M, rhs)
+        if fd_method == "aba":
+            report("forward_dynamics (articulated-body algorithm)")
+            result["forward_dynamics"], pivots = articulated_body_fd(chain, tau, friction.subs({v: 0 for v in qdd}))
+        else:
+            rhs = sp.Matrix(tau) - bias - friction.subs({v: 0 for v in qdd})
+            rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
+            result["forward_dynamics"], pivots = _ldlt_solve(b, M, rhs)
 
     outputs_tuple = tuple((name, sp.ImmutableMatrix(result[name])) for name in OUTPUTS if name in wanted)
     return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,
                      program=b.build(), outputs=outputs_tuple,
                      seconds=time.perf_counter() - start,
-                     pivots=pivots if "forward_dynamics" in wanted else ())
+                     pivots=pivots if "forward_dynamics" in wanted else (),
+                     fd_method=fd_method if "forward_dynamics" in wanted else "")

@@ -174,7 +174,7 @@ def combined_function(eqs: Equations, functions: Iterable[str] | None = None,
 
 
 def to_casadi(source, functions: Iterable[str] | None = None, method: str = "newton-euler",
-              prefix: str = "", use_cache: bool = True) -> dict[str, ca.Function]:
+              prefix: str = "", use_cache: bool = True, fd_method: str = "ldlt") -> dict[str, ca.Function]:
     """The equations of motion as named ``casadi.Function``s.
 
     Parameters
@@ -183,6 +183,7 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
         path of a robot file (then derived with ``method``, through the on-disk cache).
     functions : names from :data:`symdyn.OUTPUTS` (default: all).
     prefix : prepended to each Function's name (for example ``"puma560_"``).
+    fd_method : forward dynamics by ``'ldlt'`` (default) or the articulated-body algorithm ``'aba'``.
 
     Returns
     -------
@@ -200,7 +201,7 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
         source = load(os.fspath(source))
     if isinstance(source, Robot):
         need = set(wanted) | ({"mass_matrix"} if "forward_dynamics" in wanted else set())
-        source = derive_cached(source, method, tuple(need), use_cache=use_cache)
+        source = derive_cached(source, method, tuple(need), use_cache=use_cache, fd_method=fd_method)
     if not isinstance(source, Equations):
         raise TypeError("to_casadi takes Equations, a Robot or a robot file path")
     return {name: casadi_function(source, name, prefix + name) for name in wanted}

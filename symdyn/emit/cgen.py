@@ -304,6 +304,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     unused = [a for _, a, _, is_out in args if not is_out and not any(
         names.get(s, "").startswith(cast + a + "[") for s in used)]
     summary = SUMMARIES[name].replace("NAME", prefix)
+    if name == "forward_dynamics" and eqs.fd_method == "aba":
+        summary = ("Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
+                   "algorithm written out for this robot (three sweeps, N divisions, no mass matrix).")
     if internal != precision:
         summary += " Computed internally in double precision (float inputs and outputs): D can be ill-conditioned, and float rounding of D alone would cost up to ~1e-3."
     if checked:
@@ -340,7 +343,8 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "version": __version__,
         "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
-        "method": eqs.method,
+        "method": eqs.method + {"aba": "; forward dynamics by the articulated-body algorithm",
+                                "ldlt": "; forward dynamics by LDL^T of D"}.get(eqs.fd_method, ""),
         "precision": precision,
         "real": "float" if precision == "float" else "double",
         "dof": robot.dof,
