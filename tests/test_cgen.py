@@ -156,14 +156,31 @@ def test_functions_option_emits_only_those(tmp_path):
 
 
 def test_float_output_has_no_double_literals_or_functions(tmp_path):
+    """--precision float is float all the way, forward dynamics included: no double function,
+    no unsuffixed literal, nothing promoted to double (-Wdouble-promotion -Werror)."""
     assert main(["generate", str(REPO / "robots" / "ur5.yaml"), "--out", str(tmp_path),
                  "--precision", "float", "--quiet"]) == 0
     text = (tmp_path / "ur5_dynamics.c").read_text()
-    assert "typedef float ur5_real" in (tmp_path / "ur5_dynamics.h").read_text()
+    header = (tmp_path / "ur5_dynamics.h").read_text()
+    assert "typedef float ur5_real" in header and "articulated-body algorithm" in header
+    assert "internally in double" not in header
     import re
-    body = text.split("#include \"ur5_dynamics.h\"", 1)[1].split("int ur5_forward_dynamics_checked")[0]
-    assert "Computed internally in double" in (tmp_path / "ur5_dynamics.h").read_text()
-    assert not re.search(r"\b(sin|cos|sqrt|pow)\(", body)
+    body = text.split("#include \"ur5_dynamics.h\"", 1)[1]
+    assert not re.search(r"\b(sin|cos|sqrt|pow|fabs)\(|\bdouble\b|DBL_MAX", body)
     assert not re.search(r"(?<![\w.])\d+\.\d*(e[-+]?\d+)?(?![\dFe.])", body), "unsuffixed double literal"
     subprocess.run([CC, *WARNING_FLAGS, "-Wdouble-promotion", "-c", str(tmp_path / "ur5_dynamics.c"),
                     "-o", str(tmp_path / "x.o")], check=True)
+
+
+def test_mixed_precision_computes_forward_dynamics_in_double(tmp_path):
+    """--precision mixed: float arguments, forward dynamics computed inside in double (and
+    said so in the header); the other functions are float."""
+    assert main(["generate", str(REPO / "robots" / "chain12.yaml"), "--out", str(tmp_path), "--precision", "mixed",
+                 "--functions", "gravity,forward_dynamics", "--quiet"]) == 0
+    header = (tmp_path / "chain12_dynamics.h").read_text()
+    assert "typedef float chain12_real" in header and "Computed internally in double" in header
+    text = (tmp_path / "chain12_dynamics.c").read_text()
+    gravity = text.split("void chain12_gravity(", 1)[1].split("\n}\n", 1)[0]
+    assert "double" not in gravity and "const double" in text.split("chain12_forward_dynamics_checked(", 1)[1]
+    assert main(["verify", str(REPO / "robots" / "chain12.yaml"), "--precision", "mixed",
+                 "--functions", "forward_dynamics", "--states", "20"]) == 0

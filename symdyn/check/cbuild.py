@@ -40,8 +40,9 @@ class CompiledDynamics:
     def __init__(self, library: str, prefix: str, dof: int, n_params: int, precision: str = "double"):
         self.lib = ctypes.CDLL(library)
         self.prefix, self.n, self.np = prefix, dof, n_params
-        self.ctype = ctypes.c_float if precision == "float" else ctypes.c_double
-        self.dtype = np.float32 if precision == "float" else np.float64
+        single = precision in ("float", "mixed")
+        self.ctype = ctypes.c_float if single else ctypes.c_double
+        self.dtype = np.float32 if single else np.float64
 
     def _call(self, name, args, p, out_size, out=None, status=False):
         fn = getattr(self.lib, f"{self.prefix}_{name}")

@@ -49,7 +49,7 @@ ARGUMENTS = {"inverse_dynamics": "q[k], qd[k], qdd[k]", "mass_matrix": "q[k]", "
 def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", parameters=()) -> str:
     """A C program timing symdyn's generated ``prefix_<function>`` (``parameters``: the values
     of its runtime parameters, passed as ``p``)."""
-    real = "float" if precision == "float" else "double"
+    real = "double" if precision == "double" else "float"
     includes = f'#define REAL {real}\n#include "{prefix}_dynamics.h"'
     extra = ""
     if parameters:

@@ -106,6 +106,6 @@ def _bench(args, robots, functions, variants) -> list:
         robot, (functions, variants) = robot
         _progress(args, f"[{k + 1}/{len(robots)}] {robot.name}")
         results.extend(bench.bench_robot(robot, functions, variants, args.states,
-                                         lambda text: _progress(args, text), fd_method=args.fd_method))
+                                         lambda text: _progress(args, text), fd_method=args.fd_method or "ldlt"))
     sys.stdout.write(bench.markdown_table(results))
     return results

@@ -20,11 +20,18 @@ def parse_functions(text: str | None) -> tuple[str, ...]:
     return tuple(n for n in OUTPUTS if n in names)
 
 
+def default_fd_method(precision: str) -> str:
+    """How forward dynamics is solved unless --fd-method says: LDL^T of D in double (fewer
+    operations, faster on the bundled arms), the articulated-body algorithm in float (about
+    twice as accurate there: chain12 3e-5 against 6e-5; docs/benchmarks.md)."""
+    return "aba" if precision == "float" else "ldlt"
+
+
 def add_fd_method_option(parser) -> None:
-    parser.add_argument("--fd-method", default="ldlt", choices=("ldlt", "aba"),
-                        help="forward dynamics by an LDL^T factorization of D (default: fewer operations and "
-                             "faster on the bundled 6-12 joint arms, docs/benchmarks.md) or by the "
-                             "articulated-body algorithm")
+    parser.add_argument("--fd-method", default=None, choices=("ldlt", "aba"),
+                        help="forward dynamics by an LDL^T factorization of D or by the articulated-body "
+                             "algorithm (default: ldlt, or aba with --precision float, chosen by measurement: "
+                             "docs/benchmarks.md)")
 
 
 def add_method_option(parser) -> None:

@@ -7,12 +7,12 @@ import os
 from ..derive.cache import derive_cached
 from ..model.files import output_directory, write_files
 from ..emit.cgen import generate_c
-from ..emit.cprinter import PRECISIONS
+from ..emit.cgen import PRECISION_CHOICES
 from ..model.errors import SymdynError
 from ..derive.equations import OUTPUTS
 from ..model.inputs import decode_text, load_yaml, read_input
 from ..model.scene import load_input
-from .common import add_fd_method_option, add_method_option, add_size_options, check_size, load_robot, parse_functions, progress_printer
+from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
 HELP = "generate C code (NAME_dynamics.h/.c) or CasADi functions for robot files"
 TARGETS = ("c", "casadi", "casadi-c")
@@ -31,7 +31,7 @@ def add_parser(sub) -> None:
                         "NAME_<function>.casadi per function (casadi.Function.save format) with "
                         "NAME_casadi.txt describing them; casadi-c: as casadi, plus CasADi's own "
                         "generated C (NAME_casadi.c/.h) for comparison")
-    p.add_argument("--precision", default=None, choices=PRECISIONS,
+    p.add_argument("--precision", default=None, choices=PRECISION_CHOICES,
                    help="scalar type of the generated C (float gives sinf/cosf and float literals); c target "
                         "only; default: the scene's precision, else double")
     p.add_argument("--functions", metavar="LIST",
@@ -64,7 +64,7 @@ def input_files(path: str) -> list[str]:
 
 def generate_files(path: str, functions, precision, header_only: bool, method: str,
                    use_cache: bool = True, target: str = "c", loaded=None, progress=None,
-                   fd_method: str = "ldlt") -> dict[str, bytes]:
+                   fd_method: str | None = None) -> dict[str, bytes]:
     """Load (robot or scene), derive (cached) and emit; returns {file name: content} without
     writing anything.  ``functions``/``precision`` None: the scene's, else all / double.
     ``loaded``: ``load_input(path)`` when the caller already has it; ``progress``: called with a
@@ -78,6 +78,7 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
         notes = scene.notes
     functions = functions or OUTPUTS
     precision = precision or "double"
+    fd_method = fd_method or default_fd_method(precision)
     wanted = set(functions)
     if "forward_dynamics" in wanted:
         wanted |= {"mass_matrix"}

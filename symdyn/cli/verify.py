@@ -9,13 +9,13 @@ import numpy as np
 from ..derive.cache import derive_cached
 from ..check.cbuild import build_and_load
 from ..emit.cgen import generate_c
-from ..emit.cprinter import PRECISIONS
+from ..emit.cgen import PRECISION_CHOICES
 from ..derive.equations import OUTPUTS
 from ..model.errors import SymdynError
-from .common import add_fd_method_option, add_method_option, add_size_options, check_size, load_robot, parse_functions, progress_printer
+from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
-DEFAULT_TOLERANCE = {"double": 1e-10, "float": 1e-4}
+DEFAULT_TOLERANCE = {"double": 1e-10, "float": 1e-4, "mixed": 1e-4}
 
 
 def add_parser(sub) -> None:
@@ -26,7 +26,7 @@ def add_parser(sub) -> None:
                        "Needs the pin package (pip install 'symdyn[test]').")
     p.add_argument("robot", metavar="ROBOT.yaml")
     p.add_argument("--states", type=int, default=50, help="number of random states (default 50)")
-    p.add_argument("--precision", default=None, choices=PRECISIONS,
+    p.add_argument("--precision", default=None, choices=PRECISION_CHOICES,
                    help="default: the scene's precision, else double")
     p.add_argument("--functions", metavar="LIST",
                    help="comma-separated functions to check (default: the scene's functions, else all)")
@@ -58,7 +58,7 @@ def run(args) -> int:
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
     wanted = set(functions) | ({"mass_matrix"} if "forward_dynamics" in functions else set())
-    eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args), fd_method=args.fd_method)
+    eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision))
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir)
@@ -77,7 +77,7 @@ def run(args) -> int:
         for _ in range(args.states):
             state = [rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n), rng.uniform(-5, 5, n),
                      rng.uniform(-20, 20, n)]
-            if precision == "float":  # judge the arithmetic, not the rounding of the inputs
+            if precision != "double":  # judge the arithmetic, not the rounding of the inputs
                 state = [x.astype(np.float32).astype(float) for x in state]
             states.append(state)
         errors = compare(lib, ref, states, functions, p)

@@ -57,6 +57,18 @@ SUMMARIES = {
 #: emitted beside the single ones when all their parts are generated
 COMBINED = {"kinematics": ("forward_kinematics", "jacobian")}
 
+#: precisions of the generated C: double, float (float all the way: no double operation, for
+#: single-precision FPUs), mixed (float arguments, forward dynamics computed in double inside)
+PRECISION_CHOICES = ("double", "float", "mixed")
+
+
+def scalar_type(precision: str) -> str:
+    """The C type of the arguments for a precision."""
+    if precision not in PRECISION_CHOICES:
+        raise ValueError(f"precision must be one of {', '.join(PRECISION_CHOICES)}, not {precision!r}")
+    return "double" if precision == "double" else "float"
+
+
 STATUS_DOC = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its "
               "LDL^T factorization is not above {rtol:g} times its diagonal entry, or is not a "
               "number); 2 when a result is not finite (NaN or beyond the range of {real}). On a "
@@ -227,12 +239,12 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     final_checks = reduced[len(folded) + len(outputs):]
     statements = _prune(_merge_cse(program, replacements), list(final_outputs) + list(final_checks))
 
-    # Forward dynamics solves with D, whose condition number can reach 1e4-1e5 (chain12): in
-    # float precision the rounding of D and of the right-hand side alone then costs ~1e-3.
-    # Its internals are therefore computed in double, with float inputs and outputs.
-    internal = "double" if (precision == "float" and name == "forward_dynamics") else precision
-    local_type = real if internal == precision else internal
-    cast = "(double)" if internal != precision else ""
+    # precision "mixed": float arguments everywhere, but forward dynamics computed inside in
+    # double (for robots whose D is too ill-conditioned for float); "float" is float all the way.
+    scalar = scalar_type(precision)
+    internal = "double" if (precision == "mixed" and name == "forward_dynamics") else scalar
+    local_type = real if internal == scalar else internal
+    cast = "(double)" if internal != scalar else ""
     names: dict[sp.Symbol, str] = {}
     inputs = OUTPUT_INPUTS[parts[0]]
     for group in inputs:
@@ -270,10 +282,12 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
         ops += count_operations(rhs)
         used |= rhs.free_symbols
         check_pivots(k)
-    store = f"({real})" if internal != precision else ""
+    store = f"({real})" if internal != scalar else ""
     if checked:
         used |= set().union(*(sp.sympify(e).free_symbols for e in final_checks))
-        limit = "(double)FLT_MAX" if precision == "float" else "DBL_MAX"  # compared in double
+        # compared in the type the results are computed in
+        limit, fabs = (("(double)FLT_MAX" if scalar == "float" else "DBL_MAX"), "fabs") if internal == "double" \
+            else ("FLT_MAX", "fabsf")
         results = []
         for (target, _), expr in zip(targets, final_outputs):
             if isinstance(expr, sp.Symbol) and expr in names:
@@ -283,7 +297,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
                 results.append(target)
             ops += count_operations(expr)
             used |= sp.sympify(expr).free_symbols
-        lines.append("if (" + "\n        || ".join(f"!(fabs({r}) <= {limit})" for r in results) + ") {")
+        lines.append("if (" + "\n        || ".join(f"!({fabs}({r}) <= {limit})" for r in results) + ") {")
         lines.append("    return 2; /* a result is NaN or out of range */")
         lines.append("}")
         for i, result in enumerate(results):
@@ -307,11 +321,12 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     if name == "forward_dynamics" and eqs.fd_method == "aba":
         summary = ("Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
                    "algorithm written out for this robot (three sweeps, N divisions, no mass matrix).")
-    if internal != precision:
-        summary += " Computed internally in double precision (float inputs and outputs): D can be ill-conditioned, and float rounding of D alone would cost up to ~1e-3."
+    if internal != scalar:
+        summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
+                    "for robots whose D is too ill-conditioned for float arithmetic.")
     if checked:
         return CFunction(name=f"{name}_checked", summary=summary, args=args, lines=lines, ops=ops, unused=unused,
-                         returns="int", returns_doc=STATUS_DOC.format(rtol=PIVOT_RTOL, real="float" if precision == "float" else "double"))
+                         returns="int", returns_doc=STATUS_DOC.format(rtol=PIVOT_RTOL, real=scalar))
     return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused)
 
 
@@ -346,7 +361,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "method": eqs.method + {"aba": "; forward dynamics by the articulated-body algorithm",
                                 "ldlt": "; forward dynamics by LDL^T of D"}.get(eqs.fd_method, ""),
         "precision": precision,
-        "real": "float" if precision == "float" else "double",
+        "real": scalar_type(precision),
         "dof": robot.dof,
         "convention": robot.convention,
         "parameters": [(k, s.name, "runtime parameter" if v is not None else "runtime parameter, no nominal value",

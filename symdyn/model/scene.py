@@ -237,8 +237,8 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
                 _fail(path, f"unknown function {describe(f)} (known: {', '.join(OUTPUTS)})", "functions")
         functions = tuple(f for f in OUTPUTS if f in functions)
     precision = doc.get("precision")
-    if precision is not None and precision not in ("double", "float"):
-        _fail(path, f"precision must be double or float, not {describe(precision)}", "precision")
+    if precision is not None and precision not in ("double", "float", "mixed"):
+        _fail(path, f"precision must be double, float or mixed, not {describe(precision)}", "precision")
 
     # Parameters: the scene decides which stay runtime inputs; the rest fold to their values.
     params = dict(robot_doc.get("parameters") or {})
