@@ -446,12 +446,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
                     for c in range(a, 3):
                         namer.name(jne.inertia[i][a, c], sp.Symbol(f"I_{i + 1}{AXES[a]}{AXES[c]}", real=True))
 
-        def show(value):
-            if closed:
-                return closed_value(value)
-            if isinstance(value, sp.MatrixBase):
-                return sp.ImmutableMatrix(sp.Matrix(value).applyfunc(namer.definition))
-            return namer.definition(value)
+        show = _shower(closed_value if closed else None, namer)
         if steps == "all":
             sections.append(Section("jacobian_link", tuple(Quantity("jc", (i + 1,), show(jacobians[i])) for i in range(n))))
             if closed:
@@ -484,12 +479,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
             if namer is not None:
                 named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
                               if sym in namer.rhs and sym not in notation.trig)
-        eqs = derive(robot, "jacobian-newton-euler", ["mass_matrix", "coriolis", "gravity"])
-        if closed:
-            results = tuple(notation.textbook_matrix(notation.to_trig_symbols(eqs.program, eqs.output(name)))
-                            for name in ("mass_matrix", "coriolis", "gravity"))
-        else:
-            results, where = _named_results(eqs, notation)
+        results, where = _final_results(robot, method, closed, notation)
     else:
         states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "")
         program = chain.builder.build()
@@ -506,13 +496,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
                             namer.name(vec[a], sp.Symbol(f"{name}_{i + 1}{AXES[a]}", real=True))
                     namer.name(st.tau, sp.Symbol(f"tau{i + 1}", real=True))
 
-            def show(value):
-                if closed:
-                    return closed_value(value)
-                if isinstance(value, sp.MatrixBase):
-                    return sp.ImmutableMatrix(sp.Matrix(value).applyfunc(namer.definition))
-                return namer.definition(value)
-
+            show = _shower(closed_value if closed else None, namer)
             forward_q, backward_q = [], []
             for i, st in enumerate(states):
                 for attr, kind, _ in fields:
@@ -527,18 +511,34 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
                               if sym in namer.rhs and sym not in notation.trig)
             sections.append(Section("ne_forward", tuple(forward_q)))
             sections.append(Section("ne_backward", tuple(backward_q)))
-        eqs = derive(robot, "newton-euler", ["mass_matrix", "coriolis", "gravity"])
-        if closed:
-            results = tuple(notation.textbook_matrix(notation.to_trig_symbols(eqs.program, eqs.output(name)))
-                            for name in ("mass_matrix", "coriolis", "gravity"))
-        else:
-            results, where = _named_results(eqs, notation)
+        results, where = _final_results(robot, method, closed, notation)
     sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
                                         Quantity("c", (), results[2]))))
     joint = tuple(zip(notation.qdot, chain.qd)) + tuple(zip(notation.qddot, chain.qdd))
     return Derivation(robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
                       where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
                       joint_symbols=joint)
+
+
+def _shower(closed_value, namer):
+    """How a recursion's quantity is shown: its closed form (``closed_value``), or written in
+    terms of the named quantities of the previous link (``namer``)."""
+    def show(value):
+        if closed_value is not None:
+            return closed_value(value)
+        if isinstance(value, sp.MatrixBase):
+            return sp.ImmutableMatrix(sp.Matrix(value).applyfunc(namer.definition))
+        return namer.definition(value)
+    return show
+
+
+def _final_results(robot: Robot, method: str, closed: bool, notation: _Notation):
+    """(D, h, c) as printed, and the numbered intermediates x_k they use in the named form."""
+    eqs = derive(robot, method, ["mass_matrix", "coriolis", "gravity"])
+    if closed:
+        return tuple(notation.textbook_matrix(notation.to_trig_symbols(eqs.program, eqs.output(name)))
+                     for name in ("mass_matrix", "coriolis", "gravity")), ()
+    return _named_results(eqs, notation)
 
 
 def _named_results(eqs, notation: _Notation):

@@ -44,12 +44,7 @@ from typing import Sequence
 import sympy as sp
 
 from .chain import Chain
-
-
-def _cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
-    if a.is_zero_matrix or b.is_zero_matrix:
-        return sp.zeros(3, 1)
-    return a.cross(b)
+from .newton_euler import _skip_zero_cross as _cross
 
 
 @dataclass
