@@ -12,7 +12,7 @@ Public API::
 
 from ._version import __version__
 from . import derive  # the derivation package, callable: symdyn.derive(robot, method, outputs)
-from .derive.equations import METHODS, OUTPUTS, Equations
+from .derive.equations import ALL_OUTPUTS, METHODS, OUTPUTS, Equations
 from .model.errors import RobotFileError, SymdynError, SymdynWarning
 from .model.robot import Link, Robot, loads
 from .model.scene import load  # a robot file or a scene
@@ -25,5 +25,5 @@ def to_casadi(source, functions=None, method="newton-euler", prefix="", use_cach
     return build(source, functions, method, prefix, use_cache)
 
 
-__all__ = ["__version__", "load", "loads", "derive", "Robot", "Link", "Equations", "OUTPUTS",
+__all__ = ["__version__", "load", "loads", "derive", "Robot", "Link", "Equations", "OUTPUTS", "ALL_OUTPUTS",
            "METHODS", "RobotFileError", "SymdynError", "SymdynWarning", "to_casadi"]

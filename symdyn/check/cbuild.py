@@ -37,9 +37,11 @@ class CompiledDynamics:
     """ctypes access to a compiled ``NAME_dynamics`` library; methods mirror
     :class:`symdyn.derive.numeric.NumericEquations` (numpy in, numpy out)."""
 
-    def __init__(self, library: str, prefix: str, dof: int, n_params: int, precision: str = "double"):
+    def __init__(self, library: str, prefix: str, dof: int, n_params: int, precision: str = "double",
+                 actuated: int | None = None):
         self.lib = ctypes.CDLL(library)
         self.prefix, self.n, self.np = prefix, dof, n_params
+        self.actuated = dof if actuated is None else actuated
         single = precision in ("float", "mixed")
         self.ctype = ctypes.c_float if single else ctypes.c_double
         self.dtype = np.float32 if single else np.float64
@@ -82,6 +84,18 @@ class CompiledDynamics:
     def jacobian_dot_qd(self, q, qd, p=None):
         return self._call("jacobian_dot_qd", (q, qd), p, 6)
 
+    def reaction_map(self, q, qd, p=None):
+        """``[k0 | D]`` (6, 1 + actuated joints) from ``NAME_reaction_map(q, qd, [p,] k0, D)``."""
+        fn = getattr(self.lib, f"{self.prefix}_reaction_map")
+        arrays = [np.ascontiguousarray(a, dtype=self.dtype) for a in (q, qd)]
+        if self.np:
+            arrays.append(np.ascontiguousarray(p, dtype=self.dtype))
+        k0, D = np.zeros(6, dtype=self.dtype), np.zeros(6 * self.actuated, dtype=self.dtype)
+        pointer = ctypes.POINTER(self.ctype)
+        fn.restype = None
+        fn(*[a.ctypes.data_as(pointer) for a in arrays + [k0, D]])
+        return np.hstack([k0.reshape(6, 1), D.reshape(6, self.actuated)])
+
     def kinematics(self, q, p=None):
         """``(T, J)`` from ``NAME_kinematics`` (pose and Jacobian in one call)."""
         fn = getattr(self.lib, f"{self.prefix}_kinematics")
@@ -101,14 +115,14 @@ class CompiledDynamics:
 
 
 def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, precision: str = "double",
-                   workdir: str | None = None) -> CompiledDynamics:
+                   workdir: str | None = None, actuated: int | None = None) -> CompiledDynamics:
     """Write generated ``files`` to ``workdir`` (a new temporary directory by default), compile and load."""
     workdir = workdir or tempfile.mkdtemp(prefix="symdyn_")
     for name, text in files.items():
         with open(os.path.join(workdir, name), "w") as handle:
             handle.write(text)
     lib = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir)
-    return CompiledDynamics(lib, prefix, dof, n_params, precision)
+    return CompiledDynamics(lib, prefix, dof, n_params, precision, actuated)
 
 
 __all__ = ["compile_shared", "build_and_load", "CompiledDynamics", "find_compiler"]

@@ -200,6 +200,9 @@ class PinocchioReference:
         self.data = self.model.createData()
         self.damping, self.coulomb = info["damping"], info["coulomb"]
         self.armature = np.array(self.model.armature)
+        self.actuated = list(robot.actuated_joints)
+        base = np.array([_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
+        self.world_to_base = pin.SE3(base[:3, :3].copy(), base[:3, 3].copy()).inverse()
 
     def mass_matrix(self, q):
         M = self.pin.crba(self.model, self.data, q)
@@ -223,6 +226,26 @@ class PinocchioReference:
 
     def forward_dynamics(self, q, qd, tau):
         return self.pin.aba(self.model, self.data, q, qd, tau - self.friction(qd)).copy()
+
+    def base_wrench(self, q, qd, tau_actuated):
+        """The wrench ``[n; f]`` the base exerts on body 1 (moment about the base origin first,
+        base axes) when the actuated joints apply ``tau_actuated`` and the passive ones nothing:
+        ``aba``, then ``rnea`` at that acceleration, then ``data.f[1]`` (joint 1's frame) moved
+        to the base frame."""
+        tau = np.zeros(self.model.nv)
+        tau[self.actuated] = tau_actuated
+        qdd = PinocchioReference.forward_dynamics(self, q, qd, tau)  # q as Pinocchio takes it
+        self.pin.rnea(self.model, self.data, q, qd, qdd)
+        self.pin.forwardKinematics(self.model, self.data, q)
+        force = self.world_to_base.act(self.data.oMi[1].act(self.data.f[1]))
+        return np.concatenate([force.angular, force.linear])
+
+    def reaction_map(self, q, qd):
+        """``[k0 | D]`` (6, 1 + actuated joints) from :meth:`base_wrench` at zero and at unit
+        actuated torques (the wrench is affine in them)."""
+        k0 = self.base_wrench(q, qd, np.zeros(len(self.actuated)))
+        columns = [self.base_wrench(q, qd, unit) - k0 for unit in np.eye(len(self.actuated))]
+        return np.column_stack([k0, *columns])
 
     @property
     def tool_frame(self) -> int:
@@ -285,6 +308,8 @@ class UrdfReference(PinocchioReference):
         self.coulomb = np.array(self.model.friction, dtype=float)
         self.armature = np.array(self.model.armature, dtype=float)
         self._tool = self.model.getFrameId(tool or tip)
+        self.actuated = list(range(self.model.nv))  # URDF joints are all actuated
+        self.world_to_base = pin.SE3.Identity()  # symdyn's base frame is the root link's
 
     @property
     def tool_frame(self) -> int:
@@ -334,5 +359,5 @@ def _configured(method):
 
 
 for _name in ("mass_matrix", "gravity", "coriolis", "coriolis_matrix", "inverse_dynamics",
-              "forward_dynamics", "forward_kinematics", "jacobian", "jacobian_dot_qd"):
+              "forward_dynamics", "forward_kinematics", "jacobian", "jacobian_dot_qd", "base_wrench"):
     setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))

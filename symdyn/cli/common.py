@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from ..derive.equations import METHOD_ALIASES, OUTPUTS
+from ..derive.equations import ALL_OUTPUTS, METHOD_ALIASES, OUTPUTS
 from ..model.errors import SymdynError
 
 
@@ -12,12 +12,12 @@ def parse_functions(text: str | None) -> tuple[str, ...]:
     if not text:
         return OUTPUTS
     names = [t.strip() for t in text.split(",") if t.strip()]
-    unknown = [n for n in names if n not in OUTPUTS]
+    unknown = [n for n in names if n not in ALL_OUTPUTS]
     if unknown:
-        raise SymdynError(f"unknown function '{unknown[0]}' in --functions (known: {', '.join(OUTPUTS)})")
+        raise SymdynError(f"unknown function '{unknown[0]}' in --functions (known: {', '.join(ALL_OUTPUTS)})")
     if not names:
         raise SymdynError("--functions lists no function")
-    return tuple(n for n in OUTPUTS if n in names)
+    return tuple(n for n in ALL_OUTPUTS if n in names)
 
 
 def default_fd_method(precision: str) -> str:

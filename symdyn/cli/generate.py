@@ -9,7 +9,7 @@ from ..model.files import output_directory, write_files
 from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
 from ..model.errors import SymdynError
-from ..derive.equations import OUTPUTS
+from ..derive.equations import default_outputs
 from ..model.inputs import decode_text, load_yaml, read_input
 from ..model.scene import load_input
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
@@ -37,7 +37,8 @@ def add_parser(sub) -> None:
     p.add_argument("--functions", metavar="LIST",
                    help="comma-separated subset of: inverse_dynamics, mass_matrix, coriolis, "
                         "coriolis_matrix, gravity, forward_dynamics, forward_kinematics, jacobian, "
-                        "jacobian_dot_qd (default: the scene's functions, else all)")
+                        "jacobian_dot_qd, reaction_map (default: the scene's functions, else all but "
+                        "reaction_map, which is added when the robot has passive joints)")
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
     add_method_option(p)
@@ -76,7 +77,7 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
         functions = functions or scene.functions
         precision = precision or scene.precision
         notes = scene.notes
-    functions = functions or OUTPUTS
+    functions = functions or default_outputs(robot)
     precision = precision or "double"
     fd_method = fd_method or default_fd_method(precision)
     wanted = set(functions)

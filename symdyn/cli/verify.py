@@ -10,7 +10,7 @@ from ..derive.cache import derive_cached
 from ..check.cbuild import build_and_load
 from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
-from ..derive.equations import OUTPUTS
+from ..derive.equations import default_outputs
 from ..model.errors import SymdynError
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
@@ -50,7 +50,7 @@ def run(args) -> int:
     robot, scene = load_robot(args.robot, args)
     check_size(robot, args, args.robot)
     functions = parse_functions(args.functions) if args.functions else (
-        scene.functions if scene is not None and scene.functions else OUTPUTS)
+        scene.functions if scene is not None and scene.functions else default_outputs(robot))
     precision = args.precision or (scene.precision if scene is not None and scene.precision else "double")
     rng = np.random.default_rng(args.seed)
     values = {}
@@ -61,7 +61,8 @@ def run(args) -> int:
     eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision))
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
-        lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir)
+        lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir,
+                             actuated=len(robot.actuated_joints))
         if is_urdf(args.robot) and scene is None:  # Pinocchio reads the file itself: an independent reading
             from ..model.urdf import QUARTER_TOLERANCE
             snapped = not args.exact_angles and any("multiple of pi/2" in note for note in robot.notes)

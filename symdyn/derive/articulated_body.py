@@ -24,6 +24,8 @@ Straight-line code: every entry is named in the chain's program as it is built, 
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import sympy as sp
 
 from .chain import Chain
@@ -65,15 +67,42 @@ def _cross_force(v: sp.Matrix, f: sp.Matrix) -> sp.Matrix:
     return sp.Matrix.vstack(w.cross(f[:3, 0]) + u.cross(f[3:, 0]), w.cross(f[3:, 0]))
 
 
-def forward_dynamics(chain: Chain, tau, friction) -> tuple[sp.Matrix, tuple[tuple[sp.Expr, sp.Expr], ...]]:
-    """qdd (n x 1) by the articulated-body algorithm, and the pivots ``(d_j, d_j)`` it divides
-    by (each must be positive).  ``tau``: joint forces; ``friction``: the damping and Coulomb
-    terms to subtract (n x 1, no qdd in them)."""
+@dataclass(frozen=True)
+class Sweeps:
+    """The first two sweeps of Algorithm 1 for one robot (0-based lists, joint j+1 at index j).
+
+    ``X``: motion transforms ``^jX_{j-1}``; ``axis``: the index of ``S_j``'s unit entry;
+    ``v``, ``c``: velocities and velocity-product accelerations; ``I``: the links' spatial
+    inertias; ``pA0``: the first sweep's bias forces ``v x* I v``; ``IA``, ``pA``: the
+    articulated inertias and bias forces after the backward sweep; ``U``, ``d``, ``u``, ``inv``
+    (``1/d``), ``Ia``, ``pa`` (``I^a``, ``p^a``, index 0 unused)."""
+
+    X: tuple
+    axis: tuple
+    v: tuple
+    c: tuple
+    I: tuple
+    pA0: tuple
+    IA: tuple
+    pA: tuple
+    U: tuple
+    d: tuple
+    u: tuple
+    inv: tuple
+    Ia: tuple
+    pa: tuple
+
+
+def sweeps(chain: Chain, tau, friction) -> Sweeps:
+    """Sweeps 1 and 2 of Algorithm 1 (forward: ``v``, ``c``, ``I^A = I``, ``p^A``; backward:
+    ``U``, ``d``, ``u``, ``I^a``, ``p^a`` and their accumulation into the parent), every entry
+    named in the chain's program.  ``tau``: joint forces (n); ``friction``: the damping and
+    Coulomb terms to subtract from them (n, no qdd)."""
     b = chain.builder
     robot = chain.robot
     n = chain.n
     qd = chain.qd
-    axis = [2 if link.is_revolute else 5 for link in robot.links]  # S_j = unit vector e_axis
+    axis = tuple(2 if link.is_revolute else 5 for link in robot.links)  # S_j = unit vector e_axis
 
     def vec(hint, v):
         return sp.Matrix(b.vector(hint, [sp.expand(e) for e in v]))
@@ -85,7 +114,7 @@ def forward_dynamics(chain: Chain, tau, friction) -> tuple[sp.Matrix, tuple[tupl
                 out[r, c] = out[c, r] = b.define(f"{hint}_{r}{c}", sp.expand(M[r, c]))
         return out
 
-    X, v, c, IA, pA = [], [], [], [], []
+    X, v, c, I, IA, pA = [], [], [], [], [], []
     previous_post = sp.eye(4)
     velocity = sp.zeros(6, 1)
     for j, link in enumerate(robot.links):
@@ -103,11 +132,13 @@ def forward_dynamics(chain: Chain, tau, friction) -> tuple[sp.Matrix, tuple[tupl
         R, t = post[:3, :3], post[:3, 3]
         com = R * sp.Matrix(link.com) + t
         inertia = spatial_inertia(link.mass, com, R * sp.Matrix(link.inertia_matrix) * R.T)
-        IA.append(sym6(f"IA{k}", inertia))
-        pA.append(vec(f"pA{k}", _cross_force(velocity, IA[j] * velocity)))
+        I.append(sym6(f"IA{k}", inertia))
+        IA.append(I[j])
+        pA.append(vec(f"pA{k}", _cross_force(velocity, I[j] * velocity)))
         previous_post = post
+    pA0 = tuple(pA)
 
-    U, d, u, inv = [None] * n, [None] * n, [None] * n, [None] * n
+    U, d, u, inv, Ia, pa = [None] * n, [None] * n, [None] * n, [None] * n, [None] * n, [None] * n
     for j in reversed(range(n)):
         k = j + 1
         link = robot.links[j]
@@ -117,18 +148,99 @@ def forward_dynamics(chain: Chain, tau, friction) -> tuple[sp.Matrix, tuple[tupl
         inv[j] = b.define(f"aba_inv{k}", 1 / d[j])
         if j == 0:
             break
-        Ia = sym6(f"Ia{k}", IA[j] - U[j] * U[j].T * inv[j])
-        pa = vec(f"pa{k}", pA[j] + Ia * c[j] + U[j] * (u[j] * inv[j]))
-        IA[j - 1] = sym6(f"IA{k - 1}s", IA[j - 1] + X[j].T * Ia * X[j])
-        pA[j - 1] = vec(f"pA{k - 1}s", pA[j - 1] + X[j].T * pa)
+        Ia[j] = sym6(f"Ia{k}", IA[j] - U[j] * U[j].T * inv[j])
+        pa[j] = vec(f"pa{k}", pA[j] + Ia[j] * c[j] + U[j] * (u[j] * inv[j]))
+        IA[j - 1] = sym6(f"IA{k - 1}s", IA[j - 1] + X[j].T * Ia[j] * X[j])
+        pA[j - 1] = vec(f"pA{k - 1}s", pA[j - 1] + X[j].T * pa[j])
+    return Sweeps(X=tuple(X), axis=axis, v=tuple(v), c=tuple(c), I=tuple(I), pA0=pA0, IA=tuple(IA),
+                  pA=tuple(pA), U=tuple(U), d=tuple(d), u=tuple(u), inv=tuple(inv), Ia=tuple(Ia),
+                  pa=tuple(pa))
 
+
+def accelerations(chain: Chain, sw: Sweeps):
+    """Sweep 3 of Algorithm 1: ``(a', qdd, a)`` per joint (lists, base to tip), ``a_0 = [0; -g]``."""
+    b = chain.builder
     accel = sp.Matrix([0, 0, 0, *[-g for g in chain.gravity]])
-    qdd = []
-    for j in range(n):
+    a_prime, qdd, a = [], [], []
+    for j in range(chain.n):
         k = j + 1
-        a_prime = vec(f"ap{k}", X[j] * accel + c[j])
-        qdd_j = b.define(f"qdd{k}_aba", sp.expand((u[j] - (U[j].T * a_prime)[0]) * inv[j]))
+        ap = sp.Matrix(b.vector(f"ap{k}", [sp.expand(e) for e in sw.X[j] * accel + sw.c[j]]))
+        qdd_j = b.define(f"qdd{k}_aba", sp.expand((sw.u[j] - (sw.U[j].T * ap)[0]) * sw.inv[j]))
+        accel = ap.copy()
+        accel[sw.axis[j]] += qdd_j
+        a_prime.append(ap)
         qdd.append(qdd_j)
-        accel = a_prime.copy()
-        accel[axis[j]] += qdd_j
-    return sp.Matrix(qdd), tuple((d[j], d[j]) for j in range(n))
+        a.append(accel)
+    return a_prime, qdd, a
+
+
+def forward_dynamics(chain: Chain, tau, friction) -> tuple[sp.Matrix, tuple[tuple[sp.Expr, sp.Expr], ...]]:
+    """qdd (n x 1) by the articulated-body algorithm, and the pivots ``(d_j, d_j)`` it divides
+    by (each must be positive).  ``tau``: joint forces; ``friction``: the damping and Coulomb
+    terms to subtract (n x 1, no qdd in them)."""
+    sw = sweeps(chain, tau, friction)
+    _, qdd, _ = accelerations(chain, sw)
+    return sp.Matrix(qdd), tuple((sw.d[j], sw.d[j]) for j in range(chain.n))
+
+
+@dataclass(frozen=True)
+class ReactionMap:
+    """The force-to-torque map of seed 004 (sections 2-4) for one robot, 0-based lists.
+
+    ``b[j] = U_j / d_j`` (eq. 3), ``A[j] = 1 - b_j S_j^T`` (eq. 4), ``k_force[j]`` the bias force
+    ``p^A_j`` at tau = 0 (the seed's ``k_{j+1}``, eq. 5), ``k1`` the acceleration of body 1 at
+    tau = 0 without its bias force (eq. 7), ``k0`` the base wrench at tau = 0 (eqs. 9-10),
+    ``columns`` the base wrench per unit torque of each actuated joint (eq. 14:
+    ``X_1^T A_1 ... X_{j-1}^T A_{j-1} X_j^T b_j``), ``actuated`` their joint indices."""
+
+    sweeps: Sweeps
+    b: tuple
+    A: tuple
+    k_force: tuple
+    k1: sp.Matrix
+    k0: sp.Matrix
+    columns: tuple
+    actuated: tuple
+
+    @property
+    def matrix(self) -> sp.Matrix:
+        """``[k0 | D]``, 6 x (1 + number of actuated joints)."""
+        return sp.Matrix.hstack(self.k0, *self.columns)
+
+
+def reaction_map(chain: Chain, friction) -> ReactionMap:
+    """The wrench ``[n; f]`` that the base exerts on body 1 through joint 1, in the base frame
+    (moment about the base origin first), as ``k0 + D tau_H`` with ``tau_H`` the actuated joints'
+    forces and the passive joints' forces zero (seed 004, eqs. 5-14), derived from the
+    articulated-body recursion: ``k0`` from Algorithm 1 at tau = 0, each column of D as the
+    seed's product ``X_1^T A_1 X_2^T A_2 ... X_j^T b_j``.  ``friction``: damping and Coulomb
+    terms (n, no qdd); they stay in k0."""
+    b = chain.builder
+    n = chain.n
+    sw = sweeps(chain, [sp.S.Zero] * n, friction)
+    ax = sw.axis
+    bvec, A = [], []
+    for j in range(n):
+        bj = sp.Matrix(b.vector(f"rb{j + 1}", [sp.expand(e * sw.inv[j]) for e in sw.U[j]]))
+        bvec.append(bj)
+        Aj = sp.eye(6)
+        Aj[:, ax[j]] -= bj
+        A.append(Aj)
+    # eq. (7): a_1 = k_1 + S (tau_1 - S^T p^A_1) / d_1 with k_1 = (1 - S S^T I^A_1 / d_1)(X_1 a_0 + c_1)
+    a0 = sp.Matrix([0, 0, 0, *[-g for g in chain.gravity]])
+    base_accel = sw.X[0] * a0 + sw.c[0]
+    k1 = base_accel.copy()
+    k1[ax[0]] -= (sw.U[0].T * base_accel)[0] * sw.inv[0]
+    k1 = sp.Matrix(b.vector("rk1", [sp.expand(e) for e in k1]))
+    # eqs. (8)-(9) at tau = 0, friction included: f_1 = I^A_1 k_1 + A_1 p^A_1 - b_1 friction_1
+    f1 = sw.IA[0] * k1 + A[0] * sw.pA[0] - bvec[0] * friction[0]
+    k0 = sp.Matrix(b.vector("rk0", [sp.expand(e) for e in sw.X[0].T * f1]))
+    columns, actuated = [], chain.robot.actuated_joints
+    for j in actuated:
+        w = bvec[j]
+        for i in reversed(range(j)):
+            y = sw.X[i + 1].T * w
+            w = sp.Matrix(b.vector(f"rw{j + 1}_{i + 1}", [sp.expand(e) for e in A[i] * y]))
+        columns.append(sp.Matrix(b.vector(f"rD{j + 1}", [sp.expand(e) for e in sw.X[0].T * w])))
+    return ReactionMap(sweeps=sw, b=tuple(bvec), A=tuple(A), k_force=sw.pA, k1=k1, k0=k0,
+                       columns=tuple(columns), actuated=actuated)

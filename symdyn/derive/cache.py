@@ -82,7 +82,7 @@ def robot_fingerprint(robot) -> str:
              sp.srepr(robot.parameters), repr(robot.runtime_names),
              sp.srepr(tuple(robot.base_matrix())), sp.srepr(tuple(robot.tool_matrix()))]
     for link in robot.links:
-        parts.append(link.joint)
+        parts.append(link.joint + ("" if link.actuated else " passive"))
         parts.append(sp.srepr(link.expressions()))
     return hashlib.sha256("\n".join(parts).encode()).hexdigest()
 
@@ -538,9 +538,9 @@ def derive_cached(robot, method: str = "newton-euler", outputs=None, use_cache: 
     """:func:`symdyn.derive` with the on-disk cache (``use_cache=False`` bypasses it;
     ``progress`` is passed on to the derivation when one runs; ``fd_method``: how forward
     dynamics is solved, ``'ldlt'`` or ``'aba'``)."""
-    from .equations import OUTPUTS, _normalize_method
+    from .equations import ALL_OUTPUTS, _normalize_method, default_outputs
     method = _normalize_method(method)
-    wanted = tuple(o for o in OUTPUTS if o in (outputs or OUTPUTS))
+    wanted = tuple(o for o in ALL_OUTPUTS if o in (outputs or default_outputs(robot)))
     if not use_cache:
         return derive(robot, method, wanted, progress, fd_method)
     key = cache_key(robot, method, wanted, fd_method)

@@ -40,13 +40,15 @@ import sympy as sp
 
 from ..model.errors import SymdynError
 from .articulated_body import forward_dynamics as articulated_body_fd
+from .articulated_body import reaction_map
 from .chain import make_chain
 from .composite import mass_matrix as composite_mass_matrix
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
-from ..model.outputs import KINEMATIC_OUTPUTS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS  # noqa: F401 (part of this module's API)
+from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
+                             OUTPUT_SYMBOLS, OUTPUTS, default_outputs)
 from ..model.robot import Robot
 from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
@@ -96,8 +98,8 @@ class Equations:
         for key, value in self.outputs:
             if key == name:
                 return value
-        if name not in OUTPUTS:
-            raise KeyError(f"unknown output {name!r}; known: {', '.join(OUTPUTS)}")
+        if name not in ALL_OUTPUTS:
+            raise KeyError(f"unknown output {name!r}; known: {', '.join(ALL_OUTPUTS)}")
         raise KeyError(f"{name!r} was not derived (derived: {', '.join(self.output_names)})")
 
     @property
@@ -116,6 +118,9 @@ class Equations:
                         doc="tool Jacobian, 6 x n: linear (rows 0-2) and angular velocity, world axes")
     jacobian_dot_qd = property(lambda self: self.output("jacobian_dot_qd"),
                                doc="J-dot qd, 6 x 1: tool classical acceleration at qdd = 0, world axes")
+    reaction_map = property(lambda self: self.output("reaction_map"),
+                            doc="[k0 | D], 6 x (1 + actuated joints): the base wrench on body 1 "
+                                "[n; f] = k0 + D tau_H in the base frame (moment about its origin first)")
 
     def assignments_for(self, names: Iterable[str]):
         """The intermediate assignments the named outputs need, in order."""
@@ -238,7 +243,8 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     ----------
     robot : the robot description (see :func:`symdyn.load`).
     method : ``'newton-euler'`` (recursive, Table 3.2; D by composite rigid bodies) or ``'lagrange-euler'`` (trace form).
-    outputs : names from :data:`OUTPUTS` to derive (default: all of them).
+    outputs : names from :data:`ALL_OUTPUTS` to derive (default: :func:`default_outputs`, all of
+        :data:`OUTPUTS` and the reaction map when the robot has passive joints).
     progress : called with a short text as each part starts (for long derivations).
     fd_method : ``'ldlt'`` (solve with D, the default) or ``'aba'`` (articulated-body algorithm)
         for forward dynamics.
@@ -250,10 +256,10 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     method = _normalize_method(method)
     if fd_method not in FD_METHODS:
         raise ValueError(f"unknown forward-dynamics method {fd_method!r}; use {' or '.join(FD_METHODS)}")
-    wanted = tuple(OUTPUTS) if outputs is None else tuple(outputs)
+    wanted = default_outputs(robot) if outputs is None else tuple(outputs)
     for name in wanted:
-        if name not in OUTPUTS:
-            raise ValueError(f"unknown output {name!r}; known: {', '.join(OUTPUTS)}")
+        if name not in ALL_OUTPUTS:
+            raise ValueError(f"unknown output {name!r}; known: {', '.join(ALL_OUTPUTS)}")
     start = time.perf_counter()
 
     def report(part: str) -> None:
@@ -352,7 +358,11 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
             result["forward_dynamics"], pivots = _ldlt_solve(b, M, rhs)
 
-    outputs_tuple = tuple((name, sp.ImmutableMatrix(result[name])) for name in OUTPUTS if name in wanted)
+    if "reaction_map" in need:
+        report("reaction_map (articulated-body recursion at tau = 0, eqs. 5-14 of seed 004)")
+        result["reaction_map"] = reaction_map(chain, friction.subs({v: 0 for v in qdd})).matrix
+
+    outputs_tuple = tuple((name, sp.ImmutableMatrix(result[name])) for name in ALL_OUTPUTS if name in wanted)
     return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,
                      program=b.build(), outputs=outputs_tuple,
                      seconds=time.perf_counter() - start,

@@ -117,3 +117,10 @@ class NumericEquations:
     def jacobian_dot_qd(self, q, qd, p=None):
         """J-dot qd (6,): classical acceleration of the tool at qdd = 0, world axes."""
         return self._call("jacobian_dot_qd", (q, qd), p)
+
+    def reaction_map(self, q, qd, p=None):
+        """``[k0 | D]`` (6, 1 + actuated joints): the wrench ``[n; f]`` the base exerts on body 1,
+        in the base frame, is ``k0 + D tau_H`` for the actuated joints' forces ``tau_H``."""
+        out = self._function("reaction_map")
+        self._call("reaction_map", (q, qd), p)  # checks the arguments
+        return out(q, qd, p if p is not None else [])

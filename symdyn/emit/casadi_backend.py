@@ -29,7 +29,7 @@ import casadi as ca
 import sympy as sp
 
 from .emission import fold_constants
-from ..derive.equations import OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS, Equations
+from ..derive.equations import ALL_OUTPUTS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS, Equations, default_outputs
 from ..model.errors import SymdynError
 
 INPUT_DOCS = {
@@ -151,11 +151,14 @@ def _outputs_sx(eqs: Equations, names: Iterable[str], env: dict) -> list[ca.SX]:
 def casadi_function(eqs: Equations, name: str, function_name: str | None = None, cse: bool = True) -> ca.Function:
     """One output of ``eqs`` (a name from :data:`symdyn.OUTPUTS`) as a ``casadi.Function``
     with named inputs (``q``, ``qd``, ``qdd``/``tau``, ``p``) and output (``tau``, ``D``, ``h``,
-    ``C``, ``c`` or ``qdd``)."""
-    if name not in OUTPUTS:
-        raise SymdynError(f"unknown function {name!r} (known: {', '.join(OUTPUTS)})")
+    ``C``, ``c`` or ``qdd``; the reaction map has two: ``k0`` (6) and ``D`` (6 x actuated joints))."""
+    if name not in ALL_OUTPUTS:
+        raise SymdynError(f"unknown function {name!r} (known: {', '.join(ALL_OUTPUTS)})")
     symbols, in_names, env = _inputs_for(eqs, OUTPUT_INPUTS[name])
     [out] = _outputs_sx(eqs, [name], env)
+    if name == "reaction_map":
+        return ca.Function(function_name or name, symbols, [out[:, 0], out[:, 1:]], in_names, ["k0", "D"],
+                           {"cse": cse})
     return ca.Function(function_name or name, symbols, [out], in_names, [OUTPUT_SYMBOLS[name]],
                        {"cse": cse})
 
@@ -164,8 +167,8 @@ def combined_function(eqs: Equations, functions: Iterable[str] | None = None,
                       function_name: str | None = None, cse: bool = True) -> ca.Function:
     """All the asked outputs in one ``casadi.Function`` (``NAME_dynamics``): inputs are the union
     of theirs in the order q, qd, qdd, tau, p; outputs are named after the functions
-    (``inverse_dynamics``, ``mass_matrix``, ...)."""
-    functions = [f for f in OUTPUTS if f in (functions or eqs.output_names)]
+    (``inverse_dynamics``, ``mass_matrix``, ...; ``reaction_map`` as ``[k0 | D]``)."""
+    functions = [f for f in ALL_OUTPUTS if f in (functions or eqs.output_names)]
     groups = [g for g in ("q", "qd", "qdd", "tau") if any(g in OUTPUT_INPUTS[f] for f in functions)]
     symbols, in_names, env = _inputs_for(eqs, groups)
     outs = _outputs_sx(eqs, functions, env)
@@ -193,12 +196,14 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
     from ..derive.cache import derive_cached
     from ..model.robot import Robot, load
 
-    wanted = tuple(f for f in OUTPUTS if f in (functions or OUTPUTS))
-    unknown = [f for f in (functions or ()) if f not in OUTPUTS]
+    unknown = [f for f in (functions or ()) if f not in ALL_OUTPUTS]
     if unknown:
-        raise SymdynError(f"unknown function {unknown[0]!r} (known: {', '.join(OUTPUTS)})")
+        raise SymdynError(f"unknown function {unknown[0]!r} (known: {', '.join(ALL_OUTPUTS)})")
     if isinstance(source, (str, os.PathLike)):
         source = load(os.fspath(source))
+    default = default_outputs(source) if isinstance(source, Robot) else (
+        source.output_names if isinstance(source, Equations) else OUTPUTS)
+    wanted = tuple(f for f in ALL_OUTPUTS if f in (functions or default))
     if isinstance(source, Robot):
         need = set(wanted) | ({"mass_matrix"} if "forward_dynamics" in wanted else set())
         source = derive_cached(source, method, tuple(need), use_cache=use_cache, fd_method=fd_method)
@@ -240,7 +245,7 @@ def casadi_files(eqs: Equations, functions: Iterable[str] | None = None, casadi_
     from .emission import source_label, template_environment
 
     prefix = eqs.robot.name
-    functions = [f for f in OUTPUTS if f in (functions or eqs.output_names)]
+    functions = [f for f in ALL_OUTPUTS if f in (functions or eqs.output_names)]
     combined = combined_function(eqs, functions, f"{prefix}_dynamics")
     single = [casadi_function(eqs, f, f"{prefix}_{f}") for f in functions]
     files: dict[str, bytes] = {}

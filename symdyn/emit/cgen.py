@@ -17,7 +17,7 @@ from .._version import __version__
 from ..model.errors import warn
 from .cprinter import CPrinter, count_operations
 from .emission import comment_text, fold_constants, source_label, template_environment
-from ..derive.equations import OUTPUT_INPUTS, OUTPUTS, PIVOT_RTOL, Equations
+from ..derive.equations import ALL_OUTPUTS, OUTPUT_INPUTS, PIVOT_RTOL, Equations
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -39,6 +39,15 @@ OUTPUT_ARGS = {
     "jacobian_dot_qd": ("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),
 }
 
+#: outputs written to several arguments: (argument, documentation, first column, end column)
+SPLIT_OUTPUTS = {
+    "reaction_map": (
+        ("k0", "base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) "
+               "and force (N) the base exerts on body 1 through joint 1, base-frame axes", 0, 1),
+        ("D", "wrench per unit actuated torque, 6*NA row-major (column j: actuated joint j in the order "
+              "listed above): [n; f] = k0 + D tau_H", 1, None)),
+}
+
 SUMMARIES = {
     "inverse_dynamics": "Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).",
     "mass_matrix": "Mass (joint-space inertia) matrix D(q), without armature.",
@@ -49,6 +58,7 @@ SUMMARIES = {
     "forward_kinematics": "Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",
     "jacobian": "Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.",
     "jacobian_dot_qd": "J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.",
+    "reaction_map": "Force-to-torque map (seed 004 of the design notes, eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).",
     "kinematics": "Pose and Jacobian of the tool in one call: the same results as NAME_forward_kinematics and NAME_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).",
 }
 
@@ -209,7 +219,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     n = eqs.n
     real = f"{prefix}_real"
     parts = COMBINED.get(name, (name,))  # the outputs this function writes, one argument each
-    out_name, out_doc = OUTPUT_ARGS[parts[0]]
+    out_name, out_doc = OUTPUT_ARGS[parts[0]] if parts[0] in OUTPUT_ARGS else SPLIT_OUTPUTS[parts[0]][0][:2]
     targets: list[tuple[str, sp.Expr]] = []
     aliases: list[tuple[str, str]] = []
     checked = name == "forward_dynamics" and bool(eqs.pivots)
@@ -217,6 +227,14 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
         matrix = eqs.output(name)
         targets = [(f"result{i}", matrix[i]) for i in range(n)]
     for part in (() if checked else parts):
+        if part in SPLIT_OUTPUTS:
+            matrix = eqs.output(part)
+            for arg, _, first, end in SPLIT_OUTPUTS[part]:
+                block = matrix[:, first:end]
+                for i in range(block.rows):
+                    for j in range(block.cols):
+                        targets.append((f"{arg}[{i * block.cols + j}]", block[i, j]))
+            continue
         matrix = eqs.output(part)
         part_name = OUTPUT_ARGS[part][0]
         rows, cols = matrix.shape
@@ -314,7 +332,11 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     args = [(f"const {real} *", group, ARG_DOCS[group], False) for group in inputs]
     if eqs.parameters:
         args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
-    args.extend((f"{real} *", *OUTPUT_ARGS[part], True) for part in parts)
+    for part in parts:
+        if part in SPLIT_OUTPUTS:
+            args.extend((f"{real} *", arg, doc, True) for arg, doc, _, _ in SPLIT_OUTPUTS[part])
+        else:
+            args.append((f"{real} *", *OUTPUT_ARGS[part], True))
     unused = [a for _, a, _, is_out in args if not is_out and not any(
         names.get(s, "").startswith(cast + a + "[") for s in used)]
     summary = SUMMARIES[name].replace("NAME", prefix)
@@ -336,7 +358,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
     """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` (or one header of static inline
     functions when ``header_only``).  Returns ``{file name: text}``.  ``progress`` (optional) is
     called with a short text as each function's C is built."""
-    functions = [f for f in OUTPUTS if f in (functions or OUTPUTS)]
+    functions = [f for f in ALL_OUTPUTS if f in (functions or eqs.output_names)]
     prefix = eqs.robot.name
     built = []
     for f in functions:
@@ -368,7 +390,9 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
                         (repr(float(v)) if v is not None else None), parameter_uses(robot, s))
                        for k, (s, v) in enumerate(zip(robot.parameters, robot.nominal))],
         "constants": model_constants(robot),
-        "joints": [(k + 1, link.name, link.joint) for k, link in enumerate(robot.links)],
+        "joints": [(k + 1, link.name, link.joint, link.actuated) for k, link in enumerate(robot.links)],
+        "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
+                     if "reaction_map" in functions else []),
         "functions": built,
         "header_only": header_only,
         "notes": [comment_text(note) for note in notes],

@@ -2,9 +2,24 @@
 
 from __future__ import annotations
 
-#: every output, in the order generated code and documentation list them
+#: the standard outputs, in the order generated code and documentation list them
 OUTPUTS = ("inverse_dynamics", "mass_matrix", "coriolis", "coriolis_matrix", "gravity",
            "forward_dynamics", "forward_kinematics", "jacobian", "jacobian_dot_qd")
+
+#: outputs derived and generated only when asked for (``--functions``), or by default for a robot
+#: with passive joints (``actuated: false``): the base reaction wrench as an affine map of the
+#: actuated torques (seed 004)
+EXTRA_OUTPUTS = ("reaction_map",)
+
+#: every output symdyn can produce
+ALL_OUTPUTS = OUTPUTS + EXTRA_OUTPUTS
+
+
+def default_outputs(robot) -> tuple[str, ...]:
+    """What is derived and generated when nothing is asked for: :data:`OUTPUTS`, and the
+    reaction map when the robot has passive joints."""
+    return OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
+
 
 #: the outputs about the tool frame (the others are joint-space dynamics)
 KINEMATIC_OUTPUTS = ("forward_kinematics", "jacobian", "jacobian_dot_qd")
@@ -20,6 +35,7 @@ OUTPUT_INPUTS = {
     "forward_kinematics": ("q",),
     "jacobian": ("q",),
     "jacobian_dot_qd": ("q", "qd"),
+    "reaction_map": ("q", "qd"),
 }
 
 #: the symbol of each output in the notes (and the name of its output argument everywhere)
@@ -33,10 +49,13 @@ OUTPUT_SYMBOLS = {
     "forward_kinematics": "T",
     "jacobian": "J",
     "jacobian_dot_qd": "a",
+    "reaction_map": "k0_D",
 }
 
 
-def output_shape(name: str, n: int) -> tuple[int, int]:
-    """Rows and columns of an output for a robot of ``n`` joints."""
+def output_shape(name: str, n: int, actuated: int | None = None) -> tuple[int, int]:
+    """Rows and columns of an output for a robot of ``n`` joints (``actuated`` of them actuated,
+    default all): the reaction map is ``[k0 | D]``, 6 x (1 + actuated)."""
     return {"forward_kinematics": (4, 4), "jacobian": (6, n), "jacobian_dot_qd": (6, 1),
-            "mass_matrix": (n, n), "coriolis_matrix": (n, n)}.get(name, (n, 1))
+            "mass_matrix": (n, n), "coriolis_matrix": (n, n),
+            "reaction_map": (6, 1 + (n if actuated is None else actuated))}.get(name, (n, 1))

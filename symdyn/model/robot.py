@@ -40,7 +40,7 @@ _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any 
 TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "tool", "parameters", "links")
 ANGLE_UNITS = ("radians", "degrees")
 LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "origin", "axis", "mass", "com", "inertia",
-             "armature", "damping", "coulomb", "limits")
+             "armature", "damping", "coulomb", "limits", "actuated")
 DH_KEYS = ("a", "alpha", "d", "theta")
 GENERAL_KEYS = ("origin", "axis")
 PLACEMENT_KEYS = ("xyz", "rpy")
@@ -113,7 +113,8 @@ class Link:
     link-frame axes (tensor entries: ``xy`` is the (x, y) entry of the inertia matrix), COM in
     m in link frame i.  ``a`` and ``alpha`` hold a_i/alpha_i (standard) or a_{i-1}/alpha_{i-1}
     (modified).  ``armature`` is in kg m^2 (kg for prismatic joints), ``damping`` in N m s/rad
-    (N s/m), ``coulomb`` in N m (N).
+    (N s/m), ``coulomb`` in N m (N).  ``actuated`` is False for a passive joint (tau_i = 0 by
+    construction; see the reaction map, :mod:`symdyn.derive.articulated_body`).
     """
 
     name: str
@@ -136,6 +137,7 @@ class Link:
     origin: Placement | None = None
     axis: tuple[sp.Expr, sp.Expr, sp.Expr] | None = None
     limits: Limits | None = None
+    actuated: bool = True
 
     @property
     def is_revolute(self) -> bool:
@@ -225,6 +227,16 @@ class Robot:
     @property
     def dof(self) -> int:
         return len(self.links)
+
+    @property
+    def actuated_joints(self) -> tuple[int, ...]:
+        """0-based indices of the actuated joints (``actuated: true``, the default), base to tip."""
+        return tuple(k for k, link in enumerate(self.links) if link.actuated)
+
+    @property
+    def passive_joints(self) -> tuple[int, ...]:
+        """0-based indices of the passive joints (``actuated: false``: tau_i = 0)."""
+        return tuple(k for k, link in enumerate(self.links) if not link.actuated)
 
     @property
     def is_numeric(self) -> bool:
@@ -444,8 +456,11 @@ class _Reader:
             if value.is_number and value < 0:
                 self.fail(f"{key} must not be negative, got {float(value):g}", label, key)
         limits = self.limits(raw["limits"], label) if "limits" in raw else None
+        actuated = raw.get("actuated", True)
+        if not isinstance(actuated, bool):
+            self.fail(f"expected true or false, got {describe(actuated)}", label, "actuated")
         return Link(name=name, joint=joint, mass=mass, com=com, inertia=inertia, limits=limits,
-                    **geometry, **extras)
+                    actuated=actuated, **geometry, **extras)
 
     def placement(self, raw: Any, label: str | None, fld: str) -> Placement:
         """``{xyz: [3 m], rpy: [3 angles]}`` (both optional, default zero)."""

@@ -21,7 +21,7 @@ import sympy as sp
 
 from .errors import RobotFileError, SymdynError, SymdynWarning, describe, display_path, one_line, warn
 from .geometry import joint_geometry, joint_motion
-from .outputs import OUTPUTS
+from .outputs import ALL_OUTPUTS
 from .inputs import decode_text, load_yaml, read_input
 from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document
 
@@ -233,9 +233,9 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
         if not isinstance(functions, list) or not functions:
             _fail(path, "expected a non-empty list of functions", "functions")
         for f in functions:
-            if not isinstance(f, str) or f not in OUTPUTS:
-                _fail(path, f"unknown function {describe(f)} (known: {', '.join(OUTPUTS)})", "functions")
-        functions = tuple(f for f in OUTPUTS if f in functions)
+            if not isinstance(f, str) or f not in ALL_OUTPUTS:
+                _fail(path, f"unknown function {describe(f)} (known: {', '.join(ALL_OUTPUTS)})", "functions")
+        functions = tuple(f for f in ALL_OUTPUTS if f in functions)
     precision = doc.get("precision")
     if precision is not None and precision not in ("double", "float", "mixed"):
         _fail(path, f"precision must be double, float or mixed, not {describe(precision)}", "precision")

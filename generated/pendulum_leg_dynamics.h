@@ -1,0 +1,176 @@
+/*
+ * pendulum_leg_dynamics — equations of motion of robot 'pendulum_leg' (6 joints, general joint placements).
+ *
+ * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
+ *   input     : pendulum_leg.yaml
+ *   sha256    : 64798994b381b3a497a0c095e6d1f967aabc930aea0d5f9455088c4c3e856e05
+ */
+#ifndef PENDULUM_LEG_DYNAMICS_H
+#define PENDULUM_LEG_DYNAMICS_H
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Scalar type of every argument (double precision). */
+typedef double pendulum_leg_real;
+
+/* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
+#define pendulum_leg_DOF 6
+
+/* Number of runtime parameters NP (the array p, when present, is the last input). */
+#define pendulum_leg_NP 0
+
+/*
+ * Model constants folded into the code:
+ *   gravity [0, 0, -9.81] m/s^2 (world frame)
+ *   joint 1 (foot_roll): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [1, 0, 0]
+ *   link 1 (foot_roll): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, 0, 0, 0, 0] kg m^2
+ *   joint 2 (foot_pitch): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [0, 1, 0]
+ *   link 2 (foot_pitch): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, 0, 0, 0, 0] kg m^2
+ *   joint 3 (foot_yaw): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [0, 0, 1]
+ *   link 3 (foot_yaw): mass 8.8 kg, com [0, 0, 0.5] m, inertia [xx yy zz xy xz yz] [0.62, 0.6, 0.035, 0, 0.004, 0] kg m^2
+ *   joint 4 (hip_roll): origin xyz [0, 0, 0.88] m, rpy [0, 0, 0] rad, axis [1, 0, 0]
+ *   link 4 (hip_roll): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, 0, 0, 0, 0] kg m^2
+ *   joint 5 (hip_pitch): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [0, 1, 0]
+ *   link 5 (hip_pitch): mass 1.2 kg, com [0, 0.02, 0] m, inertia [xx yy zz xy xz yz] [0.0015, 0.0012, 0.0015, 0, 0, 0] kg m^2
+ *   joint 6 (hip_yaw): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [0, 0, 1]
+ *   link 6 (hip_yaw): mass 40.7 kg, com [0.02, 0, 0.3] m, inertia [xx yy zz xy xz yz] [1.65, 1.38, 0.42, 0, -0.05, 0] kg m^2
+ */
+
+/* Number of actuated joints NA (columns of the reaction map's D; the others are passive, tau = 0). */
+#define pendulum_leg_NA 3
+
+/*
+ * Joints (index: name, type):
+ *   1: foot_roll, revolute, passive (tau = 0)
+ *   2: foot_pitch, revolute, passive (tau = 0)
+ *   3: foot_yaw, revolute, passive (tau = 0)
+ *   4: hip_roll, revolute
+ *   5: hip_pitch, revolute
+ *   6: hip_yaw, revolute
+ * Actuated joints, in the order of the reaction map's columns: 4 (hip_roll), 5 (hip_pitch), 6 (hip_yaw).
+ *
+ * All functions are reentrant: no allocation, no global or static state, no recursion.
+ * Output arrays must not overlap the inputs.
+ *
+ * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
+ * function except pendulum_leg_forward_dynamics_checked, which then returns a
+ * nonzero status and leaves qdd unchanged (as does pendulum_leg_forward_dynamics).
+ */
+
+/*
+ * Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
+ *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
+ * Cost: 196 multiplications, 131 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void pendulum_leg_inverse_dynamics(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *qdd, pendulum_leg_real *tau);
+
+/*
+ * Mass (joint-space inertia) matrix D(q), without armature.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
+ * Cost: 115 multiplications, 69 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void pendulum_leg_mass_matrix(const pendulum_leg_real *q, pendulum_leg_real *D);
+
+/*
+ * Coriolis and centrifugal torques h(q, qd).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
+ * Cost: 180 multiplications, 113 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void pendulum_leg_coriolis(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *h);
+
+/*
+ * Coriolis matrix C(q, qd), C qd = h.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
+ * Cost: 851 multiplications, 540 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void pendulum_leg_coriolis_matrix(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *C);
+
+/*
+ * Gravity torques c(q).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   c (out): gravity vector c(q), N (N m or N)
+ * Cost: 66 multiplications, 32 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void pendulum_leg_gravity(const pendulum_leg_real *q, pendulum_leg_real *c);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Cost: 417 multiplications, 263 additions/subtractions, 6 divisions, 12 sin/cos.
+ */
+int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd);
+
+/*
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions). Same as pendulum_leg_forward_dynamics_checked, without the status: where that returns nonzero, qdd is left unchanged.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   tau: joint torques/forces, N (N m or N)
+ *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
+ * Cost: 417 multiplications, 263 additions/subtractions, 6 divisions, 12 sin/cos.
+ */
+void pendulum_leg_forward_dynamics(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd);
+
+/*
+ * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ * Cost: 53 multiplications, 22 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void pendulum_leg_forward_kinematics(const pendulum_leg_real *q, pendulum_leg_real *T);
+
+/*
+ * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 45 multiplications, 17 additions/subtractions, 0 divisions, 10 sin/cos.
+ */
+void pendulum_leg_jacobian(const pendulum_leg_real *q, pendulum_leg_real *J);
+
+/*
+ * J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
+ * Cost: 131 multiplications, 68 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void pendulum_leg_jacobian_dot_qd(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *a);
+
+/*
+ * Force-to-torque map (seed 004 of the design notes, eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   qd: joint velocities, N (rad/s or m/s)
+ *   k0 (out): base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) and force (N) the base exerts on body 1 through joint 1, base-frame axes
+ *   D (out): wrench per unit actuated torque, 6*NA row-major (column j: actuated joint j in the order listed above): [n; f] = k0 + D tau_H
+ * Cost: 1004 multiplications, 674 additions/subtractions, 5 divisions, 12 sin/cos.
+ */
+void pendulum_leg_reaction_map(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *k0, pendulum_leg_real *D);
+
+/*
+ * Pose and Jacobian of the tool in one call: the same results as pendulum_leg_forward_kinematics and pendulum_leg_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).
+ *   q: joint positions, N (rad for revolute, m for prismatic joints)
+ *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
+ *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
+ * Cost: 63 multiplications, 26 additions/subtractions, 0 divisions, 12 sin/cos.
+ */
+void pendulum_leg_kinematics(const pendulum_leg_real *q, pendulum_leg_real *T, pendulum_leg_real *J);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* PENDULUM_LEG_DYNAMICS_H */
