@@ -1,56 +1,43 @@
 """Code size and stack use of the float C on a Cortex-M4 (single-precision FPU).
 
-Usage:  python benchmarks/firmware_size.py [ROBOT ...]   (default: puma560 ur5 iiwa14 chain12)
+Usage:  python benchmarks/firmware_size.py [ROBOT ...]   (default: puma560 ur5 iiwa14 chain12 pendulum_leg)
 
 Generates ``--precision float`` C for each robot (every function; forward dynamics by the
 default for float, the articulated-body algorithm), compiles it with ``arm-none-eabi-gcc
--mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -O2 -fstack-usage`` and prints, per
-function, its text size (bytes, from ``arm-none-eabi-nm --size-sort``) and stack use (bytes,
-from the .su file), and whether any double-precision routine (``__aeabi_d*``) is referenced.
+-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -O2 -fstack-usage``
+(:mod:`symdyn.check.firmware`, the same measurement as ``symdyn generate --size-report``) and
+prints, per function, its text size and stack use in bytes, and whether any double-precision
+routine (``__aeabi_d*``, double sin/cos/sqrt) is referenced.
 """
 
 import os
-import subprocess
 import sys
-import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
-from symdyn.cli import main as symdyn_main  # noqa: E402
-
-FLAGS = ["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16", "-O2", "-std=c99", "-fstack-usage"]
+import symdyn  # noqa: E402
+from symdyn.check.firmware import measure  # noqa: E402
+from symdyn.cli.generate import generate_files  # noqa: E402
 
 
 def main(argv=None):
-    names = (argv if argv is not None else sys.argv[1:]) or ["puma560", "ur5", "iiwa14", "chain12"]
+    names = (argv if argv is not None else sys.argv[1:]) or ["puma560", "ur5", "iiwa14", "chain12", "pendulum_leg"]
     print("| robot | function | text (bytes) | stack (bytes) |")
     print("|---|---|---:|---:|")
-    doubles = {}
+    doubles, toolchain = {}, ""
     for name in names:
-        with tempfile.TemporaryDirectory() as work:
-            symdyn_main(["generate", os.path.join(HERE, "..", "robots", f"{name}.yaml"), "--out", work,
-                         "--precision", "float", "--quiet"])
-            obj = os.path.join(work, f"{name}.o")
-            subprocess.run(["arm-none-eabi-gcc", *FLAGS, "-c", f"{name}_dynamics.c", "-o", obj], check=True, cwd=work)
-            sizes = {}
-            for line in subprocess.run(["arm-none-eabi-nm", "--size-sort", "-S", obj], capture_output=True,
-                                       text=True, check=True).stdout.splitlines():
-                parts = line.split()
-                if len(parts) == 4 and parts[2] in "Tt":
-                    sizes[parts[3]] = int(parts[1], 16)
-            stacks = {}
-            with open(os.path.join(work, f"{name}.su")) as handle:
-                for line in handle:
-                    where, amount, _ = line.rsplit("\t", 2) if line.count("\t") >= 2 else (line, "0", "")
-                    stacks[where.rsplit(":", 1)[-1]] = int(amount)
-            undefined = subprocess.run(["arm-none-eabi-nm", "-u", obj], capture_output=True, text=True,
-                                       check=True).stdout.split()
-            doubles[name] = sorted(u for u in undefined if u.startswith("__aeabi_d"))
-            for function in sorted(sizes):
-                print(f"| {name} | {function} | {sizes[function]} | {stacks.get(function, '-')} |")
+        path = os.path.join(HERE, "..", "robots", f"{name}.yaml")
+        files = {k: v.decode() for k, v in generate_files(path, None, "float", False, "newton-euler").items()}
+        report = measure(files, symdyn.load(path).name)
+        toolchain = report.toolchain
+        doubles[name] = report.doubles
+        for function in sorted(report.sizes):
+            text, stack = report.sizes[function]
+            print(f"| {name} | {function} | {text} | {stack} |")
     for name, routines in doubles.items():
-        print(f"{name}: double-precision routines referenced: {', '.join(routines) or 'none'}")
+        print(f"- {name}: double-precision routines referenced: {', '.join(routines) or 'none'}")
+    print(f"\nMeasured with {toolchain}.")
 
 
 if __name__ == "__main__":

@@ -181,7 +181,9 @@ def test_derive_cli_errors(tmp_path, capsys):
 DOCS = [("planar2r", "newton-euler", "planar2r_newton_euler.md"),
         ("planar2r", "lagrange-euler", "planar2r_lagrange_euler.md"),
         ("puma560", "newton-euler", "puma560_newton_euler.md"),
-        ("planar2r", "jacobian-newton-euler", "planar2r_jacobian_newton_euler.md")]
+        ("planar2r", "jacobian-newton-euler", "planar2r_jacobian_newton_euler.md"),
+        ("planar2r", "articulated-body", "planar2r_articulated_body.md"),
+        ("pendulum_leg", "articulated-body", "pendulum_leg_articulated_body.md")]
 
 
 @pytest.mark.parametrize("name,method,filename", DOCS)

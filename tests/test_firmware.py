@@ -45,3 +45,35 @@ def test_float_code_uses_no_double_on_cortex_m4(name, functions, tmp_path):
     assert {"sinf", "cosf"} <= names
     stack = (tmp_path / f"{name}.su").read_text()
     assert f"{name}_forward_dynamics_checked" in stack
+
+
+@pytest.mark.skipif(ARM_NM is None or not _has_newlib(),
+                    reason="arm-none-eabi-gcc with newlib not installed (.ci/run installs gcc-arm-none-eabi "
+                           "and libnewlib-arm-none-eabi)")
+def test_size_report_documents_every_function(tmp_path):
+    """--size-report: the header gives each function's Cortex-M4 code size and stack use, the
+    numbers arm-none-eabi-nm and -fstack-usage give for the same file, and the C is the same
+    as without the report; the pendulum leg's float C, reaction map included, uses no double."""
+    import re
+    leg = str(REPO / "robots" / "pendulum_leg.yaml")
+    for out, extra in (("plain", []), ("sized", ["--size-report"])):
+        assert main(["generate", leg, "--out", str(tmp_path / out), "--precision", "float", "--quiet", *extra]) == 0
+    sized = tmp_path / "sized"
+    assert (sized / "pendulum_leg_dynamics.c").read_bytes() == (tmp_path / "plain" / "pendulum_leg_dynamics.c").read_bytes()
+    header = (sized / "pendulum_leg_dynamics.h").read_text()
+    assert "Double-precision routines\n * referenced: none." in header
+    documented = {fn: sizes for sizes, fn in re.findall(
+        r"Cortex-M4: (\d+) bytes of code, \d+ bytes of stack[^\n]*\n \*/\n(?:int|void) (pendulum_leg_\w+)\(", header)}
+    functions = re.findall(r"^(?:int|void) (pendulum_leg_\w+)\(", header, re.M)
+    assert set(documented) == set(functions) and "pendulum_leg_reaction_map" in functions
+    obj = tmp_path / "leg.o"
+    subprocess.run([ARM_GCC, *CORTEX_M4[:6], "-c", str(sized / "pendulum_leg_dynamics.c"), "-o", str(obj)], check=True)
+    listing = subprocess.run([ARM_NM, "--size-sort", "-S", str(obj)], capture_output=True, text=True, check=True).stdout
+    sizes = {parts[3]: int(parts[1], 16) for parts in (line.split() for line in listing.splitlines()) if len(parts) == 4}
+    assert {fn: int(text) for fn, text in documented.items()} == {fn: sizes[fn] for fn in documented}
+
+
+def test_size_report_needs_the_c_target(tmp_path, capsys):
+    assert main(["generate", str(REPO / "robots" / "planar2r.yaml"), "--out", str(tmp_path), "--target", "casadi",
+                 "--size-report"]) == 1
+    assert "--size-report" in capsys.readouterr().err

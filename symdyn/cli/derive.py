@@ -10,17 +10,24 @@ from ..model.files import check_output_dir, check_targets, write_files
 from ..derive.derivation import STEPS, derive_steps
 from ..model.errors import SymdynError
 from ..emit.printout import FORMATS, render
-from .common import add_method_option, add_size_options, check_size, load_robot
+from ..derive.equations import METHOD_ALIASES
+from .common import add_size_options, check_size, load_robot
 
 HELP = "print the derivation of the equations of motion (text, LaTeX or Markdown)"
 
 
 def add_parser(sub) -> None:
     p = sub.add_parser("derive", help=HELP, description=HELP + ": Lagrange-Euler (link matrices, "
-                       "U_ij, U_ijk, pseudo-inertias J_i, D_ik, h_ikm, h_i, c_i) or Newton-Euler "
-                       "(forward and backward recursion of Table 3.2), ending with D, h, c.")
+                       "U_ij, U_ijk, pseudo-inertias J_i, D_ik, h_ikm, h_i, c_i), Newton-Euler "
+                       "(forward and backward recursion of Table 3.2), ending with D, h, c, or the "
+                       "articulated-body algorithm (forward dynamics, and the reaction map of a robot with "
+                       "passive joints).")
     p.add_argument("robot", metavar="ROBOT.yaml", help="robot file (format version 1)")
-    add_method_option(p)
+    p.add_argument("--method", default="newton-euler",
+                   choices=sorted(set(METHOD_ALIASES) | {"articulated-body", "aba"}),
+                   help="newton-euler (default), lagrange-euler, jacobian-newton-euler, or articulated-body "
+                        "(forward dynamics by the three sweeps of the articulated-body algorithm, in the "
+                        "named form; with passive joints also the force-to-torque reaction map)")
     add_size_options(p)
     p.add_argument("--format", default="text", choices=FORMATS,
                    help="text (Unicode, for the terminal), latex (a complete document for pdflatex) "
@@ -43,6 +50,11 @@ def run(args) -> int:
     robot, _ = load_robot(args.robot, args)
     check_size(robot, args, args.robot)
     closed = {"auto": None, "closed": True, "named": False}[args.form]
+    if args.method in ("articulated-body", "aba"):
+        if closed:
+            raise SymdynError("--form closed: the articulated-body derivation is printed in the named form "
+                              "only (its quantities are rational in the joint variables)")
+        closed = None
     if args.out:
         directory, name = os.path.split(os.path.abspath(args.out))
         if not os.path.isdir(directory):

@@ -41,6 +41,10 @@ def add_parser(sub) -> None:
                         "reaction_map, which is added when the robot has passive joints)")
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
+    p.add_argument("--size-report", action="store_true",
+                   help="compile the C for a Cortex-M4 with arm-none-eabi-gcc (-mcpu=cortex-m4 -mthumb "
+                        "-mfloat-abi=hard -mfpu=fpv4-sp-d16 -O2) and document each function's code size and "
+                        "stack use in the header; c target, .h + .c only")
     add_method_option(p)
     add_fd_method_option(p)
     add_size_options(p)
@@ -65,7 +69,7 @@ def input_files(path: str) -> list[str]:
 
 def generate_files(path: str, functions, precision, header_only: bool, method: str,
                    use_cache: bool = True, target: str = "c", loaded=None, progress=None,
-                   fd_method: str | None = None) -> dict[str, bytes]:
+                   fd_method: str | None = None, size_report: bool = False) -> dict[str, bytes]:
     """Load (robot or scene), derive (cached) and emit; returns {file name: content} without
     writing anything.  ``functions``/``precision`` None: the scene's, else all / double.
     ``loaded``: ``load_input(path)`` when the caller already has it; ``progress``: called with a
@@ -86,8 +90,14 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
     eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache, progress=progress, fd_method=fd_method)
     source = os.path.basename(path)
     if target == "c":
+        report = None
+        if size_report:
+            from ..check.firmware import measure
+
+            def report(files):
+                return measure(files, robot.name)
         files = generate_c(eqs, functions, precision, header_only, source_name=source,
-                           source_hash=source_hash, notes=notes, progress=progress)
+                           source_hash=source_hash, notes=notes, progress=progress, size_report=report)
         return {name: text.encode("utf-8") for name, text in files.items()}
     from ..emit.casadi_backend import casadi_files
     return casadi_files(eqs, functions, casadi_c=target == "casadi-c", source_name=source,
@@ -100,6 +110,13 @@ def run(args) -> int:
     functions = parse_functions(args.functions) if args.functions else None
     if args.target != "c" and (args.precision not in (None, "double") or args.header_only):
         raise SymdynError(f"--precision and --header-only apply to the c target only, not {args.target}")
+    if args.size_report and (args.target != "c" or args.header_only):
+        raise SymdynError("--size-report applies to the c target with .h + .c files (not --header-only)")
+    if args.size_report:
+        from ..check.firmware import COMPILER, available
+        if not available():
+            raise SymdynError(f"--size-report needs {COMPILER} (Debian/Ubuntu: apt install gcc-arm-none-eabi "
+                              "libnewlib-arm-none-eabi)")
     loaded = [load_robot(path, args) for path in args.robots]  # every file is checked before any work
     for path, (robot, _) in zip(args.robots, loaded):
         check_size(robot, args, path)
@@ -111,7 +128,7 @@ def run(args) -> int:
             for name, text in generate_files(path, functions, args.precision, args.header_only,
                                              args.method, not args.no_cache, args.target,
                                              loaded=inputs, progress=progress_printer(args),
-                                             fd_method=args.fd_method).items():
+                                             fd_method=args.fd_method, size_report=args.size_report).items():
                 if name in rendered:
                     raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
                 rendered[name] = text

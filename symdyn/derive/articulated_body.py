@@ -201,6 +201,8 @@ class ReactionMap:
     k0: sp.Matrix
     columns: tuple
     actuated: tuple
+    #: ``(j, i, W)``: the partial products ``W_{j,i} = A_i X_{i+1}^T ... X_j^T b_j`` (0-based j, i)
+    partials: tuple = ()
 
     @property
     def matrix(self) -> sp.Matrix:
@@ -235,12 +237,13 @@ def reaction_map(chain: Chain, friction) -> ReactionMap:
     # eqs. (8)-(9) at tau = 0, friction included: f_1 = I^A_1 k_1 + A_1 p^A_1 - b_1 friction_1
     f1 = sw.IA[0] * k1 + A[0] * sw.pA[0] - bvec[0] * friction[0]
     k0 = sp.Matrix(b.vector("rk0", [sp.expand(e) for e in sw.X[0].T * f1]))
-    columns, actuated = [], chain.robot.actuated_joints
+    columns, partials, actuated = [], [], chain.robot.actuated_joints
     for j in actuated:
         w = bvec[j]
         for i in reversed(range(j)):
             y = sw.X[i + 1].T * w
             w = sp.Matrix(b.vector(f"rw{j + 1}_{i + 1}", [sp.expand(e) for e in A[i] * y]))
+            partials.append((j, i, w))
         columns.append(sp.Matrix(b.vector(f"rD{j + 1}", [sp.expand(e) for e in sw.X[0].T * w])))
     return ReactionMap(sweeps=sw, b=tuple(bvec), A=tuple(A), k_force=sw.pA, k1=k1, k0=k0,
-                       columns=tuple(columns), actuated=actuated)
+                       columns=tuple(columns), actuated=actuated, partials=tuple(partials))

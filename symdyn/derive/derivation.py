@@ -31,13 +31,19 @@ from typing import Iterable
 import sympy as sp
 
 from .chain import make_chain
-from .equations import _normalize_method, derive
+from .articulated_body import accelerations, reaction_map, sweeps
+from .equations import _friction, _normalize_method, derive
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler, _q_operator, pseudo_inertia
 from .newton_euler import recursion
 from ..model.robot import Robot
 
 STEPS = ("all", "summary")
+
+#: methods ``derive_steps`` prints: the equations-of-motion methods, and the articulated-body
+#: algorithm (forward dynamics, and the reaction map of a robot with passive joints)
+DERIVATION_METHODS = ("newton-euler", "lagrange-euler", "jacobian-newton-euler", "articulated-body")
+ABA_ALIASES = {"articulated-body": "articulated-body", "aba": "articulated-body"}
 AXES = "xyz"
 
 
@@ -88,6 +94,30 @@ KINDS = {
     "vdot_w": "vdot_i of the centre of mass at qdd = 0 (gamma, with -g at the base), world axes",
     "fJ": "f_Ji, force through joint i",
     "tJ": "t_Ji, torque through joint i about its axis point",
+    "X": "^iX_{i-1}, 6x6 motion transform from frame i-1 to joint frame i",
+    "I": "I_i, 6x6 spatial inertia of body i about its joint frame's origin",
+    "v": "v_i, spatial velocity [omega; v] of body i, joint frame i",
+    "cbar": "c_i = v_i x S_i qd_i, velocity-product acceleration",
+    "p": "p_i = v_i x* I_i v_i, bias force of body i alone",
+    "U": "U_i = I^A_i S_i",
+    "d": "d_i = S_i^T U_i (+ armature)",
+    "aba_u": "u_i = tau_i - S_i^T p^A_i (- friction)",
+    "Ia": "I^a_i = I^A_i - U_i U_i^T / d_i",
+    "pa": "p^a_i = p^A_i + I^a_i c_i + U_i u_i / d_i",
+    "IA": "I^A_{i-1}, articulated inertia with the children of body i-1 added",
+    "pA": "p^A_{i-1}, articulated bias force with the children added",
+    "ap": "a'_i = ^iX_{i-1} a_{i-1} + c_i",
+    "qdd": "qdd_i = (u_i - U_i^T a'_i) / d_i",
+    "a": "a_i = a'_i + S_i qdd_i",
+    "b": "b_i = U_i / d_i (eq. 3)",
+    "A": "A_i = 1 - b_i S_i^T (eq. 4)",
+    "pa0": "p^a_i at tau = 0",
+    "k": "k_i = p^A_{i-1} at tau = 0 (eq. 5)",
+    "k1": "k_1, acceleration of body 1 at tau = 0 without its bias force (eq. 7)",
+    "k0": "k_0 = [f_1]_0 at tau = 0 (eqs. 9-10)",
+    "W": "W_{j,i} = A_i X_{i+1}^T ... X_j^T b_j, partial product of eq. (10)",
+    "column": "[e_j; d_j] = X_1^T A_1 ... X_j^T b_j, base wrench per unit tau_j (eq. 14)",
+    "Dmap": "D = [d_1 ... d_na], 6 x na (eq. 13)",
     "D": "D(q), n x n",
     "h": "h(q, qdot), n x 1",
     "c": "c(q), n x 1",
@@ -325,7 +355,9 @@ class _Namer:
         return sp.expand(expr.xreplace(subs))
 
     def definition(self, sym) -> sp.Expr:
-        """The right-hand side of a named symbol, one level down."""
+        """The right-hand side of a named symbol, one level down (a joint's sin/cos: its shorthand)."""
+        if isinstance(sym, sp.Symbol) and sym in self.notation.trig_display:
+            return self.notation.trig_display[sym]
         if isinstance(sym, sp.Symbol) and sym in self.rhs:
             return self.inline(self.rhs[sym])
         return self.inline(sym)
@@ -351,6 +383,14 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     ``steps='summary'`` keeps the link matrices, inertias and final results only.
     ``closed_form`` defaults to ``robot.dof <= 3``.
     """
+    key = str(method).lower().replace("_", "-")
+    if key in ABA_ALIASES:
+        if steps not in STEPS:
+            raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
+        if closed_form:
+            raise ValueError("the articulated-body derivation is printed in the named form only "
+                             "(its quantities are rational in the joint variables)")
+        return _articulated_body_steps(robot, steps)
     method = _normalize_method(method)
     if steps not in STEPS:
         raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
@@ -555,3 +595,126 @@ def _named_results(eqs, notation: _Notation):
     hm = sp.Matrix(renamed[len(upper):len(upper) + n])
     cm = sp.Matrix(renamed[len(upper) + n:])
     return (sp.ImmutableMatrix(Dm), sp.ImmutableMatrix(hm), sp.ImmutableMatrix(cm)), where
+
+
+_SPATIAL = ("wx", "wy", "wz", "x", "y", "z")  # entry labels of spatial vectors [angular; linear]
+
+
+def _articulated_body_steps(robot: Robot, steps: str) -> Derivation:
+    """The articulated-body algorithm (seed 004, Algorithm 1) written out for ``robot`` in the
+    named form, and for a robot with passive joints the force-to-torque map (eqs. 3-14)."""
+    chain = make_chain(robot)
+    notation = _Notation(chain)
+    n = chain.n
+    friction = _friction(robot, chain.qd, [sp.S.Zero] * n)
+    sw = sweeps(chain, chain.tau, friction)
+    a_prime, qdd, accel = accelerations(chain, sw)
+    rm = reaction_map(chain, friction) if robot.passive_joints else None
+    program = chain.builder.build()
+    namer = _Namer(program, notation)
+
+    def name_vec(vec, label):
+        for m in range(6):
+            namer.name(vec[m], sp.Symbol(f"{label},{_SPATIAL[m]}", real=True))
+
+    def name_sym6(mat, label):
+        for r in range(6):
+            for c in range(r, 6):
+                namer.name(mat[r, c], sp.Symbol(f"{label},{r + 1}{c + 1}", real=True))
+
+    for j in range(n):
+        k = j + 1
+        for r in range(6):
+            for c in range(6):
+                namer.name(sw.X[j][r, c], sp.Symbol(f"X_{k},{r + 1}{c + 1}", real=True))
+        name_vec(sw.v[j], f"v_{k}")
+        name_vec(sw.c[j], f"c_{k}")
+        name_vec(sw.pA0[j], f"p_{k}")
+    for j in range(n):
+        namer.name(sw.d[j], sp.Symbol(f"d_{j + 1}", real=True))
+        namer.name(sw.u[j], sp.Symbol(f"u_{j + 1}", real=True))
+    for j in reversed(range(1, n)):
+        k = j + 1
+        name_sym6(sw.Ia[j], f"Ia_{k}")
+        name_vec(sw.pa[j], f"pa_{k}")
+        name_sym6(sw.IA[j - 1], f"IA_{k - 1}")
+        name_vec(sw.pA[j - 1], f"pA_{k - 1}")
+    for j in range(n):
+        name_vec(a_prime[j], f"ap_{j + 1}")
+        namer.name(qdd[j], notation.qddot[j])
+    if rm is not None:
+        rsw = rm.sweeps
+        for j in range(n):
+            name_vec(rm.b[j], f"b_{j + 1}")
+        for j in reversed(range(n)):
+            k = j + 1
+            namer.name(rsw.u[j], sp.Symbol(f"u0_{k}", real=True))
+            if j > 0:
+                name_vec(rsw.pa[j], f"pa0_{k}")
+                name_vec(rsw.pA[j - 1], f"k_{k}")
+        name_vec(rm.k1, "k_1")
+        name_vec(rm.k0, "k_0")
+        for j, i, w in rm.partials:
+            name_vec(w, f"W_{j + 1},{i + 1}")
+        for col, j in zip(rm.columns, rm.actuated):
+            name_vec(col, f"D_{j + 1}")
+    def q(kind, indices, value, own=""):
+        """A quantity shown by the definitions of the entries it names (prefix ``own``) and by
+        name where an entry is another quantity's."""
+        def entry(e):
+            shown = namer.names.get(e) if isinstance(e, sp.Symbol) else None
+            if shown is not None and e not in notation.trig_display and not (own and shown.name.startswith(own)):
+                return shown
+            return namer.definition(e)
+        if isinstance(value, sp.MatrixBase):
+            return Quantity(kind, indices, sp.ImmutableMatrix(sp.Matrix(value).applyfunc(entry)))
+        return Quantity(kind, indices, entry(value))
+
+    sections: list[Section] = [Section("link_transform", tuple(
+        Quantity("link_transform", (i + 1,), notation.textbook_matrix(chain.transforms[i])) for i in range(n)))]
+    sections.append(Section("aba_model", tuple(
+        [q("X", (j + 1,), sw.X[j], f"X_{j + 1},") for j in range(n)] + [q("I", (j + 1,), sw.I[j]) for j in range(n)])))
+    if steps == "all":
+        forward = []
+        for j in range(n):
+            forward += [q("v", (j + 1,), sw.v[j], f"v_{j + 1},"), q("cbar", (j + 1,), sw.c[j], f"c_{j + 1},"), q("p", (j + 1,), sw.pA0[j], f"p_{j + 1},")]
+        sections.append(Section("aba_forward", tuple(forward)))
+        backward = []
+        for j in reversed(range(n)):
+            k = j + 1
+            backward += [q("U", (k,), sw.U[j]), q("d", (k,), sw.d[j], f"d_{k}"), q("aba_u", (k,), sw.u[j], f"u_{k}")]
+            if j > 0:
+                backward += [q("Ia", (k,), sw.Ia[j], f"Ia_{k},"), q("pa", (k,), sw.pa[j], f"pa_{k},"),
+                             q("IA", (k - 1,), sw.IA[j - 1], f"IA_{k - 1},"), q("pA", (k - 1,), sw.pA[j - 1], f"pA_{k - 1},")]
+        sections.append(Section("aba_backward", tuple(backward)))
+    acc = []
+    for j in range(n):
+        acc += [q("ap", (j + 1,), a_prime[j], f"ap_{j + 1},"), q("qdd", (j + 1,), qdd[j], notation.qddot[j].name), q("a", (j + 1,), accel[j])]
+    sections.append(Section("aba_accel", tuple(acc)))
+    if rm is not None:
+        rsw = rm.sweeps
+        sections.append(Section("rm_gains", tuple(
+            [q("b", (j + 1,), rm.b[j], f"b_{j + 1},") for j in range(n)] + [q("A", (j + 1,), rm.A[j]) for j in range(n)])))
+        if steps == "all":
+            bias = []
+            for j in reversed(range(1, n)):
+                k = j + 1
+                bias += [q("aba_u", (k,), rsw.u[j], f"u0_{k}"), q("pa0", (k,), rsw.pa[j], f"pa0_{k},"), q("k", (k,), rsw.pA[j - 1], f"k_{k},")]
+            sections.append(Section("rm_bias", tuple(bias)))
+        sections.append(Section("rm_wrench", (q("k1", (1,), rm.k1, "k_1,"), q("k0", (0,), rm.k0, "k_0,"))))
+        columns = []
+        for col, j in zip(rm.columns, rm.actuated):
+            columns += [q("W", (j + 1, i + 1), w, f"W_{j + 1},{i + 1},") for jj, i, w in rm.partials if jj == j]
+            columns.append(q("column", (j + 1,), col, f"D_{j + 1},"))
+        sections.append(Section("rm_columns", tuple(columns)))
+        sections.append(Section("rm_results", (
+            Quantity("k0", (0,), sp.ImmutableMatrix([namer.names.get(e, e) for e in rm.k0])),
+            Quantity("Dmap", (), sp.ImmutableMatrix(sp.Matrix.hstack(*[
+                sp.Matrix([namer.names.get(e, e) for e in col]) for col in rm.columns]))))))
+    named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
+                  if sym in namer.rhs and sym not in notation.trig)
+    joint = tuple(zip(notation.qdot, chain.qd))
+    return Derivation(robot=robot, method="articulated-body", steps=steps, closed_form=False,
+                      sections=tuple(sections), where=(), named=named,
+                      shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
+                      joint_symbols=joint)

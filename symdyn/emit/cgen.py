@@ -95,6 +95,8 @@ class CFunction:
     unused: list[str] = field(default_factory=list)
     returns: str = "void"
     returns_doc: str = ""
+    #: measured code size and stack use on the size-report target (see generate_c), or ""
+    size_text: str = ""
 
     @property
     def signature_args(self) -> str:
@@ -354,10 +356,13 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
 
 def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
                source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = (),
-               progress=None) -> dict[str, str]:
+               progress=None, size_report=None) -> dict[str, str]:
     """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` (or one header of static inline
     functions when ``header_only``).  Returns ``{file name: text}``.  ``progress`` (optional) is
-    called with a short text as each function's C is built."""
+    called with a short text as each function's C is built.  ``size_report`` (optional): called
+    with the rendered files, returns an object with ``sizes`` ({C function name: (text bytes,
+    stack bytes)}), ``doubles`` (double-precision routines referenced) and ``toolchain`` (what
+    measured them); the header then documents each function's size and stack use."""
     functions = [f for f in ALL_OUTPUTS if f in (functions or eqs.output_names)]
     prefix = eqs.robot.name
     built = []
@@ -398,10 +403,21 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "notes": [comment_text(note) for note in notes],
         "math_header": True,
         "float_header": any(f.returns == "int" for f in built),
+        "size_target": "",
+        "size_doubles": "",
     }
     env = template_environment()
     header = env.get_template("dynamics.h.j2").render(**context)
     files = {f"{prefix}_dynamics.h": header}
     if not header_only:
         files[f"{prefix}_dynamics.c"] = env.get_template("dynamics.c.j2").render(**context)
+    if size_report is not None and not header_only:
+        report = size_report(dict(files))
+        for f in built:
+            text, stack = report.sizes.get(f"{prefix}_{f.name}", (None, None))
+            if text is not None:
+                f.size_text = f"Cortex-M4: {text} bytes of code, {stack} bytes of stack (measured as stated at the top)."
+        context["size_target"] = report.toolchain
+        context["size_doubles"] = ", ".join(report.doubles) or "none"
+        files[f"{prefix}_dynamics.h"] = env.get_template("dynamics.h.j2").render(**context)
     return files

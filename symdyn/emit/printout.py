@@ -14,6 +14,9 @@ from ..derive.derivation import Derivation
 from .emission import source_label, template_environment
 
 FORMATS = ("text", "latex", "markdown")
+METHOD_TITLES = {"lagrange-euler": "Lagrange–Euler", "newton-euler": "Newton–Euler",
+                 "jacobian-newton-euler": "the Jacobian-projected Newton–Euler equations",
+                 "articulated-body": "the articulated-body algorithm"}
 TEMPLATES = {"text": "derivation.txt.j2", "latex": "derivation.tex.j2", "markdown": "derivation.md.j2"}
 
 _SUP = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
@@ -47,6 +50,30 @@ _NAMES = {
     "vdot_w": (r"\dot{{v}}_{{{i}}}", "v̇{I}"),
     "fJ": (r"f_{{J{i}}}", "f_J{I}"),
     "tJ": (r"t_{{J{i}}}", "t_J{I}"),
+    "X": (r"{{}}^{{{i}}}X_{{{p}}}", "{S}X{P_}"),
+    "I": (r"\bar{{I}}_{{{i}}}", "Ī{I}"),
+    "v": (r"\bar{{v}}_{{{i}}}", "v̄{I}"),
+    "cbar": (r"\bar{{c}}_{{{i}}}", "c̄{I}"),
+    "p": (r"\bar{{p}}_{{{i}}}", "p̄{I}"),
+    "U": (r"\bar{{U}}_{{{i}}}", "Ū{I}"),
+    "d": (r"d_{{{i}}}", "d{I}"),
+    "aba_u": (r"u_{{{i}}}", "u{I}"),
+    "Ia": (r"\bar{{I}}^{{a}}_{{{i}}}", "Īᵃ{I}"),
+    "pa": (r"\bar{{p}}^{{a}}_{{{i}}}", "p̄ᵃ{I}"),
+    "IA": (r"\bar{{I}}^{{A}}_{{{i}}}", "Īᴬ{I}"),
+    "pA": (r"\bar{{p}}^{{A}}_{{{i}}}", "p̄ᴬ{I}"),
+    "ap": (r"\bar{{a}}'_{{{i}}}", "ā'{I}"),
+    "qdd": (r"\ddot{{q}}_{{{i}}}", "q̈{I}"),
+    "a": (r"\bar{{a}}_{{{i}}}", "ā{I}"),
+    "b": (r"\boldsymbol{{b}}_{{{i}}}", "b{I}"),
+    "A": (r"\boldsymbol{{A}}_{{{i}}}", "A{I}"),
+    "pa0": (r"\bar{{p}}^{{a}}_{{{i}}}\big|_{{\tau=0}}", "p̄ᵃ{I}|τ=0"),
+    "k": (r"\boldsymbol{{k}}_{{{i}}}", "k{I}"),
+    "k1": (r"\boldsymbol{{k}}_{{{i}}}", "k{I}"),
+    "k0": (r"\boldsymbol{{k}}_{{{i}}}", "k{I}"),
+    "column": (r"\begin{{bmatrix}} \boldsymbol{{e}} \\ \boldsymbol{{d}} \end{{bmatrix}}_{{{i}}}", "[e; d]{I}"),
+    "Dmap": (r"\boldsymbol{{D}}", "D"),
+    "W": (r"W_{{{i},{j}}}", "W{I},{J}"),
     "D": (r"D(q)", "D(q)"),
     "h": (r"h(q, \dot{{q}})", "h(q, q̇)"),
     "c": (r"c(q)", "c(q)"),
@@ -63,6 +90,7 @@ def quantity_name(kind: str, indices: tuple[int, ...], fmt: str) -> str:
     if fmt == "text":
         up = dict(zip("IJKM", [k.translate(_SUB) for k in keys.values()]))
         return text.format(P=str(indices[0] - 1).translate(_SUP) if indices else "",
+                           P_=str(indices[0] - 1).translate(_SUB) if indices else "",
                            S=str(indices[0]).translate(_SUP) if indices else "", **up)
     return latex.format(p=indices[0] - 1 if indices else "", **keys)
 
@@ -72,6 +100,22 @@ def _rounded(value):
     the robot file) shown with 6 significant digits; integers and symbols unchanged."""
     numbers = [a for a in value.atoms(sp.Number) if a.is_Float or (a.is_Rational and not a.is_Integer)]
     return value.xreplace({a: sp.Float(a, 6) for a in numbers}) if numbers else value
+
+
+_LATEX_NAME = __import__("re").compile(r"(IA|Ia|pA|pa0|pa|ap|u0)_(.+)\Z")
+_LATEX_HEAD = {"IA": r"\bar{I}^{A}", "Ia": r"\bar{I}^{a}", "pA": r"\bar{p}^{A}", "pa": r"\bar{p}^{a}",
+               "pa0": r"\bar{p}^{a0}", "ap": r"\bar{a}'", "u0": r"u^{0}"}
+
+
+def _latex(value) -> str:
+    """``sp.latex`` with the articulated-body algorithm's names typeset as in the seed
+    (``IA_2,15`` as I-bar^A_{2,15}, ``ap_3,x`` as a-bar'_{3,x}, ...)."""
+    names = {}
+    for sym in getattr(value, "free_symbols", ()):
+        match = _LATEX_NAME.match(sym.name)
+        if match:
+            names[sym] = f"{_LATEX_HEAD[match.group(1)]}_{{{match.group(2)}}}"
+    return sp.latex(value, symbol_names=names) if names else sp.latex(value)
 
 
 class _Printer:
@@ -86,7 +130,7 @@ class _Printer:
         value = _rounded(sp.sympify(value))
         if self.fmt == "text":
             return sp.pretty(value, use_unicode=True, num_columns=100)
-        return sp.latex(value)
+        return _latex(value)
 
     def lines(self, value) -> list[str]:
         """The value as display lines (LaTeX: terms of a long sum grouped per line)."""
@@ -95,7 +139,7 @@ class _Printer:
             return [self.value(value)]
         lines, current = [], ""
         for k, term in enumerate(value.as_ordered_terms()):
-            text = sp.latex(term)
+            text = _latex(term)
             if k > 0:
                 text = "- " + text[1:].lstrip() if text.startswith("-") else "+ " + text
             if current and len(current) + len(text) > self.LINE:
@@ -109,7 +153,7 @@ class _Printer:
     def is_wide(self, value) -> bool:
         if not isinstance(value, sp.MatrixBase):
             return False
-        return any(len(sp.latex(_rounded(sp.sympify(e)))) > 60 for e in value)
+        return any(len(_latex(_rounded(sp.sympify(e)))) > 60 for e in value)
 
 
 def _items(printer: _Printer, fmt: str, kind: str, indices, value):
@@ -123,7 +167,8 @@ def _items(printer: _Printer, fmt: str, kind: str, indices, value):
             for c in range(cols):
                 if symmetric and c < r:
                     continue
-                if value[r, c] == 0 and kind in ("base_transform", "link_transform", "u", "u3"):
+                if value[r, c] == 0 and kind in ("base_transform", "link_transform", "u", "u3", "X", "I",
+                                                  "IA", "Ia", "A", "Dmap"):
                     continue
                 index = f"{r + 1}{c + 1}" if cols > 1 else f"{r + 1}"
                 if kind in ("D", "h", "c"):  # entries of the results: D_ik, h_i, c_i
@@ -170,7 +215,7 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
                   for label, placement in (("base", robot.base), ("tool", robot.tool)) if placement is not None]
     context = {
         "robot": robot.name, "dof": robot.dof, "convention": robot.convention,
-        "method": derivation.method, "steps": derivation.steps, "closed_form": derivation.closed_form,
+        "method": derivation.method, "method_title": METHOD_TITLES[derivation.method], "steps": derivation.steps, "closed_form": derivation.closed_form,
         "version": __version__, "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
         "gravity": printer.value(sp.Matrix(robot.base_gravity).T if fmt == "text" else sp.Matrix(robot.base_gravity)),

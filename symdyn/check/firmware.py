@@ -1,0 +1,75 @@
+"""Code size and stack use of generated C on a Cortex-M4 (single-precision FPU), measured with
+``arm-none-eabi-gcc`` (Debian/Ubuntu: ``gcc-arm-none-eabi`` and ``libnewlib-arm-none-eabi``).
+
+:func:`measure` compiles a generated ``NAME_dynamics.c`` with :data:`FLAGS` plus
+``-fstack-usage`` and reads each function's text size (``arm-none-eabi-nm --size-sort -S``) and
+stack use (the ``.su`` file), and the double-precision routines it references (``__aeabi_d*``,
+and double ``sin``/``cos``/``sqrt``/``fabs``): float C must reference none.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import tempfile
+from dataclasses import dataclass
+
+from ..model.errors import SymdynError
+
+COMPILER = "arm-none-eabi-gcc"
+NM = "arm-none-eabi-nm"
+FLAGS = ("-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16", "-O2", "-std=c99")
+DOUBLE_LIBM = ("sin", "cos", "sqrt", "fabs", "sincos", "pow")
+
+
+@dataclass(frozen=True)
+class FirmwareReport:
+    """``sizes``: function name -> (text bytes, stack bytes); ``doubles``: double-precision
+    routines referenced; ``toolchain``: the compiler's version line and flags."""
+
+    sizes: dict
+    doubles: tuple
+    toolchain: str
+
+
+def available() -> bool:
+    return shutil.which(COMPILER) is not None and shutil.which(NM) is not None
+
+
+def measure(files: dict, prefix: str) -> FirmwareReport:
+    """Compile ``files`` (``{name: text}`` with ``PREFIX_dynamics.c`` and its header) for a
+    Cortex-M4 and report sizes, stack use and double routines.  Raises
+    :class:`~symdyn.model.errors.SymdynError` when the toolchain is missing or the compile fails."""
+    if not available():
+        raise SymdynError(f"the size report needs {COMPILER} and {NM} (Debian/Ubuntu: apt install "
+                          "gcc-arm-none-eabi libnewlib-arm-none-eabi)")
+    with tempfile.TemporaryDirectory(prefix="symdyn-firmware-") as work:
+        for name, text in files.items():
+            with open(os.path.join(work, name), "w", encoding="utf-8") as handle:
+                handle.write(text)
+        source = f"{prefix}_dynamics.c"
+        obj = f"{prefix}_dynamics.o"
+        result = subprocess.run([COMPILER, *FLAGS, "-fstack-usage", "-c", source, "-o", obj],
+                                cwd=work, capture_output=True, text=True)
+        if result.returncode != 0:
+            raise SymdynError(f"{COMPILER} failed on {source}: {result.stderr.strip()[:2000]}")
+        sizes: dict[str, list[int]] = {}
+        listing = subprocess.run([NM, "--size-sort", "-S", obj], cwd=work, capture_output=True, text=True, check=True)
+        for line in listing.stdout.splitlines():
+            parts = line.split()
+            if len(parts) == 4 and parts[2] in "Tt":
+                sizes[parts[3]] = [int(parts[1], 16), 0]
+        with open(os.path.join(work, f"{prefix}_dynamics.su"), encoding="utf-8") as handle:
+            for line in handle:
+                fields = line.rstrip("\n").split("\t")
+                if len(fields) >= 2 and fields[0].rsplit(":", 1)[-1] in sizes:
+                    sizes[fields[0].rsplit(":", 1)[-1]][1] = int(fields[1])
+        undefined = subprocess.run([NM, "-u", obj], cwd=work, capture_output=True, text=True, check=True).stdout.split()
+        doubles = tuple(sorted(u for u in undefined if u.startswith("__aeabi_d") or u in DOUBLE_LIBM))
+        version = subprocess.run([COMPILER, "--version"], capture_output=True, text=True).stdout.splitlines()
+    toolchain = f"{version[0].strip() if version else COMPILER} {' '.join(FLAGS)}"
+    return FirmwareReport({k: tuple(v) for k, v in sizes.items()}, doubles, toolchain)
+
+
+__all__ = ["FirmwareReport", "measure", "available", "FLAGS"]
