@@ -46,7 +46,7 @@ def test_regeneration_is_byte_identical(regenerated):
             assert fresh == checked_in, f"generated/{name}_dynamics.{ext} is stale: run the command in docs"
 
 
-def _compare(lib, name, precision, tolerance):
+def _compare(lib, name, precision, tolerance, functions=OUTPUTS):
     import symdyn
     from helpers import robot_path
     robot = symdyn.load(robot_path(name))
@@ -58,7 +58,7 @@ def _compare(lib, name, precision, tolerance):
         if precision == "float":
             state = [x.astype(np.float32).astype(float) for x in state]
         states.append(state)
-    errors = compare(lib, ref, states, OUTPUTS, p)
+    errors = compare(lib, ref, states, functions, p)
     bad = {k: v for k, v in errors.items() if not v <= tolerance}
     assert not bad, f"{name} {precision}: {bad}"
 
@@ -78,11 +78,14 @@ def test_compiled_float_agrees_with_pinocchio(name, tmp_path):
     import symdyn
     from helpers import robot_path
     robot = symdyn.load(robot_path(name))
+    # chain12 (12 joints, the slowest to build): the functions where float is hardest; its
+    # other functions are checked in double, and in float on the other robots
+    functions = ("inverse_dynamics", "mass_matrix", "forward_dynamics") if name == "chain12" else symdyn.OUTPUTS
     files = {k: v.decode() for k, v in
-             generate_files(robot_path(name), symdyn.OUTPUTS, "float", False, "newton-euler").items()}
+             generate_files(robot_path(name), functions, "float", False, "newton-euler").items()}
     assert "sinf(" in files[f"{name}_dynamics.c"] or robot.dof and "sin(" not in files[f"{name}_dynamics.c"]
     lib = build_and_load(files, name, robot.dof, len(robot.parameters), "float", str(tmp_path))
-    _compare(lib, name, "float", 1e-4)
+    _compare(lib, name, "float", 1e-4, functions)
 
 
 HARNESS = r"""

@@ -178,7 +178,7 @@ def test_generated_c_for_general_robot_compiles_and_agrees(tmp_path, capsys, gen
     """The CLI end to end on the general robot: generate, then verify (compiled C against
     Pinocchio, every function) in double and float; the combined NAME_kinematics gives the
     same pose and Jacobian as the two single functions."""
-    assert main(["generate", GENERAL, "--out", str(tmp_path), "--quiet", "--no-cache"]) == 0
+    assert main(["generate", GENERAL, "--out", str(tmp_path), "--quiet"]) == 0
     header = (tmp_path / "general_arm_dynamics.h").read_text()
     assert "void general_arm_jacobian(const general_arm_real *q, general_arm_real *J);" in header
     assert "void general_arm_kinematics(const general_arm_real *q, general_arm_real *T, general_arm_real *J);" in header
