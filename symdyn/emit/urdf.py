@@ -13,7 +13,7 @@ angle offset (DH ``theta``) is part of its ``<origin>``, so q = 0 is the same po
 - General links (``origin``/``axis``) are written as they are: origin, axis, COM and inertia.
 
 URDF has no place for some of symdyn's data: gravity (simulators assume (0, 0, -9.81); a
-different one draws a warning and a comment), armature (a warning and a comment per joint);
+different one draws a warning and a comment), armature and passive joints (a warning and a comment per joint);
 revolute and prismatic joints need a ``<limit>``, so the robot's limits are written with
 :data:`DEFAULT_LIMITS` for what it does not give.  Numbers are ``repr(float)``; the output is
 deterministic (the same robot gives the same bytes).
@@ -116,7 +116,7 @@ def robot_to_urdf(robot: Robot) -> str:
                   '  <link name="base"/>']
         parent = "base"
     post = sp.eye(4)  # the previous link's frame in the previous URDF link frame
-    armature = []
+    armature, passive = [], []
     for k, link in enumerate(robot.links):
         what = f"link {k + 1} ('{link.name}')"
         fixed = sp.eye(4) if link.fixed is None else sp.Matrix(4, 4, list(link.fixed))
@@ -148,6 +148,10 @@ def robot_to_urdf(robot: Robot) -> str:
             unit = "kg m^2" if link.is_revolute else "kg"
             lines.append("    " + _comment(f"armature {_number(link.armature, what)} {unit}: URDF has no rotor "
                                           "inertia, left out"))
+        if not link.actuated:
+            passive.append(link.name)
+            lines.append("    " + _comment("passive joint (actuated: false, tau = 0): URDF has no such "
+                                          "attribute"))
         lines.append("  </joint>")
         lines.append(f'  <link name="{child}">')
         if link.mass != 0 or any(v != 0 for v in link.inertia):
@@ -167,4 +171,8 @@ def robot_to_urdf(robot: Robot) -> str:
     if armature:
         warn(f"{source}: armature of {', '.join(armature[:6])}{' ...' if len(armature) > 6 else ''} is left "
              "out of the URDF (URDF has no rotor inertia; the values are in comments)")
+    if passive:
+        warn(f"{source}: {', '.join(passive[:6])}{' ...' if len(passive) > 6 else ''} "
+             f"{'is a passive joint' if len(passive) == 1 else 'are passive joints'} (actuated: false), which "
+             "URDF cannot say: written as ordinary joints, with a comment")
     return "\n".join(lines)
