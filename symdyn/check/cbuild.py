@@ -42,6 +42,7 @@ class CompiledDynamics:
         self.lib = ctypes.CDLL(library)
         self.prefix, self.n, self.np = prefix, dof, n_params
         self.actuated = dof if actuated is None else actuated
+        self.base_columns = 0  # set by callers of base_regressor (the number of base parameters)
         single = precision in ("float", "mixed")
         self.ctype = ctypes.c_float if single else ctypes.c_double
         self.dtype = np.float32 if single else np.float64
@@ -83,6 +84,16 @@ class CompiledDynamics:
 
     def jacobian_dot_qd(self, q, qd, p=None):
         return self._call("jacobian_dot_qd", (q, qd), p, 6)
+
+    def regressor(self, q, qd, qdd, p=None):
+        """``Y`` (n, 13 n) from ``NAME_regressor``."""
+        return self._call("regressor", (q, qd, qdd), p, 13 * self.n * self.n).reshape(self.n, 13 * self.n)
+
+    def base_regressor(self, q, qd, qdd, p=None, columns: int | None = None):
+        """``Y_b`` (n, ``columns``) from ``NAME_base_regressor`` (``columns``: the number of base
+        parameters, default ``self.base_columns``)."""
+        count = columns or self.base_columns
+        return self._call("base_regressor", (q, qd, qdd), p, count * self.n).reshape(self.n, count)
 
     def reaction_map(self, q, qd, p=None):
         """``[k0 | D]`` (6, 1 + actuated joints) from ``NAME_reaction_map(q, qd, [p,] k0, D)``."""

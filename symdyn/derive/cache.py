@@ -88,7 +88,7 @@ def robot_fingerprint(robot) -> str:
 
 
 #: modules whose code decides what a derivation produces
-DERIVATION_MODULES = ("derive/articulated_body", "derive/chain", "derive/composite", "derive/equations", "derive/jacobian_newton_euler", "derive/kinematics",
+DERIVATION_MODULES = ("derive/articulated_body", "derive/chain", "derive/composite", "derive/equations", "derive/jacobian_newton_euler", "derive/kinematics", "derive/regressor",
                       "derive/lagrange_euler", "derive/newton_euler", "derive/program", "derive/tool", "model/expr",
                       "model/geometry", "model/outputs", "model/robot")
 

@@ -41,6 +41,8 @@ import sympy as sp
 from ..model.errors import SymdynError
 from .articulated_body import forward_dynamics as articulated_body_fd
 from .articulated_body import reaction_map
+from .regressor import base_parameters as find_base_parameters
+from .regressor import regressor as regressor_matrix
 from .chain import make_chain
 from .composite import mass_matrix as composite_mass_matrix
 from .jacobian_newton_euler import JacobianNewtonEuler
@@ -85,6 +87,9 @@ class Equations:
     pivots: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
     #: how forward dynamics was solved ("ldlt" or "aba"; empty when it was not derived)
     fd_method: str = ""
+    #: the base parameters, ``(name, expression in the standard parameters)`` per column of
+    #: ``base_regressor`` (:mod:`symdyn.derive.regressor`); empty when it was not derived
+    base_parameters: tuple[tuple[str, sp.Expr], ...] = ()
 
     @property
     def n(self) -> int:
@@ -118,6 +123,10 @@ class Equations:
                         doc="tool Jacobian, 6 x n: linear (rows 0-2) and angular velocity, world axes")
     jacobian_dot_qd = property(lambda self: self.output("jacobian_dot_qd"),
                                doc="J-dot qd, 6 x 1: tool classical acceleration at qdd = 0, world axes")
+    regressor = property(lambda self: self.output("regressor"),
+                         doc="Y, n x 13n: tau = Y pi (standard parameters, symdyn.derive.regressor)")
+    base_regressor = property(lambda self: self.output("base_regressor"),
+                              doc="Y_b, n x (base parameters): tau = Y_b beta")
     reaction_map = property(lambda self: self.output("reaction_map"),
                             doc="[k0 | D], 6 x (1 + actuated joints): the base wrench on body 1 "
                                 "[n; f] = k0 + D tau_H in the base frame (moment about its origin first)")
@@ -362,9 +371,35 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
         report("reaction_map (articulated-body recursion at tau = 0, eqs. 5-14 of seed 004)")
         result["reaction_map"] = reaction_map(chain, friction.subs({v: 0 for v in qdd})).matrix
 
+    base: tuple = ()
+    if need & {"regressor", "base_regressor"}:
+        report("regressor (spatial Newton-Euler, linear in the standard parameters)")
+        Y = regressor_matrix(chain)
+        result["regressor"] = Y
+        if "base_regressor" in need:
+            geometric = set()
+            for link in robot.links:
+                placement = [link.a, link.alpha, link.d, link.theta, *(link.fixed or ()), *(link.axis or ()),
+                             *(link.origin.expressions() if link.origin else ())]
+                geometric |= set().union(*(sp.sympify(e).free_symbols for e in placement))
+            geometric |= set().union(*(sp.sympify(e).free_symbols for e in robot.base_matrix()))
+            if geometric:
+                names = ", ".join(sorted(s.name for s in geometric))
+                raise SymdynError(f"{robot.source or robot.name}: base parameters need a numeric geometry, but "
+                                  f"{names} (in the link placements) {'is' if len(geometric) == 1 else 'are'} "
+                                  "symbolic: their regrouping coefficients depend on it (give values, or use "
+                                  "the full regressor)")
+            report("base parameters (QR of the regressor stacked at random states)")
+            evaluate = compile_function([q, qd, qdd, robot.parameters], b.build(), Y, "regressor_rank")
+            values = np.random.default_rng(3).uniform(0.5, 1.5, len(robot.parameters))
+            found = find_base_parameters(robot, lambda *state: evaluate(*state, values))
+            result["base_regressor"] = Y[:, list(found.independent)]
+            base = tuple(zip(found.names, found.expressions))
+
     outputs_tuple = tuple((name, sp.ImmutableMatrix(result[name])) for name in ALL_OUTPUTS if name in wanted)
     return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,
                      program=b.build(), outputs=outputs_tuple,
                      seconds=time.perf_counter() - start,
                      pivots=pivots if "forward_dynamics" in wanted else (),
-                     fd_method=fd_method if "forward_dynamics" in wanted else "")
+                     fd_method=fd_method if "forward_dynamics" in wanted else "",
+                     base_parameters=base if "base_regressor" in wanted else ())

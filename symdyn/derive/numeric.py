@@ -118,6 +118,14 @@ class NumericEquations:
         """J-dot qd (6,): classical acceleration of the tool at qdd = 0, world axes."""
         return self._call("jacobian_dot_qd", (q, qd), p)
 
+    def regressor(self, q, qd, qdd, p=None):
+        """``Y`` (n, 13 n): tau = Y pi for the standard parameters (symdyn.derive.regressor)."""
+        return self._call("regressor", (q, qd, qdd), p)
+
+    def base_regressor(self, q, qd, qdd, p=None):
+        """``Y_b`` (n, number of base parameters): tau = Y_b beta."""
+        return self._call("base_regressor", (q, qd, qdd), p)
+
     def reaction_map(self, q, qd, p=None):
         """``[k0 | D]`` (6, 1 + actuated joints): the wrench ``[n; f]`` the base exerts on body 1,
         in the base frame, is ``k0 + D tau_H`` for the actuated joints' forces ``tau_H``."""

@@ -36,6 +36,8 @@ OUTPUT_ARGS = {
     "forward_dynamics": ("qdd", "joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N"),
     "forward_kinematics": ("T", "pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)"),
     "jacobian": ("J", "tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)"),
+    "regressor": ("Y", "regressor, N*P row-major (P = 13 N standard parameters in the order listed above): tau = Y pi"),
+    "base_regressor": ("Yb", "base regressor, N*NB row-major (NB base parameters in the order listed above): tau = Yb beta"),
     "jacobian_dot_qd": ("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),
 }
 
@@ -58,6 +60,8 @@ SUMMARIES = {
     "forward_kinematics": "Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",
     "jacobian": "Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.",
     "jacobian_dot_qd": "J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.",
+    "regressor": "Inverse dynamics in linear form: the regressor Y(q, qd, qdd) with tau = Y pi, pi the standard parameters (13 per link: mass, first moment, inertia about the link origin, armature, viscous and Coulomb friction).",
+    "base_regressor": "Inverse dynamics in the base parameters: the columns of the regressor that the identifiable combinations beta of the standard parameters multiply, tau = Yb beta.",
     "reaction_map": "Force-to-torque map (seed 004 of the design notes, eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).",
     "kinematics": "Pose and Jacobian of the tool in one call: the same results as NAME_forward_kinematics and NAME_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).",
 }
@@ -354,6 +358,40 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused)
 
 
+def _nominal_standard(robot):
+    """The standard parameters' values as floats (None where a parameter has no value)."""
+    from ..derive.regressor import standard_parameters
+    values = robot.nominal_values()
+    out = []
+    for expr in standard_parameters(robot):
+        expr = sp.sympify(expr).xreplace(values)
+        out.append(float(expr) if expr.is_number else None)
+    return out
+
+
+def _regressor_parameters(eqs: Equations):
+    """(index, name, meaning, nominal value or None) of each standard parameter."""
+    from ..derive.regressor import LINK_PARAMETERS, PARAMETER_DOCS, parameter_names
+    nominal = _nominal_standard(eqs.robot)
+    names = parameter_names(eqs.robot)
+    return [(k, names[k], PARAMETER_DOCS[LINK_PARAMETERS[k % len(LINK_PARAMETERS)]], nominal[k])
+            for k in range(len(names))]
+
+
+def _base_parameters(eqs: Equations):
+    """(index, name, expression text, nominal value or None) of each base parameter."""
+    from ..derive.regressor import parameter_names
+    nominal = dict(zip(parameter_names(eqs.robot), _nominal_standard(eqs.robot)))
+    rows = []
+    for k, (name, expr) in enumerate(eqs.base_parameters):
+        value = None
+        if all(nominal.get(s.name) is not None for s in expr.free_symbols):
+            value = float(expr.xreplace({s: nominal[s.name] for s in expr.free_symbols}))
+        text = sp.sstr(expr.xreplace({f: sp.Float(f, 10) for f in expr.atoms(sp.Float)}), full_prec=False)
+        rows.append((k, name, text, value))
+    return rows
+
+
 def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
                source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = (),
                progress=None, size_report=None) -> dict[str, str]:
@@ -405,6 +443,8 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "float_header": any(f.returns == "int" for f in built),
         "size_target": "",
         "size_doubles": "",
+        "regressor_parameters": _regressor_parameters(eqs) if "regressor" in functions else [],
+        "base_parameters": _base_parameters(eqs) if "base_regressor" in functions else [],
     }
     env = template_environment()
     header = env.get_template("dynamics.h.j2").render(**context)

@@ -6,10 +6,10 @@ from __future__ import annotations
 OUTPUTS = ("inverse_dynamics", "mass_matrix", "coriolis", "coriolis_matrix", "gravity",
            "forward_dynamics", "forward_kinematics", "jacobian", "jacobian_dot_qd")
 
-#: outputs derived and generated only when asked for (``--functions``), or by default for a robot
-#: with passive joints (``actuated: false``): the base reaction wrench as an affine map of the
-#: actuated torques (seed 004)
-EXTRA_OUTPUTS = ("reaction_map",)
+#: outputs derived and generated only when asked for (``--functions``): the base reaction wrench
+#: as an affine map of the actuated torques (seed 004; by default for a robot with passive joints,
+#: ``actuated: false``), and the identification regressors (tau = Y pi, tau = Y_b beta)
+EXTRA_OUTPUTS = ("reaction_map", "regressor", "base_regressor")
 
 #: every output symdyn can produce
 ALL_OUTPUTS = OUTPUTS + EXTRA_OUTPUTS
@@ -36,6 +36,8 @@ OUTPUT_INPUTS = {
     "jacobian": ("q",),
     "jacobian_dot_qd": ("q", "qd"),
     "reaction_map": ("q", "qd"),
+    "regressor": ("q", "qd", "qdd"),
+    "base_regressor": ("q", "qd", "qdd"),
 }
 
 #: the symbol of each output in the notes (and the name of its output argument everywhere)
@@ -50,6 +52,8 @@ OUTPUT_SYMBOLS = {
     "jacobian": "J",
     "jacobian_dot_qd": "a",
     "reaction_map": "k0_D",
+    "regressor": "Y",
+    "base_regressor": "Yb",
 }
 
 
@@ -58,4 +62,5 @@ def output_shape(name: str, n: int, actuated: int | None = None) -> tuple[int, i
     default all): the reaction map is ``[k0 | D]``, 6 x (1 + actuated)."""
     return {"forward_kinematics": (4, 4), "jacobian": (6, n), "jacobian_dot_qd": (6, 1),
             "mass_matrix": (n, n), "coriolis_matrix": (n, n),
-            "reaction_map": (6, 1 + (n if actuated is None else actuated))}.get(name, (n, 1))
+            "reaction_map": (6, 1 + (n if actuated is None else actuated)),
+            "regressor": (n, 13 * n)}.get(name, (n, 1))
