@@ -9,10 +9,10 @@ import warnings
 
 from .._version import __version__
 from ..model.errors import SymdynError, SymdynWarning, one_line
-from . import bench, convert, derive, generate, verify
+from . import bench, convert, derive, generate, identify, verify
 
 SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive, "bench": bench,
-               "convert": convert}
+               "convert": convert, "identify": identify}
 
 
 def build_parser() -> argparse.ArgumentParser:

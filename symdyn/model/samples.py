@@ -1,0 +1,109 @@
+"""Measured samples for identification: a CSV file of joint positions, rates, accelerations and
+torques (``symdyn identify``).
+
+Format: UTF-8 text, comma-separated, a header row naming the columns, then one sample per row.
+For a robot of n joints the columns are ``q1..qn``, ``qd1..qdn``, ``qdd1..qddn`` and
+``tau1..taun`` (rad, rad/s, rad/s^2, N m; m, m/s, m/s^2, N for prismatic joints), in any order,
+each exactly once and nothing else.  Lines starting with ``#`` are comments.  Every value must be
+a finite number.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import stat
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import SymdynError
+
+#: largest data file read (bytes)
+MAX_SAMPLES_BYTES = 512 * 1024 * 1024
+GROUPS = ("q", "qd", "qdd", "tau")
+
+
+@dataclass(frozen=True)
+class Samples:
+    """Arrays of shape (samples, n): positions, rates, accelerations, torques."""
+
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    tau: np.ndarray
+
+    @property
+    def count(self) -> int:
+        return self.q.shape[0]
+
+
+def expected_columns(n: int) -> list[str]:
+    return [f"{g}{k + 1}" for g in GROUPS for k in range(n)]
+
+
+def read_samples(path: str, n: int) -> Samples:
+    """Read and check a samples file for a robot of ``n`` joints (see the module's
+    documentation); a problem raises :class:`SymdynError` naming the file, row and column."""
+    name = os.path.basename(path)
+    try:
+        info = os.stat(path)
+    except OSError as exc:
+        raise SymdynError(f"{name}: cannot read the file: {exc.strerror or exc}") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise SymdynError(f"{name}: is not a regular file")
+    if info.st_size > MAX_SAMPLES_BYTES:
+        raise SymdynError(f"{name}: {info.st_size} bytes, more than the {MAX_SAMPLES_BYTES} a samples file may have")
+    try:
+        with open(path, "rb") as handle:
+            text = handle.read(MAX_SAMPLES_BYTES + 1).decode("utf-8")
+    except UnicodeDecodeError:
+        raise SymdynError(f"{name}: the file is not UTF-8 text") from None
+    except OSError as exc:
+        raise SymdynError(f"{name}: cannot read the file: {exc.strerror or exc}") from None
+    lines = [(k + 1, line) for k, line in enumerate(text.splitlines()) if line.strip() and not line.lstrip().startswith("#")]
+    if not lines:
+        raise SymdynError(f"{name}: no header row (expected the columns {', '.join(expected_columns(n)[:3])}, ...)")
+    rows = list(csv.reader(io.StringIO("\n".join(line for _, line in lines))))
+    header = [h.strip() for h in rows[0]]
+    expected = expected_columns(n)
+    missing = [c for c in expected if c not in header]
+    extra = [h for h in header if h not in expected]
+    duplicated = sorted({h for h in header if header.count(h) > 1})
+    if missing or extra or duplicated:
+        problems = []
+        if missing:
+            problems.append(f"missing {', '.join(missing[:6])}{' ...' if len(missing) > 6 else ''}")
+        if extra:
+            problems.append(f"unexpected {', '.join(repr(e) for e in extra[:6])}{' ...' if len(extra) > 6 else ''}")
+        if duplicated:
+            problems.append(f"repeated {', '.join(duplicated)}")
+        raise SymdynError(f"{name}: wrong columns for a robot of {n} joints ({'; '.join(problems)}); the header "
+                          f"must name q1..q{n}, qd1..qd{n}, qdd1..qdd{n} and tau1..tau{n} ({4 * n} columns)")
+    data = np.empty((len(rows) - 1, len(header)))
+    for r, row in enumerate(rows[1:]):
+        line_number = lines[r + 1][0]
+        if len(row) != len(header):
+            raise SymdynError(f"{name}: line {line_number} has {len(row)} values, the header {len(header)}")
+        for c, cell in enumerate(row):
+            try:
+                value = float(cell)
+            except ValueError:
+                raise SymdynError(f"{name}: line {line_number}, column {header[c]}: {cell.strip()[:40]!r} is not a number") from None
+            if not math.isfinite(value):
+                raise SymdynError(f"{name}: line {line_number}, column {header[c]}: {cell.strip()} is not a finite number")
+            data[r, c] = value
+    index = {h: k for k, h in enumerate(header)}
+    arrays = [data[:, [index[f"{g}{k + 1}"] for k in range(n)]] for g in GROUPS]
+    return Samples(*arrays)
+
+
+def write_samples(samples: Samples) -> str:
+    """The CSV text of ``samples`` (as :func:`read_samples` reads it)."""
+    n = samples.q.shape[1]
+    out = [",".join(expected_columns(n))]
+    for row in np.hstack([samples.q, samples.qd, samples.qdd, samples.tau]):
+        out.append(",".join(repr(float(v)) for v in row))
+    return "\n".join(out) + "\n"
