@@ -41,6 +41,10 @@ def add_parser(sub) -> None:
                         "reaction_map, which is added when the robot has passive joints)")
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
+    p.add_argument("--parameters", default="standard", choices=("standard", "base"),
+                   help="base: inverse dynamics written in the robot's base parameters (the regrouped "
+                        "inertial parameters zero and folded away; fewer operations on some arms, "
+                        "docs/benchmarks.md); needs a numeric link geometry. Default standard")
     p.add_argument("--size-report", action="store_true",
                    help="compile the C for a Cortex-M4 with arm-none-eabi-gcc (-mcpu=cortex-m4 -mthumb "
                         "-mfloat-abi=hard -mfpu=fpv4-sp-d16 -O2) and document each function's code size and "
@@ -69,7 +73,8 @@ def input_files(path: str) -> list[str]:
 
 def generate_files(path: str, functions, precision, header_only: bool, method: str,
                    use_cache: bool = True, target: str = "c", loaded=None, progress=None,
-                   fd_method: str | None = None, size_report: bool = False) -> dict[str, bytes]:
+                   fd_method: str | None = None, size_report: bool = False,
+                   parameters: str = "standard") -> dict[str, bytes]:
     """Load (robot or scene), derive (cached) and emit; returns {file name: content} without
     writing anything.  ``functions``/``precision`` None: the scene's, else all / double.
     ``loaded``: ``load_input(path)`` when the caller already has it; ``progress``: called with a
@@ -87,7 +92,8 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
     wanted = set(functions)
     if "forward_dynamics" in wanted:
         wanted |= {"mass_matrix"}
-    eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache, progress=progress, fd_method=fd_method)
+    eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache, progress=progress, fd_method=fd_method,
+                        parameters=parameters)
     source = os.path.basename(path)
     if target == "c":
         report = None
@@ -128,7 +134,8 @@ def run(args) -> int:
             for name, text in generate_files(path, functions, args.precision, args.header_only,
                                              args.method, not args.no_cache, args.target,
                                              loaded=inputs, progress=progress_printer(args),
-                                             fd_method=args.fd_method, size_report=args.size_report).items():
+                                             fd_method=args.fd_method, size_report=args.size_report,
+                                             parameters=args.parameters).items():
                 if name in rendered:
                     raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
                 rendered[name] = text

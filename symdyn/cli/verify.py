@@ -34,6 +34,8 @@ def add_parser(sub) -> None:
     p.add_argument("--seed", type=int, default=0, help="random seed for the states (default 0)")
     add_method_option(p)
     add_fd_method_option(p)
+    p.add_argument("--parameters", default="standard", choices=("standard", "base"),
+                   help="base: check inverse dynamics written in the base parameters (as generate --parameters base)")
     add_size_options(p)
     p.set_defaults(run=run)
 
@@ -58,7 +60,8 @@ def run(args) -> int:
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
     wanted = set(functions) | ({"mass_matrix"} if "forward_dynamics" in functions else set())
-    eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision))
+    eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision),
+                         parameters=args.parameters)
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir,

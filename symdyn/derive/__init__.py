@@ -15,14 +15,16 @@ class _CallablePackage(_types.ModuleType):
     """``symdyn.derive`` is this package and, called, the public derivation entry point, so that
     both ``symdyn.derive(robot)`` and ``import symdyn.derive.cache`` work."""
 
-    def __call__(self, robot, method: str = "newton-euler", outputs=None, progress=None, fd_method: str = "ldlt"):
+    def __call__(self, robot, method: str = "newton-euler", outputs=None, progress=None, fd_method: str = "ldlt",
+                 parameters: str = "standard"):
         """Derive the equations of motion of ``robot``: see :func:`symdyn.derive.equations.derive`
         (``method``: ``'newton-euler'``, ``'lagrange-euler'`` or ``'jacobian-newton-euler'``;
         ``outputs``: names from ``symdyn.OUTPUTS``, default all; ``progress``: called with a
-        text per part; ``fd_method``: ``'ldlt'`` or ``'aba'`` for forward dynamics).  Returns an
-        immutable ``Equations``."""
+        text per part; ``fd_method``: ``'ldlt'`` or ``'aba'`` for forward dynamics;
+        ``parameters``: ``'standard'`` or ``'base'`` for inverse dynamics).  Returns an immutable
+        ``Equations``."""
         from .equations import derive
-        return derive(robot, method, outputs, progress, fd_method)
+        return derive(robot, method, outputs, progress, fd_method, parameters)
 
 
 _sys.modules[__name__].__class__ = _CallablePackage

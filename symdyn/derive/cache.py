@@ -104,9 +104,10 @@ def code_fingerprint() -> str:
     return digest.hexdigest()
 
 
-def cache_key(robot, method: str, outputs, fd_method: str = "ldlt") -> str:
+def cache_key(robot, method: str, outputs, fd_method: str = "ldlt", parameters: str = "standard") -> str:
     text = "|".join([__version__, code_fingerprint(), robot_fingerprint(robot), method,
-                     ",".join(sorted(outputs))] + ([f"fd={fd_method}"] if fd_method != "ldlt" else []))
+                     ",".join(sorted(outputs))] + ([f"fd={fd_method}"] if fd_method != "ldlt" else [])
+                    + ([f"parameters={parameters}"] if parameters != "standard" else []))
     return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -534,7 +535,7 @@ def _load(path: str, key: str):
 
 
 def derive_cached(robot, method: str = "newton-euler", outputs=None, use_cache: bool = True,
-                  progress=None, fd_method: str = "ldlt") -> Equations:
+                  progress=None, fd_method: str = "ldlt", parameters: str = "standard") -> Equations:
     """:func:`symdyn.derive` with the on-disk cache (``use_cache=False`` bypasses it;
     ``progress`` is passed on to the derivation when one runs; ``fd_method``: how forward
     dynamics is solved, ``'ldlt'`` or ``'aba'``)."""
@@ -542,27 +543,27 @@ def derive_cached(robot, method: str = "newton-euler", outputs=None, use_cache: 
     method = _normalize_method(method)
     wanted = tuple(o for o in ALL_OUTPUTS if o in (outputs or default_outputs(robot)))
     if not use_cache:
-        return derive(robot, method, wanted, progress, fd_method)
-    key = cache_key(robot, method, wanted, fd_method)
+        return derive(robot, method, wanted, progress, fd_method, parameters)
+    key = cache_key(robot, method, wanted, fd_method, parameters)
     directory, name = cache_dir(), f"{key}{SUFFIX}"
     try:
         dir_fd = _open_dir(directory)
     except Untrusted as exc:
         _warn(directory, str(exc))
-        return derive(robot, method, wanted, progress, fd_method)
+        return derive(robot, method, wanted, progress, fd_method, parameters)
     try:
         try:
             secret = _secret(dir_fd)
             blob = _read_file(dir_fd, name, MAX_ENTRY_BYTES)
         except Untrusted as exc:
             _warn(directory, str(exc))
-            return derive(robot, method, wanted, progress, fd_method)
+            return derive(robot, method, wanted, progress, fd_method, parameters)
         if blob is not None:
             fields = unpack(blob, key, secret)
             eqs = _build(robot, method, wanted, fields) if fields is not None else None
             if eqs is not None:
                 return eqs
-        eqs = derive(robot, method, wanted, progress, fd_method)
+        eqs = derive(robot, method, wanted, progress, fd_method, parameters)
         try:
             _write_file(dir_fd, name, pack(eqs, key, secret))
         except CacheFormatError as exc:

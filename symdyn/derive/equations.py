@@ -42,6 +42,7 @@ from ..model.errors import SymdynError
 from .articulated_body import forward_dynamics as articulated_body_fd
 from .articulated_body import reaction_map
 from .regressor import base_parameters as find_base_parameters
+from .regressor import base_equivalent, inverse_dynamics_from_parameters
 from .regressor import regressor as regressor_matrix
 from .chain import make_chain
 from .composite import mass_matrix as composite_mass_matrix
@@ -55,6 +56,9 @@ from ..model.robot import Robot
 from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
 from .tool import tool_kinematics
+
+#: how inverse dynamics is written: in the robot's standard parameters, or in its base parameters
+PARAMETER_FORMS = ("standard", "base")
 
 METHODS = ("newton-euler", "lagrange-euler", "jacobian-newton-euler")
 METHOD_ALIASES = {"ne": "newton-euler", "newton-euler": "newton-euler", "rne": "newton-euler",
@@ -90,6 +94,8 @@ class Equations:
     #: the base parameters, ``(name, expression in the standard parameters)`` per column of
     #: ``base_regressor`` (:mod:`symdyn.derive.regressor`); empty when it was not derived
     base_parameters: tuple[tuple[str, sp.Expr], ...] = ()
+    #: "base" when inverse dynamics was written in the base parameters, else "standard"
+    parameter_form: str = "standard"
 
     @property
     def n(self) -> int:
@@ -245,7 +251,8 @@ FD_METHODS = ("ldlt", "aba")
 
 
 def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | None = None,
-           progress: Callable[[str], None] | None = None, fd_method: str = "ldlt") -> Equations:
+           progress: Callable[[str], None] | None = None, fd_method: str = "ldlt",
+           parameters: str = "standard") -> Equations:
     """Derive the equations of motion of ``robot``.
 
     Parameters
@@ -257,12 +264,17 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     progress : called with a short text as each part starts (for long derivations).
     fd_method : ``'ldlt'`` (solve with D, the default) or ``'aba'`` (articulated-body algorithm)
         for forward dynamics.
+    parameters : ``'standard'`` (default) or ``'base'``: inverse dynamics by the spatial
+        Newton-Euler recursion in the base parameters (the regrouped parameters zero and folded
+        away: fewer operations; :func:`symdyn.derive.regressor.base_equivalent`).
 
     Returns
     -------
     Equations, immutable.
     """
     method = _normalize_method(method)
+    if parameters not in PARAMETER_FORMS:
+        raise ValueError(f"parameters must be one of {', '.join(PARAMETER_FORMS)}, not {parameters!r}")
     if fd_method not in FD_METHODS:
         raise ValueError(f"unknown forward-dynamics method {fd_method!r}; use {' or '.join(FD_METHODS)}")
     wanted = default_outputs(robot) if outputs is None else tuple(outputs)
@@ -372,6 +384,8 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
         result["reaction_map"] = reaction_map(chain, friction.subs({v: 0 for v in qdd})).matrix
 
     base: tuple = ()
+    if parameters == "base" and "inverse_dynamics" in need:
+        need |= {"base_regressor"}
     if need & {"regressor", "base_regressor"}:
         report("regressor (spatial Newton-Euler, linear in the standard parameters)")
         Y = regressor_matrix(chain)
@@ -395,6 +409,9 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             found = find_base_parameters(robot, lambda *state: evaluate(*state, values))
             result["base_regressor"] = Y[:, list(found.independent)]
             base = tuple(zip(found.names, found.expressions))
+            if parameters == "base" and "inverse_dynamics" in need:
+                report("inverse_dynamics from the base parameters")
+                result["inverse_dynamics"] = inverse_dynamics_from_parameters(chain, base_equivalent(robot, found))
 
     outputs_tuple = tuple((name, sp.ImmutableMatrix(result[name])) for name in ALL_OUTPUTS if name in wanted)
     return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,
@@ -402,4 +419,5 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      seconds=time.perf_counter() - start,
                      pivots=pivots if "forward_dynamics" in wanted else (),
                      fd_method=fd_method if "forward_dynamics" in wanted else "",
-                     base_parameters=base if "base_regressor" in wanted else ())
+                     base_parameters=base if ("base_regressor" in wanted or parameters == "base") else (),
+                     parameter_form="base" if (parameters == "base" and "inverse_dynamics" in wanted) else "standard")

@@ -424,7 +424,9 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
         "method": eqs.method + {"aba": "; forward dynamics by the articulated-body algorithm",
-                                "ldlt": "; forward dynamics by LDL^T of D"}.get(eqs.fd_method, ""),
+                                "ldlt": "; forward dynamics by LDL^T of D"}.get(eqs.fd_method, "")
+        + ("; inverse dynamics in the base parameters" if eqs.parameter_form == "base"
+           and "inverse_dynamics" in functions else ""),
         "precision": precision,
         "real": scalar_type(precision),
         "dof": robot.dof,
