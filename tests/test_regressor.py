@@ -171,3 +171,19 @@ def test_inverse_dynamics_in_base_parameters_agrees_with_pinocchio(name):
     assert eqs.parameter_form == "base" and eqs.base_parameters
     errors = compare(eqs.numeric, PinocchioReference(robot), random_states(robot.dof, 20, seed=58), ["inverse_dynamics"])
     assert errors["inverse_dynamics"] <= 1e-10, errors
+
+
+def test_derive_prints_the_base_parameters(capsys):
+    """derive --base-parameters ends with one equation per base parameter, the same expressions
+    as the base regressor's; a symbolic geometry is refused in one line."""
+    from symdyn.cli import main
+    from symdyn.derive.derivation import derive_steps
+    from symdyn.emit.printout import render
+    eqs = _eqs("stanford")
+    d = derive_steps(eqs.robot, "newton-euler", "summary", base_parameters=True)
+    printed = d.section("base_parameters").quantities
+    assert [(q.value.lhs.name, q.value.rhs) for q in printed] == [(n, e) for n, e in eqs.base_parameters]
+    for fmt in ("text", "latex", "markdown"):
+        assert "Base parameters (identification)" in render(d, fmt)
+    assert main(["derive", robot_path("planar2r"), "--base-parameters"]) == 1
+    assert "numeric geometry" in capsys.readouterr().err

@@ -29,6 +29,9 @@ def add_parser(sub) -> None:
                         "(forward dynamics by the three sweeps of the articulated-body algorithm, in the "
                         "named form; with passive joints also the force-to-torque reaction map)")
     add_size_options(p)
+    p.add_argument("--base-parameters", action="store_true",
+                   help="end with the base parameters (identification): each as a combination of the standard "
+                        "parameters (needs a numeric link geometry)")
     p.add_argument("--format", default="text", choices=FORMATS,
                    help="text (Unicode, for the terminal), latex (a complete document for pdflatex) "
                         "or markdown (math blocks that render on GitHub); default text")
@@ -62,7 +65,7 @@ def run(args) -> int:
         protect = input_files(args.robot)
         check_output_dir(directory, option="the directory of --out")
         check_targets(directory, [name], protect)
-    derivation = derive_steps(robot, args.method, args.steps, closed)
+    derivation = derive_steps(robot, args.method, args.steps, closed, args.base_parameters)
     text = render(derivation, args.format, source_name=os.path.basename(args.robot),
                   source_hash=robot.source_hash)
     if args.out:

@@ -118,6 +118,7 @@ KINDS = {
     "W": "W_{j,i} = A_i X_{i+1}^T ... X_j^T b_j, partial product of eq. (10)",
     "column": "[e_j; d_j] = X_1^T A_1 ... X_j^T b_j, base wrench per unit tau_j (eq. 14)",
     "Dmap": "D = [d_1 ... d_na], 6 x na (eq. 13)",
+    "beta": "beta_k, a base parameter: name = combination of the standard parameters",
     "D": "D(q), n x n",
     "h": "h(q, qdot), n x 1",
     "c": "c(q), n x 1",
@@ -377,8 +378,10 @@ def _numbered(program, exprs: list, notation: _Notation):
 
 
 def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all",
-                 closed_form: bool | None = None) -> Derivation:
-    """The derivation of ``robot``'s equations of motion by ``method``, step by step.
+                 closed_form: bool | None = None, base_parameters: bool = False) -> Derivation:
+    """The derivation of ``robot``'s equations of motion by ``method``, step by step
+    (``base_parameters``: with a last section listing the base parameters, each as an equation
+    ``name = expression in the standard parameters``; needs a numeric link geometry).
 
     ``steps='summary'`` keeps the link matrices, inertias and final results only.
     ``closed_form`` defaults to ``robot.dof <= 3``.
@@ -390,7 +393,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
         if closed_form:
             raise ValueError("the articulated-body derivation is printed in the named form only "
                              "(its quantities are rational in the joint variables)")
-        return _articulated_body_steps(robot, steps)
+        return _with_base_parameters(_articulated_body_steps(robot, steps), base_parameters)
     method = _normalize_method(method)
     if steps not in STEPS:
         raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
@@ -555,9 +558,22 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
                                         Quantity("c", (), results[2]))))
     joint = tuple(zip(notation.qdot, chain.qd)) + tuple(zip(notation.qddot, chain.qdd))
-    return Derivation(robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
-                      where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
-                      joint_symbols=joint)
+    return _with_base_parameters(Derivation(
+        robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
+        where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
+        joint_symbols=joint), base_parameters)
+
+
+def _with_base_parameters(derivation: Derivation, wanted: bool) -> Derivation:
+    """``derivation`` with a last section ``base_parameters`` (one equation per base parameter)."""
+    if not wanted:
+        return derivation
+    from dataclasses import replace
+    eqs = derive(derivation.robot, "newton-euler", ["base_regressor"])
+    section = Section("base_parameters", tuple(
+        Quantity("beta", (k + 1,), sp.Eq(sp.Symbol(name, real=True), expr, evaluate=False))
+        for k, (name, expr) in enumerate(eqs.base_parameters)))
+    return replace(derivation, sections=derivation.sections + (section,))
 
 
 def _shower(closed_value, namer):

@@ -74,6 +74,7 @@ _NAMES = {
     "column": (r"\begin{{bmatrix}} \boldsymbol{{e}} \\ \boldsymbol{{d}} \end{{bmatrix}}_{{{i}}}", "[e; d]{I}"),
     "Dmap": (r"\boldsymbol{{D}}", "D"),
     "W": (r"W_{{{i},{j}}}", "W{I},{J}"),
+    "beta": (r"\beta_{{{i}}}", "β{I}"),
     "D": (r"D(q)", "D(q)"),
     "h": (r"h(q, \dot{{q}})", "h(q, q̇)"),
     "c": (r"c(q)", "c(q)"),
