@@ -211,7 +211,10 @@ def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0) -
     if dependent:
         coefficients, *_ = np.linalg.lstsq(W[:, independent], W[:, dependent], rcond=None)
         coefficients[np.abs(coefficients) < 1e-12] = 0.0
-        K[:, dependent] = coefficients
+        # 12 significant digits: the least-squares noise (~1e-15) removed, so that the same robot
+        # gives the same coefficients whatever else is derived with it; geometric coefficients
+        # (products of a few lengths, 0.4318^2 = 0.18645124) come out exact
+        K[:, dependent] = [[float(f"{x:.12g}") for x in row] for row in coefficients]
     names = parameter_names(robot)
     symbols = [sp.Symbol(name, real=True) for name in names]
     base_names, expressions = [], []
