@@ -42,7 +42,7 @@ from ..model.errors import SymdynError
 from .articulated_body import forward_dynamics as articulated_body_fd
 from .articulated_body import reaction_map
 from .regressor import base_parameters as find_base_parameters
-from .regressor import base_equivalent, inverse_dynamics_from_parameters
+from .regressor import base_equivalent
 from .regressor import regressor as regressor_matrix
 from .chain import make_chain
 from .composite import mass_matrix as composite_mass_matrix
@@ -264,9 +264,10 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     progress : called with a short text as each part starts (for long derivations).
     fd_method : ``'ldlt'`` (solve with D, the default) or ``'aba'`` (articulated-body algorithm)
         for forward dynamics.
-    parameters : ``'standard'`` (default) or ``'base'``: inverse dynamics by the spatial
-        Newton-Euler recursion in the base parameters (the regrouped parameters zero and folded
-        away: fewer operations; :func:`symdyn.derive.regressor.base_equivalent`).
+    parameters : ``'standard'`` (default) or ``'base'``: inverse dynamics by the Newton-Euler
+        recursion in first moments (Khalil's form) with the base-equivalent parameters (the
+        regrouped ones zero and folded away: fewer operations;
+        :func:`symdyn.derive.regressor.base_equivalent`).
 
     Returns
     -------
@@ -411,7 +412,11 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             base = tuple(zip(found.names, found.expressions))
             if parameters == "base" and "inverse_dynamics" in need:
                 report("inverse_dynamics from the base parameters")
-                result["inverse_dynamics"] = inverse_dynamics_from_parameters(chain, base_equivalent(robot, found))
+                pi = base_equivalent(robot, found)
+                rigid = joint_forces(chain, qd, qdd, chain.gravity, "B", parameters=pi)
+                result["inverse_dynamics"] = sp.Matrix([
+                    rigid[j] + pi[13 * j + 10] * qdd[j] + pi[13 * j + 11] * qd[j] + pi[13 * j + 12] * sp.sign(qd[j])
+                    for j in range(n)])
 
     outputs_tuple = tuple((name, sp.ImmutableMatrix(result[name])) for name in ALL_OUTPUTS if name in wanted)
     return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,

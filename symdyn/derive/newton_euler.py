@@ -67,11 +67,17 @@ def _skip_zero_cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
 
 
 def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
-              gravity: sp.Matrix, tag: str) -> list[LinkState]:
+              gravity: sp.Matrix, tag: str, parameters: Sequence[sp.Expr] | None = None) -> list[LinkState]:
     """Run Table 3.2 for the given joint rates/accelerations and gravity vector (base frame).
 
     Returns each link's state; ``state.tau`` is the joint force without friction or armature.
     ``tag`` names the intermediate symbols of this run (shared sub-results are reused).
+    ``parameters``: instead of the links' mass, centre of mass and inertia, standard parameters
+    (13 per link, :mod:`symdyn.derive.regressor`: m, first moment MS = m s, inertia J about
+    O_i): then ``F_i = m_i vd_i + omegad_i x MS_i + omega_i x (omega_i x MS_i)`` and
+    ``N_i = J_i omegad_i + omega_i x (J_i omega_i) + MS_i x vd_i`` about O_i (Khalil's form, in
+    which a link may have a first moment without a mass), and ``n_i`` has no ``s_i x F_i``;
+    ``abar`` is then the origin's acceleration ``vd_i``.
     """
     b = chain.builder
     robot = chain.robot
@@ -107,13 +113,24 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             vd_i = b.vector(f"vd{k}{tag}", Rt * vd + _skip_zero_cross(omegad_i, p_star)
                             + _skip_zero_cross(omega_i, wp)
                             + 2 * _skip_zero_cross(omega_i, z * qd[i]) + z * qdd[i])
-        s = sp.Matrix(link.com)
-        ws = b.vector(f"ws{k}{tag}", _skip_zero_cross(omega_i, s))
-        abar = b.vector(f"a{k}{tag}", _skip_zero_cross(omegad_i, s) + _skip_zero_cross(omega_i, ws) + vd_i)
-        F = b.vector(f"F{k}{tag}", link.mass * abar)
-        inertia = sp.Matrix(link.inertia_matrix)
-        Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
-        N = b.vector(f"N{k}{tag}", inertia * omegad_i + _skip_zero_cross(omega_i, Iw))
+        if parameters is None:
+            s = sp.Matrix(link.com)
+            ws = b.vector(f"ws{k}{tag}", _skip_zero_cross(omega_i, s))
+            abar = b.vector(f"a{k}{tag}", _skip_zero_cross(omegad_i, s) + _skip_zero_cross(omega_i, ws) + vd_i)
+            F = b.vector(f"F{k}{tag}", link.mass * abar)
+            inertia = sp.Matrix(link.inertia_matrix)
+            Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
+            N = b.vector(f"N{k}{tag}", inertia * omegad_i + _skip_zero_cross(omega_i, Iw))
+        else:
+            m, mx, my, mz, ixx, ixy, iyy, ixz, iyz, izz = parameters[13 * i:13 * i + 10]
+            moment = sp.Matrix([mx, my, mz])
+            inertia = sp.Matrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+            wm = b.vector(f"wm{k}{tag}", _skip_zero_cross(omega_i, moment))
+            abar = vd_i
+            F = b.vector(f"F{k}{tag}", m * vd_i + _skip_zero_cross(omegad_i, moment) + _skip_zero_cross(omega_i, wm))
+            Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
+            N = b.vector(f"N{k}{tag}", inertia * omegad_i + _skip_zero_cross(omega_i, Iw)
+                         + _skip_zero_cross(moment, vd_i))
         states.append(LinkState(omega_i, omegad_i, vd_i, abar, F, N))
         omega, omegad, vd = omega_i, omegad_i, vd_i
 
@@ -123,7 +140,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
         k = i + 1
         st = states[i]
         link = robot.links[i]
-        s = sp.Matrix(link.com)
+        s = sp.Matrix(link.com) if parameters is None else sp.zeros(3, 1)  # N_i is about O_i then
         if i + 1 < robot.dof:
             T_next = chain.transforms[i + 1]
             f_rot = b.vector(f"Rf{k}{tag}", T_next[:3, :3] * f_next)
@@ -147,7 +164,8 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
     return states
 
 
-def joint_forces(chain: Chain, qd, qdd, gravity, tag: str) -> sp.Matrix:
-    """Column of joint forces/torques (n x 1) of one recursion, without friction and armature."""
-    states = recursion(chain, qd, qdd, gravity, tag)
+def joint_forces(chain: Chain, qd, qdd, gravity, tag: str, parameters=None) -> sp.Matrix:
+    """Column of joint forces/torques (n x 1) of one recursion, without friction and armature
+    (``parameters``: standard parameters instead of the links' own, see :func:`recursion`)."""
+    states = recursion(chain, qd, qdd, gravity, tag, parameters)
     return sp.Matrix([st.tau for st in states])

@@ -227,57 +227,6 @@ def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0) -
                           tuple(base_names), tuple(expressions))
 
 
-def inverse_dynamics_from_parameters(chain: Chain, pi) -> sp.Matrix:
-    """tau (n x 1) by the spatial Newton-Euler recursion written in the standard parameters
-    ``pi`` (13 n expressions, :data:`LINK_PARAMETERS` per link): body forces from the first
-    moments and the inertias about the link origins, so that a link may carry a first moment
-    without a mass, as the base-parameter set does (its regrouped parameters are zero and fold
-    away, Khalil's customized Newton-Euler)."""
-    b = chain.builder
-    robot = chain.robot
-    n = chain.n
-    qd, qdd = chain.qd, chain.qdd
-    axis = [2 if link.is_revolute else 5 for link in robot.links]
-    v_sym, a_sym, body = _body_regressor()
-
-    def vec(hint, v):
-        return sp.Matrix(b.vector(hint, [sp.expand(e) for e in v]))
-
-    X, forces = [], []
-    previous_post = sp.eye(4)
-    velocity = sp.zeros(6, 1)
-    accel = sp.Matrix([0, 0, 0, *[-g for g in chain.gravity]])
-    for j in range(n):
-        k = j + 1
-        geo = chain.geometry[j]
-        pose = previous_post * sp.Matrix(geo.pre) * chain.motions[j]
-        Xj = motion_transform(pose).applyfunc(lambda e: b.define(f"X{k}", sp.expand(e)))
-        X.append(Xj)
-        S_qd = sp.zeros(6, 1)
-        S_qd[axis[j]] = qd[j]
-        velocity = vec(f"sv{k}", Xj * velocity + S_qd)
-        S_qdd = sp.zeros(6, 1)
-        S_qdd[axis[j]] = qdd[j]
-        accel = vec(f"sa{k}", Xj * accel + S_qdd + _cross_motion(velocity, S_qd))
-        post = sp.Matrix(geo.post)
-        Xp = motion_transform(post)
-        v_link = vec(f"rv{k}", Xp * velocity)
-        a_link = vec(f"ra{k}", Xp * accel)
-        subs = dict(zip(v_sym, v_link)) | dict(zip(a_sym, a_link))
-        link_force = body.xreplace(subs) * sp.Matrix(pi[PER_LINK * j:PER_LINK * j + 10])
-        forces.append(vec(f"pf{k}", Xp.T * vec(f"pfl{k}", link_force)))
-        previous_post = post
-    tau = [None] * n
-    carried = sp.zeros(6, 1)
-    for j in reversed(range(n)):
-        k = j + 1
-        total = vec(f"pF{k}", forces[j] + carried)
-        ia, fv, fc = pi[PER_LINK * j + 10:PER_LINK * j + 13]
-        tau[j] = b.define(f"ptau{k}", sp.expand(total[axis[j]] + ia * qdd[j] + fv * qd[j] + fc * sp.sign(qd[j])))
-        carried = X[j].T * total
-    return sp.Matrix(tau)
-
-
 def base_equivalent(robot, base: BaseParameters) -> tuple[sp.Expr, ...]:
     """Standard parameters (13 n) with the same dynamics as the robot's: each base parameter's
     value at its kept column (``beta = pi_B + K pi_D`` in the robot's own parameters, numbers or
