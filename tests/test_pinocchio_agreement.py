@@ -14,26 +14,39 @@ STATES = 50
 OTHER_METHOD_STATES = 20
 
 
+#: (robot, method) checked on D and c only: Lagrange-Euler's velocity terms grow as n^4 and derive
+#: in about 30 s for chain12's 12 joints (it is checked whole on every other robot, and equal to
+#: Newton-Euler exactly on 3-joint chains, tests/test_symbolic.py)
+PARTIAL = {("chain12", "lagrange-euler"): ("mass_matrix", "gravity")}
+
+
 @pytest.mark.parametrize("method", ["newton-euler", "lagrange-euler", "jacobian-newton-euler"])
 @pytest.mark.parametrize("name", ROBOTS)
 def test_agrees_with_pinocchio(derived, name, method):
-    eqs = derived(name, method)
+    if (name, method) in PARTIAL:
+        import symdyn
+        from helpers import robot_path
+        eqs = symdyn.derive(symdyn.load(robot_path(name)), method, PARTIAL[(name, method)])
+    else:
+        eqs = derived(name, method)
     values = parameter_values(eqs.robot)
     p = [values[s] for s in eqs.parameters]
     ref = PinocchioReference(eqs.robot, values)
     num = eqs.numeric
-    results = {k: ([], []) for k in ("D", "h", "C", "c", "tau", "fd")}
+    keys = ("D", "c") if (name, method) in PARTIAL else ("D", "h", "C", "c", "tau", "fd")
+    results = {k: ([], []) for k in keys}
     count = STATES if method == "newton-euler" else OTHER_METHOD_STATES
     for q, qd, qdd, tau in random_states(eqs.n, count, seed=zlib.crc32(name.encode()) % 1000):
         pairs = {
-            "D": (num.mass_matrix(q, p), ref.mass_matrix(q)),
-            "h": (num.coriolis(q, qd, p), ref.coriolis(q, qd)),
-            "C": (num.coriolis_matrix(q, qd, p), ref.coriolis_matrix(q, qd)),
-            "c": (num.gravity(q, p), ref.gravity(q)),
-            "tau": (num.inverse_dynamics(q, qd, qdd, p), ref.inverse_dynamics(q, qd, qdd)),
-            "fd": (num.forward_dynamics(q, qd, tau, p), ref.forward_dynamics(q, qd, tau)),
+            "D": lambda: (num.mass_matrix(q, p), ref.mass_matrix(q)),
+            "h": lambda: (num.coriolis(q, qd, p), ref.coriolis(q, qd)),
+            "C": lambda: (num.coriolis_matrix(q, qd, p), ref.coriolis_matrix(q, qd)),
+            "c": lambda: (num.gravity(q, p), ref.gravity(q)),
+            "tau": lambda: (num.inverse_dynamics(q, qd, qdd, p), ref.inverse_dynamics(q, qd, qdd)),
+            "fd": lambda: (num.forward_dynamics(q, qd, tau, p), ref.forward_dynamics(q, qd, tau)),
         }
-        for key, (mine, theirs) in pairs.items():
+        for key in keys:
+            mine, theirs = pairs[key]()
             results[key][0].append(mine)
             results[key][1].append(theirs)
     errors = {key: normalized_error(np.array(m), np.array(r)) for key, (m, r) in results.items()}

@@ -13,7 +13,6 @@ every base parameter's value is listed in the file's comments.
 from __future__ import annotations
 
 import os
-import sys
 
 import numpy as np
 import sympy as sp

@@ -67,6 +67,28 @@ def _cross_force(v: sp.Matrix, f: sp.Matrix) -> sp.Matrix:
     return sp.Matrix.vstack(w.cross(f[:3, 0]) + u.cross(f[3:, 0]), w.cross(f[3:, 0]))
 
 
+def joint_frames(chain: Chain):
+    """Yield, base to tip, ``(j, X_j, v_j, S_j qd_j, post_j)`` for each joint (0-based j): the
+    motion transform ``^jX_{j-1}`` into joint frame j, the body's spatial velocity there, the
+    joint's own velocity and the constant pose of link frame j in joint frame j; ``X_j`` and
+    ``v_j`` are named in the chain's program as they are made (a consumer's own definitions
+    for joint j come after them, before joint j + 1's)."""
+    b = chain.builder
+    previous_post = sp.eye(4)
+    velocity = sp.zeros(6, 1)
+    for j, link in enumerate(chain.robot.links):
+        k = j + 1
+        geo = chain.geometry[j]
+        pose = previous_post * sp.Matrix(geo.pre) * chain.motions[j]
+        Xj = motion_transform(pose).applyfunc(lambda e: b.define(f"X{k}", sp.expand(e)))
+        S_qd = sp.zeros(6, 1)
+        S_qd[2 if link.is_revolute else 5] = chain.qd[j]
+        velocity = sp.Matrix(b.vector(f"sv{k}", [sp.expand(e) for e in Xj * velocity + S_qd]))
+        post = sp.Matrix(geo.post)
+        yield j, Xj, velocity, S_qd, post
+        previous_post = post
+
+
 @dataclass(frozen=True)
 class Sweeps:
     """The first two sweeps of Algorithm 1 for one robot (0-based lists, joint j+1 at index j).
@@ -101,7 +123,6 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
     b = chain.builder
     robot = chain.robot
     n = chain.n
-    qd = chain.qd
     axis = tuple(2 if link.is_revolute else 5 for link in robot.links)  # S_j = unit vector e_axis
 
     def vec(hint, v):
@@ -115,27 +136,18 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         return out
 
     X, v, c, I, IA, pA = [], [], [], [], [], []
-    previous_post = sp.eye(4)
-    velocity = sp.zeros(6, 1)
-    for j, link in enumerate(robot.links):
+    for j, Xj, velocity, S_qd, post in joint_frames(chain):
         k = j + 1
-        geo = chain.geometry[j]
-        pose = previous_post * sp.Matrix(geo.pre) * chain.motions[j]
-        Xj = motion_transform(pose).applyfunc(lambda e: b.define(f"X{k}", sp.expand(e)))
+        link = robot.links[j]
         X.append(Xj)
-        S_qd = sp.zeros(6, 1)
-        S_qd[axis[j]] = qd[j]
-        velocity = vec(f"sv{k}", Xj * velocity + S_qd)
         v.append(velocity)
         c.append(vec(f"sc{k}", _cross_motion(velocity, S_qd)))
-        post = sp.Matrix(geo.post)
         R, t = post[:3, :3], post[:3, 3]
         com = R * sp.Matrix(link.com) + t
         inertia = spatial_inertia(link.mass, com, R * sp.Matrix(link.inertia_matrix) * R.T)
         I.append(sym6(f"IA{k}", inertia))
         IA.append(I[j])
         pA.append(vec(f"pA{k}", _cross_force(velocity, I[j] * velocity)))
-        previous_post = post
     pA0 = tuple(pA)
 
     U, d, u, inv, Ia, pa = [None] * n, [None] * n, [None] * n, [None] * n, [None] * n, [None] * n

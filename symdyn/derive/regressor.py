@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from .articulated_body import _cross_force, _cross_motion, motion_transform
+from .articulated_body import _cross_force, _cross_motion, joint_frames, motion_transform
 from .chain import Chain
 
 #: the 13 standard parameters of a link, in order (see the module's documentation)
@@ -102,23 +102,14 @@ def regressor(chain: Chain) -> sp.Matrix:
         return sp.Matrix(b.vector(hint, [sp.expand(e) for e in v]))
 
     X, G = [], []
-    previous_post = sp.eye(4)
-    velocity = sp.zeros(6, 1)
     accel = sp.Matrix([0, 0, 0, *[-g for g in chain.gravity]])
-    for j, link in enumerate(robot.links):
+    for j, Xj, velocity, S_qd, post in joint_frames(chain):
         k = j + 1
-        geo = chain.geometry[j]
-        pose = previous_post * sp.Matrix(geo.pre) * chain.motions[j]
-        Xj = motion_transform(pose).applyfunc(lambda e: b.define(f"X{k}", sp.expand(e)))
         X.append(Xj)
-        S_qd = sp.zeros(6, 1)
-        S_qd[axis[j]] = qd[j]
-        velocity = vec(f"sv{k}", Xj * velocity + S_qd)
         S_qdd = sp.zeros(6, 1)
         S_qdd[axis[j]] = qdd[j]
         accel = vec(f"sa{k}", Xj * accel + S_qdd + _cross_motion(velocity, S_qd))
         # the body regressor in the link frame L (pose ``post`` in the joint frame J), carried to J
-        post = sp.Matrix(geo.post)
         Xp = motion_transform(post)
         v_link = vec(f"rv{k}", Xp * velocity)
         a_link = vec(f"ra{k}", Xp * accel)
@@ -126,7 +117,6 @@ def regressor(chain: Chain) -> sp.Matrix:
         A = body.xreplace(subs).applyfunc(sp.expand)
         A = sp.Matrix(6, 10, lambda r, c: b.define(f"rA{k}_{r}{c}", A[r, c]))
         G.append(Xp.T * A)
-        previous_post = post
 
     Y = sp.zeros(n, PER_LINK * n)
     for j in range(n):
