@@ -89,6 +89,7 @@ def test_bad_data_files_are_refused(tmp_path, capsys):
         "nan.csv": (good.replace(good.splitlines()[2].split(",")[3], "nan", 1), "not a finite number"),
         "columns.csv": (good.replace("tau6", "torque6"), "wrong columns"),
         "text.csv": (good.replace(good.splitlines()[1].split(",")[0], "abc", 1), "is not a number"),
+        "semicolons.csv": (good.replace(",", ";"), "separated by semicolons"),
     }
     for name, (text, message) in cases.items():
         path = tmp_path / name
@@ -96,3 +97,14 @@ def test_bad_data_files_are_refused(tmp_path, capsys):
         assert main(["identify", PUMA, str(path)]) == 1, name
         err = capsys.readouterr().err
         assert message in err and name in err and err.count("\n") == 1, err
+
+
+def test_spreadsheet_export_reads(tmp_path):
+    """A byte-order mark, Windows line endings and comment lines are read as the plain file."""
+    from symdyn.model.samples import read_samples
+    samples = _exciting(symdyn.load(PUMA), 5, seed=65)
+    plain = write_samples(samples)
+    path = tmp_path / "excel.csv"
+    path.write_bytes(b"\xef\xbb\xbf# exported\r\n" + plain.replace("\n", "\r\n").encode())
+    again = read_samples(str(path), 6)
+    assert np.array_equal(again.tau, samples.tau) and np.array_equal(again.q, samples.q)

@@ -58,7 +58,7 @@ def read_samples(path: str, n: int) -> Samples:
         raise SymdynError(f"{name}: {info.st_size} bytes, more than the {MAX_SAMPLES_BYTES} a samples file may have")
     try:
         with open(path, "rb") as handle:
-            text = handle.read(MAX_SAMPLES_BYTES + 1).decode("utf-8")
+            text = handle.read(MAX_SAMPLES_BYTES + 1).decode("utf-8-sig")  # a spreadsheet's BOM is fine
     except UnicodeDecodeError:
         raise SymdynError(f"{name}: the file is not UTF-8 text") from None
     except OSError as exc:
@@ -68,6 +68,9 @@ def read_samples(path: str, n: int) -> Samples:
         raise SymdynError(f"{name}: no header row (expected the columns {', '.join(expected_columns(n)[:3])}, ...)")
     rows = list(csv.reader(io.StringIO("\n".join(line for _, line in lines))))
     header = [h.strip() for h in rows[0]]
+    if len(header) == 1 and any(sep in header[0] for sep in (";", "\t")):
+        raise SymdynError(f"{name}: the header is separated by {'semicolons' if ';' in header[0] else 'tabs'}: "
+                          "symdyn reads comma-separated values (export the file as CSV with commas)")
     expected = expected_columns(n)
     missing = [c for c in expected if c not in header]
     extra = [h for h in header if h not in expected]
