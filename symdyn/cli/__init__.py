@@ -50,6 +50,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("symdyn: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # the reader went away (symdyn derive ... | head): not an error of symdyn's
+        _quiet_stdout()
+        return 141
     except RecursionError:
         print("symdyn: error: the input is nested too deeply to process", file=sys.stderr)
         return 1
@@ -81,6 +84,18 @@ def _warnings_as_lines(strict: bool = False):
             yield
     finally:
         warnings.showwarning = previous
+
+
+def _quiet_stdout() -> None:
+    """Point standard output at the null device, so that the interpreter's final flush of a
+    closed pipe raises nothing."""
+    import os
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+    except (OSError, ValueError, AttributeError):
+        pass
 
 
 def run() -> None:
