@@ -134,3 +134,17 @@ def test_actuated_must_be_a_boolean(tmp_path):
     path.write_text(text)
     with pytest.raises(SymdynError, match=r"link 2.*actuated.*true or false"):
         symdyn.load(str(path))
+
+
+def test_every_joint_passive(tmp_path, capsys):
+    """A chain with no actuated joint: NAME_NA is 0, D has no column, the C compiles cleanly and
+    k0 agrees with Pinocchio."""
+    text = (REPO / "tests" / "data" / "passive_middle.yaml").read_text().replace("{joint: revolute, a: 0.05",
+                                                                               "{joint: revolute, actuated: false, a: 0.05")
+    text = text.replace("{joint: prismatic, a: 0", "{joint: prismatic, actuated: false, a: 0")
+    path = tmp_path / "passive_middle.yaml"
+    path.write_text(text)
+    assert not symdyn.load(str(path)).actuated_joints
+    assert main(["verify", str(path), "--functions", "reaction_map", "--states", "10"]) == 0
+    assert main(["generate", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 0
+    assert "#define passive_middle_NA 0" in (tmp_path / "out" / "passive_middle_dynamics.h").read_text()

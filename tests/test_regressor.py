@@ -65,10 +65,11 @@ def test_regressor_times_parameters_is_inverse_dynamics(name):
 
 
 def _rank(W):
-    """Numerical rank of a stacked regressor with its columns scaled to unit norm (zero columns
-    dropped), singular values below 1e-9 of the largest counting as zero."""
+    """Numerical rank of a stacked regressor with its columns scaled to unit norm (columns below
+    1e-10 of the largest norm dropped), singular values below 1e-9 of the largest counting as zero."""
     norms = np.linalg.norm(W, axis=0)
-    singular = np.linalg.svd(W[:, norms > 0] / norms[norms > 0], compute_uv=False)
+    kept = norms > 1e-10 * norms.max()  # columns zero up to rounding are zero
+    singular = np.linalg.svd(W[:, kept] / norms[kept], compute_uv=False)
     return int(np.sum(singular > 1e-9 * singular[0]))
 
 
@@ -189,3 +190,10 @@ def test_derive_prints_the_base_parameters(capsys):
         assert "Base parameters (identification)" in render(d, fmt)
     assert main(["derive", robot_path("planar2r"), "--base-parameters"]) == 1
     assert "numeric geometry" in capsys.readouterr().err
+
+
+def test_verify_checks_the_regressors_as_torques(capsys):
+    from symdyn.cli import main
+    assert main(["verify", robot_path("scara"), "--functions", "regressor,base_regressor", "--states", "10"]) == 0
+    out = capsys.readouterr().out
+    assert "checked as torques" in out and out.count(" ok") == 2

@@ -93,6 +93,8 @@ class CompiledDynamics:
         """``Y_b`` (n, ``columns``) from ``NAME_base_regressor`` (``columns``: the number of base
         parameters, default ``self.base_columns``)."""
         count = columns or self.base_columns
+        if not count:
+            raise ValueError("base_regressor: give the number of base parameters (columns, or set base_columns)")
         return self._call("base_regressor", (q, qd, qdd), p, count * self.n).reshape(self.n, count)
 
     def reaction_map(self, q, qd, p=None):

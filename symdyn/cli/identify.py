@@ -97,7 +97,8 @@ def _print(args, eqs, result, nominal, count) -> None:
         relative = f"{100 * std / abs(value):8.2f}" if abs(value) > 1e-12 else "       -"
         file_value = f"{nominal[k]:14.6g}" if nominal[k] is not None else f"{'-':>14}"
         expression = sp.sstr(eqs.base_parameters[k][1])
-        print(f"{name:<10} {value:14.6g} {std:11.3g} {relative} {file_value}  {expression[:100]}")
+        shown = expression if len(expression) <= 100 else expression[:99] + "…"
+        print(f"{name:<10} {value:14.6g} {std:11.3g} {relative} {file_value}  {shown}")
 
 
 def _identified_robot_file(args, eqs, result) -> str:

@@ -66,6 +66,10 @@ def run(args) -> int:
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir,
                              actuated=len(robot.actuated_joints))
+        lib.base_columns = len(eqs.base_parameters)
+        regressors = [f for f in functions if f in ("regressor", "base_regressor")]
+        if regressors:  # checked as torques: Y pi and Y_b beta against the reference's inverse dynamics
+            lib = _AsTorques(lib, *_parameter_values(robot, eqs, values))
         if is_urdf(args.robot) and scene is None:  # Pinocchio reads the file itself: an independent reading
             from ..model.urdf import QUARTER_TOLERANCE
             snapped = not args.exact_angles and any("multiple of pi/2" in note for note in robot.notes)
@@ -84,10 +88,14 @@ def run(args) -> int:
             if precision != "double":  # judge the arithmetic, not the rounding of the inputs
                 state = [x.astype(np.float32).astype(float) for x in state]
             states.append(state)
-        errors = compare(lib, ref, states, functions, p)
+        errors = compare(lib, _ReferenceTorques(ref) if regressors else ref, states, functions, p)
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
-    print(f"symdyn verify {args.robot}: {robot.dof} joints, {args.method}, {precision}, "
+    form = "; inverse dynamics in the base parameters" if args.parameters == "base" else ""
+    print(f"symdyn verify {args.robot}: {robot.dof} joints, {args.method}{form}, {precision}, "
           f"{args.states} random states, tolerance {tolerance:g}, against {reading}")
+    if regressors:
+        print(f"({', '.join(regressors)}: checked as torques, Y pi and Yb beta with this file's parameters, "
+              "against inverse dynamics)")
     print(f"{'function':<18} {'normalized error':>16}  status")
     failed = False
     for name in functions:
@@ -96,3 +104,45 @@ def run(args) -> int:
         failed |= not ok
         print(f"{name:<18} {err:>16.3e}  {'ok' if ok else 'FAIL'}")
     return 1 if failed else 0
+
+
+def _parameter_values(robot, eqs, values):
+    """(pi, beta): the file's standard and base parameters as numbers (``values``: the runtime
+    parameters' values)."""
+    import sympy as sp
+    from ..derive.regressor import parameter_names, standard_parameters
+    pi = [float(sp.sympify(v).xreplace(values)) for v in standard_parameters(robot)]
+    symbols = dict(zip((sp.Symbol(n, real=True) for n in parameter_names(robot)), pi))
+    beta = [float(expr.xreplace(symbols)) for _, expr in eqs.base_parameters]
+    return np.array(pi), np.array(beta)
+
+
+class _AsTorques:
+    """A compiled library whose regressors are evaluated as torques, ``Y pi`` and ``Y_b beta``."""
+
+    def __init__(self, lib, pi, beta):
+        self._lib, self._pi, self._beta = lib, pi, beta
+
+    def regressor(self, q, qd, qdd, p=None):
+        return self._lib.regressor(q, qd, qdd, p) @ self._pi
+
+    def base_regressor(self, q, qd, qdd, p=None):
+        return self._lib.base_regressor(q, qd, qdd, p) @ self._beta
+
+    def __getattr__(self, name):
+        return getattr(self._lib, name)
+
+
+class _ReferenceTorques:
+    """A reference whose regressors are its inverse dynamics (see :class:`_AsTorques`)."""
+
+    def __init__(self, reference):
+        self._reference = reference
+
+    def regressor(self, q, qd, qdd):
+        return self._reference.inverse_dynamics(q, qd, qdd)
+
+    base_regressor = regressor
+
+    def __getattr__(self, name):
+        return getattr(self._reference, name)

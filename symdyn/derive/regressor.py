@@ -184,7 +184,11 @@ def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0) -
         rows.append(np.asarray(evaluate(q, qd, qdd), dtype=float))
     W = np.vstack(rows)
     scale = np.linalg.norm(W, axis=0)
-    scale[scale == 0] = 1.0
+    # a column that is zero up to rounding (a parameter with no effect, whose terms cancel in
+    # floating point) must not be scaled up to look like an independent one
+    null = scale <= 1e-10 * max(scale.max(), 1e-300)
+    W = np.where(null, 0.0, W)
+    scale[null] = 1.0
     # the QR sees each link's columns as SymPyBotics and Khalil order them: inertia, first
     # moment, mass, then armature and friction; a column is kept where it adds to the span of
     # those before it, so a tip link's mass is regrouped into the links before it (M_{j-1} +

@@ -87,6 +87,10 @@ STATUS_DOC = ("Returns 0 on success; 1 when the mass matrix is singular at q (a 
               "LDL^T factorization is not above {rtol:g} times its diagonal entry, or is not a "
               "number); 2 when a result is not finite (NaN or beyond the range of {real}). On a "
               "nonzero return qdd is not written.")
+STATUS_DOC_ABA = ("Returns 0 on success; 1 when the mass matrix is singular at q (an articulated inertia d_j "
+                  "about joint j's axis, by which the algorithm divides, is not positive, or is not a "
+                  "number); 2 when a result is not finite (NaN or beyond the range of {real}). On a "
+                  "nonzero return qdd is not written.")
 
 
 @dataclass
@@ -213,7 +217,7 @@ def build_functions(eqs: Equations, name: str, precision: str, prefix: str) -> l
     if name != "forward_dynamics" or not eqs.pivots:
         return [built]
     plain = CFunction(
-        name=name, summary=SUMMARIES[name] + f" Same as {prefix}_{name}_checked, without the status: "
+        name=name, summary=built.summary + f" Same as {prefix}_{name}_checked, without the status: "
         "where that returns nonzero, qdd is left unchanged.",
         args=built.args, lines=[f"(void){prefix}_{built.name}({', '.join(a for _, a, _, _ in built.args)});"],
         ops=built.ops)
@@ -228,6 +232,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     out_name, out_doc = OUTPUT_ARGS[parts[0]] if parts[0] in OUTPUT_ARGS else SPLIT_OUTPUTS[parts[0]][0][:2]
     targets: list[tuple[str, sp.Expr]] = []
     aliases: list[tuple[str, str]] = []
+    empty_outputs: list[str] = []  # output arguments with no entry (a reaction map with no actuated joint)
     checked = name == "forward_dynamics" and bool(eqs.pivots)
     if checked:  # results go to locals first: qdd is written only when every check passes
         matrix = eqs.output(name)
@@ -237,6 +242,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
             matrix = eqs.output(part)
             for arg, _, first, end in SPLIT_OUTPUTS[part]:
                 block = matrix[:, first:end]
+                if block.cols == 0:
+                    empty_outputs.append(arg)
                 for i in range(block.rows):
                     for j in range(block.cols):
                         targets.append((f"{arg}[{i * block.cols + j}]", block[i, j]))
@@ -344,7 +351,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
         else:
             args.append((f"{real} *", *OUTPUT_ARGS[part], True))
     unused = [a for _, a, _, is_out in args if not is_out and not any(
-        names.get(s, "").startswith(cast + a + "[") for s in used)]
+        names.get(s, "").startswith(cast + a + "[") for s in used)] + empty_outputs
     summary = SUMMARIES[name].replace("NAME", prefix)
     if name == "forward_dynamics" and eqs.fd_method == "aba":
         summary = ("Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
@@ -353,8 +360,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
     if checked:
+        status = STATUS_DOC_ABA if eqs.fd_method == "aba" else STATUS_DOC
         return CFunction(name=f"{name}_checked", summary=summary, args=args, lines=lines, ops=ops, unused=unused,
-                         returns="int", returns_doc=STATUS_DOC.format(rtol=PIVOT_RTOL, real=scalar))
+                         returns="int", returns_doc=status.format(rtol=PIVOT_RTOL, real=scalar))
     return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused)
 
 
@@ -437,7 +445,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "constants": model_constants(robot),
         "joints": [(k + 1, link.name, link.joint, link.actuated) for k, link in enumerate(robot.links)],
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
-                     if "reaction_map" in functions else []),
+                     if "reaction_map" in functions else None),
         "functions": built,
         "header_only": header_only,
         "notes": [comment_text(note) for note in notes],

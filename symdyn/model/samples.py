@@ -66,7 +66,10 @@ def read_samples(path: str, n: int) -> Samples:
     lines = [(k + 1, line) for k, line in enumerate(text.splitlines()) if line.strip() and not line.lstrip().startswith("#")]
     if not lines:
         raise SymdynError(f"{name}: no header row (expected the columns {', '.join(expected_columns(n)[:3])}, ...)")
-    rows = list(csv.reader(io.StringIO("\n".join(line for _, line in lines))))
+    try:
+        rows = list(csv.reader(io.StringIO("\n".join(line for _, line in lines))))
+    except csv.Error as exc:
+        raise SymdynError(f"{name}: not a readable CSV file ({exc})") from None
     header = [h.strip() for h in rows[0]]
     if len(header) == 1 and any(sep in header[0] for sep in (";", "\t")):
         raise SymdynError(f"{name}: the header is separated by {'semicolons' if ';' in header[0] else 'tabs'}: "
@@ -89,9 +92,12 @@ def read_samples(path: str, n: int) -> Samples:
     for r, row in enumerate(rows[1:]):
         line_number = lines[r + 1][0]
         if len(row) != len(header):
-            raise SymdynError(f"{name}: line {line_number} has {len(row)} values, the header {len(header)}")
+            raise SymdynError(f"{name}: line {line_number} has {len(row)} value{'' if len(row) == 1 else 's'}, "
+                              f"the header {len(header)}")
         for c, cell in enumerate(row):
             try:
+                if "_" in cell:  # Python's float() reads 1_000; a data file should not
+                    raise ValueError(cell)
                 value = float(cell)
             except ValueError:
                 raise SymdynError(f"{name}: line {line_number}, column {header[c]}: {cell.strip()[:40]!r} is not a number") from None
