@@ -23,7 +23,7 @@ import yaml
 from helpers import REPO
 from symdyn.cli import main
 
-BUDGET_SECONDS = float(os.environ.get("SYMDYN_FUZZ_SECONDS", "20"))
+BUDGET_SECONDS = float(os.environ.get("SYMDYN_FUZZ_SECONDS", "12"))
 CASE_SECONDS = 20
 SEED = int(os.environ.get("SYMDYN_FUZZ_SEED", "20261122"))
 SOURCES = ["planar2r", "scara", "stanford", "puma560", "ur5", "panda"]

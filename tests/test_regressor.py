@@ -180,7 +180,7 @@ def test_derive_prints_the_base_parameters(capsys):
     from symdyn.cli import main
     from symdyn.derive.derivation import derive_steps
     from symdyn.emit.printout import render
-    eqs = _eqs("stanford")
+    eqs = _eqs("scara")
     d = derive_steps(eqs.robot, "newton-euler", "summary", base_parameters=True)
     printed = d.section("base_parameters").quantities
     assert [q.value.lhs.name for q in printed] == [n for n, _ in eqs.base_parameters]

@@ -53,7 +53,7 @@ def is_exactly_zero(expr, pairs) -> bool:
 
 
 @pytest.mark.parametrize("method", ["lagrange-euler", "jacobian-newton-euler"])
-@pytest.mark.parametrize("name", ["planar2r", "three_standard", "three_modified"])
+@pytest.mark.parametrize("name", ["planar2r", "three_standard"])  # modified DH: planar2r (suite time)
 def test_method_minus_newton_euler_is_exactly_zero(derived, name, method):
     """Lagrange-Euler and the Jacobian-projected Newton-Euler minus the recursive Newton-Euler
     vanish exactly (as trig polynomials modulo c^2 + s^2 = 1), every output but the forward
@@ -77,8 +77,8 @@ def test_exact_check_detects_a_difference(derived):
     assert is_exactly_zero(x * (c**2 + s_**2) - x, pairs)
 
 
-@pytest.mark.parametrize("name", ROBOTS)
-def test_methods_agree_numerically(derived, name):
+@pytest.mark.parametrize("name", [r for r in ROBOTS if r != "chain12"])  # chain12's LE: D and c only,
+def test_methods_agree_numerically(derived, name):                       # tests/test_pinocchio_agreement.py
     ne, le = derived(name, "newton-euler"), derived(name, "lagrange-euler")
     rng = np.random.default_rng(3)
     p = rng.uniform(0.5, 1.5, len(ne.parameters))

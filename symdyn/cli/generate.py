@@ -98,10 +98,10 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
     if target == "c":
         report = None
         if size_report:
-            from ..check.firmware import measure
+            import functools
 
-            def report(files):
-                return measure(files, robot.name)
+            from ..check.firmware import measure
+            report = functools.partial(measure, prefix=robot.name)
         files = generate_c(eqs, functions, precision, header_only, source_name=source,
                            source_hash=source_hash, notes=notes, progress=progress, size_report=report)
         return {name: text.encode("utf-8") for name, text in files.items()}
