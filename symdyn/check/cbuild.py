@@ -97,28 +97,27 @@ class CompiledDynamics:
             raise ValueError("base_regressor: give the number of base parameters (columns, or set base_columns)")
         return self._call("base_regressor", (q, qd, qdd), p, count * self.n).reshape(self.n, count)
 
-    def reaction_map(self, q, qd, p=None):
-        """``[k0 | D]`` (6, 1 + actuated joints) from ``NAME_reaction_map(q, qd, [p,] k0, D)``."""
-        fn = getattr(self.lib, f"{self.prefix}_reaction_map")
-        arrays = [np.ascontiguousarray(a, dtype=self.dtype) for a in (q, qd)]
+    def _call_outputs(self, name, args, p, sizes):
+        """Call ``NAME_<name>`` that writes several output arrays (of ``sizes`` numbers each)
+        after its inputs; returns them, flat."""
+        fn = getattr(self.lib, f"{self.prefix}_{name}")
+        arrays = [np.ascontiguousarray(a, dtype=self.dtype) for a in args]
         if self.np:
             arrays.append(np.ascontiguousarray(p, dtype=self.dtype))
-        k0, D = np.zeros(6, dtype=self.dtype), np.zeros(6 * self.actuated, dtype=self.dtype)
+        outputs = [np.zeros(size, dtype=self.dtype) for size in sizes]
         pointer = ctypes.POINTER(self.ctype)
         fn.restype = None
-        fn(*[a.ctypes.data_as(pointer) for a in arrays + [k0, D]])
+        fn(*[a.ctypes.data_as(pointer) for a in arrays + outputs])
+        return outputs
+
+    def reaction_map(self, q, qd, p=None):
+        """``[k0 | D]`` (6, 1 + actuated joints) from ``NAME_reaction_map(q, qd, [p,] k0, D)``."""
+        k0, D = self._call_outputs("reaction_map", (q, qd), p, (6, 6 * self.actuated))
         return np.hstack([k0.reshape(6, 1), D.reshape(6, self.actuated)])
 
     def kinematics(self, q, p=None):
         """``(T, J)`` from ``NAME_kinematics`` (pose and Jacobian in one call)."""
-        fn = getattr(self.lib, f"{self.prefix}_kinematics")
-        arrays = [np.ascontiguousarray(q, dtype=self.dtype)]
-        if self.np:
-            arrays.append(np.ascontiguousarray(p, dtype=self.dtype))
-        T, J = np.zeros(16, dtype=self.dtype), np.zeros(6 * self.n, dtype=self.dtype)
-        pointer = ctypes.POINTER(self.ctype)
-        fn.restype = None
-        fn(*[a.ctypes.data_as(pointer) for a in arrays + [T, J]])
+        T, J = self._call_outputs("kinematics", (q,), p, (16, 6 * self.n))
         return T.reshape(4, 4), J.reshape(6, self.n)
 
     def forward_dynamics_checked(self, q, qd, tau, p=None, qdd=None):

@@ -73,7 +73,9 @@ class NumericEquations:
             self._cache[name] = compile_function(groups, self.eqs.program, self.eqs.output(name), name)
         return self._cache[name]
 
-    def _call(self, name, args, p):
+    def _call(self, name, args, p, matrix: bool = False):
+        """Check the arguments and evaluate ``name``; a one-column result is returned as a vector
+        unless ``matrix``."""
         n, m = self.eqs.n, len(self.eqs.parameters)
         for label, value in zip(OUTPUT_INPUTS[name], args):
             size = np.size(value)
@@ -86,7 +88,7 @@ class NumericEquations:
         if not m and p is not None and np.size(p):
             raise ValueError(f"{name}: this robot has no runtime parameters, but p has {np.size(p)} entries")
         out = self._function(name)(*args, p if p is not None else [])
-        return out[:, 0] if out.shape[1] == 1 else out
+        return out[:, 0] if out.shape[1] == 1 and not matrix else out
 
     def inverse_dynamics(self, q, qd, qdd, p=None):
         return self._call("inverse_dynamics", (q, qd, qdd), p)
@@ -129,6 +131,4 @@ class NumericEquations:
     def reaction_map(self, q, qd, p=None):
         """``[k0 | D]`` (6, 1 + actuated joints): the wrench ``[n; f]`` the base exerts on body 1,
         in the base frame, is ``k0 + D tau_H`` for the actuated joints' forces ``tau_H``."""
-        out = self._function("reaction_map")
-        self._call("reaction_map", (q, qd), p)  # checks the arguments
-        return out(q, qd, p if p is not None else [])
+        return self._call("reaction_map", (q, qd), p, matrix=True)  # 6 x 1 too, with no actuated joint
