@@ -199,7 +199,7 @@ def forward_dynamics(chain: Chain, tau, friction) -> tuple[sp.Matrix, tuple[tupl
 class ReactionMap:
     """The force-to-torque map of seed 004 (sections 2-4) for one robot, 0-based lists.
 
-    ``b[j] = U_j / d_j`` (eq. 3), ``A[j] = 1 - b_j S_j^T`` (eq. 4), ``k_force[j]`` the bias force
+    ``b[j] = U_j / d_j`` (eq. 3), ``A[j] = 1 - b_j S_j^T`` (eq. 4), :attr:`k_force` ``[j]`` the bias force
     ``p^A_j`` at tau = 0 (the seed's ``k_{j+1}``, eq. 5), ``k1`` the acceleration of body 1 at
     tau = 0 without its bias force (eq. 7), ``k0`` the base wrench at tau = 0 (eqs. 9-10),
     ``columns`` the base wrench per unit torque of each actuated joint (eq. 14:
@@ -208,13 +208,17 @@ class ReactionMap:
     sweeps: Sweeps
     b: tuple
     A: tuple
-    k_force: tuple
     k1: sp.Matrix
     k0: sp.Matrix
     columns: tuple
     actuated: tuple
     #: ``(j, i, W)``: the partial products ``W_{j,i} = A_i X_{i+1}^T ... X_j^T b_j`` (0-based j, i)
     partials: tuple = ()
+
+    @property
+    def k_force(self) -> tuple:
+        """The bias forces ``p^A_j`` at tau = 0 (the seed's ``k_{j+1}``): the sweeps' own."""
+        return self.sweeps.pA
 
     @property
     def matrix(self) -> sp.Matrix:
@@ -257,5 +261,5 @@ def reaction_map(chain: Chain, friction) -> ReactionMap:
             w = sp.Matrix(b.vector(f"rw{j + 1}_{i + 1}", [sp.expand(e) for e in A[i] * y]))
             partials.append((j, i, w))
         columns.append(sp.Matrix(b.vector(f"rD{j + 1}", [sp.expand(e) for e in sw.X[0].T * w])))
-    return ReactionMap(sweeps=sw, b=tuple(bvec), A=tuple(A), k_force=sw.pA, k1=k1, k0=k0,
+    return ReactionMap(sweeps=sw, b=tuple(bvec), A=tuple(A), k1=k1, k0=k0,
                        columns=tuple(columns), actuated=actuated, partials=tuple(partials))
