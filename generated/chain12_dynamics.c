@@ -11,8 +11,70 @@
 
 #include "chain12_dynamics.h"
 
+/*
+ * Sine and cosine of the joint angles, all of a function's at once (the block is vectorizable).
+ * |x| <= 1e5: Cody-Waite reduction by pi/2 with a three-part pi/2 and fdlibm's minimax
+ * polynomials on [-pi/4, pi/4], no branch and no call: within 1 ulp of glibc's sin and cos (or
+ * 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5 (symdyn's
+ * tests/test_batch.py); sin(-0) gives +0.  Any other angle (huge, infinite or NaN) goes to libm.
+ * Define SYMDYN_LIBM_TRIG to use libm's sin and cos for every angle.
+ */
+#define chain12_SINCOS_KERNEL(REAL, TO_INT, TO_REAL, x, s, c) do { \
+    const REAL k_ = ((x) * 6.36619772367581382433e-01 + 6755399441055744.0) - 6755399441055744.0; \
+    const REAL r_ = (((x) - k_ * 1.57079632673412561417e+00) - k_ * 6.07710050630396597660e-11) \
+        - k_ * 2.02226624871116645580e-21; \
+    const REAL z_ = r_ * r_; \
+    const REAL ps_ = r_ + (z_ * r_) * (-1.66666666666666324348e-01 + z_ * (8.33333333332248946124e-03 \
+        + z_ * (-1.98412698298579493134e-04 + z_ * (2.75573137070700676789e-06 \
+        + z_ * (-2.50507602534068634195e-08 + z_ * 1.58969099521155010221e-10))))); \
+    const REAL hz_ = 0.5 * z_; \
+    const REAL w_ = 1.0 - hz_; \
+    const REAL pc_ = w_ + (((1.0 - w_) - hz_) + (z_ * z_) * (4.16666666666666019037e-02 \
+        + z_ * (-1.38888888888741095749e-03 + z_ * (2.48015872894767294178e-05 \
+        + z_ * (-2.75573143513906633035e-07 + z_ * (2.08757232129817482790e-09 \
+        + z_ * -1.13596475577881948265e-11)))))); \
+    const REAL odd_ = TO_REAL(TO_INT(k_) & 1); \
+    const REAL even_ = 1.0 - odd_; \
+    (s) = (ps_ * even_ + pc_ * odd_) * TO_REAL(1 - (TO_INT(k_) & 2)); \
+    (c) = (pc_ * even_ + ps_ * odd_) * TO_REAL(1 - ((TO_INT(k_) + 1) & 2)); \
+} while (0)
+#define chain12_SCALAR_INT(x) ((long)(x))
+#define chain12_SCALAR_REAL(x) ((double)(x))
+
+static void chain12_sincos(int count, const double *x, double *s, double *c)
+{
+    int i;
+#ifndef SYMDYN_LIBM_TRIG
+    int in_range = 1;
+    for (i = 0; i < count; ++i) {
+        in_range &= (x[i] <= 1.0e5) & (x[i] >= -1.0e5);
+    }
+    if (in_range) {
+        for (i = 0; i < count; ++i) {
+            chain12_SINCOS_KERNEL(double, chain12_SCALAR_INT, chain12_SCALAR_REAL, x[i], s[i], c[i]);
+        }
+        return;
+    }
+#endif
+    for (i = 0; i < count; ++i) {
+#ifndef SYMDYN_LIBM_TRIG
+        if (x[i] <= 1.0e5 && x[i] >= -1.0e5) {
+            chain12_SINCOS_KERNEL(double, chain12_SCALAR_INT, chain12_SCALAR_REAL, x[i], s[i], c[i]);
+            continue;
+        }
+#endif
+        s[i] = sin(x[i]);
+        c[i] = cos(x[i]);
+    }
+}
+
 void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *qdd, chain12_real *tau)
 {
+    chain12_real trig_sin[9], trig_cos[9];
+    {
+        const chain12_real trig_angle[9] = {q[0], q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(9, trig_angle, trig_sin, trig_cos);
+    }
     const chain12_real cse0 = q[2] + 0.005;
     const chain12_real cse1 = q[5] + 0.059;
     const chain12_real cse2 = q[9] + 0.155;
@@ -22,28 +84,28 @@ void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, con
     const chain12_real cse20 = 2.0*qd[5];
     const chain12_real cse35 = 2.0*qd[9];
     const chain12_real cse43 = -cse2;
-    const chain12_real c1 = cos(q[0]);
-    const chain12_real s1 = sin(q[0]);
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c1 = trig_cos[0];
+    const chain12_real s1 = trig_sin[0];
+    const chain12_real c2 = trig_cos[1];
+    const chain12_real s2 = trig_sin[1];
+    const chain12_real c4 = trig_cos[2];
+    const chain12_real s4 = trig_sin[2];
+    const chain12_real cq5 = trig_cos[3];
+    const chain12_real sq5 = trig_sin[3];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
+    const chain12_real c7 = trig_cos[4];
+    const chain12_real s7 = trig_sin[4];
+    const chain12_real c8 = trig_cos[5];
+    const chain12_real s8 = trig_sin[5];
+    const chain12_real c9 = trig_cos[6];
     const chain12_real cse44 = 0.7071067811865476*c9;
-    const chain12_real s9 = sin(q[8]);
+    const chain12_real s9 = trig_sin[6];
     const chain12_real cse45 = 0.7071067811865476*s9;
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real c11 = trig_cos[7];
+    const chain12_real s11 = trig_sin[7];
+    const chain12_real c12 = trig_cos[8];
+    const chain12_real s12 = trig_sin[8];
     const chain12_real vd1g_0 = (9.81)*s1;
     const chain12_real vd1g_1 = (9.81)*c1;
     const chain12_real p3_2 = cse0;
@@ -469,25 +531,30 @@ void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, con
 
 void chain12_mass_matrix(const chain12_real *q, chain12_real *D)
 {
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    chain12_real trig_sin[8], trig_cos[8];
+    {
+        const chain12_real trig_angle[8] = {q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(8, trig_angle, trig_sin, trig_cos);
+    }
+    const chain12_real c2 = trig_cos[0];
+    const chain12_real s2 = trig_sin[0];
+    const chain12_real c4 = trig_cos[1];
+    const chain12_real s4 = trig_sin[1];
+    const chain12_real cq5 = trig_cos[2];
+    const chain12_real sq5 = trig_sin[2];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
-    const chain12_real s9 = sin(q[8]);
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
+    const chain12_real c7 = trig_cos[3];
+    const chain12_real s7 = trig_sin[3];
+    const chain12_real c8 = trig_cos[4];
+    const chain12_real s8 = trig_sin[4];
+    const chain12_real c9 = trig_cos[5];
+    const chain12_real s9 = trig_sin[5];
+    const chain12_real c11 = trig_cos[6];
+    const chain12_real s11 = trig_sin[6];
+    const chain12_real c12 = trig_cos[7];
     const chain12_real cse1 = (0.005769666)*c12;
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real s12 = trig_sin[7];
     const chain12_real cse0 = (0.005769666)*s12;
     const chain12_real Iq12h_0 = -0.169062*c12 + (0.127538)*s12;
     const chain12_real cse2 = (0.174)*Iq12h_0;
@@ -1332,6 +1399,11 @@ void chain12_mass_matrix(const chain12_real *q, chain12_real *D)
 
 void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_real *h)
 {
+    chain12_real trig_sin[8], trig_cos[8];
+    {
+        const chain12_real trig_angle[8] = {q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(8, trig_angle, trig_sin, trig_cos);
+    }
     const chain12_real cse0 = q[2] + 0.005;
     const chain12_real cse1 = q[5] + 0.059;
     const chain12_real cse2 = q[9] + 0.155;
@@ -1341,26 +1413,26 @@ void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_rea
     const chain12_real cse20 = 2.0*qd[5];
     const chain12_real cse36 = 2.0*qd[9];
     const chain12_real cse44 = -cse2;
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c2 = trig_cos[0];
+    const chain12_real s2 = trig_sin[0];
+    const chain12_real c4 = trig_cos[1];
+    const chain12_real s4 = trig_sin[1];
+    const chain12_real cq5 = trig_cos[2];
+    const chain12_real sq5 = trig_sin[2];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
+    const chain12_real c7 = trig_cos[3];
+    const chain12_real s7 = trig_sin[3];
+    const chain12_real c8 = trig_cos[4];
+    const chain12_real s8 = trig_sin[4];
+    const chain12_real c9 = trig_cos[5];
     const chain12_real cse45 = 0.7071067811865476*c9;
-    const chain12_real s9 = sin(q[8]);
+    const chain12_real s9 = trig_sin[5];
     const chain12_real cse46 = 0.7071067811865476*s9;
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real c11 = trig_cos[6];
+    const chain12_real s11 = trig_sin[6];
+    const chain12_real c12 = trig_cos[7];
+    const chain12_real s12 = trig_sin[7];
     const chain12_real p3_2 = cse0;
     const chain12_real p6_2 = cse1;
     const chain12_real p10_2 = cse2;
@@ -1779,6 +1851,11 @@ void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_rea
 
 void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chain12_real *C)
 {
+    chain12_real trig_sin[8], trig_cos[8];
+    {
+        const chain12_real trig_angle[8] = {q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(8, trig_angle, trig_sin, trig_cos);
+    }
     const chain12_real cse0 = q[2] + 0.005;
     const chain12_real cse1 = q[5] + 0.059;
     const chain12_real cse2 = q[9] + 0.155;
@@ -1790,32 +1867,32 @@ void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chai
     const chain12_real cse14 = (0.002)*qd[1];
     const chain12_real cse16 = (0.083)*qd[1];
     const chain12_real cse169 = -cse1;
-    const chain12_real c2 = cos(q[1]);
+    const chain12_real c2 = trig_cos[0];
     const chain12_real cse81 = c2*qd[1];
-    const chain12_real s2 = sin(q[1]);
+    const chain12_real s2 = trig_sin[0];
     const chain12_real cse82 = s2*qd[1];
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c4 = trig_cos[1];
+    const chain12_real s4 = trig_sin[1];
+    const chain12_real cq5 = trig_cos[2];
+    const chain12_real sq5 = trig_sin[2];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real cse31 = 0.8660254037844386*c5;
     const chain12_real cse170 = (0.5)*c5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
     const chain12_real cse28 = 0.8660254037844386*s5;
     const chain12_real cse171 = (0.5)*s5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
+    const chain12_real c7 = trig_cos[3];
+    const chain12_real s7 = trig_sin[3];
+    const chain12_real c8 = trig_cos[4];
+    const chain12_real s8 = trig_sin[4];
+    const chain12_real c9 = trig_cos[5];
     const chain12_real cse165 = 0.7071067811865476*c9;
-    const chain12_real s9 = sin(q[8]);
+    const chain12_real s9 = trig_sin[5];
     const chain12_real cse166 = 0.7071067811865476*s9;
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real c11 = trig_cos[6];
+    const chain12_real s11 = trig_sin[6];
+    const chain12_real c12 = trig_cos[7];
+    const chain12_real s12 = trig_sin[7];
     const chain12_real p3_2 = cse0;
     const chain12_real p6_2 = cse1;
     const chain12_real p10_2 = cse2;
@@ -4495,31 +4572,36 @@ void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chai
 
 void chain12_gravity(const chain12_real *q, chain12_real *c)
 {
+    chain12_real trig_sin[9], trig_cos[9];
+    {
+        const chain12_real trig_angle[9] = {q[0], q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(9, trig_angle, trig_sin, trig_cos);
+    }
     const chain12_real cse3 = -q[9] - 0.155;
     const chain12_real cse8 = q[5] + 0.059;
     const chain12_real cse13 = q[2] + 0.005;
-    const chain12_real c1 = cos(q[0]);
-    const chain12_real s1 = sin(q[0]);
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c1 = trig_cos[0];
+    const chain12_real s1 = trig_sin[0];
+    const chain12_real c2 = trig_cos[1];
+    const chain12_real s2 = trig_sin[1];
+    const chain12_real c4 = trig_cos[2];
+    const chain12_real s4 = trig_sin[2];
+    const chain12_real cq5 = trig_cos[3];
+    const chain12_real sq5 = trig_sin[3];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
+    const chain12_real c7 = trig_cos[4];
+    const chain12_real s7 = trig_sin[4];
+    const chain12_real c8 = trig_cos[5];
+    const chain12_real s8 = trig_sin[5];
+    const chain12_real c9 = trig_cos[6];
     const chain12_real cse4 = 0.7071067811865476*c9;
-    const chain12_real s9 = sin(q[8]);
+    const chain12_real s9 = trig_sin[6];
     const chain12_real cse5 = 0.7071067811865476*s9;
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real c11 = trig_cos[7];
+    const chain12_real s11 = trig_sin[7];
+    const chain12_real c12 = trig_cos[8];
+    const chain12_real s12 = trig_sin[8];
     const chain12_real vd1g_0 = (9.81)*s1;
     const chain12_real vd1g_1 = (9.81)*c1;
     const chain12_real F1g_0 = (2.832)*vd1g_0;
@@ -4681,6 +4763,11 @@ void chain12_gravity(const chain12_real *q, chain12_real *c)
 
 int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd)
 {
+    chain12_real trig_sin[9], trig_cos[9];
+    {
+        const chain12_real trig_angle[9] = {q[0], q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(9, trig_angle, trig_sin, trig_cos);
+    }
     const chain12_real cse0 = q[2] + 0.005;
     const chain12_real cse1 = q[5] + 0.059;
     const chain12_real cse2 = q[9] + 0.155;
@@ -4690,29 +4777,29 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real cse91 = 2.0*qd[5];
     const chain12_real cse104 = 2.0*qd[9];
     const chain12_real cse112 = -cse2;
-    const chain12_real c1 = cos(q[0]);
-    const chain12_real s1 = sin(q[0]);
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c1 = trig_cos[0];
+    const chain12_real s1 = trig_sin[0];
+    const chain12_real c2 = trig_cos[1];
+    const chain12_real s2 = trig_sin[1];
+    const chain12_real c4 = trig_cos[2];
+    const chain12_real s4 = trig_sin[2];
+    const chain12_real cq5 = trig_cos[3];
+    const chain12_real sq5 = trig_sin[3];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
+    const chain12_real c7 = trig_cos[4];
+    const chain12_real s7 = trig_sin[4];
+    const chain12_real c8 = trig_cos[5];
+    const chain12_real s8 = trig_sin[5];
+    const chain12_real c9 = trig_cos[6];
     const chain12_real cse113 = 0.7071067811865476*c9;
-    const chain12_real s9 = sin(q[8]);
+    const chain12_real s9 = trig_sin[6];
     const chain12_real cse114 = 0.7071067811865476*s9;
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
+    const chain12_real c11 = trig_cos[7];
+    const chain12_real s11 = trig_sin[7];
+    const chain12_real c12 = trig_cos[8];
     const chain12_real cse12 = (0.005769666)*c12;
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real s12 = trig_sin[8];
     const chain12_real cse11 = (0.005769666)*s12;
     const chain12_real vd1g_0 = (9.81)*s1;
     const chain12_real vd1g_1 = (9.81)*c1;
@@ -6056,27 +6143,32 @@ void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, con
 
 void chain12_forward_kinematics(const chain12_real *q, chain12_real *T)
 {
-    const chain12_real c1 = cos(q[0]);
-    const chain12_real s1 = sin(q[0]);
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
+    chain12_real trig_sin[9], trig_cos[9];
+    {
+        const chain12_real trig_angle[9] = {q[0], q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(9, trig_angle, trig_sin, trig_cos);
+    }
+    const chain12_real c1 = trig_cos[0];
+    const chain12_real s1 = trig_sin[0];
+    const chain12_real c2 = trig_cos[1];
+    const chain12_real s2 = trig_sin[1];
     const chain12_real cse1 = 0.8660254037844386*s2;
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c4 = trig_cos[2];
+    const chain12_real s4 = trig_sin[2];
+    const chain12_real cq5 = trig_cos[3];
+    const chain12_real sq5 = trig_sin[3];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
-    const chain12_real s9 = sin(q[8]);
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real c7 = trig_cos[4];
+    const chain12_real s7 = trig_sin[4];
+    const chain12_real c8 = trig_cos[5];
+    const chain12_real s8 = trig_sin[5];
+    const chain12_real c9 = trig_cos[6];
+    const chain12_real s9 = trig_sin[6];
+    const chain12_real c11 = trig_cos[7];
+    const chain12_real s11 = trig_sin[7];
+    const chain12_real c12 = trig_cos[8];
+    const chain12_real s12 = trig_sin[8];
     const chain12_real dhRw4h_0_dqd1 = c2*c4;
     const chain12_real dhRw4h_1_dqd1 = -c2*s4;
     const chain12_real cse0 = (0.5)*dhRw4h_1_dqd1;
@@ -6190,26 +6282,31 @@ void chain12_forward_kinematics(const chain12_real *q, chain12_real *T)
 
 void chain12_jacobian(const chain12_real *q, chain12_real *J)
 {
-    const chain12_real c1 = cos(q[0]);
-    const chain12_real s1 = sin(q[0]);
+    chain12_real trig_sin[8], trig_cos[8];
+    {
+        const chain12_real trig_angle[8] = {q[0], q[1], q[3], q[4], q[6], q[7], q[8], q[10]};
+        chain12_sincos(8, trig_angle, trig_sin, trig_cos);
+    }
+    const chain12_real c1 = trig_cos[0];
+    const chain12_real s1 = trig_sin[0];
     const chain12_real cse10 = -s1;
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
+    const chain12_real c2 = trig_cos[1];
+    const chain12_real s2 = trig_sin[1];
     const chain12_real cse1 = 0.8660254037844386*s2;
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c4 = trig_cos[2];
+    const chain12_real s4 = trig_sin[2];
+    const chain12_real cq5 = trig_cos[3];
+    const chain12_real sq5 = trig_sin[3];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
-    const chain12_real s9 = sin(q[8]);
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
+    const chain12_real c7 = trig_cos[4];
+    const chain12_real s7 = trig_sin[4];
+    const chain12_real c8 = trig_cos[5];
+    const chain12_real s8 = trig_sin[5];
+    const chain12_real c9 = trig_cos[6];
+    const chain12_real s9 = trig_sin[6];
+    const chain12_real c11 = trig_cos[7];
+    const chain12_real s11 = trig_sin[7];
     const chain12_real dhRw4h_0_dqd1 = c2*c4;
     const chain12_real dhRw4h_1_dqd1 = -c2*s4;
     const chain12_real cse0 = (0.5)*dhRw4h_1_dqd1;
@@ -6376,32 +6473,37 @@ void chain12_jacobian(const chain12_real *q, chain12_real *J)
 
 void chain12_jacobian_dot_qd(const chain12_real *q, const chain12_real *qd, chain12_real *a)
 {
+    chain12_real trig_sin[9], trig_cos[9];
+    {
+        const chain12_real trig_angle[9] = {q[0], q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(9, trig_angle, trig_sin, trig_cos);
+    }
     const chain12_real cse2 = qd[0]*qd[0];
     const chain12_real cse3 = 2.0*qd[2];
     const chain12_real cse4 = qd[1]*qd[1];
     const chain12_real cse14 = 2.0*qd[5];
     const chain12_real cse29 = 2.0*qd[9];
-    const chain12_real c1 = cos(q[0]);
-    const chain12_real s1 = sin(q[0]);
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
+    const chain12_real c1 = trig_cos[0];
+    const chain12_real s1 = trig_sin[0];
+    const chain12_real c2 = trig_cos[1];
+    const chain12_real s2 = trig_sin[1];
     const chain12_real cse35 = 0.8660254037844386*s2;
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c4 = trig_cos[2];
+    const chain12_real s4 = trig_sin[2];
+    const chain12_real cq5 = trig_cos[3];
+    const chain12_real sq5 = trig_sin[3];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
-    const chain12_real s9 = sin(q[8]);
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real c7 = trig_cos[4];
+    const chain12_real s7 = trig_sin[4];
+    const chain12_real c8 = trig_cos[5];
+    const chain12_real s8 = trig_sin[5];
+    const chain12_real c9 = trig_cos[6];
+    const chain12_real s9 = trig_sin[6];
+    const chain12_real c11 = trig_cos[7];
+    const chain12_real s11 = trig_sin[7];
+    const chain12_real c12 = trig_cos[8];
+    const chain12_real s12 = trig_sin[8];
     const chain12_real p3_2 = q[2] + 0.005;
     const chain12_real p6_2 = q[5] + 0.059;
     const chain12_real p10_2 = q[9] + 0.155;
@@ -6606,28 +6708,33 @@ void chain12_jacobian_dot_qd(const chain12_real *q, const chain12_real *qd, chai
 
 void chain12_kinematics(const chain12_real *q, chain12_real *T, chain12_real *J)
 {
-    const chain12_real c1 = cos(q[0]);
-    const chain12_real s1 = sin(q[0]);
+    chain12_real trig_sin[9], trig_cos[9];
+    {
+        const chain12_real trig_angle[9] = {q[0], q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
+        chain12_sincos(9, trig_angle, trig_sin, trig_cos);
+    }
+    const chain12_real c1 = trig_cos[0];
+    const chain12_real s1 = trig_sin[0];
     const chain12_real cse11 = -s1;
-    const chain12_real c2 = cos(q[1]);
-    const chain12_real s2 = sin(q[1]);
+    const chain12_real c2 = trig_cos[1];
+    const chain12_real s2 = trig_sin[1];
     const chain12_real cse1 = 0.8660254037844386*s2;
-    const chain12_real c4 = cos(q[3]);
-    const chain12_real s4 = sin(q[3]);
-    const chain12_real cq5 = cos(q[4]);
-    const chain12_real sq5 = sin(q[4]);
+    const chain12_real c4 = trig_cos[2];
+    const chain12_real s4 = trig_sin[2];
+    const chain12_real cq5 = trig_cos[3];
+    const chain12_real sq5 = trig_sin[3];
     const chain12_real c5 = 0.8660254037844386*cq5 - 0.5*sq5;
     const chain12_real s5 = (0.5)*cq5 + 0.8660254037844386*sq5;
-    const chain12_real c7 = cos(q[6]);
-    const chain12_real s7 = sin(q[6]);
-    const chain12_real c8 = cos(q[7]);
-    const chain12_real s8 = sin(q[7]);
-    const chain12_real c9 = cos(q[8]);
-    const chain12_real s9 = sin(q[8]);
-    const chain12_real c11 = cos(q[10]);
-    const chain12_real s11 = sin(q[10]);
-    const chain12_real c12 = cos(q[11]);
-    const chain12_real s12 = sin(q[11]);
+    const chain12_real c7 = trig_cos[4];
+    const chain12_real s7 = trig_sin[4];
+    const chain12_real c8 = trig_cos[5];
+    const chain12_real s8 = trig_sin[5];
+    const chain12_real c9 = trig_cos[6];
+    const chain12_real s9 = trig_sin[6];
+    const chain12_real c11 = trig_cos[7];
+    const chain12_real s11 = trig_sin[7];
+    const chain12_real c12 = trig_cos[8];
+    const chain12_real s12 = trig_sin[8];
     const chain12_real dhRw4h_0_dqd1 = c2*c4;
     const chain12_real dhRw4h_1_dqd1 = -c2*s4;
     const chain12_real cse0 = (0.5)*dhRw4h_1_dqd1;

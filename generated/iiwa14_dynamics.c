@@ -11,20 +11,82 @@
 
 #include "iiwa14_dynamics.h"
 
+/*
+ * Sine and cosine of the joint angles, all of a function's at once (the block is vectorizable).
+ * |x| <= 1e5: Cody-Waite reduction by pi/2 with a three-part pi/2 and fdlibm's minimax
+ * polynomials on [-pi/4, pi/4], no branch and no call: within 1 ulp of glibc's sin and cos (or
+ * 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5 (symdyn's
+ * tests/test_batch.py); sin(-0) gives +0.  Any other angle (huge, infinite or NaN) goes to libm.
+ * Define SYMDYN_LIBM_TRIG to use libm's sin and cos for every angle.
+ */
+#define iiwa14_SINCOS_KERNEL(REAL, TO_INT, TO_REAL, x, s, c) do { \
+    const REAL k_ = ((x) * 6.36619772367581382433e-01 + 6755399441055744.0) - 6755399441055744.0; \
+    const REAL r_ = (((x) - k_ * 1.57079632673412561417e+00) - k_ * 6.07710050630396597660e-11) \
+        - k_ * 2.02226624871116645580e-21; \
+    const REAL z_ = r_ * r_; \
+    const REAL ps_ = r_ + (z_ * r_) * (-1.66666666666666324348e-01 + z_ * (8.33333333332248946124e-03 \
+        + z_ * (-1.98412698298579493134e-04 + z_ * (2.75573137070700676789e-06 \
+        + z_ * (-2.50507602534068634195e-08 + z_ * 1.58969099521155010221e-10))))); \
+    const REAL hz_ = 0.5 * z_; \
+    const REAL w_ = 1.0 - hz_; \
+    const REAL pc_ = w_ + (((1.0 - w_) - hz_) + (z_ * z_) * (4.16666666666666019037e-02 \
+        + z_ * (-1.38888888888741095749e-03 + z_ * (2.48015872894767294178e-05 \
+        + z_ * (-2.75573143513906633035e-07 + z_ * (2.08757232129817482790e-09 \
+        + z_ * -1.13596475577881948265e-11)))))); \
+    const REAL odd_ = TO_REAL(TO_INT(k_) & 1); \
+    const REAL even_ = 1.0 - odd_; \
+    (s) = (ps_ * even_ + pc_ * odd_) * TO_REAL(1 - (TO_INT(k_) & 2)); \
+    (c) = (pc_ * even_ + ps_ * odd_) * TO_REAL(1 - ((TO_INT(k_) + 1) & 2)); \
+} while (0)
+#define iiwa14_SCALAR_INT(x) ((long)(x))
+#define iiwa14_SCALAR_REAL(x) ((double)(x))
+
+static void iiwa14_sincos(int count, const double *x, double *s, double *c)
+{
+    int i;
+#ifndef SYMDYN_LIBM_TRIG
+    int in_range = 1;
+    for (i = 0; i < count; ++i) {
+        in_range &= (x[i] <= 1.0e5) & (x[i] >= -1.0e5);
+    }
+    if (in_range) {
+        for (i = 0; i < count; ++i) {
+            iiwa14_SINCOS_KERNEL(double, iiwa14_SCALAR_INT, iiwa14_SCALAR_REAL, x[i], s[i], c[i]);
+        }
+        return;
+    }
+#endif
+    for (i = 0; i < count; ++i) {
+#ifndef SYMDYN_LIBM_TRIG
+        if (x[i] <= 1.0e5 && x[i] >= -1.0e5) {
+            iiwa14_SINCOS_KERNEL(double, iiwa14_SCALAR_INT, iiwa14_SCALAR_REAL, x[i], s[i], c[i]);
+            continue;
+        }
+#endif
+        s[i] = sin(x[i]);
+        c[i] = cos(x[i]);
+    }
+}
+
 void iiwa14_inverse_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *qdd, iiwa14_real *tau)
 {
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    iiwa14_real trig_sin[6], trig_cos[6];
+    {
+        const iiwa14_real trig_angle[6] = {q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c2 = trig_cos[0];
+    const iiwa14_real s2 = trig_sin[0];
+    const iiwa14_real c3 = trig_cos[1];
+    const iiwa14_real s3 = trig_sin[1];
+    const iiwa14_real c4 = trig_cos[2];
+    const iiwa14_real s4 = trig_sin[2];
+    const iiwa14_real c5 = trig_cos[3];
+    const iiwa14_real s5 = trig_sin[3];
+    const iiwa14_real c6 = trig_cos[4];
+    const iiwa14_real s6 = trig_sin[4];
+    const iiwa14_real c7 = trig_cos[5];
+    const iiwa14_real s7 = trig_sin[5];
     const iiwa14_real vd2g_0 = -9.81*s2;
     const iiwa14_real vd2g_2 = (9.81)*c2;
     const iiwa14_real Rw2h_0 = -s2*qd[0];
@@ -223,18 +285,23 @@ void iiwa14_inverse_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
 
 void iiwa14_mass_matrix(const iiwa14_real *q, iiwa14_real *D)
 {
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    iiwa14_real trig_sin[6], trig_cos[6];
+    {
+        const iiwa14_real trig_angle[6] = {q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c2 = trig_cos[0];
+    const iiwa14_real s2 = trig_sin[0];
+    const iiwa14_real c3 = trig_cos[1];
+    const iiwa14_real s3 = trig_sin[1];
+    const iiwa14_real c4 = trig_cos[2];
+    const iiwa14_real s4 = trig_sin[2];
+    const iiwa14_real c5 = trig_cos[3];
+    const iiwa14_real s5 = trig_sin[3];
+    const iiwa14_real c6 = trig_cos[4];
+    const iiwa14_real s6 = trig_sin[4];
+    const iiwa14_real c7 = trig_cos[5];
+    const iiwa14_real s7 = trig_sin[5];
     const iiwa14_real dhIw7h_2_dqd5 = (0.001)*c6;
     const iiwa14_real Iq7A_00 = (0.00112)*c7;
     const iiwa14_real Iq7A_01 = -0.00112*s7;
@@ -418,18 +485,23 @@ void iiwa14_mass_matrix(const iiwa14_real *q, iiwa14_real *D)
 
 void iiwa14_coriolis(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *h)
 {
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    iiwa14_real trig_sin[6], trig_cos[6];
+    {
+        const iiwa14_real trig_angle[6] = {q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c2 = trig_cos[0];
+    const iiwa14_real s2 = trig_sin[0];
+    const iiwa14_real c3 = trig_cos[1];
+    const iiwa14_real s3 = trig_sin[1];
+    const iiwa14_real c4 = trig_cos[2];
+    const iiwa14_real s4 = trig_sin[2];
+    const iiwa14_real c5 = trig_cos[3];
+    const iiwa14_real s5 = trig_sin[3];
+    const iiwa14_real c6 = trig_cos[4];
+    const iiwa14_real s6 = trig_sin[4];
+    const iiwa14_real c7 = trig_cos[5];
+    const iiwa14_real s7 = trig_sin[5];
     const iiwa14_real Rw2h_0 = -s2*qd[0];
     const iiwa14_real Rw2h_2 = c2*qd[0];
     const iiwa14_real wd2h_0 = -Rw2h_2*qd[1];
@@ -617,20 +689,25 @@ void iiwa14_coriolis(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *h
 
 void iiwa14_coriolis_matrix(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *C)
 {
+    iiwa14_real trig_sin[6], trig_cos[6];
+    {
+        const iiwa14_real trig_angle[6] = {q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
     const iiwa14_real cse0 = (0.059)*qd[1];
     const iiwa14_real cse2 = (0.0003)*qd[1];
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    const iiwa14_real c2 = trig_cos[0];
+    const iiwa14_real s2 = trig_sin[0];
+    const iiwa14_real c3 = trig_cos[1];
+    const iiwa14_real s3 = trig_sin[1];
+    const iiwa14_real c4 = trig_cos[2];
+    const iiwa14_real s4 = trig_sin[2];
+    const iiwa14_real c5 = trig_cos[3];
+    const iiwa14_real s5 = trig_sin[3];
+    const iiwa14_real c6 = trig_cos[4];
+    const iiwa14_real s6 = trig_sin[4];
+    const iiwa14_real c7 = trig_cos[5];
+    const iiwa14_real s7 = trig_sin[5];
     const iiwa14_real Rw2h_0 = -s2*qd[0];
     const iiwa14_real cse3 = (0.042)*Rw2h_0;
     const iiwa14_real Rw2h_2 = c2*qd[0];
@@ -1541,18 +1618,23 @@ void iiwa14_coriolis_matrix(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_
 
 void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c)
 {
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    iiwa14_real trig_sin[6], trig_cos[6];
+    {
+        const iiwa14_real trig_angle[6] = {q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c2 = trig_cos[0];
+    const iiwa14_real s2 = trig_sin[0];
+    const iiwa14_real c3 = trig_cos[1];
+    const iiwa14_real s3 = trig_sin[1];
+    const iiwa14_real c4 = trig_cos[2];
+    const iiwa14_real s4 = trig_sin[2];
+    const iiwa14_real c5 = trig_cos[3];
+    const iiwa14_real s5 = trig_sin[3];
+    const iiwa14_real c6 = trig_cos[4];
+    const iiwa14_real s6 = trig_sin[4];
+    const iiwa14_real c7 = trig_cos[5];
+    const iiwa14_real s7 = trig_sin[5];
     const iiwa14_real vd2g_0 = -9.81*s2;
     const iiwa14_real vd2g_2 = (9.81)*c2;
     const iiwa14_real F2g_0 = 4.0*vd2g_0;
@@ -1632,18 +1714,23 @@ void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c)
 
 int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd)
 {
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    iiwa14_real trig_sin[6], trig_cos[6];
+    {
+        const iiwa14_real trig_angle[6] = {q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c2 = trig_cos[0];
+    const iiwa14_real s2 = trig_sin[0];
+    const iiwa14_real c3 = trig_cos[1];
+    const iiwa14_real s3 = trig_sin[1];
+    const iiwa14_real c4 = trig_cos[2];
+    const iiwa14_real s4 = trig_sin[2];
+    const iiwa14_real c5 = trig_cos[3];
+    const iiwa14_real s5 = trig_sin[3];
+    const iiwa14_real c6 = trig_cos[4];
+    const iiwa14_real s6 = trig_sin[4];
+    const iiwa14_real c7 = trig_cos[5];
+    const iiwa14_real s7 = trig_sin[5];
     const iiwa14_real vd2g_0 = -9.81*s2;
     const iiwa14_real vd2g_2 = (9.81)*c2;
     const iiwa14_real Rw2h_0 = -s2*qd[0];
@@ -2063,20 +2150,25 @@ void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
 
 void iiwa14_forward_kinematics(const iiwa14_real *q, iiwa14_real *T)
 {
-    const iiwa14_real c1 = cos(q[0]);
-    const iiwa14_real s1 = sin(q[0]);
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    iiwa14_real trig_sin[7], trig_cos[7];
+    {
+        const iiwa14_real trig_angle[7] = {q[0], q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(7, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c1 = trig_cos[0];
+    const iiwa14_real s1 = trig_sin[0];
+    const iiwa14_real c2 = trig_cos[1];
+    const iiwa14_real s2 = trig_sin[1];
+    const iiwa14_real c3 = trig_cos[2];
+    const iiwa14_real s3 = trig_sin[2];
+    const iiwa14_real c4 = trig_cos[3];
+    const iiwa14_real s4 = trig_sin[3];
+    const iiwa14_real c5 = trig_cos[4];
+    const iiwa14_real s5 = trig_sin[4];
+    const iiwa14_real c6 = trig_cos[5];
+    const iiwa14_real s6 = trig_sin[5];
+    const iiwa14_real c7 = trig_cos[6];
+    const iiwa14_real s7 = trig_sin[6];
     const iiwa14_real dhRw3h_0_dqd1 = -c3*s2;
     const iiwa14_real dhRw3h_2_dqd1 = -s2*s3;
     const iiwa14_real dhRw4h_0_dqd1 = c2*s4 + c4*dhRw3h_0_dqd1;
@@ -2140,18 +2232,23 @@ void iiwa14_forward_kinematics(const iiwa14_real *q, iiwa14_real *T)
 
 void iiwa14_jacobian(const iiwa14_real *q, iiwa14_real *J)
 {
-    const iiwa14_real c1 = cos(q[0]);
-    const iiwa14_real s1 = sin(q[0]);
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
+    iiwa14_real trig_sin[6], trig_cos[6];
+    {
+        const iiwa14_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+        iiwa14_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c1 = trig_cos[0];
+    const iiwa14_real s1 = trig_sin[0];
+    const iiwa14_real c2 = trig_cos[1];
+    const iiwa14_real s2 = trig_sin[1];
+    const iiwa14_real c3 = trig_cos[2];
+    const iiwa14_real s3 = trig_sin[2];
+    const iiwa14_real c4 = trig_cos[3];
+    const iiwa14_real s4 = trig_sin[3];
+    const iiwa14_real c5 = trig_cos[4];
+    const iiwa14_real s5 = trig_sin[4];
+    const iiwa14_real c6 = trig_cos[5];
+    const iiwa14_real s6 = trig_sin[5];
     const iiwa14_real dhRw3h_0_dqd1 = -c3*s2;
     const iiwa14_real dhRw3h_2_dqd1 = -s2*s3;
     const iiwa14_real dhRw4h_0_dqd1 = c2*s4 + c4*dhRw3h_0_dqd1;
@@ -2232,20 +2329,25 @@ void iiwa14_jacobian(const iiwa14_real *q, iiwa14_real *J)
 
 void iiwa14_jacobian_dot_qd(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *a)
 {
-    const iiwa14_real c1 = cos(q[0]);
-    const iiwa14_real s1 = sin(q[0]);
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    iiwa14_real trig_sin[7], trig_cos[7];
+    {
+        const iiwa14_real trig_angle[7] = {q[0], q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(7, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c1 = trig_cos[0];
+    const iiwa14_real s1 = trig_sin[0];
+    const iiwa14_real c2 = trig_cos[1];
+    const iiwa14_real s2 = trig_sin[1];
+    const iiwa14_real c3 = trig_cos[2];
+    const iiwa14_real s3 = trig_sin[2];
+    const iiwa14_real c4 = trig_cos[3];
+    const iiwa14_real s4 = trig_sin[3];
+    const iiwa14_real c5 = trig_cos[4];
+    const iiwa14_real s5 = trig_sin[4];
+    const iiwa14_real c6 = trig_cos[5];
+    const iiwa14_real s6 = trig_sin[5];
+    const iiwa14_real c7 = trig_cos[6];
+    const iiwa14_real s7 = trig_sin[6];
     const iiwa14_real Rw2h_0 = -s2*qd[0];
     const iiwa14_real Rw2h_2 = c2*qd[0];
     const iiwa14_real wd2h_0 = -Rw2h_2*qd[1];
@@ -2338,20 +2440,25 @@ void iiwa14_jacobian_dot_qd(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_
 
 void iiwa14_kinematics(const iiwa14_real *q, iiwa14_real *T, iiwa14_real *J)
 {
-    const iiwa14_real c1 = cos(q[0]);
-    const iiwa14_real s1 = sin(q[0]);
-    const iiwa14_real c2 = cos(q[1]);
-    const iiwa14_real s2 = sin(q[1]);
-    const iiwa14_real c3 = cos(q[2]);
-    const iiwa14_real s3 = sin(q[2]);
-    const iiwa14_real c4 = cos(q[3]);
-    const iiwa14_real s4 = sin(q[3]);
-    const iiwa14_real c5 = cos(q[4]);
-    const iiwa14_real s5 = sin(q[4]);
-    const iiwa14_real c6 = cos(q[5]);
-    const iiwa14_real s6 = sin(q[5]);
-    const iiwa14_real c7 = cos(q[6]);
-    const iiwa14_real s7 = sin(q[6]);
+    iiwa14_real trig_sin[7], trig_cos[7];
+    {
+        const iiwa14_real trig_angle[7] = {q[0], q[1], q[2], q[3], q[4], q[5], q[6]};
+        iiwa14_sincos(7, trig_angle, trig_sin, trig_cos);
+    }
+    const iiwa14_real c1 = trig_cos[0];
+    const iiwa14_real s1 = trig_sin[0];
+    const iiwa14_real c2 = trig_cos[1];
+    const iiwa14_real s2 = trig_sin[1];
+    const iiwa14_real c3 = trig_cos[2];
+    const iiwa14_real s3 = trig_sin[2];
+    const iiwa14_real c4 = trig_cos[3];
+    const iiwa14_real s4 = trig_sin[3];
+    const iiwa14_real c5 = trig_cos[4];
+    const iiwa14_real s5 = trig_sin[4];
+    const iiwa14_real c6 = trig_cos[5];
+    const iiwa14_real s6 = trig_sin[5];
+    const iiwa14_real c7 = trig_cos[6];
+    const iiwa14_real s7 = trig_sin[6];
     const iiwa14_real dhRw3h_0_dqd1 = -c3*s2;
     const iiwa14_real dhRw3h_2_dqd1 = -s2*s3;
     const iiwa14_real dhRw4h_0_dqd1 = c2*s4 + c4*dhRw3h_0_dqd1;

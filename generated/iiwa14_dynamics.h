@@ -50,6 +50,14 @@ typedef double iiwa14_real;
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except iiwa14_forward_dynamics_checked, which then returns a
  * nonzero status and leaves qdd unchanged (as does iiwa14_forward_dynamics).
+ *
+ * Sines and cosines of the joint angles are computed in one block at the top of each function,
+ * by a branch-free polynomial within 1 ulp of libm for |q| <= 1e5 rad (libm's sin and cos
+ * beyond, and for every angle when SYMDYN_LIBM_TRIG is defined).
+ *
+ * Floating-point contraction: compile with -ffp-contract=off (the default of -std=c99) for the
+ * results documented here; contraction into fused multiply-adds (-ffp-contract=fast with FMA
+ * hardware) changes them by rounding only, see docs/benchmarks.md ("FMA").
  */
 
 /*

@@ -11,20 +11,82 @@
 
 #include "pendulum_leg_dynamics.h"
 
+/*
+ * Sine and cosine of the joint angles, all of a function's at once (the block is vectorizable).
+ * |x| <= 1e5: Cody-Waite reduction by pi/2 with a three-part pi/2 and fdlibm's minimax
+ * polynomials on [-pi/4, pi/4], no branch and no call: within 1 ulp of glibc's sin and cos (or
+ * 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5 (symdyn's
+ * tests/test_batch.py); sin(-0) gives +0.  Any other angle (huge, infinite or NaN) goes to libm.
+ * Define SYMDYN_LIBM_TRIG to use libm's sin and cos for every angle.
+ */
+#define pendulum_leg_SINCOS_KERNEL(REAL, TO_INT, TO_REAL, x, s, c) do { \
+    const REAL k_ = ((x) * 6.36619772367581382433e-01 + 6755399441055744.0) - 6755399441055744.0; \
+    const REAL r_ = (((x) - k_ * 1.57079632673412561417e+00) - k_ * 6.07710050630396597660e-11) \
+        - k_ * 2.02226624871116645580e-21; \
+    const REAL z_ = r_ * r_; \
+    const REAL ps_ = r_ + (z_ * r_) * (-1.66666666666666324348e-01 + z_ * (8.33333333332248946124e-03 \
+        + z_ * (-1.98412698298579493134e-04 + z_ * (2.75573137070700676789e-06 \
+        + z_ * (-2.50507602534068634195e-08 + z_ * 1.58969099521155010221e-10))))); \
+    const REAL hz_ = 0.5 * z_; \
+    const REAL w_ = 1.0 - hz_; \
+    const REAL pc_ = w_ + (((1.0 - w_) - hz_) + (z_ * z_) * (4.16666666666666019037e-02 \
+        + z_ * (-1.38888888888741095749e-03 + z_ * (2.48015872894767294178e-05 \
+        + z_ * (-2.75573143513906633035e-07 + z_ * (2.08757232129817482790e-09 \
+        + z_ * -1.13596475577881948265e-11)))))); \
+    const REAL odd_ = TO_REAL(TO_INT(k_) & 1); \
+    const REAL even_ = 1.0 - odd_; \
+    (s) = (ps_ * even_ + pc_ * odd_) * TO_REAL(1 - (TO_INT(k_) & 2)); \
+    (c) = (pc_ * even_ + ps_ * odd_) * TO_REAL(1 - ((TO_INT(k_) + 1) & 2)); \
+} while (0)
+#define pendulum_leg_SCALAR_INT(x) ((long)(x))
+#define pendulum_leg_SCALAR_REAL(x) ((double)(x))
+
+static void pendulum_leg_sincos(int count, const double *x, double *s, double *c)
+{
+    int i;
+#ifndef SYMDYN_LIBM_TRIG
+    int in_range = 1;
+    for (i = 0; i < count; ++i) {
+        in_range &= (x[i] <= 1.0e5) & (x[i] >= -1.0e5);
+    }
+    if (in_range) {
+        for (i = 0; i < count; ++i) {
+            pendulum_leg_SINCOS_KERNEL(double, pendulum_leg_SCALAR_INT, pendulum_leg_SCALAR_REAL, x[i], s[i], c[i]);
+        }
+        return;
+    }
+#endif
+    for (i = 0; i < count; ++i) {
+#ifndef SYMDYN_LIBM_TRIG
+        if (x[i] <= 1.0e5 && x[i] >= -1.0e5) {
+            pendulum_leg_SINCOS_KERNEL(double, pendulum_leg_SCALAR_INT, pendulum_leg_SCALAR_REAL, x[i], s[i], c[i]);
+            continue;
+        }
+#endif
+        s[i] = sin(x[i]);
+        c[i] = cos(x[i]);
+    }
+}
+
 void pendulum_leg_inverse_dynamics(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *qdd, pendulum_leg_real *tau)
 {
-    const pendulum_leg_real c1 = cos(q[0]);
-    const pendulum_leg_real s1 = sin(q[0]);
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    pendulum_leg_real trig_sin[6], trig_cos[6];
+    {
+        const pendulum_leg_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c1 = trig_cos[0];
+    const pendulum_leg_real s1 = trig_sin[0];
+    const pendulum_leg_real c2 = trig_cos[1];
+    const pendulum_leg_real s2 = trig_sin[1];
+    const pendulum_leg_real c3 = trig_cos[2];
+    const pendulum_leg_real s3 = trig_sin[2];
+    const pendulum_leg_real c4 = trig_cos[3];
+    const pendulum_leg_real s4 = trig_sin[3];
+    const pendulum_leg_real c5 = trig_cos[4];
+    const pendulum_leg_real s5 = trig_sin[4];
+    const pendulum_leg_real c6 = trig_cos[5];
+    const pendulum_leg_real s6 = trig_sin[5];
     const pendulum_leg_real vd1g_1 = (9.81)*s1;
     const pendulum_leg_real vd1g_2 = (9.81)*c1;
     const pendulum_leg_real vd2g_0 = -s2*vd1g_2;
@@ -142,16 +204,21 @@ void pendulum_leg_inverse_dynamics(const pendulum_leg_real *q, const pendulum_le
 
 void pendulum_leg_mass_matrix(const pendulum_leg_real *q, pendulum_leg_real *D)
 {
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    pendulum_leg_real trig_sin[5], trig_cos[5];
+    {
+        const pendulum_leg_real trig_angle[5] = {q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(5, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c2 = trig_cos[0];
+    const pendulum_leg_real s2 = trig_sin[0];
+    const pendulum_leg_real c3 = trig_cos[1];
+    const pendulum_leg_real s3 = trig_sin[1];
+    const pendulum_leg_real c4 = trig_cos[2];
+    const pendulum_leg_real s4 = trig_sin[2];
+    const pendulum_leg_real c5 = trig_cos[3];
+    const pendulum_leg_real s5 = trig_sin[3];
+    const pendulum_leg_real c6 = trig_cos[4];
+    const pendulum_leg_real s6 = trig_sin[4];
     const pendulum_leg_real Iq6h_0 = (0.814)*c6;
     const pendulum_leg_real Iq6h_1 = (0.814)*s6;
     const pendulum_leg_real Iq6A_00 = (5.313)*c6;
@@ -278,16 +345,21 @@ void pendulum_leg_mass_matrix(const pendulum_leg_real *q, pendulum_leg_real *D)
 
 void pendulum_leg_coriolis(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *h)
 {
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    pendulum_leg_real trig_sin[5], trig_cos[5];
+    {
+        const pendulum_leg_real trig_angle[5] = {q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(5, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c2 = trig_cos[0];
+    const pendulum_leg_real s2 = trig_sin[0];
+    const pendulum_leg_real c3 = trig_cos[1];
+    const pendulum_leg_real s3 = trig_sin[1];
+    const pendulum_leg_real c4 = trig_cos[2];
+    const pendulum_leg_real s4 = trig_sin[2];
+    const pendulum_leg_real c5 = trig_cos[3];
+    const pendulum_leg_real s5 = trig_sin[3];
+    const pendulum_leg_real c6 = trig_cos[4];
+    const pendulum_leg_real s6 = trig_sin[4];
     const pendulum_leg_real Rw2h_0 = c2*qd[0];
     const pendulum_leg_real Rw2h_2 = s2*qd[0];
     const pendulum_leg_real wd2h_0 = -Rw2h_2*qd[1];
@@ -396,18 +468,23 @@ void pendulum_leg_coriolis(const pendulum_leg_real *q, const pendulum_leg_real *
 
 void pendulum_leg_coriolis_matrix(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *C)
 {
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
+    pendulum_leg_real trig_sin[5], trig_cos[5];
+    {
+        const pendulum_leg_real trig_angle[5] = {q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(5, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c2 = trig_cos[0];
+    const pendulum_leg_real s2 = trig_sin[0];
     const pendulum_leg_real cse9 = (0.88)*s2;
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
+    const pendulum_leg_real c3 = trig_cos[1];
+    const pendulum_leg_real s3 = trig_sin[1];
+    const pendulum_leg_real c4 = trig_cos[2];
+    const pendulum_leg_real s4 = trig_sin[2];
+    const pendulum_leg_real c5 = trig_cos[3];
+    const pendulum_leg_real s5 = trig_sin[3];
     const pendulum_leg_real cse19 = -0.02*s5;
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    const pendulum_leg_real c6 = trig_cos[4];
+    const pendulum_leg_real s6 = trig_sin[4];
     const pendulum_leg_real Rw2h_0 = c2*qd[0];
     const pendulum_leg_real Rw2h_2 = s2*qd[0];
     const pendulum_leg_real Rw3h_0 = Rw2h_0*c3 + s3*qd[1];
@@ -902,18 +979,23 @@ void pendulum_leg_coriolis_matrix(const pendulum_leg_real *q, const pendulum_leg
 
 void pendulum_leg_gravity(const pendulum_leg_real *q, pendulum_leg_real *c)
 {
-    const pendulum_leg_real c1 = cos(q[0]);
-    const pendulum_leg_real s1 = sin(q[0]);
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    pendulum_leg_real trig_sin[6], trig_cos[6];
+    {
+        const pendulum_leg_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c1 = trig_cos[0];
+    const pendulum_leg_real s1 = trig_sin[0];
+    const pendulum_leg_real c2 = trig_cos[1];
+    const pendulum_leg_real s2 = trig_sin[1];
+    const pendulum_leg_real c3 = trig_cos[2];
+    const pendulum_leg_real s3 = trig_sin[2];
+    const pendulum_leg_real c4 = trig_cos[3];
+    const pendulum_leg_real s4 = trig_sin[3];
+    const pendulum_leg_real c5 = trig_cos[4];
+    const pendulum_leg_real s5 = trig_sin[4];
+    const pendulum_leg_real c6 = trig_cos[5];
+    const pendulum_leg_real s6 = trig_sin[5];
     const pendulum_leg_real vd1g_1 = (9.81)*s1;
     const pendulum_leg_real vd1g_2 = (9.81)*c1;
     const pendulum_leg_real vd2g_0 = -s2*vd1g_2;
@@ -966,18 +1048,23 @@ void pendulum_leg_gravity(const pendulum_leg_real *q, pendulum_leg_real *c)
 
 int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd)
 {
-    const pendulum_leg_real c1 = cos(q[0]);
-    const pendulum_leg_real s1 = sin(q[0]);
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    pendulum_leg_real trig_sin[6], trig_cos[6];
+    {
+        const pendulum_leg_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c1 = trig_cos[0];
+    const pendulum_leg_real s1 = trig_sin[0];
+    const pendulum_leg_real c2 = trig_cos[1];
+    const pendulum_leg_real s2 = trig_sin[1];
+    const pendulum_leg_real c3 = trig_cos[2];
+    const pendulum_leg_real s3 = trig_sin[2];
+    const pendulum_leg_real c4 = trig_cos[3];
+    const pendulum_leg_real s4 = trig_sin[3];
+    const pendulum_leg_real c5 = trig_cos[4];
+    const pendulum_leg_real s5 = trig_sin[4];
+    const pendulum_leg_real c6 = trig_cos[5];
+    const pendulum_leg_real s6 = trig_sin[5];
     const pendulum_leg_real vd1g_1 = (9.81)*s1;
     const pendulum_leg_real vd1g_2 = (9.81)*c1;
     const pendulum_leg_real vd2g_0 = -s2*vd1g_2;
@@ -1262,18 +1349,23 @@ void pendulum_leg_forward_dynamics(const pendulum_leg_real *q, const pendulum_le
 
 void pendulum_leg_forward_kinematics(const pendulum_leg_real *q, pendulum_leg_real *T)
 {
-    const pendulum_leg_real c1 = cos(q[0]);
-    const pendulum_leg_real s1 = sin(q[0]);
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    pendulum_leg_real trig_sin[6], trig_cos[6];
+    {
+        const pendulum_leg_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c1 = trig_cos[0];
+    const pendulum_leg_real s1 = trig_sin[0];
+    const pendulum_leg_real c2 = trig_cos[1];
+    const pendulum_leg_real s2 = trig_sin[1];
+    const pendulum_leg_real c3 = trig_cos[2];
+    const pendulum_leg_real s3 = trig_sin[2];
+    const pendulum_leg_real c4 = trig_cos[3];
+    const pendulum_leg_real s4 = trig_sin[3];
+    const pendulum_leg_real c5 = trig_cos[4];
+    const pendulum_leg_real s5 = trig_sin[4];
+    const pendulum_leg_real c6 = trig_cos[5];
+    const pendulum_leg_real s6 = trig_sin[5];
     const pendulum_leg_real dhRw3h_0_dqd1 = c2*c3;
     const pendulum_leg_real dhRw3h_1_dqd1 = -c2*s3;
     const pendulum_leg_real dhRw4h_1_dqd1 = c4*dhRw3h_1_dqd1 + s2*s4;
@@ -1325,16 +1417,21 @@ void pendulum_leg_forward_kinematics(const pendulum_leg_real *q, pendulum_leg_re
 
 void pendulum_leg_jacobian(const pendulum_leg_real *q, pendulum_leg_real *J)
 {
-    const pendulum_leg_real c1 = cos(q[0]);
-    const pendulum_leg_real s1 = sin(q[0]);
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
+    pendulum_leg_real trig_sin[5], trig_cos[5];
+    {
+        const pendulum_leg_real trig_angle[5] = {q[0], q[1], q[2], q[3], q[4]};
+        pendulum_leg_sincos(5, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c1 = trig_cos[0];
+    const pendulum_leg_real s1 = trig_sin[0];
+    const pendulum_leg_real c2 = trig_cos[1];
+    const pendulum_leg_real s2 = trig_sin[1];
+    const pendulum_leg_real c3 = trig_cos[2];
+    const pendulum_leg_real s3 = trig_sin[2];
+    const pendulum_leg_real c4 = trig_cos[3];
+    const pendulum_leg_real s4 = trig_sin[3];
+    const pendulum_leg_real c5 = trig_cos[4];
+    const pendulum_leg_real s5 = trig_sin[4];
     const pendulum_leg_real dhRw3h_0_dqd1 = c2*c3;
     const pendulum_leg_real dhRw3h_1_dqd1 = -c2*s3;
     const pendulum_leg_real dhRw4h_1_dqd1 = c4*dhRw3h_1_dqd1 + s2*s4;
@@ -1397,18 +1494,23 @@ void pendulum_leg_jacobian(const pendulum_leg_real *q, pendulum_leg_real *J)
 
 void pendulum_leg_jacobian_dot_qd(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *a)
 {
-    const pendulum_leg_real c1 = cos(q[0]);
-    const pendulum_leg_real s1 = sin(q[0]);
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    pendulum_leg_real trig_sin[6], trig_cos[6];
+    {
+        const pendulum_leg_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c1 = trig_cos[0];
+    const pendulum_leg_real s1 = trig_sin[0];
+    const pendulum_leg_real c2 = trig_cos[1];
+    const pendulum_leg_real s2 = trig_sin[1];
+    const pendulum_leg_real c3 = trig_cos[2];
+    const pendulum_leg_real s3 = trig_sin[2];
+    const pendulum_leg_real c4 = trig_cos[3];
+    const pendulum_leg_real s4 = trig_sin[3];
+    const pendulum_leg_real c5 = trig_cos[4];
+    const pendulum_leg_real s5 = trig_sin[4];
+    const pendulum_leg_real c6 = trig_cos[5];
+    const pendulum_leg_real s6 = trig_sin[5];
     const pendulum_leg_real Rw2h_0 = c2*qd[0];
     const pendulum_leg_real Rw2h_2 = s2*qd[0];
     const pendulum_leg_real wd2h_0 = -Rw2h_2*qd[1];
@@ -1480,38 +1582,43 @@ void pendulum_leg_jacobian_dot_qd(const pendulum_leg_real *q, const pendulum_leg
 
 void pendulum_leg_reaction_map(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *k0, pendulum_leg_real *D)
 {
-    const pendulum_leg_real c1 = cos(q[0]);
+    pendulum_leg_real trig_sin[6], trig_cos[6];
+    {
+        const pendulum_leg_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c1 = trig_cos[0];
     const pendulum_leg_real cse1 = (9.81)*c1;
-    const pendulum_leg_real s1 = sin(q[0]);
+    const pendulum_leg_real s1 = trig_sin[0];
     const pendulum_leg_real cse0 = (9.81)*s1;
-    const pendulum_leg_real c2 = cos(q[1]);
+    const pendulum_leg_real c2 = trig_cos[1];
     const pendulum_leg_real cse81 = c2*c2;
-    const pendulum_leg_real s2 = sin(q[1]);
+    const pendulum_leg_real s2 = trig_sin[1];
     const pendulum_leg_real cse82 = s2*s2;
     const pendulum_leg_real cse83 = c2*s2;
     const pendulum_leg_real cse86 = 2.0*cse83;
-    const pendulum_leg_real c3 = cos(q[2]);
+    const pendulum_leg_real c3 = trig_cos[2];
     const pendulum_leg_real cse66 = c3*c3;
-    const pendulum_leg_real s3 = sin(q[2]);
+    const pendulum_leg_real s3 = trig_sin[2];
     const pendulum_leg_real cse67 = s3*s3;
     const pendulum_leg_real cse68 = c3*s3;
     const pendulum_leg_real cse69 = 2.0*cse68;
-    const pendulum_leg_real c4 = cos(q[3]);
+    const pendulum_leg_real c4 = trig_cos[3];
     const pendulum_leg_real cse7 = (0.88)*c4;
     const pendulum_leg_real cse50 = c4*c4;
-    const pendulum_leg_real s4 = sin(q[3]);
+    const pendulum_leg_real s4 = trig_sin[3];
     const pendulum_leg_real cse6 = (0.88)*s4;
     const pendulum_leg_real cse49 = s4*s4;
     const pendulum_leg_real cse53 = c4*s4;
     const pendulum_leg_real cse54 = 2.0*cse53;
-    const pendulum_leg_real c5 = cos(q[4]);
+    const pendulum_leg_real c5 = trig_cos[4];
     const pendulum_leg_real cse30 = c5*c5;
-    const pendulum_leg_real s5 = sin(q[4]);
+    const pendulum_leg_real s5 = trig_sin[4];
     const pendulum_leg_real cse31 = s5*s5;
     const pendulum_leg_real cse32 = c5*s5;
-    const pendulum_leg_real c6 = cos(q[5]);
+    const pendulum_leg_real c6 = trig_cos[5];
     const pendulum_leg_real cse22 = c6*c6;
-    const pendulum_leg_real s6 = sin(q[5]);
+    const pendulum_leg_real s6 = trig_sin[5];
     const pendulum_leg_real cse21 = s6*s6;
     const pendulum_leg_real cse23 = c6*s6;
     const pendulum_leg_real cse110 = (0.6743375813697625)*s6;
@@ -2035,18 +2142,23 @@ void pendulum_leg_reaction_map(const pendulum_leg_real *q, const pendulum_leg_re
 
 void pendulum_leg_kinematics(const pendulum_leg_real *q, pendulum_leg_real *T, pendulum_leg_real *J)
 {
-    const pendulum_leg_real c1 = cos(q[0]);
-    const pendulum_leg_real s1 = sin(q[0]);
-    const pendulum_leg_real c2 = cos(q[1]);
-    const pendulum_leg_real s2 = sin(q[1]);
-    const pendulum_leg_real c3 = cos(q[2]);
-    const pendulum_leg_real s3 = sin(q[2]);
-    const pendulum_leg_real c4 = cos(q[3]);
-    const pendulum_leg_real s4 = sin(q[3]);
-    const pendulum_leg_real c5 = cos(q[4]);
-    const pendulum_leg_real s5 = sin(q[4]);
-    const pendulum_leg_real c6 = cos(q[5]);
-    const pendulum_leg_real s6 = sin(q[5]);
+    pendulum_leg_real trig_sin[6], trig_cos[6];
+    {
+        const pendulum_leg_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
+        pendulum_leg_sincos(6, trig_angle, trig_sin, trig_cos);
+    }
+    const pendulum_leg_real c1 = trig_cos[0];
+    const pendulum_leg_real s1 = trig_sin[0];
+    const pendulum_leg_real c2 = trig_cos[1];
+    const pendulum_leg_real s2 = trig_sin[1];
+    const pendulum_leg_real c3 = trig_cos[2];
+    const pendulum_leg_real s3 = trig_sin[2];
+    const pendulum_leg_real c4 = trig_cos[3];
+    const pendulum_leg_real s4 = trig_sin[3];
+    const pendulum_leg_real c5 = trig_cos[4];
+    const pendulum_leg_real s5 = trig_sin[4];
+    const pendulum_leg_real c6 = trig_cos[5];
+    const pendulum_leg_real s6 = trig_sin[5];
     const pendulum_leg_real dhRw3h_0_dqd1 = c2*c3;
     const pendulum_leg_real dhRw3h_1_dqd1 = -c2*s3;
     const pendulum_leg_real dhRw4h_1_dqd1 = c4*dhRw3h_1_dqd1 + s2*s4;

@@ -49,6 +49,10 @@ def add_parser(sub) -> None:
                    help="compile the C for a Cortex-M4 with arm-none-eabi-gcc (-mcpu=cortex-m4 -mthumb "
                         "-mfloat-abi=hard -mfpu=fpv4-sp-d16 -O2) and document each function's code size and "
                         "stack use in the header; c target, .h + .c only")
+    p.add_argument("--batch", action="store_true",
+                   help="also write NAME_<function>_batch(count, ...) over arrays of states: several "
+                        "states at once in GCC/Clang vector types in double precision (identical results), "
+                        "a loop over the scalar function otherwise; c target only")
     add_method_option(p)
     add_fd_method_option(p)
     add_size_options(p)
@@ -74,7 +78,7 @@ def input_files(path: str) -> list[str]:
 def generate_files(path: str, functions, precision, header_only: bool, method: str,
                    use_cache: bool = True, target: str = "c", loaded=None, progress=None,
                    fd_method: str | None = None, size_report: bool = False,
-                   parameters: str = "standard") -> dict[str, bytes]:
+                   parameters: str = "standard", batch: bool = False) -> dict[str, bytes]:
     """Load (robot or scene), derive (cached) and emit; returns {file name: content} without
     writing anything.  ``functions``/``precision`` None: the scene's, else all / double.
     ``loaded``: ``load_input(path)`` when the caller already has it; ``progress``: called with a
@@ -103,7 +107,8 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
             from ..check.firmware import measure
             report = functools.partial(measure, prefix=robot.name)
         files = generate_c(eqs, functions, precision, header_only, source_name=source,
-                           source_hash=source_hash, notes=notes, progress=progress, size_report=report)
+                           source_hash=source_hash, notes=notes, progress=progress, size_report=report,
+                           batch=batch)
         return {name: text.encode("utf-8") for name, text in files.items()}
     from ..emit.casadi_backend import casadi_files
     return casadi_files(eqs, functions, casadi_c=target == "casadi-c", source_name=source,
@@ -116,6 +121,8 @@ def run(args) -> int:
     functions = parse_functions(args.functions) if args.functions else None
     if args.target != "c" and (args.precision not in (None, "double") or args.header_only):
         raise SymdynError(f"--precision and --header-only apply to the c target only, not {args.target}")
+    if args.batch and args.target != "c":
+        raise SymdynError(f"--batch applies to the c target only, not {args.target}")
     if args.size_report and (args.target != "c" or args.header_only):
         raise SymdynError("--size-report applies to the c target with .h + .c files (not --header-only)")
     if args.size_report:
@@ -135,7 +142,7 @@ def run(args) -> int:
                                              args.method, not args.no_cache, args.target,
                                              loaded=inputs, progress=progress_printer(args),
                                              fd_method=args.fd_method, size_report=args.size_report,
-                                             parameters=args.parameters).items():
+                                             parameters=args.parameters, batch=args.batch).items():
                 if name in rendered:
                     raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
                 rendered[name] = text

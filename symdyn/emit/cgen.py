@@ -15,7 +15,7 @@ import sympy as sp
 
 from .._version import __version__
 from ..model.errors import warn
-from .cprinter import CPrinter, count_operations
+from .cprinter import CPrinter, VectorUnsupported, count_operations
 from .emission import comment_text, fold_constants, source_label, template_environment
 from ..derive.equations import ALL_OUTPUTS, OUTPUT_INPUTS, PIVOT_RTOL, Equations
 
@@ -105,6 +105,15 @@ class CFunction:
     returns_doc: str = ""
     #: measured code size and stack use on the size-report target (see generate_c), or ""
     size_text: str = ""
+    #: type of the sin/cos block at the top ("double", "float") or "" when there is none
+    trig_type: str = ""
+    #: the batch form (see build_function), or None
+    batch: dict | None = None
+
+    @property
+    def batch_args(self) -> str:
+        """The batch function's parameters: count, then the scalar function's arrays."""
+        return ", ".join(["int count"] + [f"{ctype}{name}" for ctype, name, _, _ in self.args])
 
     @property
     def signature_args(self) -> str:
@@ -210,10 +219,25 @@ def _prune(statements, results):
     return kept[::-1]
 
 
-def build_functions(eqs: Equations, name: str, precision: str, prefix: str) -> list[CFunction]:
+def _hoisted_angles(statements, results, computed) -> list[sp.Expr]:
+    """The arguments of the sines and cosines that depend on the inputs only (not on a computed
+    quantity), in order of first use: they are computed in one block at the top of a function."""
+    angles: list[sp.Expr] = []
+    seen = set()
+    for expr in [rhs for _, rhs in statements] + [sp.sympify(e) for e in results]:
+        for atom in sorted(expr.atoms(sp.sin, sp.cos), key=sp.default_sort_key):
+            arg = atom.args[0]
+            if arg not in seen and not (arg.free_symbols & computed) and arg.free_symbols:
+                seen.add(arg)
+                angles.append(arg)
+    return angles
+
+
+def build_functions(eqs: Equations, name: str, precision: str, prefix: str,
+                    batch_form: bool = False) -> list[CFunction]:
     """The C functions of one output: one function, or for forward dynamics the checked
     function (``int`` status) and the plain one of the contract that calls it."""
-    built = build_function(eqs, name, precision, prefix)
+    built = build_function(eqs, name, precision, prefix, batch_form)
     if name != "forward_dynamics" or not eqs.pivots:
         return [built]
     plain = CFunction(
@@ -224,8 +248,9 @@ def build_functions(eqs: Equations, name: str, precision: str, prefix: str) -> l
     return [built, plain]
 
 
-def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CFunction:
-    """Straight-line C body of one output function (forward dynamics: the checked function)."""
+def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch_form: bool = False) -> CFunction:
+    """Straight-line C body of one output function (forward dynamics: the checked function);
+    with ``batch_form``, also the batch form over arrays of states (``CFunction.batch``)."""
     n = eqs.n
     real = f"{prefix}_real"
     parts = COMBINED.get(name, (name,))  # the outputs this function writes, one argument each
@@ -285,62 +310,134 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
         names[sym] = f"{cast}p[{k}]"
     for sym, _ in statements:
         names[sym] = sym.name.lstrip("_")
-    printer = CPrinter(names, internal)
+    angles = _hoisted_angles(statements, list(final_outputs) + list(final_checks), {sym for sym, _ in statements})
+    trig_helper = (f"{prefix}_sincosf" if internal == "float" else f"{prefix}_sincos") if angles else ""
 
-    # Forward dynamics checks each pivot as soon as it is computed, before anything divides by
-    # it: a singular D returns 1 without a division by zero.
-    position = {sym: k for k, (sym, _) in enumerate(statements)}
-    pivot_checks: dict[int, list[str]] = {}
-    if checked:
-        rtol = printer.literal(PIVOT_RTOL)
-        for d, m in zip(final_checks[0::2], final_checks[1::2]):
-            deps = sp.sympify(d).free_symbols | sp.sympify(m).free_symbols
-            at = max((position[x] for x in deps if x in position), default=-1)
-            test = f"!({printer.doprint(d)} > 0)" if sp.sympify(d - m) == 0 else \
-                f"!({printer.doprint(d)} > {rtol}*({printer.doprint(m)}))"
-            pivot_checks.setdefault(at, []).append(test)
-    lines, ops = [], Counter()
-    used = set()
-
-    def check_pivots(at):
-        if at in pivot_checks:
-            lines.append("if (" + "\n        || ".join(pivot_checks[at]) + ") {")
-            lines.append("    return 1; /* singular mass matrix at q (or q not finite) */")
+    def emit(vector: bool):
+        """The body's lines: scalar (``vector`` False: early returns on a singular D) or the
+        lanes function of the batch form (vector types; forward dynamics gathers the checks in
+        the mask ``ok`` instead of returning)."""
+        vreal = f"{prefix}_vreal"
+        printer = CPrinter(names, internal, vector_prefix=prefix if vector else "")
+        for k, arg in enumerate(angles):
+            printer.trig[sp.sin(arg)] = f"trig_sin[{k}]"
+            printer.trig[sp.cos(arg)] = f"trig_cos[{k}]"
+        ltype = vreal if vector else local_type
+        lines, ops = [], Counter()
+        used = set()
+        if angles:
+            used |= set().union(*(a.free_symbols for a in angles))
+            lines.append(f"{ltype} trig_sin[{len(angles)}], trig_cos[{len(angles)}];")
+            lines.append("{")
+            lines.append(f"    const {ltype} trig_angle[{len(angles)}] = {{{', '.join(printer.doprint(a) for a in angles)}}};")
+            helper = f"{prefix}_vsincos" if vector else trig_helper
+            lines.append(f"    {helper}({len(angles)}, trig_angle, trig_sin, trig_cos);")
             lines.append("}")
-    check_pivots(-1)
-    for k, (sym, rhs) in enumerate(statements):
-        lines.append(f"const {local_type} {names[sym]} = {printer.doprint(rhs)};")
-        ops += count_operations(rhs)
-        used |= rhs.free_symbols
-        check_pivots(k)
-    store = f"({real})" if internal != scalar else ""
-    if checked:
-        used |= set().union(*(sp.sympify(e).free_symbols for e in final_checks))
-        # compared in the type the results are computed in
-        limit, fabs = (("(double)FLT_MAX" if scalar == "float" else "DBL_MAX"), "fabs") if internal == "double" \
-            else ("FLT_MAX", "fabsf")
-        results = []
-        for (target, _), expr in zip(targets, final_outputs):
-            if isinstance(expr, sp.Symbol) and expr in names:
-                results.append(names[expr])
+
+        # Forward dynamics checks each pivot as soon as it is computed, before anything divides by
+        # it: a singular D returns 1 without a division by zero.  (Lanes: all checks in one mask.)
+        position = {sym: k for k, (sym, _) in enumerate(statements)}
+        pivot_checks: dict[int, list[str]] = {}
+        if checked:
+            rtol = printer.literal(PIVOT_RTOL)
+            for d, m in zip(final_checks[0::2], final_checks[1::2]):
+                deps = sp.sympify(d).free_symbols | sp.sympify(m).free_symbols
+                at = max((position[x] for x in deps if x in position), default=-1)
+                if vector:
+                    test = f"({printer.doprint(d)} > 0.0)" if sp.sympify(d - m) == 0 else \
+                        f"({printer.doprint(d)} > {rtol}*({printer.doprint(m)}))"
+                else:
+                    test = f"!({printer.doprint(d)} > 0)" if sp.sympify(d - m) == 0 else \
+                        f"!({printer.doprint(d)} > {rtol}*({printer.doprint(m)}))"
+                pivot_checks.setdefault(at, []).append(test)
+        if checked and vector:
+            lines.append(f"{prefix}_vint all_ok = ({vreal}){{0.0}} == 0.0; /* every lane true */")
+
+        def check_pivots(at):
+            if at in pivot_checks:
+                if vector:
+                    lines.append("all_ok &= " + "\n        & ".join(pivot_checks[at]) + ";")
+                else:
+                    lines.append("if (" + "\n        || ".join(pivot_checks[at]) + ") {")
+                    lines.append("    return 1; /* singular mass matrix at q (or q not finite) */")
+                    lines.append("}")
+        check_pivots(-1)
+        def show(expr):
+            """The printed expression; in the lanes function a number is broadcast to every lane."""
+            text = printer.doprint(expr)
+            if vector and not sp.sympify(expr).free_symbols:
+                text = f"({vreal}){{0.0}} + {text}"
+            return text
+        for k, (sym, rhs) in enumerate(statements):
+            lines.append(f"const {ltype} {names[sym]} = {show(rhs)};")
+            ops += count_operations(rhs)
+            used |= rhs.free_symbols
+            check_pivots(k)
+        store = f"({real})" if internal != scalar else ""
+        if checked:
+            used |= set().union(*(sp.sympify(e).free_symbols for e in final_checks))
+            # compared in the type the results are computed in
+            limit, fabs = (("(double)FLT_MAX" if scalar == "float" else "DBL_MAX"), "fabs") if internal == "double" \
+                else ("FLT_MAX", "fabsf")
+            results = []
+            for (target, _), expr in zip(targets, final_outputs):
+                if isinstance(expr, sp.Symbol) and expr in names:
+                    results.append(names[expr])
+                else:
+                    lines.append(f"const {ltype} {target} = {show(expr)};")
+                    results.append(target)
+                ops += count_operations(expr)
+                used |= sp.sympify(expr).free_symbols
+            if vector:
+                lines.append("all_ok &= " + "\n        & ".join(f"({r} <= {limit}) & ({r} >= -{limit})" for r in results) + ";")
+                for i, result in enumerate(results):
+                    lines.append(f"{out_name}[{i}] = {result};")
+                lines.append("*ok = all_ok;")
             else:
-                lines.append(f"const {local_type} {target} = {printer.doprint(expr)};")
-                results.append(target)
-            ops += count_operations(expr)
-            used |= sp.sympify(expr).free_symbols
-        lines.append("if (" + "\n        || ".join(f"!({fabs}({r}) <= {limit})" for r in results) + ") {")
-        lines.append("    return 2; /* a result is NaN or out of range */")
-        lines.append("}")
-        for i, result in enumerate(results):
-            lines.append(f"{out_name}[{i}] = {store}{result};")
-        lines.append("return 0;")
-    else:
-        for (target, _), expr in zip(targets, final_outputs):
-            lines.append(f"{target} = {store}({printer.doprint(expr)});" if store else f"{target} = {printer.doprint(expr)};")
-            ops += count_operations(expr)
-            used |= sp.sympify(expr).free_symbols
-    for target, source in aliases:
-        lines.append(f"{target} = {source};")
+                lines.append("if (" + "\n        || ".join(f"!({fabs}({r}) <= {limit})" for r in results) + ") {")
+                lines.append("    return 2; /* a result is NaN or out of range */")
+                lines.append("}")
+                for i, result in enumerate(results):
+                    lines.append(f"{out_name}[{i}] = {store}{result};")
+                lines.append("return 0;")
+        else:
+            for (target, _), expr in zip(targets, final_outputs):
+                text = show(expr)
+                lines.append(f"{target} = {store}({text});" if store else f"{target} = {text};")
+                ops += count_operations(expr)
+                used |= sp.sympify(expr).free_symbols
+        for target, source in aliases:
+            lines.append(f"{target} = {source};")
+        return lines, ops, used, printer.vector_functions
+
+    lines, ops, used, _ = emit(vector=False)
+    batch = None
+    if batch_form:
+        lanes, vector_functions, lanes_unused = None, set(), []
+        if internal == "double" and precision == "double":
+            allowed = (sp.sin, sp.cos, sp.sign)
+            everything = [rhs for _, rhs in statements] + [sp.sympify(e) for e in list(final_outputs) + list(final_checks)]
+            if not any(not isinstance(f, allowed) for e in everything for f in e.atoms(sp.Function)):
+                try:
+                    lanes, _, lanes_used, vector_functions = emit(vector=True)
+                except VectorUnsupported:
+                    lanes = None
+                else:
+                    lanes_unused = [a for a in [*inputs, *(["p"] if eqs.parameters else [])] if not any(
+                        names.get(x, "").startswith(a + "[") for x in lanes_used)]
+        sizes = []
+        for part in parts:
+            if part in SPLIT_OUTPUTS:
+                matrix = eqs.output(part)
+                sizes.extend((arg, matrix[:, first:end].rows * matrix[:, first:end].cols)
+                             for arg, _, first, end in SPLIT_OUTPUTS[part])
+            else:
+                sizes.append((OUTPUT_ARGS[part][0], eqs.output(part).rows * eqs.output(part).cols))
+        batch = {"name": f"{name}_batch", "lanes": lanes, "lanes_unused": lanes_unused,
+                 "vector_functions": sorted(vector_functions), "checked": checked,
+                 "inputs": [(group, len(getattr(eqs, group))) for group in inputs],
+                 "parameters": len(eqs.parameters), "outputs": sizes,
+                 "scalar": f"{name}_checked" if checked else name, "trig": bool(angles)}
 
     args = [(f"const {real} *", group, ARG_DOCS[group], False) for group in inputs]
     if eqs.parameters:
@@ -359,11 +456,14 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str) -> CF
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
+    trig_type = internal if angles else ""
     if checked:
         status = STATUS_DOC_ABA if eqs.fd_method == "aba" else STATUS_DOC
         return CFunction(name=f"{name}_checked", summary=summary, args=args, lines=lines, ops=ops, unused=unused,
-                         returns="int", returns_doc=status.format(rtol=PIVOT_RTOL, real=scalar))
-    return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused)
+                         returns="int", returns_doc=status.format(rtol=PIVOT_RTOL, real=scalar),
+                         trig_type=trig_type, batch=batch)
+    return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused,
+                     trig_type=trig_type, batch=batch)
 
 
 def _nominal_standard(robot):
@@ -402,24 +502,26 @@ def _base_parameters(eqs: Equations):
 
 def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
                source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = (),
-               progress=None, size_report=None) -> dict[str, str]:
+               progress=None, size_report=None, batch: bool = False) -> dict[str, str]:
     """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` (or one header of static inline
     functions when ``header_only``).  Returns ``{file name: text}``.  ``progress`` (optional) is
     called with a short text as each function's C is built.  ``size_report`` (optional): called
     with the rendered files, returns an object with ``sizes`` ({C function name: (text bytes,
     stack bytes)}), ``doubles`` (double-precision routines referenced) and ``toolchain`` (what
-    measured them); the header then documents each function's size and stack use."""
+    measured them); the header then documents each function's size and stack use.  ``batch``:
+    also emit ``NAME_<function>_batch(count, ...)`` over arrays of states (vectorized in double
+    precision with GCC/Clang vector types, a loop over the scalar function otherwise)."""
     functions = [f for f in ALL_OUTPUTS if f in (functions or eqs.output_names)]
     prefix = eqs.robot.name
     built = []
     for f in functions:
         if progress is not None:
             progress(f"{prefix}: C for {f}")
-        built.extend(build_functions(eqs, f, precision, prefix))
+        built.extend(build_functions(eqs, f, precision, prefix, batch))
     for combined, parts in COMBINED.items():
         if all(part in functions for part in parts):
-            built.append(build_function(eqs, combined, precision, prefix))
-    externals = [f"{prefix}_{f.name}" for f in built]
+            built.append(build_function(eqs, combined, precision, prefix, batch))
+    externals = [f"{prefix}_{f.name}" for f in built] + [f"{prefix}_{f.batch['name']}" for f in built if f.batch]
     if len({e[:31] for e in externals}) < len(externals):
         warn(f"robot name '{prefix}': the generated function names ({', '.join(externals)}) are not "
              "distinct in their first 31 characters, all that C99 guarantees a linker to compare; "
@@ -455,6 +557,13 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "size_doubles": "",
         "regressor_parameters": _regressor_parameters(eqs) if "regressor" in functions else [],
         "base_parameters": _base_parameters(eqs) if "base_regressor" in functions else [],
+        "trig_double": any(f.trig_type == "double" for f in built) or any(
+            f.batch and f.batch["lanes"] is not None and f.batch["trig"] for f in built),
+        "vector_trig": any(f.batch and f.batch["lanes"] is not None and f.batch["trig"] for f in built),
+        "trig_float": any(f.trig_type == "float" for f in built),
+        "batch": batch,
+        "vector": any(f.batch and f.batch["lanes"] is not None for f in built),
+        "vector_functions": sorted(set().union(*(f.batch["vector_functions"] for f in built if f.batch))),
     }
     env = template_environment()
     header = env.get_template("dynamics.h.j2").render(**context)

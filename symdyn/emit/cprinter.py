@@ -22,11 +22,23 @@ from .emission import fold_constants  # noqa: F401 (re-exported)
 PRECISIONS = ("double", "float")
 
 
+class VectorUnsupported(Exception):
+    """An expression the vector (batch) form cannot print; the batch function then loops over
+    the scalar one."""
+
+
 class CPrinter(C99CodePrinter):
     """C99 printer with symdyn's conventions (see module docstring)."""
 
-    def __init__(self, names: dict[sp.Symbol, str], precision: str = "double"):
+    def __init__(self, names: dict[sp.Symbol, str], precision: str = "double", vector_prefix: str = ""):
         super().__init__()
+        #: sin/cos already computed (in the block at the top of a function): expression -> C name
+        self.trig: dict[sp.Expr, str] = {}
+        #: print for the lanes of a batch function (GCC/Clang vector types of ``PREFIX_vreal``):
+        #: sin, cos, sqrt and sign become the lane-wise helpers ``PREFIX_v<name>``
+        self.vector_prefix = vector_prefix
+        #: the lane-wise helpers the printed code calls
+        self.vector_functions: set[str] = set()
         if precision not in PRECISIONS:
             raise ValueError(f"precision must be double or float, not {precision!r}")
         self.names = names
@@ -77,11 +89,21 @@ class CPrinter(C99CodePrinter):
     def _print_Pi(self, expr):
         return self.literal(sp.pi.evalf(20))
 
+    def _vector(self, name, expr):
+        self.vector_functions.add(name)
+        return f"{self.vector_prefix}_v{name}({self._print(expr.args[0])})"
+
     def _print_sign(self, expr):
+        if self.vector_prefix:
+            return self._vector("sign", expr)
         arg = self._print(expr.args[0])
         return f"(({self.real})(({arg} > 0) - ({arg} < 0)))"
 
     def _fn(self, name, expr):
+        if expr in self.trig:
+            return self.trig[expr]
+        if self.vector_prefix:
+            return self._vector(name, expr)
         suffix = "f" if self.precision == "float" else ""
         return f"{name}{suffix}({self._print(expr.args[0])})"
 
@@ -106,6 +128,8 @@ class CPrinter(C99CodePrinter):
         if exp == -sp.S.Half:
             return f"{self.literal(1)}/{self._fn('sqrt', sp.sqrt(base))}"
         suffix = "f" if self.precision == "float" else ""
+        if self.vector_prefix:
+            raise VectorUnsupported("pow")
         return f"pow{suffix}({self._print(base)}, {self._print(exp)})"
 
 
