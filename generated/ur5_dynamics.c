@@ -12,14 +12,16 @@
 #include "ur5_dynamics.h"
 
 /*
- * Sine and cosine of the joint angles, all of a function's at once (the block is vectorizable).
+ * Sine and cosine of the joint angles, all of a function's at once.
  * |x| <= 1e5: Cody-Waite reduction by pi/2 with a three-part pi/2 and fdlibm's minimax
- * polynomials on [-pi/4, pi/4], no branch and no call: within 1 ulp of glibc's sin and cos (or
- * 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5 (symdyn's
- * tests/test_batch.py); sin(-0) gives +0.  Any other angle (huge, infinite or NaN) goes to libm.
- * Define SYMDYN_LIBM_TRIG to use libm's sin and cos for every angle.
+ * polynomials on [-pi/4, pi/4], no branch, no call and no integer conversion (the quadrant is
+ * found in floating point), so the same statements run on GCC/Clang vector types: within 1 ulp
+ * of glibc's sin and cos (or 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5
+ * (symdyn's tests/test_batch.py), with identical results in every lane and in the scalar form.
+ * Any other angle (huge, infinite or NaN) goes to libm.  Define SYMDYN_LIBM_TRIG to use libm's
+ * sin and cos for every angle, SYMDYN_NO_VECTOR for the scalar form only.
  */
-#define ur5_SINCOS_KERNEL(REAL, TO_INT, TO_REAL, x, s, c) do { \
+#define ur5_SINCOS_KERNEL(REAL, x, s, c) do { \
     const REAL k_ = ((x) * 6.36619772367581382433e-01 + 6755399441055744.0) - 6755399441055744.0; \
     const REAL r_ = (((x) - k_ * 1.57079632673412561417e+00) - k_ * 6.07710050630396597660e-11) \
         - k_ * 2.02226624871116645580e-21; \
@@ -33,13 +35,23 @@
         + z_ * (-1.38888888888741095749e-03 + z_ * (2.48015872894767294178e-05 \
         + z_ * (-2.75573143513906633035e-07 + z_ * (2.08757232129817482790e-09 \
         + z_ * -1.13596475577881948265e-11)))))); \
-    const REAL odd_ = TO_REAL(TO_INT(k_) & 1); \
-    const REAL even_ = 1.0 - odd_; \
-    (s) = (ps_ * even_ + pc_ * odd_) * TO_REAL(1 - (TO_INT(k_) & 2)); \
-    (c) = (pc_ * even_ + ps_ * odd_) * TO_REAL(1 - ((TO_INT(k_) + 1) & 2)); \
+    /* quadrant m = k mod 4 = 2 b1 + b0, exactly, by rounding with the same 1.5 * 2^52 */ \
+    const REAL t_ = (k_ * 0.25 - 0.375 + 6755399441055744.0) - 6755399441055744.0; \
+    const REAL m_ = k_ - 4.0 * t_; \
+    const REAL b1_ = (m_ * 0.5 - 0.25 + 6755399441055744.0) - 6755399441055744.0; \
+    const REAL b0_ = m_ - 2.0 * b1_; \
+    const REAL e_ = 1.0 - b0_; \
+    (s) = (ps_ * e_ + pc_ * b0_) * (1.0 - 2.0 * b1_); \
+    (c) = (pc_ * e_ + ps_ * b0_) * (1.0 - 2.0 * (b0_ + b1_ - 2.0 * b0_ * b1_)); \
 } while (0)
-#define ur5_SCALAR_INT(x) ((long)(x))
-#define ur5_SCALAR_REAL(x) ((double)(x))
+#if !defined(SYMDYN_NO_VECTOR) && !defined(SYMDYN_LIBM_TRIG) && (defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 9))
+#if defined(__AVX__)
+#define UR5_TRIG_WIDTH 4
+#else
+#define UR5_TRIG_WIDTH 2
+#endif
+typedef double ur5_treal __attribute__((vector_size(UR5_TRIG_WIDTH * sizeof(double))));
+#endif
 
 static void ur5_sincos(int count, const double *x, double *s, double *c)
 {
@@ -50,16 +62,32 @@ static void ur5_sincos(int count, const double *x, double *s, double *c)
         in_range &= (x[i] <= 1.0e5) & (x[i] >= -1.0e5);
     }
     if (in_range) {
-        for (i = 0; i < count; ++i) {
-            ur5_SINCOS_KERNEL(double, ur5_SCALAR_INT, ur5_SCALAR_REAL, x[i], s[i], c[i]);
+#ifdef UR5_TRIG_WIDTH
+        /* UR5_TRIG_WIDTH angles at a time (the last group padded with zeros) */
+        for (i = 0; i < count; i += UR5_TRIG_WIDTH) {
+            ur5_treal angle = {0.0}, sine, cosine;
+            int lane;
+            for (lane = 0; lane < UR5_TRIG_WIDTH && i + lane < count; ++lane) {
+                angle[lane] = x[i + lane];
+            }
+            ur5_SINCOS_KERNEL(ur5_treal, angle, sine, cosine);
+            for (lane = 0; lane < UR5_TRIG_WIDTH && i + lane < count; ++lane) {
+                s[i + lane] = sine[lane];
+                c[i + lane] = cosine[lane];
+            }
         }
+#else
+        for (i = 0; i < count; ++i) {
+            ur5_SINCOS_KERNEL(double, x[i], s[i], c[i]);
+        }
+#endif
         return;
     }
 #endif
     for (i = 0; i < count; ++i) {
 #ifndef SYMDYN_LIBM_TRIG
         if (x[i] <= 1.0e5 && x[i] >= -1.0e5) {
-            ur5_SINCOS_KERNEL(double, ur5_SCALAR_INT, ur5_SCALAR_REAL, x[i], s[i], c[i]);
+            ur5_SINCOS_KERNEL(double, x[i], s[i], c[i]);
             continue;
         }
 #endif

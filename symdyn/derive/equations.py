@@ -45,7 +45,7 @@ from .regressor import base_parameters as find_base_parameters
 from .regressor import base_equivalent
 from .regressor import regressor as regressor_matrix
 from .chain import make_chain
-from .composite import mass_matrix as composite_mass_matrix
+from .composite import mass_matrix_factored
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
@@ -96,6 +96,10 @@ class Equations:
     base_parameters: tuple[tuple[str, sp.Expr], ...] = ()
     #: "base" when inverse dynamics was written in the base parameters, else "standard"
     parameter_form: str = "standard"
+    #: ``(S, F)`` when the mass matrix's off-diagonal entries are dot products
+    #: ``D[i, j] = S[i] . F[j - 1]`` (i < j; 6 entries each, see
+    #: :func:`symdyn.derive.composite.mass_matrix_factored`), else ``()``
+    mass_factors: tuple = ()
 
     @property
     def n(self) -> int:
@@ -295,6 +299,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     no_gravity = sp.zeros(3, 1)
     friction = _friction(robot, qd, qdd)
     result: dict[str, sp.Matrix] = {}
+    mass_factors: tuple = ()
     need = set(wanted)
     if "forward_dynamics" in need:
         need |= {"mass_matrix"}
@@ -314,7 +319,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                 result["coriolis_matrix"] = C
         if "mass_matrix" in need:
             report("mass_matrix (composite rigid bodies)")
-            result["mass_matrix"] = composite_mass_matrix(chain)
+            result["mass_matrix"], mass_factors = mass_matrix_factored(chain)
         if "inverse_dynamics" in need:
             report("inverse_dynamics")
             rigid = joint_forces(chain, qd, qdd, chain.gravity, "")
@@ -425,4 +430,5 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      pivots=pivots if "forward_dynamics" in wanted else (),
                      fd_method=fd_method if "forward_dynamics" in wanted else "",
                      base_parameters=base if ("base_regressor" in wanted or parameters == "base") else (),
-                     parameter_form="base" if (parameters == "base" and "inverse_dynamics" in wanted) else "standard")
+                     parameter_form="base" if (parameters == "base" and "inverse_dynamics" in wanted) else "standard",
+                     mass_factors=mass_factors if "mass_matrix" in wanted else ())

@@ -257,6 +257,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     out_name, out_doc = OUTPUT_ARGS[parts[0]] if parts[0] in OUTPUT_ARGS else SPLIT_OUTPUTS[parts[0]][0][:2]
     targets: list[tuple[str, sp.Expr]] = []
     aliases: list[tuple[str, str]] = []
+    gram: tuple[str, int] | None = None  # (output, n) of a mass matrix written by a loop
     empty_outputs: list[str] = []  # output arguments with no entry (a reaction map with no actuated joint)
     checked = name == "forward_dynamics" and bool(eqs.pivots)
     if checked:  # results go to locals first: qdd is written only when every check passes
@@ -277,12 +278,19 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         part_name = OUTPUT_ARGS[part][0]
         rows, cols = matrix.shape
         symmetric = part == "mass_matrix"
+        factored = symmetric and bool(eqs.mass_factors)
         for i in range(rows):
             for j in range(cols):
                 if symmetric and j < i:
-                    aliases.append((f"{part_name}[{i * cols + j}]", f"{part_name}[{j * cols + i}]"))
-                else:
+                    if not factored:  # the loop writes both triangles
+                        aliases.append((f"{part_name}[{i * cols + j}]", f"{part_name}[{j * cols + i}]"))
+                elif not (factored and j > i):
                     targets.append((f"{part_name}[{i * cols + j}]", matrix[i, j]))
+        if factored:  # D[i][j] = S_i . F_j (i < j) as a loop over two arrays of 6-vectors
+            motions, momenta = eqs.mass_factors
+            targets += [(f"mass_s[{6 * i + k}]", e) for i, row in enumerate(motions) for k, e in enumerate(row)]
+            targets += [(f"mass_f[{6 * j + k}]", e) for j, row in enumerate(momenta) for k, e in enumerate(row)]
+            gram = (part_name, rows)
     checks = [e for pair in eqs.pivots for e in pair] if checked else []
     assigns = list(eqs.program.needed_for([e for _, e in targets] + checks))
     folded = [(s, fold_constants(r)) for s, r in assigns]
@@ -362,6 +370,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                     lines.append("    return 1; /* singular mass matrix at q (or q not finite) */")
                     lines.append("}")
         check_pivots(-1)
+        if gram:
+            lines.append(f"{ltype} mass_s[{6 * (gram[1] - 1)}], mass_f[{6 * (gram[1] - 1)}];")
+
         def show(expr):
             """The printed expression; in the lanes function a number is broadcast to every lane."""
             text = printer.doprint(expr)
@@ -406,6 +417,18 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                 lines.append(f"{target} = {store}({text});" if store else f"{target} = {text};")
                 ops += count_operations(expr)
                 used |= sp.sympify(expr).free_symbols
+        if gram:
+            out, size = gram
+            lines += [f"for (int i = 0; i < {size - 1}; ++i) {{",
+                      f"    const {ltype} *s = mass_s + 6 * i;",
+                      f"    const {ltype} s0 = s[0], s1 = s[1], s2 = s[2], s3 = s[3], s4 = s[4], s5 = s[5];",
+                      f"    for (int j = i + 1; j < {size}; ++j) {{",
+                      f"        const {ltype} *f = mass_f + 6 * (j - 1);",
+                      f"        {out}[i * {size} + j] = {out}[j * {size} + i] = "
+                      "s0*f[0] + s1*f[1] + s2*f[2] + s3*f[3] + s4*f[4] + s5*f[5];",
+                      "    }",
+                      "}"]
+            ops += Counter({"mul": 6 * size * (size - 1) // 2, "add": 5 * size * (size - 1) // 2})
         for target, source in aliases:
             lines.append(f"{target} = {source};")
         return lines, ops, used, printer.vector_functions
