@@ -207,3 +207,44 @@ def test_projected_mass_matrix_agrees_with_pinocchio(name, tmp_path, monkeypatch
         (tmp_path / precision).mkdir()
         lib = build_and_load(files, name, robot.dof, len(robot.parameters), precision, str(tmp_path / precision))
         _compare(lib, name, precision, tolerance, ("mass_matrix",))
+
+
+@pytest.mark.parametrize("name,projected", [("general_arm", False), ("panda", True)])
+def test_looped_forward_dynamics_agrees_with_pinocchio(name, projected, tmp_path, monkeypatch):
+    """Forward dynamics as an LDL^T loop over M and rhs (the default from
+    LOOPED_SOLVE_FROM_DOF joints, more than any bundled robot has) on short arms: friction, a
+    prismatic joint, base and tool (general_arm), and the projected mass matrix feeding the loop
+    (panda); double, float and mixed; a singular or non-finite state returns its status and
+    leaves qdd unwritten, as the unrolled form does."""
+    import symdyn
+    import symdyn.derive.composite as composite
+    import symdyn.derive.equations as equations
+    from helpers import robot_path
+    from symdyn.emit.cgen import generate_c
+    monkeypatch.setattr(equations, "LOOPED_SOLVE_FROM_DOF", 1)
+    monkeypatch.setattr(composite, "PROJECTED_FROM_DOF", 1 if projected else 99)
+    path = REPO / "tests" / "data" / f"{name}.yaml" if name == "general_arm" else robot_path(name)
+    robot = symdyn.load(str(path))
+    eqs = symdyn.derive(robot, outputs=["forward_dynamics"])
+    assert eqs.fd_system and bool(eqs.fd_system[2]) == projected
+    values = parameter_values(robot)
+    p = np.array([values[s] for s in robot.parameters])
+    ref = PinocchioReference(robot, values)
+    for precision, tolerance in (("double", 1e-10), ("float", 1e-3), ("mixed", 1e-4)):
+        files = generate_c(eqs, ["forward_dynamics"], precision)
+        assert "LDL^T of M" in files[f"{robot.name}_dynamics.c"]
+        (tmp_path / precision).mkdir()
+        lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, str(tmp_path / precision))
+        states = []
+        for state in random_states(robot.dof, 20, seed=11):
+            if precision != "double":
+                state = [x.astype(np.float32).astype(float) for x in state]
+            states.append(state)
+        errors = compare(lib, ref, states, ("forward_dynamics",), p)
+        assert errors["forward_dynamics"] <= tolerance, (precision, errors)
+        q, qd, _, tau = states[0]
+        status, qdd = lib.forward_dynamics_checked(np.full(robot.dof, np.nan), qd, tau, p, qdd=np.full(robot.dof, 7.0))
+        assert status == 1 and np.all(qdd == 7.0)
+        huge = 1e200 if precision == "double" else 1e30
+        status, qdd = lib.forward_dynamics_checked(q, np.full(robot.dof, huge), tau, p, qdd=np.full(robot.dof, 7.0))
+        assert status == 2 and np.all(qdd == 7.0)

@@ -100,6 +100,13 @@ class Equations:
     #: ``D[i, j] = S[i] . F[j - 1]`` (i < j; 6 entries each, see
     #: :func:`symdyn.derive.composite.mass_matrix_factored`), else ``()``
     mass_factors: tuple = ()
+    #: ``(M, rhs, factors)`` when forward dynamics is to be emitted as a solve of
+    #: ``M qdd = rhs`` (``M = D + diag(armature)``, n x n; ``rhs``, n x 1; ``factors`` as
+    #: :attr:`mass_factors` for M's off-diagonal entries, or ``()``) by a loop, instead of the
+    #: unrolled LDL^T of the ``forward_dynamics`` output, whose size grows as n^3 (chains of
+    #: :data:`LOOPED_SOLVE_FROM_DOF` joints or more); else ``()``.  Both give the same
+    #: solution up to rounding; the pivots checked are the same.
+    fd_system: tuple = ()
 
     @property
     def n(self) -> int:
@@ -249,6 +256,13 @@ def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> tuple[sp.Mat
     return sp.Matrix(x), tuple((d[j], M[j, j]) for j in range(n))
 
 
+#: from this many joints, emitters solve ``M qdd = rhs`` for forward dynamics by an LDL^T loop
+#: over arrays (:attr:`Equations.fd_system`) instead of the unrolled factorization, whose code
+#: grows as n^3: on generic chains (benchmarks/long_chains.py, gcc -O2 / -O3 -march=native) the
+#: unrolled form is faster at 12 joints (1739 against 2118 ns), the loop from about 18
+#: (3515 against 3604 ns; -O3: 3255 against 4327)
+LOOPED_SOLVE_FROM_DOF = 16
+
 #: how forward dynamics is solved: an LDL^T factorization of D unrolled for the robot, or the
 #: articulated-body algorithm (:mod:`symdyn.derive.articulated_body`)
 FD_METHODS = ("ldlt", "aba")
@@ -300,6 +314,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     friction = _friction(robot, qd, qdd)
     result: dict[str, sp.Matrix] = {}
     mass_factors: tuple = ()
+    fd_system: tuple = ()
     need = set(wanted)
     if "forward_dynamics" in need:
         need |= {"mass_matrix"}
@@ -384,6 +399,8 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             rhs = sp.Matrix(tau) - bias - friction.subs({v: 0 for v in qdd})
             rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
             result["forward_dynamics"], pivots = _ldlt_solve(b, M, rhs)
+            if n >= LOOPED_SOLVE_FROM_DOF:
+                fd_system = (sp.ImmutableMatrix(M), sp.ImmutableMatrix(rhs), mass_factors)
 
     if "reaction_map" in need:
         report("reaction_map (articulated-body recursion at tau = 0, eqs. 5-14 of seed 004)")
@@ -431,4 +448,5 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      fd_method=fd_method if "forward_dynamics" in wanted else "",
                      base_parameters=base if ("base_regressor" in wanted or parameters == "base") else (),
                      parameter_form="base" if (parameters == "base" and "inverse_dynamics" in wanted) else "standard",
-                     mass_factors=mass_factors if "mass_matrix" in wanted else ())
+                     mass_factors=mass_factors if "mass_matrix" in wanted else (),
+                     fd_system=fd_system if "forward_dynamics" in wanted else ())

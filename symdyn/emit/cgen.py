@@ -260,7 +260,17 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     gram: tuple[str, int] | None = None  # (output, n) of a mass matrix written by a loop
     empty_outputs: list[str] = []  # output arguments with no entry (a reaction map with no actuated joint)
     checked = name == "forward_dynamics" and bool(eqs.pivots)
-    if checked:  # results go to locals first: qdd is written only when every check passes
+    looped = checked and bool(eqs.fd_system)  # M qdd = rhs solved by a loop (Equations.fd_system)
+    if looped:  # M's upper triangle (or the factor arrays) and rhs into local arrays
+        system, rhs, factors = eqs.fd_system
+        targets = [(f"fd_M[{j * n + i}]", system[i, j]) for i in range(n) for j in range(i, n)
+                   if j == i or not factors]  # lower triangle (the factor loop writes both)
+        if factors:
+            targets += [(f"mass_s[{6 * i + k}]", e) for i, row in enumerate(factors[0]) for k, e in enumerate(row)]
+            targets += [(f"mass_f[{6 * j + k}]", e) for j, row in enumerate(factors[1]) for k, e in enumerate(row)]
+            gram = ("fd_M", n)
+        targets += [(f"fd_b[{i}]", rhs[i]) for i in range(n)]
+    elif checked:  # results go to locals first: qdd is written only when every check passes
         matrix = eqs.output(name)
         targets = [(f"result{i}", matrix[i]) for i in range(n)]
     for part in (() if checked else parts):
@@ -291,7 +301,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
             targets += [(f"mass_s[{6 * i + k}]", e) for i, row in enumerate(motions) for k, e in enumerate(row)]
             targets += [(f"mass_f[{6 * j + k}]", e) for j, row in enumerate(momenta) for k, e in enumerate(row)]
             gram = (part_name, rows)
-    checks = [e for pair in eqs.pivots for e in pair] if checked else []
+    checks = [e for pair in eqs.pivots for e in pair] if checked and not looped else []
     assigns = list(eqs.program.needed_for([e for _, e in targets] + checks))
     folded = [(s, fold_constants(r)) for s, r in assigns]
     outputs = [fold_constants(sp.sympify(e)) for _, e in targets]
@@ -385,7 +395,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
             used |= rhs.free_symbols
             check_pivots(k)
         store = f"({real})" if internal != scalar else ""
-        if checked:
+        if looped:
+            lines.append(f"{ltype} fd_M[{n * n}], fd_b[{n}], fd_w[{n}], fd_d[{n}], fd_inv[{n}], fd_x[{n}];")
+        if checked and not looped:
             used |= set().union(*(sp.sympify(e).free_symbols for e in final_checks))
             # compared in the type the results are computed in
             limit, fabs = (("(double)FLT_MAX" if scalar == "float" else "DBL_MAX"), "fabs") if internal == "double" \
@@ -414,7 +426,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         else:
             for (target, _), expr in zip(targets, final_outputs):
                 text = show(expr)
-                lines.append(f"{target} = {store}({text});" if store else f"{target} = {text};")
+                lines.append(f"{target} = {store}({text});" if store and not looped else f"{target} = {text};")
                 ops += count_operations(expr)
                 used |= sp.sympify(expr).free_symbols
         if gram:
@@ -429,6 +441,11 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                       "    }",
                       "}"]
             ops += Counter({"mul": 6 * size * (size - 1) // 2, "add": 5 * size * (size - 1) // 2})
+        if looped:
+            solve, solve_ops = _looped_solve(n, ltype, printer.literal(PIVOT_RTOL), printer.literal(1.0), vector,
+                                             out_name, store, internal, scalar)
+            lines += solve
+            ops += solve_ops
         for target, source in aliases:
             lines.append(f"{target} = {source};")
         return lines, ops, used, printer.vector_functions
@@ -487,6 +504,80 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                          trig_type=trig_type, batch=batch)
     return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused,
                      trig_type=trig_type, batch=batch)
+
+
+def _looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name: str, store: str,
+                  internal: str, scalar: str) -> tuple[list[str], Counter]:
+    """C lines solving ``fd_M qdd = fd_b`` by an LDL^T loop (M's lower triangle given, L
+    written over it), with the same pivot and finiteness checks as the unrolled
+    form: status 1 when a pivot ``d_j`` is not above ``rtol * M_jj``, 2 when a result is not
+    finite; qdd is written only on success.  ``vector``: the lanes function's form (checks
+    gathered in ``all_ok``, ``*ok`` set).  Returns the lines and their operation counts."""
+    if vector:
+        check = ["    all_ok &= (d > " + rtol + "*fd_M[j * " + str(n) + " + j]);"]
+    else:
+        check = ["    if (!(d > " + rtol + "*fd_M[j * " + str(n) + " + j])) {",
+                 "        return 1; /* singular mass matrix at q (or q not finite) */",
+                 "    }"]
+    lines = ["/* LDL^T of M (lower triangle of fd_M), left-looking: row j of L replaces row j */",
+             f"for (int j = 0; j < {n}; ++j) {{",
+             f"    {ltype} d = fd_M[j * {n} + j];",
+             "    for (int k = 0; k < j; ++k) {",
+             f"        fd_w[k] = fd_M[j * {n} + k]*fd_d[k]; /* L_jk d_k */",
+             f"        d -= fd_M[j * {n} + k]*fd_w[k];",
+             "    }",
+             *check,
+             "    fd_d[j] = d;",
+             f"    fd_inv[j] = {one}/d;",
+             f"    for (int i = j + 1; i < {n}; ++i) {{",
+             f"        {ltype} s = fd_M[i * {n} + j];",
+             "        for (int k = 0; k < j; ++k) {",
+             f"            s -= fd_M[i * {n} + k]*fd_w[k];",
+             "        }",
+             f"        fd_M[i * {n} + j] = s*fd_inv[j];",
+             "    }",
+             "}",
+             "/* L y = b, then D L^T x = y */",
+             f"for (int i = 0; i < {n}; ++i) {{",
+             f"    {ltype} y = fd_b[i];",
+             "    for (int k = 0; k < i; ++k) {",
+             f"        y -= fd_M[i * {n} + k]*fd_x[k];",
+             "    }",
+             "    fd_x[i] = y;",
+             "}",
+             f"for (int i = {n - 1}; i >= 0; --i) {{",
+             f"    {ltype} x = fd_x[i]*fd_inv[i];",
+             f"    for (int k = i + 1; k < {n}; ++k) {{",
+             f"        x -= fd_M[k * {n} + i]*fd_x[k];",
+             "    }",
+             "    fd_x[i] = x;",
+             "}"]
+    limit, fabs = (("(double)FLT_MAX" if scalar == "float" else "DBL_MAX"), "fabs") if internal == "double" \
+        else ("FLT_MAX", "fabsf")
+    if vector:
+        lines += [f"for (int i = 0; i < {n}; ++i) {{",
+                  f"    all_ok &= (fd_x[i] <= {limit}) & (fd_x[i] >= -{limit});",
+                  f"    {out_name}[i] = fd_x[i];",
+                  "}",
+                  "*ok = all_ok;"]
+    else:
+        lines += [f"for (int i = 0; i < {n}; ++i) {{",
+                  f"    if (!({fabs}(fd_x[i]) <= {limit})) {{",
+                  "        return 2; /* a result is NaN or out of range */",
+                  "    }",
+                  "}",
+                  f"for (int i = 0; i < {n}; ++i) {{",
+                  f"    {out_name}[i] = {store}fd_x[i];",
+                  "}",
+                  "return 0;"]
+    mul = add = div = 0
+    for j in range(n):
+        div += 1
+        mul += 2 * j + (n - 1 - j) * (j + 1)  # w and d; column j of L
+        add += j + (n - 1 - j) * j
+    mul += n * (n - 1) // 2 + n + n * (n - 1) // 2  # the two substitutions
+    add += n * (n - 1)
+    return lines, Counter({"mul": mul, "add": add, "div": div})
 
 
 def _nominal_standard(robot):
