@@ -118,15 +118,15 @@ void planar2r_inverse_dynamics(const planar2r_real *q, const planar2r_real *qd, 
     const planar2r_real aJ2_0 = vd1g_0 - p[4]*qd[0]*qd[0];
     const planar2r_real aJ2_1 = vd1g_1 + p[4]*qdd[0];
     const planar2r_real vd2_0 = aJ2_0*c2 + aJ2_1*s2;
-    const planar2r_real vd2_1 = -aJ2_0*s2 + aJ2_1*c2;
+    const planar2r_real vd2_1 = aJ2_1*c2 - aJ2_0*s2;
     const planar2r_real a2_0 = vd2_0 - w2h_2*ws2h_1;
     const planar2r_real a2_1 = vd2_1 + wd2_2*p[6];
     const planar2r_real F2_0 = a2_0*p[5];
     const planar2r_real F2_1 = a2_1*p[5];
     const planar2r_real N2_2 = p[7]*wd2_2;
-    const planar2r_real n2_2 = F2_1*p[6] + N2_2;
+    const planar2r_real n2_2 = N2_2 + F2_1*p[6];
     const planar2r_real Rf1_1 = F2_0*s2 + F2_1*c2;
-    const planar2r_real n1_2 = F1_1*p[2] + N1_2 + Rf1_1*p[4] + n2_2;
+    const planar2r_real n1_2 = N1_2 + n2_2 + F1_1*p[2] + Rf1_1*p[4];
     tau[0] = n1_2;
     tau[1] = n2_2;
 }
@@ -140,11 +140,11 @@ void planar2r_mass_matrix(const planar2r_real *q, const planar2r_real *p, planar
     }
     const planar2r_real c2 = trig_cos[0];
     const planar2r_real Ic2h_0 = p[6]*p[5];
-    const planar2r_real Ic2J_22 = p[7] + p[6]*p[6]*p[5];
+    const planar2r_real Ic2J_22 = p[7] + p[5]*p[6]*p[6];
     const planar2r_real Iq2h_0 = Ic2h_0*c2;
     const planar2r_real cse0 = Iq2h_0*p[4];
-    const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[4]*p[4]*p[5];
-    const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[2]*p[2]*p[1];
+    const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[5]*p[4]*p[4];
+    const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[1]*p[2]*p[2];
     const planar2r_real F2b2n_2 = Ic2J_22 + cse0;
     D[0] = Ic1J_22;
     D[1] = F2b2n_2;
@@ -171,7 +171,7 @@ void planar2r_coriolis(const planar2r_real *q, const planar2r_real *qd, const pl
     const planar2r_real F2h_1 = vd2h_1*p[5];
     const planar2r_real n2h_2 = F2h_1*p[6];
     const planar2r_real Rf1h_1 = F2h_0*s2 + F2h_1*c2;
-    const planar2r_real n1h_2 = Rf1h_1*p[4] + n2h_2;
+    const planar2r_real n1h_2 = n2h_2 + Rf1h_1*p[4];
     h[0] = n1h_2;
     h[1] = n2h_2;
 }
@@ -197,7 +197,7 @@ void planar2r_coriolis_matrix(const planar2r_real *q, const planar2r_real *qd, c
     const planar2r_real dhF2h_1_dqd1 = dhvd2h_1_dqd1*p[5];
     const planar2r_real dhn2h_2_dqd1 = dhF2h_1_dqd1*p[6];
     const planar2r_real dhRf1h_1_dqd1 = c2*dhF2h_1_dqd1 + dhF2h_0_dqd1*s2;
-    const planar2r_real dhn1h_2_dqd1 = dhRf1h_1_dqd1*p[4] + dhn2h_2_dqd1;
+    const planar2r_real dhn1h_2_dqd1 = dhn2h_2_dqd1 + dhRf1h_1_dqd1*p[4];
     const planar2r_real dha2h_0_dqd2 = -cse1;
     const planar2r_real dhF2h_0_dqd2 = dha2h_0_dqd2*p[5];
     const planar2r_real dhRf1h_1_dqd2 = dhF2h_0_dqd2*s2;
@@ -231,7 +231,7 @@ void planar2r_gravity(const planar2r_real *q, const planar2r_real *p, planar2r_r
     const planar2r_real F2g_1 = vd2g_1*p[5];
     const planar2r_real n2g_2 = F2g_1*p[6];
     const planar2r_real Rf1g_1 = F2g_0*s2 + F2g_1*c2;
-    const planar2r_real n1g_2 = F1g_1*p[2] + Rf1g_1*p[4] + n2g_2;
+    const planar2r_real n1g_2 = n2g_2 + F1g_1*p[2] + Rf1g_1*p[4];
     c[0] = n1g_2;
     c[1] = n2g_2;
 }
@@ -253,36 +253,36 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
     const planar2r_real w2h_2 = qd[0] + qd[1];
     const planar2r_real ws2h_1 = w2h_2*p[6];
     const planar2r_real Ic2h_0 = p[6]*p[5];
-    const planar2r_real Ic2J_22 = p[7] + p[6]*p[6]*p[5];
+    const planar2r_real Ic2J_22 = p[7] + p[5]*p[6]*p[6];
     const planar2r_real Iq2h_0 = Ic2h_0*c2;
     const planar2r_real cse0 = Iq2h_0*p[4];
-    const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[4]*p[4]*p[5];
-    const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[2]*p[2]*p[1];
+    const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[5]*p[4]*p[4];
+    const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[1]*p[2]*p[2];
     if (!(Ic1J_22 > 0)) {
         return 1; /* singular mass matrix at q (or q not finite) */
     }
     const planar2r_real F2b2n_2 = Ic2J_22 + cse0;
     const planar2r_real aJ2_0 = vd1g_0 - p[4]*qd[0]*qd[0];
     const planar2r_real vd2b_0 = aJ2_0*c2 + s2*vd1g_1;
-    const planar2r_real vd2b_1 = -aJ2_0*s2 + c2*vd1g_1;
+    const planar2r_real vd2b_1 = c2*vd1g_1 - aJ2_0*s2;
     const planar2r_real a2b_0 = vd2b_0 - w2h_2*ws2h_1;
     const planar2r_real F2b_0 = a2b_0*p[5];
     const planar2r_real F2b_1 = vd2b_1*p[5];
     const planar2r_real n2b_2 = F2b_1*p[6];
     const planar2r_real Rf1b_1 = F2b_0*s2 + F2b_1*c2;
-    const planar2r_real n1b_2 = F1g_1*p[2] + Rf1b_1*p[4] + n2b_2;
-    const planar2r_real rhs1 = -n1b_2 + tau[0];
-    const planar2r_real rhs2 = -n2b_2 + tau[1];
+    const planar2r_real n1b_2 = n2b_2 + F1g_1*p[2] + Rf1b_1*p[4];
+    const planar2r_real rhs1 = tau[0] - n1b_2;
+    const planar2r_real rhs2 = tau[1] - n2b_2;
     const planar2r_real ldl_inv1 = 1.0/Ic1J_22;
     const planar2r_real ldl_L21 = F2b2n_2*ldl_inv1;
-    const planar2r_real ldl_d2 = -Ic1J_22*ldl_L21*ldl_L21 + Ic2J_22;
+    const planar2r_real ldl_d2 = Ic2J_22 - Ic1J_22*ldl_L21*ldl_L21;
     if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
         return 1; /* singular mass matrix at q (or q not finite) */
     }
     const planar2r_real ldl_inv2 = 1.0/ldl_d2;
-    const planar2r_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
+    const planar2r_real ldl_y2 = rhs2 - ldl_L21*rhs1;
     const planar2r_real qdd2_fd = ldl_inv2*ldl_y2;
-    const planar2r_real qdd1_fd = -ldl_L21*qdd2_fd + ldl_inv1*rhs1;
+    const planar2r_real qdd1_fd = ldl_inv1*rhs1 - ldl_L21*qdd2_fd;
     if (!(fabs(qdd1_fd) <= DBL_MAX)
         || !(fabs(qdd2_fd) <= DBL_MAX)) {
         return 2; /* a result is NaN or out of range */

@@ -67,7 +67,7 @@ typedef double puma560_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 301 multiplications, 222 additions/subtractions, 0 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 300 multiplications, 222 additions/subtractions, 0 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 void puma560_inverse_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *qdd, puma560_real *tau);
 
@@ -84,7 +84,7 @@ void puma560_mass_matrix(const puma560_real *q, puma560_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 269 multiplications, 185 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 268 multiplications, 185 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_coriolis(const puma560_real *q, const puma560_real *qd, puma560_real *h);
 
@@ -101,7 +101,7 @@ void puma560_coriolis_matrix(const puma560_real *q, const puma560_real *qd, puma
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 87 multiplications, 51 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 86 multiplications, 51 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_gravity(const puma560_real *q, puma560_real *c);
 
@@ -112,7 +112,7 @@ void puma560_gravity(const puma560_real *q, puma560_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 514 multiplications, 371 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 513 multiplications, 371 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
 
@@ -122,7 +122,7 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 514 multiplications, 371 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 513 multiplications, 371 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
 
@@ -130,7 +130,7 @@ void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, con
  * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
- * Cost: 64 multiplications, 33 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 61 multiplications, 33 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void puma560_forward_kinematics(const puma560_real *q, puma560_real *T);
 
@@ -138,7 +138,7 @@ void puma560_forward_kinematics(const puma560_real *q, puma560_real *T);
  * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 68 multiplications, 39 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 65 multiplications, 39 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_jacobian(const puma560_real *q, puma560_real *J);
 
@@ -156,7 +156,7 @@ void puma560_jacobian_dot_qd(const puma560_real *q, const puma560_real *qd, puma
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 86 multiplications, 48 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 83 multiplications, 48 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void puma560_kinematics(const puma560_real *q, puma560_real *T, puma560_real *J);
 

@@ -111,20 +111,20 @@ void scara_inverse_dynamics(const scara_real *q, const scara_real *qd, const sca
     const scara_real vd1h_0 = -wr1h_1*qd[0];
     const scara_real w2h_2 = -qd[0] - qd[1];
     const scara_real wr2h_1 = (0.25)*w2h_2;
-    const scara_real ws2h_1 = -0.125*w2h_2;
+    const scara_real ws2h_1 = -(0.125)*w2h_2;
     const scara_real vd1_1 = (0.4)*qdd[0];
-    const scara_real a1_1 = vd1_1 - 0.2*qdd[0];
+    const scara_real a1_1 = vd1_1 - (0.2)*qdd[0];
     const scara_real F1_1 = 6.0*a1_1;
     const scara_real N1_2 = (0.085)*qdd[0];
     const scara_real wd2_2 = -qdd[0] - qdd[1];
     const scara_real vd2_0 = c2*vd1h_0 + s2*vd1_1 - w2h_2*wr2h_1;
-    const scara_real vd2_1 = -c2*vd1_1 + s2*vd1h_0 + (0.25)*wd2_2;
+    const scara_real vd2_1 = (0.25)*wd2_2 + s2*vd1h_0 - c2*vd1_1;
     const scara_real a2_0 = vd2_0 - w2h_2*ws2h_1;
-    const scara_real a2_1 = vd2_1 - 0.125*wd2_2;
+    const scara_real a2_1 = vd2_1 - (0.125)*wd2_2;
     const scara_real F2_0 = (3.5)*a2_0;
     const scara_real F2_1 = (3.5)*a2_1;
     const scara_real N2_2 = (0.020229166666666666)*wd2_2;
-    const scara_real vd3_2 = qdd[2] - 9.81;
+    const scara_real vd3_2 = -9.81 + qdd[2];
     const scara_real F3_0 = (1.2)*vd2_0;
     const scara_real F3_1 = (1.2)*vd2_1;
     const scara_real F3_2 = (1.2)*vd3_2;
@@ -144,17 +144,17 @@ void scara_inverse_dynamics(const scara_real *q, const scara_real *qd, const sca
     const scara_real n3_2 = N3_2 + N4_2;
     const scara_real f2_0 = F2_0 + f3_0;
     const scara_real f2_1 = F2_1 + f3_1;
-    const scara_real n2_2 = -0.125*F2_1 + N2_2 + n3_2;
-    const scara_real tau2 = -0.25*f2_1 - n2_2;
+    const scara_real n2_2 = N2_2 + n3_2 - (0.125)*F2_1;
+    const scara_real tau2 = -n2_2 - (0.25)*f2_1;
     const scara_real Rf1_0 = c2*f2_0 + f2_1*s2;
-    const scara_real Rf1_1 = -c2*f2_1 + f2_0*s2;
+    const scara_real Rf1_1 = f2_0*s2 - c2*f2_1;
     const scara_real f1_1 = F1_1 + Rf1_1;
-    const scara_real n1_2 = -0.2*F1_1 + N1_2 - 0.25*Rf1_0*s2 + (0.25)*Rf1_1*c2 - n2_2;
-    const scara_real tau1 = (0.4)*f1_1 + n1_2;
-    tau[0] = tau1 + (2.5)*qd[0] + (0.8)*qdd[0] + 3.0*((double)((qd[0] > 0) - (qd[0] < 0)));
-    tau[1] = tau2 + (1.2)*qd[1] + (0.3)*qdd[1] + (1.5)*((double)((qd[1] > 0) - (qd[1] < 0)));
-    tau[2] = f3_2 + 10.0*qd[2] + (0.5)*qdd[2] + 4.0*((double)((qd[2] > 0) - (qd[2] < 0)));
-    tau[3] = N4_2 + (0.1)*qd[3] + (0.05)*qdd[3] + (0.2)*((double)((qd[3] > 0) - (qd[3] < 0)));
+    const scara_real n1_2 = N1_2 - n2_2 - (0.2)*F1_1 + (0.25)*(Rf1_1*c2 - Rf1_0*s2);
+    const scara_real tau1 = n1_2 + (0.4)*f1_1;
+    tau[0] = tau1 + 3.0*((double)((qd[0] > 0) - (qd[0] < 0))) + (0.8)*qdd[0] + (2.5)*qd[0];
+    tau[1] = tau2 + (1.5)*((double)((qd[1] > 0) - (qd[1] < 0))) + (0.3)*qdd[1] + (1.2)*qd[1];
+    tau[2] = f3_2 + (0.5)*qdd[2] + 4.0*((double)((qd[2] > 0) - (qd[2] < 0))) + 10.0*qd[2];
+    tau[3] = N4_2 + (0.2)*((double)((qd[3] > 0) - (qd[3] < 0))) + (0.1)*qd[3] + (0.05)*qdd[3];
 }
 
 void scara_mass_matrix(const scara_real *q, scara_real *D)
@@ -166,9 +166,9 @@ void scara_mass_matrix(const scara_real *q, scara_real *D)
     }
     const scara_real c2 = trig_cos[0];
     const scara_real Iq2h_0 = (0.8375)*c2;
-    const scara_real Ib2J_22 = (0.8)*Iq2h_0 + 0.9916166666666667;
-    const scara_real Ic1J_22 = Ib2J_22 + 0.325;
-    const scara_real F2b2n_2 = (0.4)*Iq2h_0 + 0.17561666666666667;
+    const scara_real Ib2J_22 = 0.9916166666666667 + (0.8)*Iq2h_0;
+    const scara_real Ic1J_22 = 0.325 + Ib2J_22;
+    const scara_real F2b2n_2 = 0.17561666666666667 + (0.4)*Iq2h_0;
     D[0] = Ic1J_22;
     D[1] = F2b2n_2;
     D[2] = 0.0;
@@ -204,7 +204,7 @@ void scara_coriolis(const scara_real *q, const scara_real *qd, scara_real *h)
     const scara_real wr2h_1 = (0.25)*w2h_2;
     const scara_real vd2h_0 = c2*vd1h_0 - w2h_2*wr2h_1;
     const scara_real vd2h_1 = s2*vd1h_0;
-    const scara_real ws2h_1 = -0.125*w2h_2;
+    const scara_real ws2h_1 = -(0.125)*w2h_2;
     const scara_real a2h_0 = vd2h_0 - w2h_2*ws2h_1;
     const scara_real F2h_0 = (3.5)*a2h_0;
     const scara_real F2h_1 = (3.5)*vd2h_1;
@@ -220,12 +220,12 @@ void scara_coriolis(const scara_real *q, const scara_real *qd, scara_real *h)
     const scara_real f3h_1 = F3h_1 + Rf3h_1;
     const scara_real f2h_0 = F2h_0 + f3h_0;
     const scara_real f2h_1 = F2h_1 + f3h_1;
-    const scara_real n2h_2 = -0.125*F2h_1;
-    const scara_real tau2h = -0.25*f2h_1 - n2h_2;
+    const scara_real n2h_2 = -(0.125)*F2h_1;
+    const scara_real tau2h = -n2h_2 - (0.25)*f2h_1;
     const scara_real Rf1h_0 = c2*f2h_0 + f2h_1*s2;
-    const scara_real Rf1h_1 = -c2*f2h_1 + f2h_0*s2;
-    const scara_real n1h_2 = -0.25*Rf1h_0*s2 + (0.25)*Rf1h_1*c2 - n2h_2;
-    const scara_real tau1h = (0.4)*Rf1h_1 + n1h_2;
+    const scara_real Rf1h_1 = f2h_0*s2 - c2*f2h_1;
+    const scara_real n1h_2 = -n2h_2 + (0.25)*(Rf1h_1*c2 - Rf1h_0*s2);
+    const scara_real tau1h = n1h_2 + (0.4)*Rf1h_1;
     h[0] = tau1h;
     h[1] = tau2h;
     h[2] = 0.0;
@@ -248,13 +248,13 @@ void scara_coriolis_matrix(const scara_real *q, const scara_real *qd, scara_real
     const scara_real wr1h_1 = cse0;
     const scara_real w2h_2 = -qd[0] - qd[1];
     const scara_real cse1 = (0.25)*w2h_2;
-    const scara_real cse2 = -0.125*w2h_2;
+    const scara_real cse2 = -(0.125)*w2h_2;
     const scara_real wr2h_1 = cse1;
     const scara_real cse3 = wr2h_1 + cse1;
     const scara_real ws2h_1 = cse2;
     const scara_real cse4 = ws2h_1 + cse2;
     const scara_real dhvd1h_0_dqd1 = -wr1h_1 - cse0;
-    const scara_real dhvd2h_0_dqd1 = c2*dhvd1h_0_dqd1 + cse3;
+    const scara_real dhvd2h_0_dqd1 = cse3 + c2*dhvd1h_0_dqd1;
     const scara_real dhvd2h_1_dqd1 = dhvd1h_0_dqd1*s2;
     const scara_real dha2h_0_dqd1 = dhvd2h_0_dqd1 + cse4;
     const scara_real dhF2h_0_dqd1 = (3.5)*dha2h_0_dqd1;
@@ -271,12 +271,12 @@ void scara_coriolis_matrix(const scara_real *q, const scara_real *qd, scara_real
     const scara_real dhf3h_1_dqd1 = dhF3h_1_dqd1 + dhRf3h_1_dqd1;
     const scara_real dhf2h_0_dqd1 = dhF2h_0_dqd1 + dhf3h_0_dqd1;
     const scara_real dhf2h_1_dqd1 = dhF2h_1_dqd1 + dhf3h_1_dqd1;
-    const scara_real dhn2h_2_dqd1 = -0.125*dhF2h_1_dqd1;
-    const scara_real dhtau2h_dqd1 = -0.25*dhf2h_1_dqd1 - dhn2h_2_dqd1;
+    const scara_real dhn2h_2_dqd1 = -(0.125)*dhF2h_1_dqd1;
+    const scara_real dhtau2h_dqd1 = -dhn2h_2_dqd1 - (0.25)*dhf2h_1_dqd1;
     const scara_real dhRf1h_0_dqd1 = c2*dhf2h_0_dqd1 + dhf2h_1_dqd1*s2;
-    const scara_real dhRf1h_1_dqd1 = -c2*dhf2h_1_dqd1 + dhf2h_0_dqd1*s2;
-    const scara_real dhn1h_2_dqd1 = (0.25)*c2*dhRf1h_1_dqd1 - dhRf1h_0_dqd1*cse5 - dhn2h_2_dqd1;
-    const scara_real dhtau1h_dqd1 = (0.4)*dhRf1h_1_dqd1 + dhn1h_2_dqd1;
+    const scara_real dhRf1h_1_dqd1 = dhf2h_0_dqd1*s2 - c2*dhf2h_1_dqd1;
+    const scara_real dhn1h_2_dqd1 = -dhn2h_2_dqd1 - dhRf1h_0_dqd1*cse5 + (0.25)*c2*dhRf1h_1_dqd1;
+    const scara_real dhtau1h_dqd1 = dhn1h_2_dqd1 + (0.4)*dhRf1h_1_dqd1;
     const scara_real dhvd2h_0_dqd2 = cse3;
     const scara_real dha2h_0_dqd2 = dhvd2h_0_dqd2 + cse4;
     const scara_real dhF2h_0_dqd2 = (3.5)*dha2h_0_dqd2;
@@ -289,11 +289,11 @@ void scara_coriolis_matrix(const scara_real *q, const scara_real *qd, scara_real
     const scara_real dhRf3h_1_dqd2 = c4*dhF4h_1_dqd2 + dhF4h_0_dqd2*s4;
     const scara_real dhf3h_0_dqd2 = dhF3h_0_dqd2 + dhRf3h_0_dqd2;
     const scara_real dhf2h_0_dqd2 = dhF2h_0_dqd2 + dhf3h_0_dqd2;
-    const scara_real dhtau2h_dqd2 = -0.25*dhRf3h_1_dqd2;
+    const scara_real dhtau2h_dqd2 = -(0.25)*dhRf3h_1_dqd2;
     const scara_real dhRf1h_0_dqd2 = c2*dhf2h_0_dqd2 + dhRf3h_1_dqd2*s2;
-    const scara_real dhRf1h_1_dqd2 = -c2*dhRf3h_1_dqd2 + dhf2h_0_dqd2*s2;
-    const scara_real dhn1h_2_dqd2 = (0.25)*c2*dhRf1h_1_dqd2 - dhRf1h_0_dqd2*cse5;
-    const scara_real dhtau1h_dqd2 = (0.4)*dhRf1h_1_dqd2 + dhn1h_2_dqd2;
+    const scara_real dhRf1h_1_dqd2 = dhf2h_0_dqd2*s2 - c2*dhRf3h_1_dqd2;
+    const scara_real dhn1h_2_dqd2 = -dhRf1h_0_dqd2*cse5 + (0.25)*c2*dhRf1h_1_dqd2;
+    const scara_real dhtau1h_dqd2 = dhn1h_2_dqd2 + (0.4)*dhRf1h_1_dqd2;
     const scara_real C11 = (0.5)*dhtau1h_dqd1;
     const scara_real C12 = (0.5)*dhtau1h_dqd2;
     const scara_real C21 = (0.5)*dhtau2h_dqd1;
@@ -345,7 +345,7 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
     const scara_real wr2h_1 = (0.25)*w2h_2;
     const scara_real vd2h_0 = c2*vd1h_0 - w2h_2*wr2h_1;
     const scara_real vd2h_1 = s2*vd1h_0;
-    const scara_real ws2h_1 = -0.125*w2h_2;
+    const scara_real ws2h_1 = -(0.125)*w2h_2;
     const scara_real a2h_0 = vd2h_0 - w2h_2*ws2h_1;
     const scara_real F2h_0 = (3.5)*a2h_0;
     const scara_real F2h_1 = (3.5)*vd2h_1;
@@ -361,45 +361,45 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
     const scara_real f3h_1 = F3h_1 + Rf3h_1;
     const scara_real f2h_0 = F2h_0 + f3h_0;
     const scara_real f2h_1 = F2h_1 + f3h_1;
-    const scara_real n2h_2 = -0.125*F2h_1;
-    const scara_real tau2h = -0.25*f2h_1 - n2h_2;
+    const scara_real n2h_2 = -(0.125)*F2h_1;
+    const scara_real tau2h = -n2h_2 - (0.25)*f2h_1;
     const scara_real Rf1h_0 = c2*f2h_0 + f2h_1*s2;
-    const scara_real Rf1h_1 = -c2*f2h_1 + f2h_0*s2;
-    const scara_real n1h_2 = -0.25*Rf1h_0*s2 + (0.25)*Rf1h_1*c2 - n2h_2;
-    const scara_real tau1h = (0.4)*Rf1h_1 + n1h_2;
+    const scara_real Rf1h_1 = f2h_0*s2 - c2*f2h_1;
+    const scara_real n1h_2 = -n2h_2 + (0.25)*(Rf1h_1*c2 - Rf1h_0*s2);
+    const scara_real tau1h = n1h_2 + (0.4)*Rf1h_1;
     const scara_real Iq2h_0 = (0.8375)*c2;
-    const scara_real Ib2J_22 = (0.8)*Iq2h_0 + 0.9916166666666667;
-    const scara_real Ic1J_22 = Ib2J_22 + 0.325;
-    const scara_real cse0 = Ic1J_22 + 0.8;
-    const scara_real F2b2n_2 = (0.4)*Iq2h_0 + 0.17561666666666667;
-    const scara_real rhs1 = -tau1h - 2.5*qd[0] + tau[0] - 3.0*((double)((qd[0] > 0) - (qd[0] < 0)));
-    const scara_real rhs2 = -tau2h - 1.2*qd[1] + tau[1] - 1.5*((double)((qd[1] > 0) - (qd[1] < 0)));
-    const scara_real rhs3 = -10.0*qd[2] + tau[2] - 4.0*((double)((qd[2] > 0) - (qd[2] < 0))) + 15.696;
-    const scara_real rhs4 = -0.1*qd[3] + tau[3] - 0.2*((double)((qd[3] > 0) - (qd[3] < 0)));
+    const scara_real Ib2J_22 = 0.9916166666666667 + (0.8)*Iq2h_0;
+    const scara_real Ic1J_22 = 0.325 + Ib2J_22;
+    const scara_real cse0 = 0.8 + Ic1J_22;
+    const scara_real F2b2n_2 = 0.17561666666666667 + (0.4)*Iq2h_0;
+    const scara_real rhs1 = tau[0] - tau1h - 3.0*((double)((qd[0] > 0) - (qd[0] < 0))) - (2.5)*qd[0];
+    const scara_real rhs2 = tau[1] - tau2h - (1.2)*qd[1] - (1.5)*((double)((qd[1] > 0) - (qd[1] < 0)));
+    const scara_real rhs3 = 15.696 + tau[2] - 10.0*qd[2] - 4.0*((double)((qd[2] > 0) - (qd[2] < 0)));
+    const scara_real rhs4 = tau[3] - (0.2)*((double)((qd[3] > 0) - (qd[3] < 0))) - (0.1)*qd[3];
     const scara_real ldl_d1 = cse0;
     if (!(ldl_d1 > 1e-12*(cse0))) {
         return 1; /* singular mass matrix at q (or q not finite) */
     }
     const scara_real ldl_inv1 = 1.0/ldl_d1;
     const scara_real ldl_L21 = F2b2n_2*ldl_inv1;
-    const scara_real ldl_L41 = -0.0003*ldl_inv1;
-    const scara_real ldl_d2 = -ldl_L21*ldl_L21*ldl_d1 + 0.4756166666666667;
+    const scara_real ldl_L41 = -(0.0003)*ldl_inv1;
+    const scara_real ldl_d2 = 0.4756166666666667 - ldl_d1*ldl_L21*ldl_L21;
     if (!(ldl_d2 > 1e-12*(0.4756166666666667))) {
         return 1; /* singular mass matrix at q (or q not finite) */
     }
     const scara_real ldl_inv2 = 1.0/ldl_d2;
-    const scara_real ldl_L42 = ldl_inv2*(-ldl_L21*ldl_L41*ldl_d1 - 0.0003);
-    const scara_real ldl_d4 = -ldl_L41*ldl_L41*ldl_d1 - ldl_L42*ldl_L42*ldl_d2 + 0.0503;
+    const scara_real ldl_L42 = ldl_inv2*(-0.0003 - ldl_L21*ldl_L41*ldl_d1);
+    const scara_real ldl_d4 = 0.0503 - ldl_d1*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42;
     if (!(ldl_d4 > 1e-12*(0.0503))) {
         return 1; /* singular mass matrix at q (or q not finite) */
     }
     const scara_real ldl_inv4 = 1.0/ldl_d4;
-    const scara_real ldl_y2 = -ldl_L21*rhs1 + rhs2;
-    const scara_real ldl_y4 = -ldl_L41*rhs1 - ldl_L42*ldl_y2 + rhs4;
+    const scara_real ldl_y2 = rhs2 - ldl_L21*rhs1;
+    const scara_real ldl_y4 = rhs4 - ldl_L41*rhs1 - ldl_L42*ldl_y2;
     const scara_real qdd4_fd = ldl_inv4*ldl_y4;
     const scara_real qdd3_fd = (0.47619047619047616)*rhs3;
-    const scara_real qdd2_fd = -ldl_L42*qdd4_fd + ldl_inv2*ldl_y2;
-    const scara_real qdd1_fd = -ldl_L21*qdd2_fd - ldl_L41*qdd4_fd + ldl_inv1*rhs1;
+    const scara_real qdd2_fd = ldl_inv2*ldl_y2 - ldl_L42*qdd4_fd;
+    const scara_real qdd1_fd = ldl_inv1*rhs1 - ldl_L21*qdd2_fd - ldl_L41*qdd4_fd;
     if (!(fabs(qdd1_fd) <= DBL_MAX)
         || !(fabs(qdd2_fd) <= DBL_MAX)
         || !(fabs(qdd3_fd) <= DBL_MAX)
@@ -439,12 +439,12 @@ void scara_forward_kinematics(const scara_real *q, scara_real *T)
     const scara_real T01_13 = (0.4)*s1;
     const scara_real T02_00 = cse0 - cse1;
     const scara_real T02_01 = cse2 + cse3;
-    const scara_real T02_03 = T01_03 + (0.25)*cse0 - 0.25*cse1;
-    const scara_real T02_13 = T01_13 + (0.25)*cse2 + (0.25)*cse3;
+    const scara_real T02_03 = T01_03 + (0.25)*(cse0 - cse1);
+    const scara_real T02_13 = T01_13 + (0.25)*(cse2 + cse3);
     const scara_real T03_23 = 0.3 - q[2];
     const scara_real T04_00 = T02_00*c4 + T02_01*s4;
-    const scara_real T04_01 = -T02_00*s4 + T02_01*c4;
-    const scara_real T04_23 = T03_23 - 0.1;
+    const scara_real T04_01 = T02_01*c4 - T02_00*s4;
+    const scara_real T04_23 = -0.1 + T03_23;
     T[0] = T04_00;
     T[1] = T04_01;
     T[2] = 0.0;
@@ -486,7 +486,7 @@ void scara_jacobian(const scara_real *q, scara_real *J)
     J[2] = 0.0;
     J[3] = 0.0;
     J[4] = T02_03;
-    J[5] = -T01_03 + T02_03;
+    J[5] = T02_03 - T01_03;
     J[6] = 0.0;
     J[7] = 0.0;
     J[8] = 0.0;
@@ -531,9 +531,9 @@ void scara_jacobian_dot_qd(const scara_real *q, const scara_real *qd, scara_real
     const scara_real T02_00 = c1*c2 - s1*s2;
     const scara_real T02_01 = c1*s2 + c2*s1;
     const scara_real T04_00 = T02_00*c4 + T02_01*s4;
-    const scara_real T04_01 = -T02_00*s4 + T02_01*c4;
+    const scara_real T04_01 = T02_01*c4 - T02_00*s4;
     a[0] = T04_00*vd4h_0 + T04_01*vd4h_1;
-    a[1] = -T04_00*vd4h_1 + T04_01*vd4h_0;
+    a[1] = T04_01*vd4h_0 - T04_00*vd4h_1;
     a[2] = 0.0;
     a[3] = 0.0;
     a[4] = 0.0;
@@ -561,13 +561,13 @@ void scara_kinematics(const scara_real *q, scara_real *T, scara_real *J)
     const scara_real T01_13 = (0.4)*s1;
     const scara_real T02_00 = cse0 - cse1;
     const scara_real T02_01 = cse2 + cse3;
-    const scara_real T02_03 = T01_03 + (0.25)*cse0 - 0.25*cse1;
-    const scara_real T02_13 = T01_13 + (0.25)*cse2 + (0.25)*cse3;
+    const scara_real T02_03 = T01_03 + (0.25)*(cse0 - cse1);
+    const scara_real T02_13 = T01_13 + (0.25)*(cse2 + cse3);
     const scara_real cse4 = -T02_13;
     const scara_real T03_23 = 0.3 - q[2];
     const scara_real T04_00 = T02_00*c4 + T02_01*s4;
-    const scara_real T04_01 = -T02_00*s4 + T02_01*c4;
-    const scara_real T04_23 = T03_23 - 0.1;
+    const scara_real T04_01 = T02_01*c4 - T02_00*s4;
+    const scara_real T04_23 = -0.1 + T03_23;
     T[0] = T04_00;
     T[1] = T04_01;
     T[2] = 0.0;
@@ -589,7 +589,7 @@ void scara_kinematics(const scara_real *q, scara_real *T, scara_real *J)
     J[2] = 0.0;
     J[3] = 0.0;
     J[4] = T02_03;
-    J[5] = -T01_03 + T02_03;
+    J[5] = T02_03 - T01_03;
     J[6] = 0.0;
     J[7] = 0.0;
     J[8] = 0.0;

@@ -63,7 +63,7 @@ typedef double scara_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 59 multiplications, 44 additions/subtractions, 0 divisions, 4 sin/cos, 4 other (sign, pow).
+ * Cost: 58 multiplications, 44 additions/subtractions, 0 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 void scara_inverse_dynamics(const scara_real *q, const scara_real *qd, const scara_real *qdd, scara_real *tau);
 
@@ -80,7 +80,7 @@ void scara_mass_matrix(const scara_real *q, scara_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 33 multiplications, 17 additions/subtractions, 0 divisions, 4 sin/cos.
+ * Cost: 32 multiplications, 17 additions/subtractions, 0 divisions, 4 sin/cos.
  */
 void scara_coriolis(const scara_real *q, const scara_real *qd, scara_real *h);
 
@@ -108,7 +108,7 @@ void scara_gravity(const scara_real *q, scara_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 65 multiplications, 42 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
+ * Cost: 64 multiplications, 42 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);
 
@@ -118,7 +118,7 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 65 multiplications, 42 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
+ * Cost: 64 multiplications, 42 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);
 
@@ -126,7 +126,7 @@ void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const sca
  * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
- * Cost: 14 multiplications, 10 additions/subtractions, 0 divisions, 6 sin/cos.
+ * Cost: 12 multiplications, 10 additions/subtractions, 0 divisions, 6 sin/cos.
  */
 void scara_forward_kinematics(const scara_real *q, scara_real *T);
 
@@ -152,7 +152,7 @@ void scara_jacobian_dot_qd(const scara_real *q, const scara_real *qd, scara_real
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 14 multiplications, 12 additions/subtractions, 0 divisions, 6 sin/cos.
+ * Cost: 12 multiplications, 12 additions/subtractions, 0 divisions, 6 sin/cos.
  */
 void scara_kinematics(const scara_real *q, scara_real *T, scara_real *J);
 

@@ -67,7 +67,7 @@ typedef double ur5_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 316 multiplications, 224 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 315 multiplications, 224 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_inverse_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *qdd, ur5_real *tau);
 
@@ -84,7 +84,7 @@ void ur5_mass_matrix(const ur5_real *q, ur5_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 298 multiplications, 204 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 297 multiplications, 204 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_coriolis(const ur5_real *q, const ur5_real *qd, ur5_real *h);
 
@@ -101,7 +101,7 @@ void ur5_coriolis_matrix(const ur5_real *q, const ur5_real *qd, ur5_real *C);
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 93 multiplications, 56 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 92 multiplications, 56 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_gravity(const ur5_real *q, ur5_real *c);
 
@@ -112,7 +112,7 @@ void ur5_gravity(const ur5_real *q, ur5_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 525 multiplications, 367 additions/subtractions, 6 divisions, 10 sin/cos.
+ * Cost: 524 multiplications, 367 additions/subtractions, 6 divisions, 10 sin/cos.
  */
 int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);
 
@@ -122,7 +122,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 525 multiplications, 367 additions/subtractions, 6 divisions, 10 sin/cos.
+ * Cost: 524 multiplications, 367 additions/subtractions, 6 divisions, 10 sin/cos.
  */
 void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);
 
@@ -130,7 +130,7 @@ void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real 
  * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
- * Cost: 67 multiplications, 37 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 64 multiplications, 37 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void ur5_forward_kinematics(const ur5_real *q, ur5_real *T);
 
@@ -138,7 +138,7 @@ void ur5_forward_kinematics(const ur5_real *q, ur5_real *T);
  * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 90 multiplications, 59 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 87 multiplications, 59 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_jacobian(const ur5_real *q, ur5_real *J);
 
@@ -156,7 +156,7 @@ void ur5_jacobian_dot_qd(const ur5_real *q, const ur5_real *qd, ur5_real *a);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 107 multiplications, 67 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 104 multiplications, 67 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void ur5_kinematics(const ur5_real *q, ur5_real *T, ur5_real *J);
 

@@ -16,7 +16,7 @@ import sympy as sp
 from .._version import __version__
 from ..model.errors import warn
 from .cprinter import CPrinter, VectorUnsupported, count_operations
-from .emission import comment_text, fold_constants, source_label, template_environment
+from .emission import comment_text, factor_coefficients, fold_constants, source_label, template_environment
 from ..derive.equations import ALL_OUTPUTS, OUTPUT_INPUTS, PIVOT_RTOL, Equations
 
 ARG_DOCS = {
@@ -312,6 +312,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     final_outputs = reduced[len(folded):len(folded) + len(outputs)]
     final_checks = reduced[len(folded) + len(outputs):]
     statements = _prune(_merge_cse(program, replacements), list(final_outputs) + list(final_checks))
+    # terms sharing a numeric coefficient grouped (printing and counting only: unevaluated)
+    statements = [(sym, factor_coefficients(rhs)) for sym, rhs in statements]
+    final_outputs = [factor_coefficients(sp.sympify(e)) for e in final_outputs]
 
     # precision "mixed": float arguments everywhere, but forward dynamics computed inside in
     # double (for robots whose D is too ill-conditioned for float); "float" is float all the way.

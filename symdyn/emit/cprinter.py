@@ -66,6 +66,54 @@ class CPrinter(C99CodePrinter):
             text += ".0"
         return text + self.suffix
 
+    # Add and Mul are printed in SymPy's canonical argument order (no re-sorting of terms and
+    # factors, no rebuilt expressions: the generic printers' ordering and sign handling took most
+    # of the emission time on long chains); numbers are literals of the chosen precision.
+    def _print_Add(self, expr, order=None):
+        parts = []
+        for term in expr.args:
+            text = self._print(term)
+            if text.startswith("-"):
+                sign, text = "-", text[1:]
+            else:
+                sign = "+"
+            if term.is_Add:  # never in a flattened Add, kept for safety
+                text = f"({text})"
+            parts.append((sign, text))
+        first_sign, first = parts[0]
+        out = [("-" if first_sign == "-" else "") + first]
+        for sign, text in parts[1:]:
+            out.append(f"{sign} {text}")
+        return " ".join(out)
+
+    def _print_Mul(self, expr):
+        coeff, rest = expr.as_coeff_Mul()
+        sign = ""
+        if coeff.is_Number and coeff < 0:
+            sign, coeff = "-", -coeff
+        numerator, denominator = [], []
+        if coeff != 1:
+            numerator.append(coeff)
+        for factor in sp.Mul.make_args(rest):
+            if factor.is_Pow and factor.exp.is_Rational and factor.exp.is_negative:
+                denominator.append(factor.base if factor.exp == -1 else sp.Pow(factor.base, -factor.exp, evaluate=False))
+            else:
+                numerator.append(factor)
+        if not numerator:
+            numerator = [sp.S.One]
+        mul = sp.printing.precedence.PRECEDENCE["Mul"]
+        text = "*".join(self.parenthesize(f, mul) if not (f.is_Pow and f.exp.is_Integer and f.exp > 0)
+                        else self._print(f) for f in numerator)
+        if sign and len(numerator) == 1 and numerator[0].is_Add:
+            text = f"({self._print(numerator[0])})"
+        if not denominator:
+            return sign + text
+        dens = [self.parenthesize(f, mul) if not (f.is_Pow and f.exp.is_Integer and f.exp > 0) else self._print(f)
+                for f in denominator]
+        if len(dens) == 1 and not (denominator[0].is_Pow and denominator[0].exp.is_Integer and denominator[0].exp > 1):
+            return f"{sign}{text}/{dens[0]}"
+        return f"{sign}{text}/({'*'.join(dens)})"
+
     def _print_Symbol(self, expr):
         if expr in self.names:
             return self.names[expr]

@@ -39,6 +39,10 @@ def fold_constants(expr: sp.Expr, digits: int = 30) -> sp.Expr:
     Float of ``digits`` digits, so emitted code has no constant function calls."""
     def is_const(e):
         return (e.is_number and not e.is_Rational and not e.is_Float and not e.is_Atom) or e is sp.pi
+    # a non-rational constant contains a function of a number, a non-integer power of one or a
+    # number symbol (pi): without one the walk (the slow part at 24+ joints) has nothing to do
+    if not any(a.is_number for a in expr.atoms(sp.Function, sp.Pow, sp.NumberSymbol)):
+        return expr
     return expr.replace(is_const, lambda e: sp.Float(sp.N(e, digits), digits))
 
 
@@ -49,3 +53,35 @@ def template_environment() -> jinja2.Environment:
         loader=jinja2.FileSystemLoader(str(files("symdyn.templates"))),
         undefined=jinja2.StrictUndefined, keep_trailing_newline=True,
         trim_blocks=True, lstrip_blocks=True, autoescape=False)
+
+
+def factor_coefficients(expr: sp.Expr) -> sp.Expr:
+    """``expr`` with the terms of a top-level sum that share a numeric coefficient (up to sign)
+    grouped: ``0.9*a + 0.9*b - 0.9*c`` becomes ``0.9*(a + b - c)``, one multiplication instead
+    of three.  The result is unevaluated (SymPy would distribute the number again): use it for
+    printing and counting only.  The value changes by rounding only."""
+    if not expr.is_Add:
+        return expr
+    groups: dict[sp.Expr, list[sp.Expr]] = {}
+    order: list[tuple[bool, sp.Expr]] = []  # (is a group key, term or key) in order of appearance
+    for term in expr.args:
+        coeff, rest = term.as_coeff_Mul()
+        if not (coeff.is_Number and abs(coeff) != 1 and rest != 1):
+            order.append((False, term))
+            continue
+        key = abs(coeff)
+        if key not in groups:
+            groups[key] = []
+            order.append((True, key))
+        groups[key].append(rest if coeff > 0 else -rest)
+    if all(len(members) < 2 for members in groups.values()):
+        return expr
+    terms = []
+    for is_group, item in order:
+        if not is_group:
+            terms.append(item)
+        elif len(groups[item]) == 1:
+            terms.append(item * groups[item][0])
+        else:
+            terms.append(sp.Mul(item, sp.Add(*groups[item]), evaluate=False))
+    return sp.Add(*terms, evaluate=False)
