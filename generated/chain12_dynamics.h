@@ -79,7 +79,7 @@ typedef double chain12_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 901 multiplications, 723 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 774 multiplications, 678 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *qdd, chain12_real *tau);
 
@@ -96,7 +96,7 @@ void chain12_mass_matrix(const chain12_real *q, chain12_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 873 multiplications, 683 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 749 multiplications, 633 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_real *h);
 
@@ -105,7 +105,7 @@ void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_rea
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 5343 multiplications, 4254 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 4769 multiplications, 3931 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chain12_real *C);
 
@@ -124,7 +124,7 @@ void chain12_gravity(const chain12_real *q, chain12_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 2322 multiplications, 1884 additions/subtractions, 12 divisions, 18 sin/cos.
+ * Cost: 2198 multiplications, 1834 additions/subtractions, 12 divisions, 18 sin/cos.
  */
 int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
 
@@ -134,7 +134,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 2322 multiplications, 1884 additions/subtractions, 12 divisions, 18 sin/cos.
+ * Cost: 2198 multiplications, 1834 additions/subtractions, 12 divisions, 18 sin/cos.
  */
 void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
 
@@ -142,7 +142,7 @@ void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, con
  * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
- * Cost: 199 multiplications, 136 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 200 multiplications, 136 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_forward_kinematics(const chain12_real *q, chain12_real *T);
 
@@ -150,7 +150,7 @@ void chain12_forward_kinematics(const chain12_real *q, chain12_real *T);
  * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 255 multiplications, 184 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 256 multiplications, 184 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_jacobian(const chain12_real *q, chain12_real *J);
 
@@ -159,7 +159,7 @@ void chain12_jacobian(const chain12_real *q, chain12_real *J);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
- * Cost: 426 multiplications, 274 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 397 multiplications, 274 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_jacobian_dot_qd(const chain12_real *q, const chain12_real *qd, chain12_real *a);
 
@@ -168,7 +168,7 @@ void chain12_jacobian_dot_qd(const chain12_real *q, const chain12_real *qd, chai
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 273 multiplications, 193 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 274 multiplications, 193 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_kinematics(const chain12_real *q, chain12_real *T, chain12_real *J);
 

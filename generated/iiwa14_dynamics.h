@@ -69,7 +69,7 @@ typedef double iiwa14_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 352 multiplications, 252 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 318 multiplications, 250 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_inverse_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *qdd, iiwa14_real *tau);
 
@@ -86,7 +86,7 @@ void iiwa14_mass_matrix(const iiwa14_real *q, iiwa14_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 337 multiplications, 233 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 305 multiplications, 225 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_coriolis(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *h);
 
@@ -95,7 +95,7 @@ void iiwa14_coriolis(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *h
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 1722 multiplications, 1217 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 1452 multiplications, 1021 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_coriolis_matrix(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *C);
 
@@ -103,7 +103,7 @@ void iiwa14_coriolis_matrix(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 107 multiplications, 66 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 103 multiplications, 64 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c);
 
@@ -114,7 +114,7 @@ void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 648 multiplications, 450 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 616 multiplications, 442 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);
 
@@ -124,7 +124,7 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 648 multiplications, 450 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 616 multiplications, 442 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);
 
@@ -149,7 +149,7 @@ void iiwa14_jacobian(const iiwa14_real *q, iiwa14_real *J);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
- * Cost: 172 multiplications, 96 additions/subtractions, 0 divisions, 14 sin/cos.
+ * Cost: 169 multiplications, 96 additions/subtractions, 0 divisions, 14 sin/cos.
  */
 void iiwa14_jacobian_dot_qd(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *a);
 

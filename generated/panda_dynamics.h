@@ -69,7 +69,7 @@ typedef double panda_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 480 multiplications, 375 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 441 multiplications, 379 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void panda_inverse_dynamics(const panda_real *q, const panda_real *qd, const panda_real *qdd, panda_real *tau);
 
@@ -86,7 +86,7 @@ void panda_mass_matrix(const panda_real *q, panda_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 465 multiplications, 353 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 429 multiplications, 352 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void panda_coriolis(const panda_real *q, const panda_real *qd, panda_real *h);
 
@@ -95,7 +95,7 @@ void panda_coriolis(const panda_real *q, const panda_real *qd, panda_real *h);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 2212 multiplications, 1703 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 2093 multiplications, 1647 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void panda_coriolis_matrix(const panda_real *q, const panda_real *qd, panda_real *C);
 
@@ -114,7 +114,7 @@ void panda_gravity(const panda_real *q, panda_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 855 multiplications, 656 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 819 multiplications, 655 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd);
 
@@ -124,7 +124,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 855 multiplications, 656 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 819 multiplications, 655 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd);
 

@@ -77,7 +77,7 @@ typedef double pendulum_leg_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 195 multiplications, 131 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 187 multiplications, 130 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void pendulum_leg_inverse_dynamics(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *qdd, pendulum_leg_real *tau);
 
@@ -94,7 +94,7 @@ void pendulum_leg_mass_matrix(const pendulum_leg_real *q, pendulum_leg_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 179 multiplications, 113 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 172 multiplications, 112 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void pendulum_leg_coriolis(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *h);
 
@@ -103,7 +103,7 @@ void pendulum_leg_coriolis(const pendulum_leg_real *q, const pendulum_leg_real *
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 851 multiplications, 540 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 803 multiplications, 508 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void pendulum_leg_coriolis_matrix(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *C);
 
@@ -122,7 +122,7 @@ void pendulum_leg_gravity(const pendulum_leg_real *q, pendulum_leg_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 416 multiplications, 263 additions/subtractions, 6 divisions, 12 sin/cos.
+ * Cost: 409 multiplications, 262 additions/subtractions, 6 divisions, 12 sin/cos.
  */
 int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd);
 
@@ -132,7 +132,7 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 416 multiplications, 263 additions/subtractions, 6 divisions, 12 sin/cos.
+ * Cost: 409 multiplications, 262 additions/subtractions, 6 divisions, 12 sin/cos.
  */
 void pendulum_leg_forward_dynamics(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd);
 
@@ -157,7 +157,7 @@ void pendulum_leg_jacobian(const pendulum_leg_real *q, pendulum_leg_real *J);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
- * Cost: 130 multiplications, 68 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 129 multiplications, 68 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void pendulum_leg_jacobian_dot_qd(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *a);
 

@@ -109,17 +109,18 @@ void planar2r_inverse_dynamics(const planar2r_real *q, const planar2r_real *qd, 
     const planar2r_real s2 = trig_sin[1];
     const planar2r_real vd1g_0 = s1*p[0];
     const planar2r_real vd1g_1 = c1*p[0];
+    const planar2r_real U1h_zz = qd[0]*qd[0];
     const planar2r_real w2h_2 = qd[0] + qd[1];
-    const planar2r_real ws2h_1 = w2h_2*p[6];
+    const planar2r_real U2h_zz = w2h_2*w2h_2;
     const planar2r_real a1_1 = vd1g_1 + p[2]*qdd[0];
     const planar2r_real F1_1 = a1_1*p[1];
     const planar2r_real N1_2 = p[3]*qdd[0];
     const planar2r_real wd2_2 = qdd[0] + qdd[1];
-    const planar2r_real aJ2_0 = vd1g_0 - p[4]*qd[0]*qd[0];
+    const planar2r_real aJ2_0 = vd1g_0 - U1h_zz*p[4];
     const planar2r_real aJ2_1 = vd1g_1 + p[4]*qdd[0];
     const planar2r_real vd2_0 = aJ2_0*c2 + aJ2_1*s2;
     const planar2r_real vd2_1 = aJ2_1*c2 - aJ2_0*s2;
-    const planar2r_real a2_0 = vd2_0 - w2h_2*ws2h_1;
+    const planar2r_real a2_0 = vd2_0 - U2h_zz*p[6];
     const planar2r_real a2_1 = vd2_1 + wd2_2*p[6];
     const planar2r_real F2_0 = a2_0*p[5];
     const planar2r_real F2_1 = a2_1*p[5];
@@ -161,12 +162,13 @@ void planar2r_coriolis(const planar2r_real *q, const planar2r_real *qd, const pl
     }
     const planar2r_real c2 = trig_cos[0];
     const planar2r_real s2 = trig_sin[0];
+    const planar2r_real U1h_zz = qd[0]*qd[0];
     const planar2r_real w2h_2 = qd[0] + qd[1];
-    const planar2r_real aJ2h_0 = -p[4]*qd[0]*qd[0];
+    const planar2r_real aJ2h_0 = -U1h_zz*p[4];
+    const planar2r_real U2h_zz = w2h_2*w2h_2;
     const planar2r_real vd2h_0 = aJ2h_0*c2;
     const planar2r_real vd2h_1 = -aJ2h_0*s2;
-    const planar2r_real ws2h_1 = w2h_2*p[6];
-    const planar2r_real a2h_0 = vd2h_0 - w2h_2*ws2h_1;
+    const planar2r_real a2h_0 = vd2h_0 - U2h_zz*p[6];
     const planar2r_real F2h_0 = a2h_0*p[5];
     const planar2r_real F2h_1 = vd2h_1*p[5];
     const planar2r_real n2h_2 = F2h_1*p[6];
@@ -186,28 +188,23 @@ void planar2r_coriolis_matrix(const planar2r_real *q, const planar2r_real *qd, c
     const planar2r_real c2 = trig_cos[0];
     const planar2r_real s2 = trig_sin[0];
     const planar2r_real w2h_2 = qd[0] + qd[1];
-    const planar2r_real cse0 = w2h_2*p[6];
-    const planar2r_real ws2h_1 = cse0;
-    const planar2r_real cse1 = ws2h_1 + cse0;
-    const planar2r_real dhaJ2h_0_dqd1 = -2.0*p[4]*qd[0];
+    const planar2r_real cse0 = -w2h_2*p[6];
+    const planar2r_real dhaJ2h_0_dqd1 = -p[4]*qd[0];
     const planar2r_real dhvd2h_0_dqd1 = c2*dhaJ2h_0_dqd1;
     const planar2r_real dhvd2h_1_dqd1 = -dhaJ2h_0_dqd1*s2;
-    const planar2r_real dha2h_0_dqd1 = dhvd2h_0_dqd1 - cse1;
+    const planar2r_real dha2h_0_dqd1 = dhvd2h_0_dqd1 + cse0;
     const planar2r_real dhF2h_0_dqd1 = dha2h_0_dqd1*p[5];
     const planar2r_real dhF2h_1_dqd1 = dhvd2h_1_dqd1*p[5];
     const planar2r_real dhn2h_2_dqd1 = dhF2h_1_dqd1*p[6];
     const planar2r_real dhRf1h_1_dqd1 = c2*dhF2h_1_dqd1 + dhF2h_0_dqd1*s2;
     const planar2r_real dhn1h_2_dqd1 = dhn2h_2_dqd1 + dhRf1h_1_dqd1*p[4];
-    const planar2r_real dha2h_0_dqd2 = -cse1;
+    const planar2r_real dha2h_0_dqd2 = cse0;
     const planar2r_real dhF2h_0_dqd2 = dha2h_0_dqd2*p[5];
     const planar2r_real dhRf1h_1_dqd2 = dhF2h_0_dqd2*s2;
     const planar2r_real dhn1h_2_dqd2 = dhRf1h_1_dqd2*p[4];
-    const planar2r_real C11 = (0.5)*dhn1h_2_dqd1;
-    const planar2r_real C12 = (0.5)*dhn1h_2_dqd2;
-    const planar2r_real C21 = (0.5)*dhn2h_2_dqd1;
-    C[0] = C11;
-    C[1] = C12;
-    C[2] = C21;
+    C[0] = dhn1h_2_dqd1;
+    C[1] = dhn1h_2_dqd2;
+    C[2] = dhn2h_2_dqd1;
     C[3] = 0.0;
 }
 
@@ -250,8 +247,9 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
     const planar2r_real vd1g_0 = s1*p[0];
     const planar2r_real vd1g_1 = c1*p[0];
     const planar2r_real F1g_1 = vd1g_1*p[1];
+    const planar2r_real U1h_zz = qd[0]*qd[0];
     const planar2r_real w2h_2 = qd[0] + qd[1];
-    const planar2r_real ws2h_1 = w2h_2*p[6];
+    const planar2r_real U2h_zz = w2h_2*w2h_2;
     const planar2r_real Ic2h_0 = p[6]*p[5];
     const planar2r_real Ic2J_22 = p[7] + p[5]*p[6]*p[6];
     const planar2r_real Iq2h_0 = Ic2h_0*c2;
@@ -262,10 +260,10 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
         return 1; /* singular mass matrix at q (or q not finite) */
     }
     const planar2r_real F2b2n_2 = Ic2J_22 + cse0;
-    const planar2r_real aJ2_0 = vd1g_0 - p[4]*qd[0]*qd[0];
+    const planar2r_real aJ2_0 = vd1g_0 - U1h_zz*p[4];
     const planar2r_real vd2b_0 = aJ2_0*c2 + s2*vd1g_1;
     const planar2r_real vd2b_1 = c2*vd1g_1 - aJ2_0*s2;
-    const planar2r_real a2b_0 = vd2b_0 - w2h_2*ws2h_1;
+    const planar2r_real a2b_0 = vd2b_0 - U2h_zz*p[6];
     const planar2r_real F2b_0 = a2b_0*p[5];
     const planar2r_real F2b_1 = vd2b_1*p[5];
     const planar2r_real n2b_2 = F2b_1*p[6];
@@ -366,7 +364,8 @@ void planar2r_jacobian_dot_qd(const planar2r_real *q, const planar2r_real *qd, c
     const planar2r_real s1 = trig_sin[0];
     const planar2r_real c2 = trig_cos[1];
     const planar2r_real s2 = trig_sin[1];
-    const planar2r_real aJ2h_0 = -p[4]*qd[0]*qd[0];
+    const planar2r_real U1h_zz = qd[0]*qd[0];
+    const planar2r_real aJ2h_0 = -U1h_zz*p[4];
     const planar2r_real vd2h_0 = aJ2h_0*c2;
     const planar2r_real vd2h_1 = -aJ2h_0*s2;
     const planar2r_real T02_00 = c1*c2 - s1*s2;

@@ -108,7 +108,7 @@ void planar2r_coriolis(const planar2r_real *q, const planar2r_real *qd, const pl
  *   qd: joint velocities, N (rad/s or m/s)
  *   p: runtime parameters, NP, in the order listed above
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 17 multiplications, 5 additions/subtractions, 0 divisions, 2 sin/cos.
+ * Cost: 13 multiplications, 4 additions/subtractions, 0 divisions, 2 sin/cos.
  */
 void planar2r_coriolis_matrix(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *p, planar2r_real *C);
 

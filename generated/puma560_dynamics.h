@@ -67,7 +67,7 @@ typedef double puma560_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 300 multiplications, 222 additions/subtractions, 0 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 265 multiplications, 213 additions/subtractions, 0 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 void puma560_inverse_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *qdd, puma560_real *tau);
 
@@ -84,7 +84,7 @@ void puma560_mass_matrix(const puma560_real *q, puma560_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 268 multiplications, 185 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 238 multiplications, 172 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_coriolis(const puma560_real *q, const puma560_real *qd, puma560_real *h);
 
@@ -93,7 +93,7 @@ void puma560_coriolis(const puma560_real *q, const puma560_real *qd, puma560_rea
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 924 multiplications, 644 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 830 multiplications, 573 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_coriolis_matrix(const puma560_real *q, const puma560_real *qd, puma560_real *C);
 
@@ -101,7 +101,7 @@ void puma560_coriolis_matrix(const puma560_real *q, const puma560_real *qd, puma
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 86 multiplications, 51 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 79 multiplications, 47 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_gravity(const puma560_real *q, puma560_real *c);
 
@@ -112,7 +112,7 @@ void puma560_gravity(const puma560_real *q, puma560_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 513 multiplications, 371 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 483 multiplications, 358 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
 
@@ -122,7 +122,7 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 513 multiplications, 371 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 483 multiplications, 358 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
 
@@ -147,7 +147,7 @@ void puma560_jacobian(const puma560_real *q, puma560_real *J);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
- * Cost: 154 multiplications, 85 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 152 multiplications, 85 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void puma560_jacobian_dot_qd(const puma560_real *q, const puma560_real *qd, puma560_real *a);
 

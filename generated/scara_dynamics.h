@@ -63,7 +63,7 @@ typedef double scara_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 58 multiplications, 44 additions/subtractions, 0 divisions, 4 sin/cos, 4 other (sign, pow).
+ * Cost: 52 multiplications, 41 additions/subtractions, 0 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 void scara_inverse_dynamics(const scara_real *q, const scara_real *qd, const scara_real *qdd, scara_real *tau);
 
@@ -80,7 +80,7 @@ void scara_mass_matrix(const scara_real *q, scara_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 32 multiplications, 17 additions/subtractions, 0 divisions, 4 sin/cos.
+ * Cost: 26 multiplications, 14 additions/subtractions, 0 divisions, 4 sin/cos.
  */
 void scara_coriolis(const scara_real *q, const scara_real *qd, scara_real *h);
 
@@ -89,7 +89,7 @@ void scara_coriolis(const scara_real *q, const scara_real *qd, scara_real *h);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 53 multiplications, 29 additions/subtractions, 0 divisions, 4 sin/cos.
+ * Cost: 38 multiplications, 21 additions/subtractions, 0 divisions, 4 sin/cos.
  */
 void scara_coriolis_matrix(const scara_real *q, const scara_real *qd, scara_real *C);
 
@@ -108,7 +108,7 @@ void scara_gravity(const scara_real *q, scara_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 64 multiplications, 42 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
+ * Cost: 58 multiplications, 39 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);
 
@@ -118,7 +118,7 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 64 multiplications, 42 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
+ * Cost: 58 multiplications, 39 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 void scara_forward_dynamics(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);
 

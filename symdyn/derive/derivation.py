@@ -524,7 +524,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
                               if sym in namer.rhs and sym not in notation.trig)
         results, where = _final_results(robot, method, closed, notation)
     else:
-        states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "")
+        states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "", textbook=True)
         program = chain.builder.build()
         namer = None if closed else _Namer(program, notation)
         if steps == "all":

@@ -329,8 +329,8 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             result["coriolis"] = h
             if "coriolis_matrix" in need:
                 report("coriolis_matrix (derivative of h by qd)")
-                columns = differentiate(b.build(), h, qd, b, "dh")
-                C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i] / 2))
+                columns = differentiate(b.build(), h, qd, b, "dh", scale=sp.Rational(1, 2))
+                C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i]))
                 result["coriolis_matrix"] = C
         if "mass_matrix" in need:
             report("mass_matrix (composite rigid bodies)")
@@ -354,8 +354,8 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             result["coriolis"] = h
             if "coriolis_matrix" in need:
                 report("coriolis_matrix (derivative of h by qd)")
-                columns = differentiate(b.build(), h, qd, b, "dh")
-                result["coriolis_matrix"] = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i] / 2))
+                columns = differentiate(b.build(), h, qd, b, "dh", scale=sp.Rational(1, 2))
+                result["coriolis_matrix"] = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i]))
         if "mass_matrix" in need:
             report("mass_matrix (sum of J_ci^T M_i J_ci)")
             result["mass_matrix"] = jne.mass_matrix()

@@ -509,6 +509,10 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                      trig_type=trig_type, batch=batch)
 
 
+#: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
+ROWS = 4
+
+
 def _looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name: str, store: str,
                   internal: str, scalar: str) -> tuple[list[str], Counter]:
     """C lines solving ``fd_M qdd = fd_b`` by an LDL^T loop (M's lower triangle given, L
@@ -532,7 +536,18 @@ def _looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_nam
              *check,
              "    fd_d[j] = d;",
              f"    fd_inv[j] = {one}/d;",
-             f"    for (int i = j + 1; i < {n}; ++i) {{",
+             "    int i = j + 1;",
+             f"    /* {ROWS} rows at a time: {ROWS} independent sums, each in the order of the one-row loop */",
+             f"    for (; i + {ROWS} <= {n}; i += {ROWS}) {{",
+             f"        const {ltype} *r = fd_M + i * {n};",
+             f"        {ltype} " + ", ".join(f"s{r} = r[{r * n} + j]" for r in range(ROWS)) + ";",
+             "        for (int k = 0; k < j; ++k) {",
+             f"            const {ltype} w = fd_w[k];",
+             *[f"            s{r} -= r[{r * n} + k]*w;" for r in range(ROWS)],
+             "        }",
+             *[f"        fd_M[(i + {r}) * {n} + j] = s{r}*fd_inv[j];" for r in range(ROWS)],
+             "    }",
+             f"    for (; i < {n}; ++i) {{",
              f"        {ltype} s = fd_M[i * {n} + j];",
              "        for (int k = 0; k < j; ++k) {",
              f"            s -= fd_M[i * {n} + k]*fd_w[k];",
