@@ -2,15 +2,18 @@
 
 Usage:  python benchmarks/c_speed.py [ROBOT ...]      (default: puma560 ur5 iiwa14)
 
-For each robot: generates double-precision C, compiles it with -O3 -march=native together with a
-timing loop (ns per call, median of 7 repeats of 20000 calls cycling over 10,000 distinct random states), builds
+For each robot: generates double-precision C, compiles it three ways (gcc -O3 -march=native, the
+flags Pinocchio is built with here; gcc -O2 for baseline x86-64; clang -O3 -march=native when
+clang is installed) together with a timing loop (ns per call, median of 7 repeats of 20000 calls cycling over 10,000 distinct random states), builds
 benchmarks/pinocchio_bench.cpp against the headers and libraries that the pin wheel ships (Eigen
 from the casadi wheel), saves the equivalent Pinocchio model as text and times rnea, crba,
 computeGeneralizedGravity, computeCoriolisMatrix and aba.  Prints a Markdown table with the
 ratios (Pinocchio time / symdyn time, > 1 means symdyn is faster) and the operation counts.
+The -O2 ratio compares symdyn's baseline build with Pinocchio's -O3 -march=native one.
 """
 
 import os
+import shutil
 import subprocess
 import sys
 import sysconfig
@@ -60,8 +63,12 @@ def main(argv=None):
     with tempfile.TemporaryDirectory() as workdir:
         print("building Pinocchio benchmark (C++, takes a minute)...", file=sys.stderr)
         pinbench = pinocchio_bench_binary(workdir)
-        print("| robot | function | symdyn C (ns) | Pinocchio C++ (ns) | Pinocchio / symdyn | mul | add | div | sin/cos |")
-        print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
+        compilers = [("gcc -O3 native", ["gcc", "-O3", "-march=native"]), ("gcc -O2", ["gcc", "-O2"])]
+        if shutil.which("clang"):
+            compilers.append(("clang -O3 native", ["clang", "-O3", "-march=native"]))
+        print("| robot | function | Pinocchio C++ (ns) | " + " | ".join(f"{label} (ns)" for label, _ in compilers)
+              + " | " + " | ".join(f"Pinocchio / {label}" for label, _ in compilers) + " | mul | add | div | sin/cos |")
+        print("|---|---|" + "---:|" * (1 + 2 * len(compilers) + 4))
         for name in names:
             robot = symdyn.load(os.path.join(HERE, "..", "robots", f"{name}.yaml"))
             eqs = symdyn.derive(robot)
@@ -70,20 +77,22 @@ def main(argv=None):
             for fname, text in files.items():
                 open(os.path.join(workdir, fname), "w").write(text)
             open(os.path.join(workdir, "bench.c"), "w").write(HARNESS % {"n": name, "dof": robot.dof})
-            exe = os.path.join(workdir, f"bench_{name}")
-            subprocess.run(["gcc", "-O3", "-march=native", "-std=c99", os.path.join(workdir, "bench.c"),
-                            os.path.join(workdir, f"{name}_dynamics.c"), "-o", exe, "-lm"], check=True)
-            mine = parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)
+            mine = []
+            for k, (_, command) in enumerate(compilers):
+                exe = os.path.join(workdir, f"bench_{name}_{k}")
+                subprocess.run([*command, "-std=c99", os.path.join(workdir, "bench.c"),
+                                os.path.join(workdir, f"{name}_dynamics.c"), "-o", exe, "-lm"], check=True)
+                mine.append(parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout))
             model, _ = build_model(robot)
             model_file = os.path.join(workdir, f"{name}.txt")
             model.saveToText(model_file)
             theirs = parse(subprocess.run([pinbench, model_file], capture_output=True, text=True, check=True).stdout)
             for ours, pin_name in PAIRS:
                 ops = build_function(eqs, ours, "double", name).ops
-                ratio = theirs[pin_name] / mine[ours]
-                print(f"| {name} | {ours} | {mine[ours]:.0f} | {theirs[pin_name]:.0f} ({pin_name}) | {ratio:.1f}x | "
+                times = " | ".join(f"{m[ours]:.0f}" for m in mine)
+                ratios = " | ".join(f"{theirs[pin_name] / m[ours]:.1f}x" for m in mine)
+                print(f"| {name} | {ours} | {theirs[pin_name]:.0f} ({pin_name}) | {times} | {ratios} | "
                       f"{ops['mul']} | {ops['add']} | {ops['div']} | {ops['trig']} |", flush=True)
-
 
 if __name__ == "__main__":
     main()

@@ -87,7 +87,7 @@ void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, con
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 830 multiplications, 763 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 783 multiplications, 768 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_mass_matrix(const chain12_real *q, chain12_real *D);
 
@@ -124,7 +124,7 @@ void chain12_gravity(const chain12_real *q, chain12_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 2198 multiplications, 1834 additions/subtractions, 12 divisions, 18 sin/cos.
+ * Cost: 2151 multiplications, 1839 additions/subtractions, 12 divisions, 18 sin/cos.
  */
 int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
 
@@ -134,7 +134,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 2198 multiplications, 1834 additions/subtractions, 12 divisions, 18 sin/cos.
+ * Cost: 2151 multiplications, 1839 additions/subtractions, 12 divisions, 18 sin/cos.
  */
 void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
 

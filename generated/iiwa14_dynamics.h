@@ -77,7 +77,7 @@ void iiwa14_inverse_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const 
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 145 multiplications, 108 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 118 multiplications, 112 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void iiwa14_mass_matrix(const iiwa14_real *q, iiwa14_real *D);
 
@@ -114,7 +114,7 @@ void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 616 multiplications, 442 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 589 multiplications, 446 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);
 
@@ -124,7 +124,7 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 616 multiplications, 442 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 589 multiplications, 446 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);
 

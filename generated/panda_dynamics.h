@@ -77,7 +77,7 @@ void panda_inverse_dynamics(const panda_real *q, const panda_real *qd, const pan
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 226 multiplications, 194 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 199 multiplications, 205 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void panda_mass_matrix(const panda_real *q, panda_real *D);
 
@@ -114,7 +114,7 @@ void panda_gravity(const panda_real *q, panda_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 819 multiplications, 655 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 792 multiplications, 666 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd);
 
@@ -124,7 +124,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 819 multiplications, 655 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 792 multiplications, 666 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 void panda_forward_dynamics(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd);
 

@@ -85,7 +85,7 @@ void pendulum_leg_inverse_dynamics(const pendulum_leg_real *q, const pendulum_le
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 115 multiplications, 69 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 101 multiplications, 78 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void pendulum_leg_mass_matrix(const pendulum_leg_real *q, pendulum_leg_real *D);
 
@@ -122,7 +122,7 @@ void pendulum_leg_gravity(const pendulum_leg_real *q, pendulum_leg_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 409 multiplications, 262 additions/subtractions, 6 divisions, 12 sin/cos.
+ * Cost: 395 multiplications, 271 additions/subtractions, 6 divisions, 12 sin/cos.
  */
 int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd);
 
@@ -132,7 +132,7 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 409 multiplications, 262 additions/subtractions, 6 divisions, 12 sin/cos.
+ * Cost: 395 multiplications, 271 additions/subtractions, 6 divisions, 12 sin/cos.
  */
 void pendulum_leg_forward_dynamics(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd);
 

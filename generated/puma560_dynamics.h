@@ -75,7 +75,7 @@ void puma560_inverse_dynamics(const puma560_real *q, const puma560_real *qd, con
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 120 multiplications, 97 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 90 multiplications, 90 additions/subtractions, 0 divisions, 8 sin/cos.
  */
 void puma560_mass_matrix(const puma560_real *q, puma560_real *D);
 
@@ -112,7 +112,7 @@ void puma560_gravity(const puma560_real *q, puma560_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 483 multiplications, 358 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 453 multiplications, 349 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
 
@@ -122,7 +122,7 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 483 multiplications, 358 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 453 multiplications, 349 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
 

@@ -75,7 +75,7 @@ void stanford_inverse_dynamics(const stanford_real *q, const stanford_real *qd, 
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 80 multiplications, 59 additions/subtractions, 0 divisions, 8 sin/cos.
+ * Cost: 62 multiplications, 62 additions/subtractions, 0 divisions, 6 sin/cos.
  */
 void stanford_mass_matrix(const stanford_real *q, stanford_real *D);
 
@@ -112,7 +112,7 @@ void stanford_gravity(const stanford_real *q, stanford_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 405 multiplications, 283 additions/subtractions, 6 divisions, 8 sin/cos.
+ * Cost: 387 multiplications, 285 additions/subtractions, 6 divisions, 8 sin/cos.
  */
 int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd);
 
@@ -122,7 +122,7 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 405 multiplications, 283 additions/subtractions, 6 divisions, 8 sin/cos.
+ * Cost: 387 multiplications, 285 additions/subtractions, 6 divisions, 8 sin/cos.
  */
 void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd);
 

@@ -75,7 +75,7 @@ void ur5_inverse_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real 
  * Mass (joint-space inertia) matrix D(q), without armature.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   D (out): joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)
- * Cost: 114 multiplications, 91 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 91 multiplications, 86 additions/subtractions, 0 divisions, 8 sin/cos.
  */
 void ur5_mass_matrix(const ur5_real *q, ur5_real *D);
 
@@ -112,7 +112,7 @@ void ur5_gravity(const ur5_real *q, ur5_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 484 multiplications, 349 additions/subtractions, 6 divisions, 10 sin/cos.
+ * Cost: 461 multiplications, 344 additions/subtractions, 6 divisions, 10 sin/cos.
  */
 int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);
 
@@ -122,7 +122,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 484 multiplications, 349 additions/subtractions, 6 divisions, 10 sin/cos.
+ * Cost: 461 multiplications, 344 additions/subtractions, 6 divisions, 10 sin/cos.
  */
 void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);
 

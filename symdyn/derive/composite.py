@@ -55,14 +55,58 @@ def _symmetric(b: ProgramBuilder, hint: str, mat: sp.Matrix) -> sp.Matrix:
     return out
 
 
+def _single_axis(R: sp.Matrix):
+    """``(k, a, b, c, s)`` when R is a rotation about coordinate axis k (R[k, :] and R[:, k]
+    are e_k, and the (a, b) block is [[c, -s], [s, c]], a < b the other two axes), else None."""
+    for k in range(3):
+        unit = [sp.S.One if r == k else sp.S.Zero for r in range(3)]
+        if list(R[k, :]) != unit or list(R[:, k]) != unit:
+            continue
+        a, b = (r for r in range(3) if r != k)
+        c, s = R[a, a], R[b, a]
+        if sp.expand(R[b, b] - c) == 0 and sp.expand(R[a, b] + s) == 0:
+            return k, a, b, c, s
+    return None
+
+
+def _rotate_about_axis(b: ProgramBuilder, J: sp.Matrix, axis, hint: str) -> sp.Matrix:
+    """``R J R^T`` for a symmetric J and a rotation about one coordinate axis (see
+    :func:`_single_axis`), by the half-angle identities: with ``D = J_aa - J_bb``,
+    ``J'_aa = J_aa - s^2 D - 2 c s J_ab``, ``J'_bb = J_bb + s^2 D + 2 c s J_ab``,
+    ``J'_ab = (c^2 - s^2) J_ab + c s D``, ``J'_ka = c J_ka - s J_kb``, ``J'_kb = s J_ka + c J_kb``:
+    about 11 multiplications (8 for a constant rotation) instead of 18-22 for the product."""
+    k, a, c_, s_ = axis[0], axis[1], axis[3], axis[4]
+    bb = axis[2]
+    ss = b.define(f"{hint}ss", sp.expand(s_ * s_))
+    cs = b.define(f"{hint}cs", sp.expand(c_ * s_))
+    cc_ss = sp.expand(1 - 2 * ss) if ss.is_Symbol else sp.expand(c_ * c_ - s_ * s_)
+    D = b.define(f"{hint}D", sp.expand(J[a, a] - J[bb, bb]))
+    t1 = b.define(f"{hint}t1", sp.expand(ss * D))
+    t2 = b.define(f"{hint}t2", sp.expand(2 * cs * J[a, bb]))
+    out = sp.zeros(3, 3)
+    entries = {(k, k): J[k, k],
+               (a, a): J[a, a] - t1 - t2,
+               (bb, bb): J[bb, bb] + t1 + t2,
+               (a, bb): cc_ss * J[a, bb] + cs * D,
+               (k, a): c_ * J[k, a] - s_ * J[k, bb],
+               (k, bb): s_ * J[k, a] + c_ * J[k, bb]}
+    for (r, col), e in entries.items():
+        lo, hi = min(r, col), max(r, col)
+        out[lo, hi] = out[hi, lo] = b.define(f"{hint}R_{lo}{hi}", sp.expand(e))
+    return out
+
+
 def transform_inertia(b: ProgramBuilder, body: BodyInertia, pose: sp.Matrix, hint: str) -> BodyInertia:
     """The inertia of ``body`` (given in frame B) expressed in frame A, where ``pose`` (4x4) is
     the pose of B in A."""
     R, p = pose[:3, :3], pose[:3, 3]
     m = body.mass
     h_rot = b.vector(f"{hint}h", (R * body.first_moment).applyfunc(sp.expand))
+    axis = None if R == sp.eye(3) else _single_axis(R)
     if R == sp.eye(3):
         J_rot = body.rotational
+    elif axis is not None:
+        J_rot = _rotate_about_axis(b, body.rotational, axis, hint)
     else:
         half = sp.Matrix(3, 3, lambda r, c: b.define(f"{hint}A_{r}{c}", sp.expand((R[r, :] * body.rotational[:, c])[0])))
         J_rot = _symmetric(b, f"{hint}R", half * R.T)
@@ -190,7 +234,12 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
         # pose of J_k in J_1, k = 1..n
         poses = [sp.eye(4)]
         for k in range(1, n):
-            pose = poses[-1] * between[k - 1] * chain.motions[k]
+            # (pose of J_k-1) * (constant step) named first: the product with the joint's
+            # rotation about z then costs 4 multiplications per row instead of 11
+            step = poses[-1] * between[k - 1]
+            fixed = b.matrix(f"R1_{k + 1}b", step[:3, :3].applyfunc(sp.expand))
+            step = fixed.row_join(step[:3, 3]).col_join(sp.Matrix([[0, 0, 0, 1]]))
+            pose = step * chain.motions[k]
             rot = b.matrix(f"R1_{k + 1}", pose[:3, :3].applyfunc(sp.expand))
             pos = b.vector(f"p1_{k + 1}", pose[:3, 3].applyfunc(sp.expand))
             poses.append(rot.row_join(pos).col_join(sp.Matrix([[0, 0, 0, 1]])))
