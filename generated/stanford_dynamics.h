@@ -54,7 +54,10 @@ typedef double stanford_real;
  * beyond, and for every angle when SYMDYN_LIBM_TRIG is defined).
  *
  * Floating-point contraction: compile with -ffp-contract=off (the default of -std=c99) for the
- * results documented here, identical across compilers and optimization levels.  Contraction into
+ * results documented here, identical across compilers and optimization levels.  GCC's
+ * vectorizer (-O3, or -O2 from GCC 12, on FMA hardware such as -march=native) may still fuse
+ * pairs a*b - c, a*b + c of neighbouring statements into one vfmaddsub despite the flag; add
+ * -fno-tree-slp-vectorize (or -mno-fma) when you need those identical results.  Contraction into
  * fused multiply-adds (-ffp-contract=fast with FMA hardware) made these functions 1-36% faster
  * with errors of the same order against a 50-digit reference; results then change by rounding,
  * and batch functions may differ from the scalar ones in the last bits (symdyn's
