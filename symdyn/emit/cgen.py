@@ -135,6 +135,28 @@ class CFunction:
         return text
 
 
+def _gram_loop(out: str, size: int, ltype: str) -> list[str]:
+    """C lines of ``out[i][j] = out[j][i] = S_i . F_j`` (i < j, ``out`` row-major size x size)
+    from ``mass_s`` (component k of S_i at ``mass_s[k * (size - 1) + i]``, so consecutive i are
+    contiguous) and ``mass_f`` (F_j's 6 components at ``mass_f + 6 * (j - 1)``).
+
+    Row j's entries left of the diagonal are contiguous in ``out`` and in ``mass_s``, so a
+    compiler that vectorizes loops (gcc -O3) computes several at once, each as
+    ``s0*f0 + s1*f1 + ... + s5*f5`` in the same order (same results); generic 24-joint chain,
+    gcc -O3 -march=native: 1390 -> 1227 ns for D.  (Explicit vector types here measured no
+    better at -O2 and worse at -O3.)
+    """
+    m = size - 1
+    dot = " + ".join(f"mass_s[{k * m} + i]*f{k}" for k in range(6))
+    return [f"for (int j = {m}; j >= 1; --j) {{",
+            f"    const {ltype} *f = mass_f + 6 * (j - 1);",
+            f"    const {ltype} f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3], f4 = f[4], f5 = f[5];",
+            "    for (int i = 0; i < j; ++i) {",
+            f"        {out}[j * {size} + i] = {out}[i * {size} + j] = {dot};",
+            "    }",
+            "}"]
+
+
 def _merge_cse(program_assigns, replacements):
     """Interleave CSE replacements with program assignments so each follows its dependencies."""
     index = {sym: k for k, (sym, _) in enumerate(program_assigns)}
@@ -266,7 +288,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         targets = [(f"fd_M[{j * n + i}]", system[i, j]) for i in range(n) for j in range(i, n)
                    if j == i or not factors]  # lower triangle (the factor loop writes both)
         if factors:
-            targets += [(f"mass_s[{6 * i + k}]", e) for i, row in enumerate(factors[0]) for k, e in enumerate(row)]
+            targets += [(f"mass_s[{k * (n - 1) + i}]", e) for i, row in enumerate(factors[0]) for k, e in enumerate(row)]
             targets += [(f"mass_f[{6 * j + k}]", e) for j, row in enumerate(factors[1]) for k, e in enumerate(row)]
             gram = ("fd_M", n)
         targets += [(f"fd_b[{i}]", rhs[i]) for i in range(n)]
@@ -298,7 +320,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                     targets.append((f"{part_name}[{i * cols + j}]", matrix[i, j]))
         if factored:  # D[i][j] = S_i . F_j (i < j) as a loop over two arrays of 6-vectors
             motions, momenta = eqs.mass_factors
-            targets += [(f"mass_s[{6 * i + k}]", e) for i, row in enumerate(motions) for k, e in enumerate(row)]
+            targets += [(f"mass_s[{k * (rows - 1) + i}]", e) for i, row in enumerate(motions) for k, e in enumerate(row)]
             targets += [(f"mass_f[{6 * j + k}]", e) for j, row in enumerate(momenta) for k, e in enumerate(row)]
             gram = (part_name, rows)
     checks = [e for pair in eqs.pivots for e in pair] if checked and not looped else []
@@ -434,15 +456,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                 used |= sp.sympify(expr).free_symbols
         if gram:
             out, size = gram
-            lines += [f"for (int i = 0; i < {size - 1}; ++i) {{",
-                      f"    const {ltype} *s = mass_s + 6 * i;",
-                      f"    const {ltype} s0 = s[0], s1 = s[1], s2 = s[2], s3 = s[3], s4 = s[4], s5 = s[5];",
-                      f"    for (int j = i + 1; j < {size}; ++j) {{",
-                      f"        const {ltype} *f = mass_f + 6 * (j - 1);",
-                      f"        {out}[i * {size} + j] = {out}[j * {size} + i] = "
-                      "s0*f[0] + s1*f[1] + s2*f[2] + s3*f[3] + s4*f[4] + s5*f[5];",
-                      "    }",
-                      "}"]
+            lines += _gram_loop(out, size, ltype)
             ops += Counter({"mul": 6 * size * (size - 1) // 2, "add": 5 * size * (size - 1) // 2})
         if looped:
             solve, solve_ops = _looped_solve(n, ltype, printer.literal(PIVOT_RTOL), printer.literal(1.0), vector,
