@@ -72,7 +72,7 @@ typedef double iiwa14_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 318 multiplications, 250 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 313 multiplications, 243 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_inverse_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *qdd, iiwa14_real *tau);
 
@@ -89,7 +89,7 @@ void iiwa14_mass_matrix(const iiwa14_real *q, iiwa14_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 305 multiplications, 225 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 300 multiplications, 215 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_coriolis(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *h);
 
@@ -98,7 +98,7 @@ void iiwa14_coriolis(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *h
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 1452 multiplications, 1021 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 1422 multiplications, 974 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_coriolis_matrix(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *C);
 
@@ -106,7 +106,7 @@ void iiwa14_coriolis_matrix(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 103 multiplications, 64 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 101 multiplications, 60 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c);
 
@@ -117,7 +117,7 @@ void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 589 multiplications, 446 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 584 multiplications, 439 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);
 
@@ -127,7 +127,7 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 589 multiplications, 446 additions/subtractions, 7 divisions, 12 sin/cos.
+ * Cost: 584 multiplications, 439 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 void iiwa14_forward_dynamics(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);
 

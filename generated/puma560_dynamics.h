@@ -70,7 +70,7 @@ typedef double puma560_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 265 multiplications, 213 additions/subtractions, 0 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 263 multiplications, 205 additions/subtractions, 0 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 void puma560_inverse_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *qdd, puma560_real *tau);
 
@@ -87,7 +87,7 @@ void puma560_mass_matrix(const puma560_real *q, puma560_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 238 multiplications, 172 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 236 multiplications, 162 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_coriolis(const puma560_real *q, const puma560_real *qd, puma560_real *h);
 
@@ -96,7 +96,7 @@ void puma560_coriolis(const puma560_real *q, const puma560_real *qd, puma560_rea
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 830 multiplications, 573 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 823 multiplications, 549 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_coriolis_matrix(const puma560_real *q, const puma560_real *qd, puma560_real *C);
 
@@ -104,7 +104,7 @@ void puma560_coriolis_matrix(const puma560_real *q, const puma560_real *qd, puma
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 79 multiplications, 47 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 78 multiplications, 45 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_gravity(const puma560_real *q, puma560_real *c);
 
@@ -115,7 +115,7 @@ void puma560_gravity(const puma560_real *q, puma560_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 453 multiplications, 349 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 451 multiplications, 341 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
 
@@ -125,7 +125,7 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 453 multiplications, 349 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
+ * Cost: 451 multiplications, 341 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 void puma560_forward_dynamics(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);
 

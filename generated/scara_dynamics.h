@@ -66,7 +66,7 @@ typedef double scara_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 52 multiplications, 41 additions/subtractions, 0 divisions, 4 sin/cos, 4 other (sign, pow).
+ * Cost: 52 multiplications, 39 additions/subtractions, 0 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 void scara_inverse_dynamics(const scara_real *q, const scara_real *qd, const scara_real *qdd, scara_real *tau);
 
@@ -92,7 +92,7 @@ void scara_coriolis(const scara_real *q, const scara_real *qd, scara_real *h);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 38 multiplications, 21 additions/subtractions, 0 divisions, 4 sin/cos.
+ * Cost: 38 multiplications, 20 additions/subtractions, 0 divisions, 4 sin/cos.
  */
 void scara_coriolis_matrix(const scara_real *q, const scara_real *qd, scara_real *C);
 

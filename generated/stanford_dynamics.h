@@ -70,7 +70,7 @@ typedef double stanford_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 233 multiplications, 178 additions/subtractions, 0 divisions, 8 sin/cos.
+ * Cost: 227 multiplications, 171 additions/subtractions, 0 divisions, 8 sin/cos.
  */
 void stanford_inverse_dynamics(const stanford_real *q, const stanford_real *qd, const stanford_real *qdd, stanford_real *tau);
 
@@ -87,7 +87,7 @@ void stanford_mass_matrix(const stanford_real *q, stanford_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 208 multiplications, 146 additions/subtractions, 0 divisions, 8 sin/cos.
+ * Cost: 203 multiplications, 141 additions/subtractions, 0 divisions, 8 sin/cos.
  */
 void stanford_coriolis(const stanford_real *q, const stanford_real *qd, stanford_real *h);
 
@@ -96,7 +96,7 @@ void stanford_coriolis(const stanford_real *q, const stanford_real *qd, stanford
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 757 multiplications, 503 additions/subtractions, 0 divisions, 8 sin/cos.
+ * Cost: 734 multiplications, 481 additions/subtractions, 0 divisions, 8 sin/cos.
  */
 void stanford_coriolis_matrix(const stanford_real *q, const stanford_real *qd, stanford_real *C);
 
@@ -104,7 +104,7 @@ void stanford_coriolis_matrix(const stanford_real *q, const stanford_real *qd, s
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 70 multiplications, 43 additions/subtractions, 0 divisions, 8 sin/cos.
+ * Cost: 68 multiplications, 39 additions/subtractions, 0 divisions, 8 sin/cos.
  */
 void stanford_gravity(const stanford_real *q, stanford_real *c);
 
@@ -115,7 +115,7 @@ void stanford_gravity(const stanford_real *q, stanford_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 387 multiplications, 285 additions/subtractions, 6 divisions, 8 sin/cos.
+ * Cost: 381 multiplications, 278 additions/subtractions, 6 divisions, 8 sin/cos.
  */
 int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd);
 
@@ -125,7 +125,7 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 387 multiplications, 285 additions/subtractions, 6 divisions, 8 sin/cos.
+ * Cost: 381 multiplications, 278 additions/subtractions, 6 divisions, 8 sin/cos.
  */
 void stanford_forward_dynamics(const stanford_real *q, const stanford_real *qd, const stanford_real *tau, stanford_real *qdd);
 

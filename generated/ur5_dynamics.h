@@ -70,7 +70,7 @@ typedef double ur5_real;
  *   qd: joint velocities, N (rad/s or m/s)
  *   qdd: joint accelerations, N (rad/s^2 or m/s^2)
  *   tau (out): joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)
- * Cost: 271 multiplications, 209 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 266 multiplications, 201 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_inverse_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *qdd, ur5_real *tau);
 
@@ -87,7 +87,7 @@ void ur5_mass_matrix(const ur5_real *q, ur5_real *D);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   h (out): Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)
- * Cost: 257 multiplications, 186 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 252 multiplications, 176 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_coriolis(const ur5_real *q, const ur5_real *qd, ur5_real *h);
 
@@ -96,7 +96,7 @@ void ur5_coriolis(const ur5_real *q, const ur5_real *qd, ur5_real *h);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 844 multiplications, 622 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 822 multiplications, 587 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_coriolis_matrix(const ur5_real *q, const ur5_real *qd, ur5_real *C);
 
@@ -104,7 +104,7 @@ void ur5_coriolis_matrix(const ur5_real *q, const ur5_real *qd, ur5_real *C);
  * Gravity torques c(q).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   c (out): gravity vector c(q), N (N m or N)
- * Cost: 84 multiplications, 52 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 82 multiplications, 49 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_gravity(const ur5_real *q, ur5_real *c);
 
@@ -115,7 +115,7 @@ void ur5_gravity(const ur5_real *q, ur5_real *c);
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
  * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 461 multiplications, 344 additions/subtractions, 6 divisions, 10 sin/cos.
+ * Cost: 456 multiplications, 336 additions/subtractions, 6 divisions, 10 sin/cos.
  */
 int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);
 
@@ -125,7 +125,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 461 multiplications, 344 additions/subtractions, 6 divisions, 10 sin/cos.
+ * Cost: 456 multiplications, 336 additions/subtractions, 6 divisions, 10 sin/cos.
  */
 void ur5_forward_dynamics(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);
 

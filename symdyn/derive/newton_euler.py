@@ -94,9 +94,43 @@ def _point_acceleration(U: sp.Matrix | None, omega: sp.Matrix, omegad: sp.Matrix
     return _skip_zero_cross(omegad, p) + _skip_zero_cross(omega, _skip_zero_cross(omega, p))
 
 
+@dataclass(frozen=True)
+class _LinkFrame:
+    """What the recursion needs of link i, in the frame it runs in (see :func:`_link_frames`)."""
+
+    pose: sp.Matrix  # 4x4 pose of this frame in the previous link's frame
+    pre: sp.Matrix  # 4x4 constant part before the joint's motion
+    post: sp.Matrix  # 4x4 constant part after it
+    com: sp.Matrix  # centre of mass (m)
+    inertia: sp.Matrix  # 3x3 about the centre of mass (kg m^2)
+
+
+def _link_frames(chain: Chain, joint_frames: bool) -> list[_LinkFrame]:
+    """Per link: the link frame i of the DH table (``joint_frames`` False), or its joint frame
+    ``J_i`` (z along the joint axis through the joint point; the pose of J_i in J_{i-1} is
+    ``Post_{i-1} Pre_i Joint_i(q_i)``), in which the axis is e_z and the point to the next joint
+    has no part along the link's own post transform: for standard DH tables this saves the
+    products with the twist's sine and cosine at every ``z qd``, ``z qdd`` and torque.  COM and
+    inertia are moved into the chosen frame once, as constants."""
+    frames = []
+    for i, link in enumerate(chain.robot.links):
+        geo = chain.geometry[i]
+        pre, post = sp.Matrix(geo.pre), sp.Matrix(geo.post)
+        com, inertia = sp.Matrix(link.com), sp.Matrix(link.inertia_matrix)
+        if not joint_frames:
+            frames.append(_LinkFrame(chain.transforms[i], pre, post, com, inertia))
+            continue
+        if i > 0:
+            pre = sp.Matrix(chain.geometry[i - 1].post) * pre
+        R, t = post[:3, :3], post[:3, 3]
+        frames.append(_LinkFrame((pre * chain.motions[i]).applyfunc(sp.expand), pre.applyfunc(sp.expand), sp.eye(4),
+                                 (R * com + t).applyfunc(sp.expand), (R * inertia * R.T).applyfunc(sp.expand)))
+    return frames
+
+
 def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
               gravity: sp.Matrix, tag: str, parameters: Sequence[sp.Expr] | None = None,
-              textbook: bool = False) -> list[LinkState]:
+              textbook: bool = False, joint_frames: bool | None = None) -> list[LinkState]:
     """Run Table 3.2 for the given joint rates/accelerations and gravity vector (base frame).
 
     Returns each link's state; ``state.tau`` is the joint force without friction or armature.
@@ -112,27 +146,34 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
     frame origin, the centre of mass) is computed as ``U_i p`` with Khalil's matrix ``U_i``
     (:func:`_acceleration_operator`), which costs fewer operations; ``textbook=True`` writes
     the cross products as the table does (the derivation printouts).
+
+    ``joint_frames`` (default: unless ``textbook`` or ``parameters``) runs the recursion in
+    the joint frames J_i instead of the link frames (:func:`_link_frames`); the torques are the
+    same, the link states are then in J_i.
     """
     b = chain.builder
     robot = chain.robot
     omega = sp.zeros(3, 1)
     omegad = sp.zeros(3, 1)
     vd = -sp.Matrix(gravity)
+    if joint_frames is None:
+        joint_frames = not textbook and parameters is None
+    frames = _link_frames(chain, joint_frames)
     states: list[LinkState] = []
     U = None  # U of the previous link (None: textbook form, or a link at rest)
     for i, link in enumerate(robot.links):
         k = i + 1
-        geo = chain.geometry[i]
-        T = chain.transforms[i]
+        frame = frames[i]
+        T = frame.pose
         R = T[:3, :3]
         Rt = R.T
-        z = sp.Matrix(geo.post)[:3, :3].T * sp.Matrix([0, 0, 1])
+        z = frame.post[:3, :3].T * sp.Matrix([0, 0, 1])
         if link.is_revolute:
             w_rot = b.vector(f"Rw{k}{tag}", Rt * omega)
             omega_i = b.vector(f"w{k}{tag}", w_rot + z * qd[i])
             omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad + _skip_zero_cross(w_rot, z * qd[i]) + z * qdd[i])
-            r1 = sp.Matrix(geo.pre)[:3, 3]
-            post = sp.Matrix(geo.post)
+            r1 = frame.pre[:3, 3]
+            post = frame.post
             r2 = post[:3, :3].T * post[:3, 3]
             a_joint = vd + _point_acceleration(U, omega, omegad, r1)
             if not (r1.is_zero_matrix or (omega.is_zero_matrix and omegad.is_zero_matrix)):
@@ -157,7 +198,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             vd_i = b.vector(f"vd{k}{tag}", Rt * vd + relative
                             + 2 * _skip_zero_cross(omega_i, z * qd[i]) + z * qdd[i])
         if parameters is None:
-            s = sp.Matrix(link.com)
+            s = frame.com
             if U is None:
                 ws = b.vector(f"ws{k}{tag}", _skip_zero_cross(omega_i, s))
                 relative = _skip_zero_cross(omegad_i, s) + _skip_zero_cross(omega_i, ws)
@@ -165,7 +206,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
                 relative = _point_acceleration(U, omega_i, omegad_i, s)
             abar = b.vector(f"a{k}{tag}", relative + vd_i)
             F = b.vector(f"F{k}{tag}", link.mass * abar)
-            inertia = sp.Matrix(link.inertia_matrix)
+            inertia = frame.inertia
             Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
             N = b.vector(f"N{k}{tag}", inertia * omegad_i + _skip_zero_cross(omega_i, Iw))
         else:
@@ -192,15 +233,15 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
         k = i + 1
         st = states[i]
         link = robot.links[i]
-        s = sp.Matrix(link.com) if parameters is None else sp.zeros(3, 1)  # N_i is about O_i then
+        s = frames[i].com if parameters is None else sp.zeros(3, 1)  # N_i is about O_i then
         if i + 1 < robot.dof:
-            T_next = chain.transforms[i + 1]
+            T_next = frames[i + 1].pose
             f_rot = b.vector(f"Rf{k}{tag}", T_next[:3, :3] * f_next)
             if joint_moment_next is not None and not textbook:
                 # p_{i+1} = r1_{i+1} + R_{i+1} r2_{i+1} for a revolute joint, so
                 # R n + p x (R f) = R (n + r2 x f) + r1 x (R f): the joint moment link i+1's
                 # torque already needed, and no product with q_{i+1}'s sine and cosine
-                r1_next = sp.Matrix(chain.geometry[i + 1].pre)[:3, 3]
+                r1_next = frames[i + 1].pre[:3, 3]
                 moment_next = T_next[:3, :3] * joint_moment_next + _skip_zero_cross(r1_next, f_rot)
             else:
                 n_rot = T_next[:3, :3] * n_next
@@ -210,8 +251,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             moment_next = sp.zeros(3, 1)
         st.f = b.vector(f"f{k}{tag}", st.F + f_rot)
         st.n = b.vector(f"n{k}{tag}", st.N + _skip_zero_cross(s, st.F) + moment_next)
-        geo = chain.geometry[i]
-        post = sp.Matrix(geo.post)
+        post = frames[i].post
         z = post[:3, :3].T * sp.Matrix([0, 0, 1])
         joint_moment_next = None
         if link.is_revolute:

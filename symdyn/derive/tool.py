@@ -68,7 +68,7 @@ def tool_kinematics(chain: Chain, wanted) -> dict[str, sp.Matrix]:
         result["jacobian"] = J.applyfunc(sp.expand)
     if "jacobian_dot_qd" in wanted:
         zero = [sp.S.Zero] * n
-        last = recursion(chain, chain.qd, zero, sp.zeros(3, 1), "h")[-1]
+        last = recursion(chain, chain.qd, zero, sp.zeros(3, 1), "h", joint_frames=False)[-1]
         r = tool_local[:3, 3]
         linear = last.vd
         if not r.is_zero_matrix:
