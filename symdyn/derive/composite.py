@@ -75,8 +75,7 @@ def _rotate_about_axis(b: ProgramBuilder, J: sp.Matrix, axis, hint: str) -> sp.M
     ``J'_aa = J_aa - s^2 D - 2 c s J_ab``, ``J'_bb = J_bb + s^2 D + 2 c s J_ab``,
     ``J'_ab = (c^2 - s^2) J_ab + c s D``, ``J'_ka = c J_ka - s J_kb``, ``J'_kb = s J_ka + c J_kb``:
     about 11 multiplications (8 for a constant rotation) instead of 18-22 for the product."""
-    k, a, c_, s_ = axis[0], axis[1], axis[3], axis[4]
-    bb = axis[2]
+    k, a, bb, c_, s_ = axis
     ss = b.define(f"{hint}ss", sp.expand(s_ * s_))
     cs = b.define(f"{hint}cs", sp.expand(c_ * s_))
     cc_ss = sp.expand(1 - 2 * ss) if ss.is_Symbol else sp.expand(c_ * c_ - s_ * s_)

@@ -94,6 +94,17 @@ def _point_acceleration(U: sp.Matrix | None, omega: sp.Matrix, omegad: sp.Matrix
     return _skip_zero_cross(omegad, p) + _skip_zero_cross(omega, _skip_zero_cross(omega, p))
 
 
+def _relative_acceleration(b, U: sp.Matrix | None, omega: sp.Matrix, omegad: sp.Matrix, p: sp.Matrix,
+                           name: str) -> sp.Matrix:
+    """``omegad x p + omega x (omega x p)`` of a point p of the link: ``U p`` when the link has
+    U, else the table's cross products with ``omega x p`` named ``name`` (the printouts show
+    it)."""
+    if U is None and not p.is_zero_matrix:
+        wp = b.vector(name, _skip_zero_cross(omega, p))
+        return _skip_zero_cross(omegad, p) + _skip_zero_cross(omega, wp)
+    return _point_acceleration(U, omega, omegad, p)
+
+
 @dataclass(frozen=True)
 class _LinkFrame:
     """What the recursion needs of link i, in the frame it runs in (see :func:`_link_frames`)."""
@@ -179,31 +190,19 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             if not (r1.is_zero_matrix or (omega.is_zero_matrix and omegad.is_zero_matrix)):
                 a_joint = b.vector(f"aJ{k}{tag}", a_joint)
             U = None if textbook else _acceleration_operator(b, omega_i, omegad_i, f"U{k}{tag}")
-            if U is None:
-                wr2 = b.vector(f"wr{k}{tag}", _skip_zero_cross(omega_i, r2))
-                relative = _skip_zero_cross(omegad_i, r2) + _skip_zero_cross(omega_i, wr2)
-            else:
-                relative = _point_acceleration(U, omega_i, omegad_i, r2)
+            relative = _relative_acceleration(b, U, omega_i, omegad_i, r2, f"wr{k}{tag}")
             vd_i = b.vector(f"vd{k}{tag}", Rt * a_joint + relative)
         else:
             omega_i = b.vector(f"w{k}{tag}", Rt * omega)
             omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad)
             p_star = b.vector(f"p{k}", Rt * T[:3, 3])
             U = None if textbook else _acceleration_operator(b, omega_i, omegad_i, f"U{k}{tag}")
-            if U is None:
-                wp = b.vector(f"wp{k}{tag}", _skip_zero_cross(omega_i, p_star))
-                relative = _skip_zero_cross(omegad_i, p_star) + _skip_zero_cross(omega_i, wp)
-            else:
-                relative = _point_acceleration(U, omega_i, omegad_i, p_star)
+            relative = _relative_acceleration(b, U, omega_i, omegad_i, p_star, f"wp{k}{tag}")
             vd_i = b.vector(f"vd{k}{tag}", Rt * vd + relative
                             + 2 * _skip_zero_cross(omega_i, z * qd[i]) + z * qdd[i])
         if parameters is None:
             s = frame.com
-            if U is None:
-                ws = b.vector(f"ws{k}{tag}", _skip_zero_cross(omega_i, s))
-                relative = _skip_zero_cross(omegad_i, s) + _skip_zero_cross(omega_i, ws)
-            else:
-                relative = _point_acceleration(U, omega_i, omegad_i, s)
+            relative = _relative_acceleration(b, U, omega_i, omegad_i, s, f"ws{k}{tag}")
             abar = b.vector(f"a{k}{tag}", relative + vd_i)
             F = b.vector(f"F{k}{tag}", link.mass * abar)
             inertia = frame.inertia
@@ -213,11 +212,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             m, mx, my, mz, ixx, ixy, iyy, ixz, iyz, izz = parameters[13 * i:13 * i + 10]
             moment = sp.Matrix([mx, my, mz])
             inertia = sp.Matrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
-            if U is None:
-                wm = b.vector(f"wm{k}{tag}", _skip_zero_cross(omega_i, moment))
-                relative = _skip_zero_cross(omegad_i, moment) + _skip_zero_cross(omega_i, wm)
-            else:
-                relative = _point_acceleration(U, omega_i, omegad_i, moment)
+            relative = _relative_acceleration(b, U, omega_i, omegad_i, moment, f"wm{k}{tag}")
             abar = vd_i
             F = b.vector(f"F{k}{tag}", m * vd_i + relative)
             Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
