@@ -114,6 +114,28 @@ class ProgramBuilder:
         return Program(tuple(self._assignments))
 
 
+def _partial(expr: sp.Expr, s: sp.Symbol) -> sp.Expr:
+    """d expr / d s for the sums, products and integer powers the recursions are made of (the
+    product rule written out: SymPy's general ``diff`` spends most of its time on dispatch and
+    checks these expressions never need); anything else goes to ``sp.diff``."""
+    if expr == s:
+        return sp.S.One
+    if expr.is_Atom or s not in expr.free_symbols:
+        return sp.S.Zero
+    if expr.is_Add:
+        return sp.Add(*[_partial(a, s) for a in expr.args if s in a.free_symbols])
+    if expr.is_Mul:
+        args = expr.args
+        terms = []
+        for k, a in enumerate(args):
+            if s in a.free_symbols:
+                terms.append(sp.Mul(*args[:k], _partial(a, s), *args[k + 1:]))
+        return sp.Add(*terms)
+    if expr.is_Pow and expr.exp.is_Integer and s not in expr.exp.free_symbols:
+        return expr.exp * expr.base ** (expr.exp - 1) * _partial(expr.base, s)
+    return sp.diff(expr, s)
+
+
 def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[sp.Symbol],
                   builder: ProgramBuilder, hint: str, scale: sp.Expr = sp.S.One) -> list[sp.Matrix]:
     """Forward-mode derivatives of ``outputs`` with respect to each of ``variables``, times
@@ -127,19 +149,23 @@ def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[
     """
     results = []
     needed = program.needed_for(list(outputs))
+    free = [rhs.free_symbols for _, rhs in needed]  # once for every variable
     for var in variables:
         deriv: dict[sp.Symbol, sp.Expr] = {}
 
-        def d(expr: sp.Expr) -> sp.Expr:
-            total = sp.diff(expr, var) * scale
-            for s in expr.free_symbols:
+        def d(expr: sp.Expr, symbols=None) -> sp.Expr:
+            symbols = expr.free_symbols if symbols is None else symbols
+            terms = [_partial(expr, var) * scale] if var in symbols else []
+            for s in symbols:
                 ds = deriv.get(s)
                 if ds is not None and ds != 0:
-                    total += sp.diff(expr, s) * ds
-            return total
+                    terms.append(_partial(expr, s) * ds)
+            return sp.Add(*terms)
 
-        for sym, rhs in needed:
-            ds = d(rhs)
+        for (sym, rhs), symbols in zip(needed, free):
+            if var not in symbols and deriv.keys().isdisjoint(symbols):
+                continue  # does not depend on var: no SymPy call (most of the chain for a distal joint)
+            ds = d(rhs, symbols)
             if ds != 0:
                 deriv[sym] = builder.define(f"{hint}{sym.name.lstrip('_')}_d{var.name}", ds)
         results.append(outputs.applyfunc(lambda e: builder.define(f"{hint}out_d{var.name}", d(e)) if not e.is_Atom else d(e)))
