@@ -101,10 +101,9 @@ def transform_inertia(b: ProgramBuilder, body: BodyInertia, pose: sp.Matrix, hin
     R, p = pose[:3, :3], pose[:3, 3]
     m = body.mass
     h_rot = b.vector(f"{hint}h", (R * body.first_moment).applyfunc(sp.expand))
-    axis = None if R == sp.eye(3) else _single_axis(R)
     if R == sp.eye(3):
         J_rot = body.rotational
-    elif axis is not None:
+    elif (axis := _single_axis(R)) is not None:
         J_rot = _rotate_about_axis(b, body.rotational, axis, hint)
     else:
         half = sp.Matrix(3, 3, lambda r, c: b.define(f"{hint}A_{r}{c}", sp.expand((R[r, :] * body.rotational[:, c])[0])))

@@ -268,6 +268,14 @@ LOOPED_SOLVE_FROM_DOF = 16
 FD_METHODS = ("ldlt", "aba")
 
 
+def _coriolis_matrix(b, h: sp.Matrix, qd) -> sp.Matrix:
+    """C = dh/dqd / 2 (n x n), the Christoffel-consistent Coriolis matrix (h is quadratic in qd),
+    by forward-mode differentiation of h's recursion, seeded with 1/2."""
+    columns = differentiate(b.build(), h, qd, b, "dh", scale=sp.Rational(1, 2))
+    n = len(qd)
+    return sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i]))
+
+
 def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | None = None,
            progress: Callable[[str], None] | None = None, fd_method: str = "ldlt",
            parameters: str = "standard") -> Equations:
@@ -329,9 +337,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             result["coriolis"] = h
             if "coriolis_matrix" in need:
                 report("coriolis_matrix (derivative of h by qd)")
-                columns = differentiate(b.build(), h, qd, b, "dh", scale=sp.Rational(1, 2))
-                C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i]))
-                result["coriolis_matrix"] = C
+                result["coriolis_matrix"] = _coriolis_matrix(b, h, qd)
         if "mass_matrix" in need:
             report("mass_matrix (composite rigid bodies)")
             result["mass_matrix"], mass_factors = mass_matrix_factored(chain)
@@ -354,8 +360,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             result["coriolis"] = h
             if "coriolis_matrix" in need:
                 report("coriolis_matrix (derivative of h by qd)")
-                columns = differentiate(b.build(), h, qd, b, "dh", scale=sp.Rational(1, 2))
-                result["coriolis_matrix"] = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i]))
+                result["coriolis_matrix"] = _coriolis_matrix(b, h, qd)
         if "mass_matrix" in need:
             report("mass_matrix (sum of J_ci^T M_i J_ci)")
             result["mass_matrix"] = jne.mass_matrix()

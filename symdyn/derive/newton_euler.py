@@ -115,6 +115,16 @@ class _LinkFrame:
     com: sp.Matrix  # centre of mass (m)
     inertia: sp.Matrix  # 3x3 about the centre of mass (kg m^2)
 
+    @property
+    def axis(self) -> sp.Matrix:
+        """z_i: the joint axis in this frame (3x1, unit)."""
+        return self.post[:3, :3].T * sp.Matrix([0, 0, 1])
+
+    @property
+    def r2(self) -> sp.Matrix:
+        """r2_i: from the joint point to this frame's origin, in this frame (m)."""
+        return self.post[:3, :3].T * self.post[:3, 3]
+
 
 def _link_frames(chain: Chain, joint_frames: bool) -> list[_LinkFrame]:
     """Per link: the link frame i of the DH table (``joint_frames`` False), or its joint frame
@@ -178,14 +188,13 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
         T = frame.pose
         R = T[:3, :3]
         Rt = R.T
-        z = frame.post[:3, :3].T * sp.Matrix([0, 0, 1])
+        z = frame.axis
         if link.is_revolute:
             w_rot = b.vector(f"Rw{k}{tag}", Rt * omega)
             omega_i = b.vector(f"w{k}{tag}", w_rot + z * qd[i])
             omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad + _skip_zero_cross(w_rot, z * qd[i]) + z * qdd[i])
             r1 = frame.pre[:3, 3]
-            post = frame.post
-            r2 = post[:3, :3].T * post[:3, 3]
+            r2 = frame.r2
             a_joint = vd + _point_acceleration(U, omega, omegad, r1)
             if not (r1.is_zero_matrix or (omega.is_zero_matrix and omegad.is_zero_matrix)):
                 a_joint = b.vector(f"aJ{k}{tag}", a_joint)
@@ -246,11 +255,10 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             moment_next = sp.zeros(3, 1)
         st.f = b.vector(f"f{k}{tag}", st.F + f_rot)
         st.n = b.vector(f"n{k}{tag}", st.N + _skip_zero_cross(s, st.F) + moment_next)
-        post = frames[i].post
-        z = post[:3, :3].T * sp.Matrix([0, 0, 1])
+        z = frames[i].axis
         joint_moment_next = None
         if link.is_revolute:
-            r2 = post[:3, :3].T * post[:3, 3]
+            r2 = frames[i].r2
             moment = st.n + _skip_zero_cross(r2, st.f)
             if i > 0 and not textbook and not r2.is_zero_matrix:
                 moment = b.vector(f"nJ{k}{tag}", moment)
