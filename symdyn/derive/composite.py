@@ -229,36 +229,36 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
     between = _between(chain)
     D = sp.zeros(n, n)
     if projected:
-        # pose of J_k in J_1, k = 1..n
-        poses = [sp.eye(4)]
-        for k in range(1, n):
-            # (pose of J_k-1) * (constant step) named first: the product with the joint's
-            # rotation about z then costs 4 multiplications per row instead of 11
-            step = poses[-1] * between[k - 1]
-            fixed = b.matrix(f"R1_{k + 1}b", step[:3, :3].applyfunc(sp.expand))
-            step = fixed.row_join(step[:3, 3]).col_join(sp.Matrix([[0, 0, 0, 1]]))
-            pose = step * chain.motions[k]
-            rot = b.matrix(f"R1_{k + 1}", pose[:3, :3].applyfunc(sp.expand))
-            pos = b.vector(f"p1_{k + 1}", pose[:3, 3].applyfunc(sp.expand))
-            poses.append(rot.row_join(pos).col_join(sp.Matrix([[0, 0, 0, 1]])))
+        # one forward sweep: the pose of J_k in J_1, then S_k and F_k right away, so that no
+        # pose stays needed (live in the generated code) after its own joint
         motion = []  # S_i in J_1: (omega, v of the point at J_1's origin)
-        for i in range(n):
-            axis, point = poses[i][:3, 2], poses[i][:3, 3]
-            if links[i].is_revolute:
-                motion.append((axis, b.vector(f"S{i + 1}v", point.cross(axis).applyfunc(sp.expand))))
+        momenta = []
+        pose = sp.eye(4)
+        for k in range(n):
+            if k > 0:
+                # (pose of J_k-1) * (constant step) named first: the product with the joint's
+                # rotation about z then costs 4 multiplications per row instead of 11
+                step = pose * between[k - 1]
+                fixed = b.matrix(f"R1_{k + 1}b", step[:3, :3].applyfunc(sp.expand))
+                step = fixed.row_join(step[:3, 3]).col_join(sp.Matrix([[0, 0, 0, 1]]))
+                moved = step * chain.motions[k]
+                rot = b.matrix(f"R1_{k + 1}", moved[:3, :3].applyfunc(sp.expand))
+                pos = b.vector(f"p1_{k + 1}", moved[:3, 3].applyfunc(sp.expand))
+                pose = rot.row_join(pos).col_join(sp.Matrix([[0, 0, 0, 1]]))
+            axis, point = pose[:3, 2], pose[:3, 3]
+            if links[k].is_revolute:
+                motion.append((axis, b.vector(f"S{k + 1}v", point.cross(axis).applyfunc(sp.expand))))
             else:
                 motion.append((sp.zeros(3, 1), axis))
-        momenta = []
-        for j in range(n):
-            local = _unit_momentum(composite[j], links[j].is_revolute)
-            D[j, j] = (local[1] if links[j].is_revolute else local[0])[2]
-            if j == 0:
+            local = _unit_momentum(composite[k], links[k].is_revolute)
+            D[k, k] = (local[1] if links[k].is_revolute else local[0])[2]
+            if k == 0:
                 continue
-            f, moment = transform_force(b, local, poses[j], f"F{j + 1}p")
+            f, moment = transform_force(b, local, pose, f"F{k + 1}p")
             momenta.append(tuple(moment) + tuple(f))
-            for i in range(j):
+            for i in range(k):
                 omega, v = motion[i]
-                D[i, j] = D[j, i] = sp.expand((omega.T * moment)[0] + (v.T * f)[0])
+                D[i, k] = D[k, i] = sp.expand((omega.T * moment)[0] + (v.T * f)[0])
         factors = (tuple(tuple(omega) + tuple(v) for omega, v in motion[:-1]), tuple(momenta))
         return D, factors
     for j in range(n):

@@ -42,6 +42,9 @@ OUTPUT_ARGS = {
 }
 
 #: outputs written to several arguments: (argument, documentation, first column, end column)
+#: scratch arrays of the function body (not the caller's outputs)
+LOCAL_ARRAYS = ("mass_s[", "mass_f[", "fd_M[", "fd_b[")
+
 SPLIT_OUTPUTS = {
     "reaction_map": (
         ("k0", "base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) "
@@ -109,6 +112,8 @@ class CFunction:
     trig_type: str = ""
     #: the batch form (see build_function), or None
     batch: dict | None = None
+    #: whether the body has the mass matrix's off-diagonal loop (see _gram_loop)
+    gram_loop: bool = False
 
     @property
     def batch_args(self) -> str:
@@ -135,26 +140,80 @@ class CFunction:
         return text
 
 
-def _gram_loop(out: str, size: int, ltype: str) -> list[str]:
+def _gram_loop(out: str, size: int, ltype: str, element_bytes: int, prefix: str, vector: bool) -> list[str]:
     """C lines of ``out[i][j] = out[j][i] = S_i . F_j`` (i < j, ``out`` row-major size x size)
     from ``mass_s`` (component k of S_i at ``mass_s[k * (size - 1) + i]``, so consecutive i are
     contiguous) and ``mass_f`` (F_j's 6 components at ``mass_f + 6 * (j - 1)``).
 
-    Row j's entries left of the diagonal are contiguous in ``out`` and in ``mass_s``, so a
-    compiler that vectorizes loops (gcc -O3) computes several at once, each as
-    ``s0*f0 + s1*f1 + ... + s5*f5`` in the same order (same results); generic 24-joint chain,
-    gcc -O3 -march=native: 1390 -> 1227 ns for D.  (Explicit vector types here measured no
-    better at -O2 and worse at -O3.)
+    Every entry is ``s0*f0 + s1*f1 + ... + s5*f5`` in this order, however it is computed (same
+    results).  The plain loop runs over row j left of the diagonal (contiguous in ``out`` and
+    ``mass_s``): gcc -O3 vectorizes it, gcc -O2 does not.  So where the compiler has GCC/Clang
+    vector types over SSE2, AVX or NEON (``PREFIX_GRAM_BYTES``, see the helpers), the scalar
+    function computes two rows at a time over vectors of consecutive i, each load of S serving
+    both rows.  Generic 24-joint chain, D: gcc -O2 1400 -> 1245 ns; gcc -O3 -march=native about
+    the same as its own vectorization of the plain loop (1240-1270 ns).  ``vector``: the lanes
+    function of the batch form, where every value is already a vector over states (plain loop).
     """
     m = size - 1
-    dot = " + ".join(f"mass_s[{k * m} + i]*f{k}" for k in range(6))
-    return [f"for (int j = {m}; j >= 1; --j) {{",
-            f"    const {ltype} *f = mass_f + 6 * (j - 1);",
-            f"    const {ltype} f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3], f4 = f[4], f5 = f[5];",
-            "    for (int i = 0; i < j; ++i) {",
-            f"        {out}[j * {size} + i] = {out}[i * {size} + j] = {dot};",
+
+    def dot(f, index="i"):
+        return " + ".join(f"mass_s[{k * m} + {index}]*{f}{k}" for k in range(6))
+    plain = [f"for (int j = {m}; j >= 1; --j) {{",
+             f"    const {ltype} *f = mass_f + 6 * (j - 1);",
+             f"    const {ltype} f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3], f4 = f[4], f5 = f[5];",
+             "    for (int i = 0; i < j; ++i) {",
+             f"        {out}[j * {size} + i] = {out}[i * {size} + j] = {dot('f')};",
+             "    }",
+             "}"]
+    if vector:
+        return plain
+    P, vec = prefix.upper(), f"{prefix}_gram_vec"
+    lanes = f"(int)(sizeof({vec}) / sizeof({ltype}))"
+    base = 16 // element_bytes  # lanes of a 16-byte vector; twice as many in 32 bytes
+
+    def strided(lane_range):
+        """The entries above the diagonal (column j, rows i + lane), lane by lane: written out,
+        since gcc -O2 keeps a loop over the lanes (1240 -> 1340 ns at 24 joints)."""
+        return [f"            {out}[(i + {lane}) * {size} + j{minus}] = {row}[{lane}];"
+                for row, minus in (("row_j", ""), ("row_g", " - 1")) for lane in lane_range]
+    loads = [f"            __builtin_memcpy(&s{k}, mass_s + {k * m} + i, sizeof s{k});" for k in range(6)]
+    return [f"#ifdef {P}_GRAM_BYTES",
+            "{",
+            f"    typedef {ltype} {vec} __attribute__((vector_size({P}_GRAM_BYTES)));",
+            f"    int j = {m};",
+            "    /* rows j and j - 1 together: lanes i .. i + lanes - 1 of both */",
+            "    for (; j >= 2; j -= 2) {",
+            f"        const {ltype} *f = mass_f + 6 * (j - 1), *g = f - 6;",
+            f"        const {ltype} f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3], f4 = f[4], f5 = f[5];",
+            f"        const {ltype} g0 = g[0], g1 = g[1], g2 = g[2], g3 = g[3], g4 = g[4], g5 = g[5];",
+            "        int i = 0;",
+            f"        for (; i + {lanes} <= j - 1; i += {lanes}) {{",
+            f"            {vec} s0, s1, s2, s3, s4, s5, row_j, row_g;",
+            *loads,
+            f"            row_j = {' + '.join(f's{k}*f{k}' for k in range(6))};",
+            f"            row_g = {' + '.join(f's{k}*g{k}' for k in range(6))};",
+            f"            __builtin_memcpy({out} + j * {size} + i, &row_j, sizeof row_j);",
+            f"            __builtin_memcpy({out} + (j - 1) * {size} + i, &row_g, sizeof row_g);",
+            *strided(range(base)),
+            f"#if {P}_GRAM_BYTES >= 32",
+            *strided(range(base, 2 * base)),
+            "#endif",
+            "        }",
+            "        for (; i < j - 1; ++i) {",
+            f"            {out}[j * {size} + i] = {out}[i * {size} + j] = {dot('f')};",
+            f"            {out}[(j - 1) * {size} + i] = {out}[i * {size} + j - 1] = {dot('g')};",
+            "        }",
+            f"        {out}[j * {size} + i] = {out}[i * {size} + j] = {dot('f')};",
             "    }",
-            "}"]
+            "    if (j == 1) {",
+            f"        const {ltype} f0 = mass_f[0], f1 = mass_f[1], f2 = mass_f[2], f3 = mass_f[3], "
+            "f4 = mass_f[4], f5 = mass_f[5];",
+            f"        {out}[{size}] = {out}[1] = {dot('f', '0')};",
+            "    }",
+            "}",
+            "#else",
+            *plain,
+            "#endif"]
 
 
 def _merge_cse(program_assigns, replacements):
@@ -404,9 +463,10 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                     lines.append("if (" + "\n        || ".join(pivot_checks[at]) + ") {")
                     lines.append("    return 1; /* singular mass matrix at q (or q not finite) */")
                     lines.append("}")
-        check_pivots(-1)
         if gram:
             lines.append(f"{ltype} mass_s[{6 * (gram[1] - 1)}], mass_f[{6 * (gram[1] - 1)}];")
+        if looped:
+            lines.append(f"{ltype} fd_M[{n * n}], fd_b[{n}], fd_w[{n}], fd_d[{n}], fd_inv[{n}], fd_x[{n}];")
 
         def show(expr):
             """The printed expression; in the lanes function a number is broadcast to every lane."""
@@ -414,14 +474,33 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
             if vector and not sp.sympify(expr).free_symbols:
                 text = f"({vreal}){{0.0}} + {text}"
             return text
+
+        # entries of the local arrays (the mass-matrix factors, forward dynamics' system) are stored
+        # as soon as their last operand is computed, so that no value stays live (in a register or
+        # spilled) until the end of the function; the caller's outputs are written at the end
+        early: dict[int, list[str]] = {}
+        late = []
+        for (target, _), expr in zip(targets, final_outputs):
+            if not target.startswith(LOCAL_ARRAYS):
+                late.append((target, expr))
+                continue
+            deps = sp.sympify(expr).free_symbols
+            at = max((position[x] for x in deps if x in position), default=-1)
+            early.setdefault(at, []).append(f"{target} = {show(expr)};")
+            ops += count_operations(expr)
+            used |= deps
+
+        def store_early(at):
+            lines.extend(early.get(at, ()))
+        check_pivots(-1)
+        store_early(-1)
         for k, (sym, rhs) in enumerate(statements):
             lines.append(f"const {ltype} {names[sym]} = {show(rhs)};")
             ops += count_operations(rhs)
             used |= rhs.free_symbols
             check_pivots(k)
+            store_early(k)
         store = f"({real})" if internal != scalar else ""
-        if looped:
-            lines.append(f"{ltype} fd_M[{n * n}], fd_b[{n}], fd_w[{n}], fd_d[{n}], fd_inv[{n}], fd_x[{n}];")
         if checked and not looped:
             used |= set().union(*(sp.sympify(e).free_symbols for e in final_checks))
             # compared in the type the results are computed in
@@ -449,14 +528,14 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                     lines.append(f"{out_name}[{i}] = {store}{result};")
                 lines.append("return 0;")
         else:
-            for (target, _), expr in zip(targets, final_outputs):
+            for target, expr in late:
                 text = show(expr)
                 lines.append(f"{target} = {store}({text});" if store and not looped else f"{target} = {text};")
                 ops += count_operations(expr)
                 used |= sp.sympify(expr).free_symbols
         if gram:
             out, size = gram
-            lines += _gram_loop(out, size, ltype)
+            lines += _gram_loop(out, size, ltype, 4 if internal == "float" else 8, prefix, vector)
             ops += Counter({"mul": 6 * size * (size - 1) // 2, "add": 5 * size * (size - 1) // 2})
         if looped:
             solve, solve_ops = _looped_solve(n, ltype, printer.literal(PIVOT_RTOL), printer.literal(1.0), vector,
@@ -518,9 +597,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         status = STATUS_DOC_ABA if eqs.fd_method == "aba" else STATUS_DOC
         return CFunction(name=f"{name}_checked", summary=summary, args=args, lines=lines, ops=ops, unused=unused,
                          returns="int", returns_doc=status.format(rtol=PIVOT_RTOL, real=scalar),
-                         trig_type=trig_type, batch=batch)
+                         trig_type=trig_type, batch=batch, gram_loop=bool(gram))
     return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused,
-                     trig_type=trig_type, batch=batch)
+                     trig_type=trig_type, batch=batch, gram_loop=bool(gram))
 
 
 #: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
@@ -707,6 +786,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
             f.batch and f.batch["lanes"] is not None and f.batch["trig"] for f in built),
         "vector_trig": any(f.batch and f.batch["lanes"] is not None and f.batch["trig"] for f in built),
         "trig_float": any(f.trig_type == "float" for f in built),
+        "gram_vector": any(f.gram_loop for f in built),
         "batch": batch,
         "vector": any(f.batch and f.batch["lanes"] is not None for f in built),
         "vector_functions": sorted(set().union(*(f.batch["vector_functions"] for f in built if f.batch))),
