@@ -15,34 +15,39 @@
  * Sine and cosine of the joint angles, all of a function's at once.
  * |x| <= 1e5: Cody-Waite reduction by pi/2 with a three-part pi/2 and fdlibm's minimax
  * polynomials on [-pi/4, pi/4], no branch, no call and no integer conversion (the quadrant is
- * found in floating point), so the same statements run on GCC/Clang vector types: within 1 ulp
+ * read from the bits of the rounded x 2/pi, and selects and signs the polynomials by bit
+ * operations), so the same statements run on GCC/Clang vector types: within 1 ulp
  * of glibc's sin and cos (or 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5
  * (symdyn's tests/test_batch.py), with identical results in every lane and in the scalar form.
  * Any other angle (huge, infinite or NaN) goes to libm.  Define SYMDYN_LIBM_TRIG to use libm's
  * sin and cos for every angle, SYMDYN_NO_VECTOR for the scalar form only.
  */
-#define chain12_SINCOS_KERNEL(REAL, x, s, c) do { \
-    const REAL k_ = ((x) * 6.36619772367581382433e-01 + 6755399441055744.0) - 6755399441055744.0; \
+#define chain12_SINCOS_KERNEL(REAL, BITS, x, s, c) do { \
+    /* x 2/pi rounded to the integer k by adding 1.5 * 2^52: the sum's low bits are k mod 4 */ \
+    union { REAL real; BITS bits; } kb_, ps_bits_, pc_bits_; \
+    const REAL big_ = (x) * 6.36619772367581382433e-01 + 6755399441055744.0; \
+    const REAL k_ = big_ - 6755399441055744.0; \
     const REAL r_ = (((x) - k_ * 1.57079632673412561417e+00) - k_ * 6.07710050630396597660e-11) \
         - k_ * 2.02226624871116645580e-21; \
     const REAL z_ = r_ * r_; \
-    const REAL ps_ = r_ + (z_ * r_) * (-1.66666666666666324348e-01 + z_ * (8.33333333332248946124e-03 \
-        + z_ * (-1.98412698298579493134e-04 + z_ * (2.75573137070700676789e-06 \
-        + z_ * (-2.50507602534068634195e-08 + z_ * 1.58969099521155010221e-10))))); \
     const REAL hz_ = 0.5 * z_; \
     const REAL w_ = 1.0 - hz_; \
-    const REAL pc_ = w_ + (((1.0 - w_) - hz_) + (z_ * z_) * (4.16666666666666019037e-02 \
+    BITS m_, swap_; \
+    ps_bits_.real = r_ + (z_ * r_) * (-1.66666666666666324348e-01 + z_ * (8.33333333332248946124e-03 \
+        + z_ * (-1.98412698298579493134e-04 + z_ * (2.75573137070700676789e-06 \
+        + z_ * (-2.50507602534068634195e-08 + z_ * 1.58969099521155010221e-10))))); \
+    pc_bits_.real = w_ + (((1.0 - w_) - hz_) + (z_ * z_) * (4.16666666666666019037e-02 \
         + z_ * (-1.38888888888741095749e-03 + z_ * (2.48015872894767294178e-05 \
         + z_ * (-2.75573143513906633035e-07 + z_ * (2.08757232129817482790e-09 \
         + z_ * -1.13596475577881948265e-11)))))); \
-    /* quadrant m = k mod 4 = 2 b1 + b0, exactly, by rounding with the same 1.5 * 2^52 */ \
-    const REAL t_ = (k_ * 0.25 - 0.375 + 6755399441055744.0) - 6755399441055744.0; \
-    const REAL m_ = k_ - 4.0 * t_; \
-    const REAL b1_ = (m_ * 0.5 - 0.25 + 6755399441055744.0) - 6755399441055744.0; \
-    const REAL b0_ = m_ - 2.0 * b1_; \
-    const REAL e_ = 1.0 - b0_; \
-    (s) = (ps_ * e_ + pc_ * b0_) * (1.0 - 2.0 * b1_); \
-    (c) = (pc_ * e_ + ps_ * b0_) * (1.0 - 2.0 * (b0_ + b1_ - 2.0 * b0_ * b1_)); \
+    kb_.real = big_; \
+    m_ = kb_.bits; \
+    /* odd quadrant: sin and cos polynomials swapped; sign bit: quadrants 2, 3 (sin), 1, 2 (cos) */ \
+    swap_ = -(m_ & 1); \
+    kb_.bits = ((ps_bits_.bits & ~swap_) | (pc_bits_.bits & swap_)) ^ ((m_ & 2) << 62); \
+    (s) = kb_.real; \
+    kb_.bits = ((pc_bits_.bits & ~swap_) | (ps_bits_.bits & swap_)) ^ (((m_ + 1) & 2) << 62); \
+    (c) = kb_.real; \
 } while (0)
 #if !defined(SYMDYN_NO_VECTOR) && !defined(SYMDYN_LIBM_TRIG) && (defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 9))
 #if defined(__AVX__)
@@ -51,6 +56,7 @@
 #define CHAIN12_TRIG_WIDTH 2
 #endif
 typedef double chain12_treal __attribute__((vector_size(CHAIN12_TRIG_WIDTH * sizeof(double))));
+typedef unsigned long long chain12_tbits __attribute__((vector_size(CHAIN12_TRIG_WIDTH * sizeof(double))));
 #endif
 
 static void chain12_sincos(int count, const double *x, double *s, double *c)
@@ -70,7 +76,7 @@ static void chain12_sincos(int count, const double *x, double *s, double *c)
             for (lane = 0; lane < CHAIN12_TRIG_WIDTH && i + lane < count; ++lane) {
                 angle[lane] = x[i + lane];
             }
-            chain12_SINCOS_KERNEL(chain12_treal, angle, sine, cosine);
+            chain12_SINCOS_KERNEL(chain12_treal, chain12_tbits, angle, sine, cosine);
             for (lane = 0; lane < CHAIN12_TRIG_WIDTH && i + lane < count; ++lane) {
                 s[i + lane] = sine[lane];
                 c[i + lane] = cosine[lane];
@@ -78,7 +84,7 @@ static void chain12_sincos(int count, const double *x, double *s, double *c)
         }
 #else
         for (i = 0; i < count; ++i) {
-            chain12_SINCOS_KERNEL(double, x[i], s[i], c[i]);
+            chain12_SINCOS_KERNEL(double, unsigned long long, x[i], s[i], c[i]);
         }
 #endif
         return;
@@ -87,7 +93,7 @@ static void chain12_sincos(int count, const double *x, double *s, double *c)
     for (i = 0; i < count; ++i) {
 #ifndef SYMDYN_LIBM_TRIG
         if (x[i] <= 1.0e5 && x[i] >= -1.0e5) {
-            chain12_SINCOS_KERNEL(double, x[i], s[i], c[i]);
+            chain12_SINCOS_KERNEL(double, unsigned long long, x[i], s[i], c[i]);
             continue;
         }
 #endif
