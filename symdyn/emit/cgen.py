@@ -41,7 +41,6 @@ OUTPUT_ARGS = {
     "jacobian_dot_qd": ("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),
 }
 
-#: outputs written to several arguments: (argument, documentation, first column, end column)
 #: functions of at least this many statements get the pair CSE (:func:`emission.pair_cse`) instead
 #: of SymPy's: in practice the Coriolis matrix of chains of about 14 joints or more (16,000
 #: statements at 24 joints, 64,000 at 48), where SymPy's CSE took most of the emission's time
@@ -53,6 +52,7 @@ PAIR_CSE_FROM = 10000
 #: scratch arrays of the function body (not the caller's outputs)
 LOCAL_ARRAYS = ("mass_s[", "mass_f[", "fd_M[", "fd_b[")
 
+#: outputs written to several arguments: (argument, documentation, first column, end column)
 SPLIT_OUTPUTS = {
     "reaction_map": (
         ("k0", "base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) "
@@ -518,7 +518,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
             limit, fabs = (("(double)FLT_MAX" if scalar == "float" else "DBL_MAX"), "fabs") if internal == "double" \
                 else ("FLT_MAX", "fabsf")
             results = []
-            for (target, _), expr in zip(targets, final_outputs):
+            for target, expr in late:
                 if isinstance(expr, sp.Symbol) and expr in names:
                     results.append(names[expr])
                 else:
