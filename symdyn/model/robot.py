@@ -403,15 +403,17 @@ class _Reader:
             else:
                 self.constants[name] = value
 
-    def read_link(self, index: int, raw: Any, names_seen: set) -> Link:
-        label = f"link {index + 1}"
+    def read_link(self, index: int, raw: Any, names_seen: set, prefix: str = "") -> Link:
+        """Link ``index`` (from 0) of a table; ``prefix`` starts its label in errors (a parallel
+        robot's ``leg 2, ``)."""
+        label = f"{prefix}link {index + 1}"
         if not isinstance(raw, dict):
             self.fail("expected a mapping with the link's fields", label, None)
         name = raw.get("name", f"j{index + 1}")
         if not isinstance(name, str) or not LINK_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
             self.fail(f"{describe(name)} is not a valid link name: use letters, digits and '_' "
                       f"(not starting with a digit), at most {MAX_NAME} characters", label, "name")
-        label = f"link {index + 1} ('{name}')"
+        label = f"{prefix}link {index + 1} ('{name}')"
         if name in names_seen:
             self.fail(f"duplicate link name '{name}'", label, "name")
         names_seen.add(name)
@@ -565,6 +567,9 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     reader = _Reader(path)
     if not isinstance(doc, dict):
         reader.fail("expected a mapping with format, name, convention and links")
+    if doc.get("kind") == "parallel":
+        reader.fail("a parallel robot file (kind: parallel): symdyn.model.parallel.load reads it; the "
+                    "commands do not take parallel robots yet", None, "kind")
     for key in doc:
         if key not in TOP_KEYS:
             reader.fail(f"unknown key {describe(key)} (allowed: {', '.join(TOP_KEYS)})", None, one_line(str(key), 40))
