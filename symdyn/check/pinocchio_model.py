@@ -91,13 +91,29 @@ def build_model(robot: Robot, values: Mapping | None = None):
     if values:
         robot = robot.substitute(values)
     links = numeric_links(robot)
-    gravity = np.array([_value(g, "gravity") for g in robot.gravity])
     model = pin.Model()
     model.name = robot.name
-    model.gravity.linear = gravity
-    parent = 0
+    model.gravity.linear = np.array([_value(g, "gravity") for g in robot.gravity])
+    parent, body = _add_chain(model, robot, links)
+    model.armature = np.array([row["armature"] for row in links])
+    tool = body @ np.array([_value(c, "tool") for c in robot.tool_matrix()]).reshape(4, 4)
+    model.addFrame(pin.Frame("tool", parent, pin.SE3(tool[:3, :3].copy(), tool[:3, 3].copy()),
+                             pin.FrameType.OP_FRAME))
+    info = {"damping": np.array([row["damping"] for row in links]),
+            "last_body": body,  # pose of the last link frame in its joint frame
+            "coulomb": np.array([row["coulomb"] for row in links])}
+    return model, info
+
+
+def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: str = ""):
+    """Add the robot's joints and link inertias to ``model`` below joint ``parent`` (the robot's
+    base placement relative to it); returns ``(last joint id, pose of the last link frame in
+    that joint's frame)``."""
+    import pinocchio as pin
+
     # constant transform from the parent joint frame to this joint frame (the first: the base)
     placement = np.array([_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
+    body = np.eye(4)
     for k, row in enumerate(links):
         placement = placement @ row["fixed"]
         if robot.convention == "general":
@@ -123,7 +139,7 @@ def build_model(robot: Robot, values: Mapping | None = None):
         else:
             joint = pin.JointModelRZ() if row["revolute"] else pin.JointModelPZ()
         se3 = pin.SE3(joint_placement[:3, :3].copy(), joint_placement[:3, 3].copy())
-        joint_id = model.addJoint(parent, joint, se3, f"joint{k + 1}")
+        joint_id = model.addJoint(parent, joint, se3, f"{prefix}joint{k + 1}")
         model.addJointFrame(joint_id, -1)  # frames: needed by buildReducedModel and friends
         xx, yy, zz, xy, xz, yz = row["inertia"]
         inertia_com = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
@@ -132,14 +148,44 @@ def build_model(robot: Robot, values: Mapping | None = None):
         model.appendBodyToJoint(joint_id, body_se3.act(link_inertia), pin.SE3.Identity())
         parent = joint_id
         placement = next_placement
-    model.armature = np.array([row["armature"] for row in links])
-    tool = body @ np.array([_value(c, "tool") for c in robot.tool_matrix()]).reshape(4, 4)
-    model.addFrame(pin.Frame("tool", parent, pin.SE3(tool[:3, :3].copy(), tool[:3, 3].copy()),
-                             pin.FrameType.OP_FRAME))
-    info = {"damping": np.array([row["damping"] for row in links]),
-            "last_body": body,  # pose of the last link frame in its joint frame
-            "coulomb": np.array([row["coulomb"] for row in links])}
-    return model, info
+    return parent, body
+
+
+def build_closed_loop_model(robot, armature: float = 0.0):
+    """Pinocchio's closed-loop model of a platform robot (:class:`symdyn.model.parallel.ParallelRobot`),
+    built independently of symdyn's parallel derivation: the platform a free-flying body (joint
+    ``platform``, its frame P), each leg a chain of Pinocchio joints from the world
+    (``legN_joint1`` ...), and one 6D loop-closure constraint per leg between the leg's last link
+    frame and its attachment frame on the platform (LOCAL).  Returns ``(model, constraint models,
+    info)``; info: each leg's joint ids, velocity indices and actuated velocity index.
+    ``armature`` (kg m^2 or kg) is put on every leg joint: Pinocchio's constraint solver factorizes
+    the joint-space mass matrix, which massless links (a spherical pair's or a universal joint's
+    crosses) leave singular; 1e-9 changes the flight simulator's accelerations by about 5e-12."""
+    import pinocchio as pin
+
+    model = pin.Model()
+    model.name = robot.name
+    model.gravity.linear = np.array([_value(g, "gravity") for g in robot.gravity])
+    platform = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "platform")
+    plat = robot.platform
+    model.appendBodyToJoint(platform, pin.Inertia(_value(plat.mass, "platform mass"),
+                                                  np.array([_value(c, "platform com") for c in plat.com]),
+                                                  np.array(plat.inertia_matrix, dtype=float)), pin.SE3.Identity())
+    constraints, legs = [], []
+    for leg in robot.legs:
+        links = numeric_links(leg.chain)
+        first = model.njoints
+        last, body = _add_chain(model, leg.chain, links, 0, f"{leg.name}_")
+        attachment = np.array(leg.attachment.matrix(), dtype=float)
+        constraints.append(pin.RigidConstraintModel(
+            pin.ContactType.CONTACT_6D, model, last, pin.SE3(body[:3, :3].copy(), body[:3, 3].copy()),
+            platform, pin.SE3(attachment[:3, :3].copy(), attachment[:3, 3].copy()), pin.ReferenceFrame.LOCAL))
+        ids = list(range(first, last + 1))
+        legs.append({"joints": ids, "v": [model.joints[j].idx_v for j in ids],
+                     "q": [model.joints[j].idx_q for j in ids],
+                     "actuated_v": model.joints[ids[leg.actuated]].idx_v, "last": last, "body": body})
+    model.armature = np.concatenate([np.zeros(6), np.full(model.nv - 6, float(armature))])
+    return model, constraints, {"platform": platform, "legs": legs}
 
 
 def normalized_error(mine, ref) -> float:
