@@ -1,5 +1,17 @@
 """Platform robots: the natural-orthogonal-complement dynamics (numeric reference of seed 002)
-against Pinocchio's closed-loop dynamics (issue: parallel platforms)."""
+against Pinocchio's closed-loop model (issue: parallel platforms).
+
+Pinocchio's model is built independently (symdyn.check.pinocchio_model.build_closed_loop_model:
+a free-flying platform, six leg chains, a 6D loop closure per leg); its quantities check:
+- the legs' joint positions, rates and accelerations the reference computes close every loop
+  (frames, velocities and accelerations of both sides of each closure coincide);
+- inverse dynamics: rnea of the open tree and the constraint Jacobian give the actuator forces
+  (tau = Jc^T lambda + S phi, 42 equations for 36 + 6 unknowns);
+- forward dynamics: the constrained system M a + nle = S phi + Jc^T lambda, Jc a + gamma = 0;
+- for the flight simulator also constraintDynamics itself (its solver needs a positive definite
+  mass matrix, which the legs' massless spherical and universal crosses leave singular: a 1e-9
+  armature on the legs' joints, which moves the accelerations by about 5e-12).
+"""
 
 import numpy as np
 import pytest
@@ -9,107 +21,177 @@ from symdyn.model import parallel
 
 pin = pytest.importorskip("pinocchio")
 
-FLIGHT_SIMULATOR = REPO / "robots" / "parallel" / "flight_simulator.yaml"
-HOME_LENGTH = 3.153800684  # m, the legs' home length (see the robot file)
-HOME = [[0, 0, 0, HOME_LENGTH, 0, 0]] * 6
+HOME_LENGTH = 3.153800684  # m, the flight simulator's home leg length (see its robot file)
+#: bundled platform -> (home joint positions of every leg, home height of P (m), range of the
+#: positions (m) and angles (rad) of the random states about the home pose)
+PLATFORMS = {"flight_simulator": ([[0, 0, 0, HOME_LENGTH, 0, 0]] * 6, 2.0, 0.2, 0.17),
+             "sru_platform": ([[0.0] * 6] * 6, 0.55, 0.03, 0.08)}
 
 
-def _rotation(roll, pitch, yaw):
-    return pin.rpy.rpyToMatrix(roll, pitch, yaw)
-
-
-def _states(count, seed):
-    """Platform states around the home pose (p = (0, 0, 2) m, level): positions within 0.2 m,
-    angles within 10 degrees, twists and twist rates of order 1."""
+def _states(name, count, seed):
+    """Platform states about the home pose (level, P at the home height), twists and twist rates
+    of order 1."""
+    _, height, reach, tilt = PLATFORMS[name]
     rng = np.random.default_rng(seed)
     for _ in range(count):
-        p = np.array([0.0, 0.0, 2.0]) + rng.uniform(-0.2, 0.2, 3)
-        R = _rotation(*rng.uniform(-0.17, 0.17, 3))
+        p = np.array([0.0, 0.0, height]) + rng.uniform(-reach, reach, 3)
+        R = pin.rpy.rpyToMatrix(*rng.uniform(-tilt, tilt, 3))
         yield p, R, rng.uniform(-0.5, 0.5, 6), rng.uniform(-1.0, 1.0, 6)
 
 
-@pytest.fixture(scope="module")
-def flight_simulator():
+@pytest.fixture(scope="module", params=sorted(PLATFORMS))
+def platform(request):
     from symdyn.check.parallel_reference import ParallelReference
     from symdyn.check.pinocchio_model import build_closed_loop_model
-    robot = parallel.load(FLIGHT_SIMULATOR)
-    # a 1e-9 armature on the legs' joints: Pinocchio's constraint solver needs a positive definite
-    # mass matrix, which the legs' massless spherical and universal crosses leave singular (it
-    # moves the platform's accelerations by about 5e-12)
-    return robot, ParallelReference(robot, HOME), build_closed_loop_model(robot, armature=1e-9)
+    robot = parallel.load(REPO / "robots" / "parallel" / f"{request.param}.yaml")
+    model, constraints, info = build_closed_loop_model(robot)
+    models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
+    for cm in constraints:
+        models.append(cm)
+        datas.append(cm.createData())
+    return robot, ParallelReference(robot, PLATFORMS[request.param][0]), model, models, datas, info
 
 
-def _pinocchio_state(model, info, ref, p, R, twist, thetas, theta_dots):
-    """Pinocchio's q, v for the platform state and the legs' joint positions and rates."""
-    q = np.zeros(model.nq)
-    v = np.zeros(model.nv)
+def _pinocchio_state(model, info, ref, p, R, twist, twist_rate, legs):
+    """Pinocchio's q, v, a for the platform state and the legs' joint positions, rates and
+    accelerations.  The free flyer's v and a are LOCAL and spatial: the platform's classical
+    [omega_dot; c_ddot] (world, at the mass centre) is converted."""
+    q, v, a = np.zeros(model.nq), np.zeros(model.nv), np.zeros(model.nv)
     q[:3] = p
     q[3:7] = pin.Quaternion(R).coeffs()
     c = R @ ref.com
     omega, c_dot = twist[:3], twist[3:]
-    v[:3] = R.T @ (c_dot - np.cross(omega, c))
-    v[3:6] = R.T @ omega
-    for leg, theta, theta_dot in zip(info["legs"], thetas, theta_dots):
-        q[leg["q"]] = theta
-        v[leg["v"]] = theta_dot
-    return q, v
-
-
-def _platform_acceleration(R, ref, twist, twist_rate):
-    """The free flyer's acceleration (Pinocchio: spatial, LOCAL) for the platform's classical
-    twist rate [omega_dot; c_ddot] (world) at twist [omega; c_dot]."""
-    omega, c_dot = twist[:3], twist[3:]
-    omega_dot, c_ddot = twist_rate[:3], twist_rate[3:]
-    c = R @ ref.com
     v_origin = c_dot - np.cross(omega, c)
-    a_origin = c_ddot - np.cross(omega_dot, c) - np.cross(omega, np.cross(omega, c))
-    omega_b, v_b = R.T @ omega, R.T @ v_origin
-    return np.concatenate([R.T @ a_origin - np.cross(omega_b, v_b), R.T @ omega_dot])
+    v[:3], v[3:6] = R.T @ v_origin, R.T @ omega
+    if twist_rate is not None:
+        omega_dot, c_ddot = twist_rate[:3], twist_rate[3:]
+        a_origin = c_ddot - np.cross(omega_dot, c) - np.cross(omega, np.cross(omega, c))
+        a[:3] = R.T @ a_origin - np.cross(v[3:6], v[:3])
+        a[3:6] = R.T @ omega_dot
+    for leg, state in zip(info["legs"], legs):
+        q[leg["q"]] = state.theta
+        v[leg["v"]] = state.theta_dot
+        if state.theta_ddot is not None:
+            a[leg["v"]] = state.theta_ddot
+    return q, v, a
 
 
-def test_legs_close_their_loops_in_pinocchio(flight_simulator):
-    """The reference's leg inverse kinematics and rates satisfy Pinocchio's six loop closures
-    (positions and velocities) at random platform states."""
-    robot, ref, (model, constraints, info) = flight_simulator
+def _closure_mismatch(model, data, models, q, v, a):
+    """The largest difference between the two sides of the loop closures: placements, and the
+    spatial velocities and accelerations in the closure frame."""
+    pin.forwardKinematics(model, data, q, v, a)
+    worst = [0.0, 0.0, 0.0]
+    for cm in models:
+        oM1 = data.oMi[cm.joint1_id] * cm.joint1_placement
+        oM2 = data.oMi[cm.joint2_id] * cm.joint2_placement
+        relative = oM1.inverse() * oM2
+        worst[0] = max(worst[0], np.abs(oM1.homogeneous - oM2.homogeneous).max())
+        for k, motion in ((1, data.v), (2, data.a)):
+            side1 = cm.joint1_placement.actInv(motion[cm.joint1_id])
+            side2 = relative.act(cm.joint2_placement.actInv(motion[cm.joint2_id]))
+            worst[k] = max(worst[k], np.abs(side1.vector - side2.vector).max())
+    return worst
+
+
+def _closure_accelerations(model, data, models, q, v, a):
+    """The closures' relative spatial accelerations (side 1 minus side 2, in the closure frame),
+    stacked: zero for accelerations that keep the loops closed."""
+    pin.forwardKinematics(model, data, q, v, a)
+    out = []
+    for cm in models:
+        relative = (data.oMi[cm.joint1_id] * cm.joint1_placement).inverse() * \
+            (data.oMi[cm.joint2_id] * cm.joint2_placement)
+        side1 = cm.joint1_placement.actInv(data.a[cm.joint1_id])
+        side2 = relative.act(cm.joint2_placement.actInv(data.a[cm.joint2_id]))
+        out.append((side1 - side2).vector)
+    return np.concatenate(out)
+
+
+def _actuation(model, info):
+    S = np.zeros((model.nv, 6))
+    for k, leg in enumerate(info["legs"]):
+        S[leg["actuated_v"], k] = 1.0
+    return S
+
+
+def test_leg_states_close_the_loops(platform):
+    """The reference's leg inverse kinematics, rates and accelerations satisfy Pinocchio's six
+    loop closures at random platform states."""
+    robot, ref, model, models, datas, info = platform
     data = model.createData()
-    for p, R, twist, _ in _states(5, seed=1):
-        states = ref.leg_states(p, R, twist)
-        q, v = _pinocchio_state(model, info, ref, p, R, twist, [s.theta for s in states],
-                                [s.theta_dot for s in states])
-        pin.forwardKinematics(model, data, q, v)
-        for cm in constraints:
-            oM1 = data.oMi[cm.joint1_id] * cm.joint1_placement
-            oM2 = data.oMi[cm.joint2_id] * cm.joint2_placement
-            assert np.abs(oM1.homogeneous - oM2.homogeneous).max() < 1e-10
-            v1 = cm.joint1_placement.actInv(data.v[cm.joint1_id])
-            v2 = (oM1.inverse() * oM2).act(cm.joint2_placement.actInv(data.v[cm.joint2_id]))
-            assert np.abs(v1.vector - v2.vector).max() < 1e-10
+    for p, R, twist, twist_rate in _states(robot.name, 5, seed=1):
+        legs = ref.leg_states(p, R, twist, twist_rate)
+        q, v, a = _pinocchio_state(model, info, ref, p, R, twist, twist_rate, legs)
+        placement, velocity, acceleration = _closure_mismatch(model, data, models, q, v, a)
+        assert placement < 1e-10 and velocity < 1e-10 and acceleration < 1e-9, (placement, velocity, acceleration)
 
 
-def test_inverse_dynamics_agrees_with_constraint_dynamics(flight_simulator):
-    """phi from the natural orthogonal complement, applied at the actuated joints of Pinocchio's
-    closed-loop model, gives back the platform's twist rate (constraintDynamics), and forward
-    dynamics inverts inverse dynamics: error <= 1e-8 relative to the twist rates' size."""
-    robot, ref, (model, constraints, info) = flight_simulator
+def test_inverse_dynamics_agrees_with_pinocchio(platform):
+    """phi from the natural orthogonal complement equals the actuator forces Pinocchio's rnea of
+    the open tree and the constraint Jacobian give (rnea = Jc^T lambda + S phi), <= 1e-8 of the
+    largest force."""
+    robot, ref, model, models, datas, info = platform
     data = model.createData()
-    models = pin.StdVec_RigidConstraintModel()
-    datas = pin.StdVec_RigidConstraintData()
+    S = _actuation(model, info)
+    for p, R, twist, twist_rate in _states(robot.name, 10, seed=2):
+        phi = ref.inverse_dynamics(p, R, twist, twist_rate)
+        legs = ref.leg_states(p, R, twist, twist_rate)
+        q, v, a = _pinocchio_state(model, info, ref, p, R, twist, twist_rate, legs)
+        tau_tree = pin.rnea(model, data, q, v, a)
+        pin.computeJointJacobians(model, data, q)
+        Jc = pin.getConstraintsJacobian(model, data, models, datas)
+        theirs = np.linalg.solve(np.hstack([Jc.T, S]), tau_tree)[-6:]
+        assert np.abs(phi - theirs).max() <= 1e-8 * np.abs(theirs).max(), (phi, theirs)
+
+
+def test_forward_dynamics_agrees_with_pinocchio(platform):
+    """The platform's twist rate under actuator forces phi: the reference's forward dynamics
+    against Pinocchio's constrained equations (M a + nle = S phi + Jc^T lambda, Jc a = -gamma,
+    gamma the closures' acceleration at a = 0), and against its own inverse dynamics."""
+    robot, ref, model, models, datas, info = platform
+    data = model.createData()
+    S = _actuation(model, info)
+    nv, nc = model.nv, 6 * len(models)
+    for p, R, twist, twist_rate in _states(robot.name, 10, seed=3):
+        phi = ref.inverse_dynamics(p, R, twist, twist_rate) * 1.1  # not the forces of that motion
+        rate = ref.forward_dynamics(p, R, twist, phi)
+        legs = ref.leg_states(p, R, twist)
+        q, v, _ = _pinocchio_state(model, info, ref, p, R, twist, None, legs)
+        M = pin.crba(model, data, q)
+        M = np.triu(M) + np.triu(M, 1).T
+        nle = pin.nonLinearEffects(model, data, q, v)
+        # the closures' relative spatial acceleration is affine in a: gamma at a = 0, and the
+        # columns of Jc from unit accelerations (exact; Jc a + gamma = 0 on the constraint)
+        gamma = _closure_accelerations(model, data, models, q, v, np.zeros(nv))
+        Jc = np.column_stack([_closure_accelerations(model, data, models, q, v, unit) - gamma
+                              for unit in np.eye(nv)])
+        kkt = np.block([[M, -Jc.T], [Jc, np.zeros((nc, nc))]])
+        a = np.linalg.solve(kkt, np.concatenate([S @ phi - nle, -gamma]))[:nv]
+        _, _, ours = _pinocchio_state(model, info, ref, p, R, twist, rate, [
+            type(leg)(leg.theta, leg.theta_dot, None, leg.point, leg.jacobian, leg.shift) for leg in legs])
+        assert np.abs(ours[:6] - a[:6]).max() <= 1e-8 * (1.0 + np.abs(a[:6]).max()), (ours[:6], a[:6])
+        back = ref.inverse_dynamics(p, R, twist, rate)
+        assert np.abs(back - phi).max() <= 1e-8 * np.abs(phi).max()
+
+
+def test_constraint_dynamics_gives_back_the_twist_rate():
+    """Pinocchio's constraintDynamics (flight simulator, with a 1e-9 armature on the legs' joints,
+    see the module docstring) under phi from the reference returns the platform's twist rate."""
+    from symdyn.check.parallel_reference import ParallelReference
+    from symdyn.check.pinocchio_model import build_closed_loop_model
+    robot = parallel.load(REPO / "robots" / "parallel" / "flight_simulator.yaml")
+    ref = ParallelReference(robot, PLATFORMS["flight_simulator"][0])
+    model, constraints, info = build_closed_loop_model(robot, armature=1e-9)
+    models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
     for cm in constraints:
         models.append(cm)
         datas.append(cm.createData())
+    data = model.createData()
     pin.initConstraintDynamics(model, data, models, datas)
-    prox = pin.ProximalSettings(1e-13, 1e-12, 50)
-    for p, R, twist, twist_rate in _states(10, seed=2):
+    S = _actuation(model, info)
+    for p, R, twist, twist_rate in _states("flight_simulator", 5, seed=4):
         phi = ref.inverse_dynamics(p, R, twist, twist_rate)
-        states = ref.leg_states(p, R, twist)
-        q, v = _pinocchio_state(model, info, ref, p, R, twist, [s.theta for s in states],
-                                [s.theta_dot for s in states])
-        tau = np.zeros(model.nv)
-        for leg, force in zip(info["legs"], phi):
-            tau[leg["actuated_v"]] = force
-        a = pin.constraintDynamics(model, data, q, v, tau, models, datas, prox)
-        expected = _platform_acceleration(R, ref, twist, twist_rate)
-        scale = 1.0 + np.abs(expected).max()
-        assert np.abs(a[:6] - expected).max() <= 1e-8 * scale, (a[:6], expected)
-        back = ref.forward_dynamics(p, R, twist, phi)
-        assert np.abs(back - twist_rate).max() <= 1e-8 * (1.0 + np.abs(twist_rate).max())
+        legs = ref.leg_states(p, R, twist, twist_rate)
+        q, v, expected = _pinocchio_state(model, info, ref, p, R, twist, twist_rate, legs)
+        a = pin.constraintDynamics(model, data, q, v, S @ phi, models, datas, pin.ProximalSettings(1e-13, 1e-12, 50))
+        assert np.abs(a[:6] - expected[:6]).max() <= 1e-8 * (1.0 + np.abs(expected[:6]).max())
