@@ -25,8 +25,7 @@ import sympy as sp
 
 from .errors import describe, one_line
 from .inputs import decode_text, load_yaml, read_input
-from .robot import (ANGLE_UNITS, CONVENTIONS, DEFAULT_GRAVITY, FORMAT_VERSION, MAX_NAME, ROBOT_NAME_PATTERN,
-                    Placement, Robot, _Reader)
+from .robot import DEFAULT_GRAVITY, MAX_NAME, ROBOT_NAME_PATTERN, Placement, Robot, _Reader
 
 #: the value of the top-level ``kind`` field of a parallel robot file
 KIND = "parallel"
@@ -112,12 +111,7 @@ class _ParallelReader(_Reader):
     """The serial reader, plus the platform and the legs."""
 
     def platform(self, raw: Any) -> Platform:
-        if not isinstance(raw, dict):
-            self.fail("expected a mapping {mass, com, inertia}", None, "platform")
-        for key in raw:
-            if key not in PLATFORM_KEYS:
-                self.fail(f"unknown key {describe(key)} (allowed: {', '.join(PLATFORM_KEYS)})", None,
-                          f"platform.{one_line(str(key), 40)}")
+        self.check_mapping(raw, PLATFORM_KEYS, None, "platform", "expected a mapping {mass, com, inertia}")
         if "mass" not in raw:
             self.fail("missing required field", None, "platform.mass")
         mass = self.number(raw["mass"], None, "platform.mass")
@@ -145,12 +139,7 @@ class _ParallelReader(_Reader):
             if key in raw and "links" not in raw:
                 self.fail(f"'{key}' of a leg goes with its own 'links' (the shared table's is under "
                           "the top-level 'leg:')", label, key)
-        convention = source.get("convention")
-        if convention is None:
-            self.fail("missing required field (standard, modified or general)", where, "convention")
-        if convention not in CONVENTIONS:
-            self.fail(f"unknown convention {describe(convention)} (expected standard, modified or general)",
-                      where, "convention")
+        convention = self.convention_of(source.get("convention"), where)
         actuated = source.get("actuated")
         if actuated is None:
             self.fail(f"missing required field: the number (1 to {LEG_JOINTS}) of the leg's actuated joint",
@@ -219,23 +208,11 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> ParallelRobot:
         if key not in TOP_KEYS:
             reader.fail(f"unknown key {describe(key)} (allowed in a parallel robot file: {', '.join(TOP_KEYS)})",
                         None, one_line(str(key), 40))
-    if "format" not in doc:
-        reader.fail("missing required field", None, "format")
-    if doc["format"] != FORMAT_VERSION or isinstance(doc["format"], bool):
-        reader.fail(f"unsupported format {describe(doc['format'])}; this symdyn reads format {FORMAT_VERSION}",
-                    None, "format")
+    reader.check_format(doc)
     if doc.get("kind") != KIND:
         reader.fail(f"expected kind: {KIND}", None, "kind")
-    name = doc.get("name")
-    if name is None:
-        reader.fail("missing required field", None, "name")
-    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
-        reader.fail(f"{describe(name)} is not a valid name: use lower-case letters, digits and '_', "
-                    f"starting with a letter, at most {MAX_NAME} characters", None, "name")
-    angles = doc.get("angles", "radians")
-    if angles not in ANGLE_UNITS:
-        reader.fail(f"unknown angle unit {describe(angles)} (expected radians or degrees)", None, "angles")
-    reader.degrees = angles == "degrees"
+    name = reader.robot_name(doc)
+    reader.read_angles(doc)
     reader.read_parameters(doc.get("parameters"))
     gravity = tuple(sp.sympify(g) for g in (reader.vector(doc["gravity"], 3, None, "gravity")
                                             if "gravity" in doc else DEFAULT_GRAVITY))

@@ -403,6 +403,40 @@ class _Reader:
             else:
                 self.constants[name] = value
 
+    def check_format(self, doc: dict) -> None:
+        """The top-level ``format`` field: present and the version this symdyn reads."""
+        if "format" not in doc:
+            self.fail("missing required field", None, "format")
+        if doc["format"] != FORMAT_VERSION or isinstance(doc["format"], bool):
+            self.fail(f"unsupported format {describe(doc['format'])}; this symdyn reads format {FORMAT_VERSION}",
+                      None, "format")
+
+    def robot_name(self, doc: dict) -> str:
+        """The top-level ``name``: a lower-case C identifier of at most :data:`MAX_NAME` characters."""
+        name = doc.get("name")
+        if name is None:
+            self.fail("missing required field", None, "name")
+        if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
+            self.fail(f"{describe(name)} is not a valid name: use lower-case letters, digits and '_', "
+                      f"starting with a letter, at most {MAX_NAME} characters", None, "name")
+        return name
+
+    def convention_of(self, convention: Any, label: str | None) -> str:
+        """A table's ``convention`` field (required)."""
+        if convention is None:
+            self.fail("missing required field (standard, modified or general)", label, "convention")
+        if convention not in CONVENTIONS:
+            self.fail(f"unknown convention {describe(convention)} (expected standard, modified or general)",
+                      label, "convention")
+        return convention
+
+    def read_angles(self, doc: dict) -> None:
+        """The top-level ``angles`` unit (radians by default)."""
+        angles = doc.get("angles", "radians")
+        if angles not in ANGLE_UNITS:
+            self.fail(f"unknown angle unit {describe(angles)} (expected radians or degrees)", None, "angles")
+        self.degrees = angles == "degrees"
+
     def read_link(self, index: int, raw: Any, names_seen: set, prefix: str = "") -> Link:
         """Link ``index`` (from 0) of a table; ``prefix`` starts its label in errors (a parallel
         robot's ``leg 2, ``)."""
@@ -464,13 +498,19 @@ class _Reader:
         return Link(name=name, joint=joint, mass=mass, com=com, inertia=inertia, limits=limits,
                     actuated=actuated, **geometry, **extras)
 
+    def check_mapping(self, raw: Any, allowed: tuple[str, ...], label: str | None, fld: str, expected: str) -> None:
+        """``raw`` is a mapping whose keys are all in ``allowed`` (``expected``: the error when it
+        is not a mapping)."""
+        if not isinstance(raw, dict):
+            self.fail(expected, label, fld)
+        for key in raw:
+            if key not in allowed:
+                self.fail(f"unknown key {describe(key)} (allowed: {', '.join(allowed)})", label,
+                          f"{fld}.{one_line(str(key), 40)}")
+
     def placement(self, raw: Any, label: str | None, fld: str) -> Placement:
         """``{xyz: [3 m], rpy: [3 angles]}`` (both optional, default zero)."""
-        if not isinstance(raw, dict):
-            self.fail("expected a mapping {xyz: [x, y, z], rpy: [roll, pitch, yaw]}", label, fld)
-        for key in raw:
-            if key not in PLACEMENT_KEYS:
-                self.fail(f"unknown key {describe(key)} (allowed: xyz, rpy)", label, f"{fld}.{one_line(str(key), 40)}")
+        self.check_mapping(raw, PLACEMENT_KEYS, label, fld, "expected a mapping {xyz: [x, y, z], rpy: [roll, pitch, yaw]}")
         xyz = self.vector(raw.get("xyz", [0, 0, 0]), 3, label, f"{fld}.xyz")
         rpy = self.vector(raw.get("rpy", [0, 0, 0]), 3, label, f"{fld}.rpy")
         rpy = tuple(self.angle(v, label, f"{fld}.rpy[{k}]") for k, v in enumerate(rpy))
@@ -490,12 +530,7 @@ class _Reader:
         return tuple(sp.radsimp(v / norm) for v in values)
 
     def limits(self, raw: Any, label: str) -> Limits:
-        if not isinstance(raw, dict):
-            self.fail("expected a mapping {lower, upper, velocity, effort}", label, "limits")
-        for key in raw:
-            if key not in LIMIT_KEYS:
-                self.fail(f"unknown key {describe(key)} (allowed: {', '.join(LIMIT_KEYS)})", label,
-                          f"limits.{one_line(str(key), 40)}")
+        self.check_mapping(raw, LIMIT_KEYS, label, "limits", "expected a mapping {lower, upper, velocity, effort}")
         values = {key: self.number(raw[key], label, f"limits.{key}") for key in LIMIT_KEYS if key in raw}
         for key in ("velocity", "effort"):
             if key in values and values[key].is_number and values[key] < 0:
@@ -573,25 +608,10 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     for key in doc:
         if key not in TOP_KEYS:
             reader.fail(f"unknown key {describe(key)} (allowed: {', '.join(TOP_KEYS)})", None, one_line(str(key), 40))
-    if "format" not in doc:
-        reader.fail("missing required field", None, "format")
-    if doc["format"] != FORMAT_VERSION or isinstance(doc["format"], bool):
-        reader.fail(f"unsupported format {describe(doc['format'])}; this symdyn reads format {FORMAT_VERSION}", None, "format")
-    name = doc.get("name")
-    if name is None:
-        reader.fail("missing required field", None, "name")
-    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
-        reader.fail(f"{describe(name)} is not a valid name: use lower-case letters, digits and '_', "
-                    f"starting with a letter, at most {MAX_NAME} characters", None, "name")
-    convention = doc.get("convention")
-    if convention is None:
-        reader.fail("missing required field (standard, modified or general)", None, "convention")
-    if convention not in CONVENTIONS:
-        reader.fail(f"unknown convention {describe(convention)} (expected standard, modified or general)", None, "convention")
-    angles = doc.get("angles", "radians")
-    if angles not in ANGLE_UNITS:
-        reader.fail(f"unknown angle unit {describe(angles)} (expected radians or degrees)", None, "angles")
-    reader.degrees = angles == "degrees"
+    reader.check_format(doc)
+    name = reader.robot_name(doc)
+    convention = reader.convention_of(doc.get("convention"), None)
+    reader.read_angles(doc)
     reader.convention = convention
     reader.read_parameters(doc.get("parameters"))
     base = reader.placement(doc["base"], None, "base") if "base" in doc else None
