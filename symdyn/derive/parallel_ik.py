@@ -1,0 +1,257 @@
+"""Closed-form inverse kinematics of a platform robot's leg (seed 002's legs: S-X-U).
+
+A leg whose first three joints are revolute with axes meeting at one point (a spherical pair S
+at the base), whose fourth joint is revolute or prismatic (X, the actuated one in seed 002), and
+whose last two joints are revolute with axes meeting at one point (a universal joint U at the
+platform) has its joint values in closed form from the pose of its frame 6 (fixed to the
+platform), in the manner of a wrist-partitioned arm:
+
+1. the U centre is a point of frame 6; its distance from the S centre depends on joint 4 only:
+   a quadratic (prismatic) or ``A cos + B sin = K`` (revolute), two branches;
+2. the direction of the leg, seen from frame 4 and from frame 6, fixes the universal joint's two
+   angles (Paden-Kahan subproblem 2: two rotations about intersecting axes taking one vector to
+   another), two branches;
+3. the spherical pair's rotation is then known, and its three angles follow (subproblem 2 for
+   the first two, the third read off the remaining rotation), two branches.
+
+Every step uses only arithmetic and square roots, so the same code runs on numbers (numpy, to
+check it) and on SymPy expressions (to derive the generated code): joint angles come out as
+``(cos, sin)`` pairs of ``theta_i + q_i`` (what the recursions use), the prismatic joint as its
+value.  ``branches`` picks the sign of each square root: (joint 4, universal, spherical), +1 or
+-1; :meth:`LegIK.branches_of` finds those of a known configuration.
+
+Frames follow :mod:`symdyn.model.geometry`: link i's transform is ``pre_i * motion_i * post_i``,
+the motion a rotation about, or a translation along, the z axis of ``frame_{i-1} * pre_i``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import sympy as sp
+
+from ..model.geometry import JointGeometry, joint_geometry
+from ..model.robot import Robot
+
+
+class LegStructureError(ValueError):
+    """The leg is not of the S-X-U kind this closed form solves."""
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _add(a, b):
+    return [x + y for x, y in zip(a, b)]
+
+
+def _sub(a, b):
+    return [x - y for x, y in zip(a, b)]
+
+
+def _scale(k, a):
+    return [k * x for x in a]
+
+
+def _matvec(R, v):
+    return [R[r][0] * v[0] + R[r][1] * v[1] + R[r][2] * v[2] for r in range(3)]
+
+
+def _transpose(R):
+    return [[R[c][r] for c in range(3)] for r in range(3)]
+
+
+def _matmul(A, B):
+    return [[sum(A[r][k] * B[k][c] for k in range(3)) for c in range(3)] for r in range(3)]
+
+
+def _rz(c, s):
+    return [[c, -s, 0], [s, c, 0], [0, 0, 1]]
+
+
+def _rotation_to(omega, p, q):
+    """``(cos, sin)`` of the rotation about the unit axis ``omega`` taking p to q (Paden-Kahan
+    subproblem 1; p and q have the same component along omega and the same length)."""
+    pp = _sub(p, _scale(_dot(omega, p), omega))
+    qq = _sub(q, _scale(_dot(omega, q), omega))
+    n2 = _dot(pp, pp)
+    return _dot(pp, qq) / n2, _dot(omega, _cross(pp, qq)) / n2
+
+
+def _two_rotations(omega1, omega2, p, q, sign, sqrt):
+    """``((cos1, sin1), (cos2, sin2))`` with ``Rot(omega1, t1) Rot(omega2, t2) p = q`` (Paden-Kahan
+    subproblem 2; unit axes through the origin, not parallel); ``sign`` picks the solution."""
+    w12 = _dot(omega1, omega2)
+    denom = w12 * w12 - 1
+    alpha = (w12 * _dot(omega2, p) - _dot(omega1, q)) / denom
+    beta = (w12 * _dot(omega1, q) - _dot(omega2, p)) / denom
+    normal = _cross(omega1, omega2)
+    gamma2 = (_dot(p, p) - alpha * alpha - beta * beta - 2 * alpha * beta * w12) / _dot(normal, normal)
+    z = _add(_add(_scale(alpha, omega1), _scale(beta, omega2)), _scale(sign * sqrt(gamma2), normal))
+    return _rotation_to(omega1, z, q), _rotation_to(omega2, p, z)
+
+
+def _rot(m):
+    return [[m[r, c] for c in range(3)] for r in range(3)]
+
+
+def _vec(m):
+    return [m[r, 3] for r in range(3)]
+
+
+def _meet(p1, d1, p2, d2, what: str):
+    """The point where two lines (point, direction; exact) meet, else LegStructureError."""
+    n = _cross(d1, d2)
+    nn = sp.nsimplify(_dot(n, n))
+    if nn == 0:
+        raise LegStructureError(f"{what}: parallel axes")
+    gap = _sub(p2, p1)
+    if abs(float(_dot(gap, n))) > 1e-9 * max(1.0, float(sp.sqrt(nn))):
+        raise LegStructureError(f"{what}: the axes do not meet")
+    t = _dot(_cross(gap, d2), n) / nn
+    return [sp.nsimplify(x) if x.is_number else x for x in _add(p1, _scale(t, d1))]
+
+
+@dataclass(frozen=True)
+class LegIK:
+    """The constant geometry of an S-X-U leg (exact, from its table) and its closed form.
+
+    ``centre_s``: the S centre in frame 0; ``s_in_3``: the same point in frame 3; ``u_in_4`` and
+    ``u_in_6``: the U centre in frames 4 and 6; ``geometry``: the six links' pre/post parts.
+    """
+
+    leg: Robot
+    centre_s: tuple
+    s_in_3: tuple
+    u_in_4: tuple
+    u_in_6: tuple
+    geometry: tuple
+
+    @classmethod
+    def of(cls, leg: Robot) -> "LegIK":
+        """Check the structure (three revolute joints meeting at a point, any fourth joint, two
+        revolute joints meeting at a point) and precompute the constants."""
+        if len(leg.links) != 6:
+            raise LegStructureError(f"{leg.name}: {len(leg.links)} joints, not 6")
+        kinds = [link.is_revolute for link in leg.links]
+        if not (kinds[0] and kinds[1] and kinds[2] and kinds[4] and kinds[5]):
+            raise LegStructureError(f"{leg.name}: joints 1-3 and 5-6 must be revolute (a spherical pair and "
+                                    "a universal joint)")
+        geometry = tuple(joint_geometry(link, leg.convention) for link in leg.links)
+        zero = [sp.Matrix(g.pre) * sp.Matrix(g.post) for g in geometry]  # each link at q = 0 (no theta)
+        frames = [sp.eye(4)]
+        for k in range(6):
+            frames.append(frames[-1] * zero[k])
+        axes = [frames[k] * sp.Matrix(geometry[k].pre) for k in range(6)]  # joint frames at q = 0
+        point = [_vec(a) for a in axes]
+        direction = [[a[r, 2] for r in range(3)] for a in axes]
+        s = _meet(point[0], direction[0], point[1], direction[1], f"{leg.name}: joints 1 and 2")
+        s2 = _meet(point[1], direction[1], point[2], direction[2], f"{leg.name}: joints 2 and 3")
+        if any(abs(float(a - b)) > 1e-9 for a, b in zip(s, s2)):
+            raise LegStructureError(f"{leg.name}: the axes of joints 1-3 do not meet at one point")
+        u = _meet(point[4], direction[4], point[5], direction[5], f"{leg.name}: joints 5 and 6")
+
+        def local(frame, p):
+            inv = frame.inv()
+            return tuple(sp.nsimplify(sp.expand(x)) if sp.sympify(x).is_number else sp.expand(x)
+                         for x in _vec(inv * sp.Matrix([[1, 0, 0, p[0]], [0, 1, 0, p[1]], [0, 0, 1, p[2]], [0, 0, 0, 1]])))
+        return cls(leg, tuple(s), local(frames[3], s), local(frames[4], u), local(frames[6], u), geometry)
+
+    def with_floats(self) -> "LegIK":
+        """The same leg with its constants as floats (numpy arrays): :meth:`solve` on numbers."""
+        import numpy as np
+        geometry = tuple(JointGeometry(np.array(g.pre, dtype=float), np.array(g.post, dtype=float), g.revolute)
+                         for g in self.geometry)
+        return replace(self, centre_s=tuple(float(x) for x in self.centre_s),
+                       s_in_3=tuple(float(x) for x in self.s_in_3), u_in_4=tuple(float(x) for x in self.u_in_4),
+                       u_in_6=tuple(float(x) for x in self.u_in_6), geometry=geometry)
+
+    def branches_of(self, joints) -> tuple[int, int, int]:
+        """The branches ``(joint 4, universal, spherical)`` that give back the configuration
+        ``joints`` (six joint variables q, as in the robot file: revolute offsets theta are added)
+        from its own frame-6 pose.  Raises LegStructureError when none does (a singular one)."""
+        import itertools
+
+        import numpy as np
+        numeric = self.with_floats()
+        pose = np.eye(4)
+        values = []
+        for link, g, q in zip(self.leg.links, numeric.geometry, joints):
+            if link.is_revolute:
+                angle = float(link.theta) + float(q)
+                values.append((np.cos(angle), np.sin(angle)))
+                motion = np.eye(4)
+                motion[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
+            else:
+                values.append(float(q))
+                motion = np.eye(4)
+                motion[2, 3] = float(q)
+            pose = pose @ g.pre @ motion @ g.post
+        for branches in itertools.product((1, -1), repeat=3):
+            with np.errstate(invalid="ignore"):
+                found = numeric.solve(pose[:3, :3].tolist(), pose[:3, 3].tolist(), branches, np.sqrt)
+            if all(np.allclose(np.array(a, dtype=float), np.array(b, dtype=float), atol=1e-9)
+                   for a, b in zip(found, values)):
+                return branches
+        raise LegStructureError(f"{self.leg.name}: no branch of the closed form gives back the configuration "
+                                f"{list(joints)} (a singular configuration?)")
+
+    def solve(self, rotation, position, branches=(1, 1, 1), sqrt=sp.sqrt):
+        """Joint values for frame 6 at ``rotation`` (3x3 nested lists) and ``position`` (3) in
+        frame 0: six entries, ``(cos, sin)`` of ``theta_i + q_i`` for a revolute joint and the value
+        of a prismatic one (numbers or expressions, as the inputs are)."""
+        g = self.geometry
+        R06, p06 = rotation, position
+        u = _add(p06, _matvec(R06, list(self.u_in_6)))
+        e = _sub(u, list(self.centre_s))
+        e2 = _dot(e, e)
+        c4_local = list(self.u_in_4)
+        pre4, post4 = g[3].pre, g[3].post
+        w = _add(_matvec(_rot(post4), c4_local), _vec(post4))  # U centre in joint 4's moved frame
+        s3 = list(self.s_in_3)
+        if g[3].revolute:
+            gap = _matvec(_transpose(_rot(pre4)), _sub(_vec(pre4), s3))
+            A = gap[0] * w[0] + gap[1] * w[1]
+            B = gap[1] * w[0] - gap[0] * w[1]
+            K = (e2 - _dot(w, w) - _dot(gap, gap)) / 2 - gap[2] * w[2]
+            r2 = A * A + B * B
+            root = branches[0] * sqrt(r2 - K * K)
+            joint4 = ((A * K - B * root) / r2, (B * K + A * root) / r2)
+            motion4 = _rz(*joint4)
+            moved = _matvec(motion4, w)
+        else:
+            a = _sub(_add(_matvec(_rot(pre4), w), _vec(pre4)), s3)
+            b = [pre4[r, 2] for r in range(3)]
+            ab = _dot(a, b)
+            joint4 = -ab + branches[0] * sqrt(ab * ab - _dot(a, a) + e2)
+            motion4 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+            moved = _add(w, [0, 0, joint4])
+        d = _sub(_add(_matvec(_rot(pre4), moved), _vec(pre4)), s3)  # leg vector in frame 3
+        R34 = _matmul(_matmul(_rot(pre4), motion4), _rot(post4))
+        # universal joint: R46 y = x, R46 = A5 Rz(q5) B56 Rz(q6) C6
+        x = _matvec(_transpose(R34), d)
+        y = _matvec(_transpose(R06), e)
+        A5, B56, C6 = _rot(g[4].pre), _matmul(_rot(g[4].post), _rot(g[5].pre)), _rot(g[5].post)
+        p_vec = _matvec(B56, _matvec(C6, y))
+        q_vec = _matvec(_transpose(A5), x)
+        omega2 = [B56[r][2] for r in range(3)]
+        joint5, joint6 = _two_rotations([0, 0, 1], omega2, p_vec, q_vec, branches[1], sqrt)
+        R46 = _matmul(_matmul(_matmul(_matmul(A5, _rz(*joint5)), B56), _rz(*joint6)), C6)
+        R03 = _matmul(_matmul(R06, _transpose(R46)), _transpose(R34))
+        # spherical pair: R03 = A1 Rz(q1) B12 Rz(q2) B23 Rz(q3) C3
+        A1, B12 = _rot(g[0].pre), _matmul(_rot(g[0].post), _rot(g[1].pre))
+        B23, C3 = _matmul(_rot(g[1].post), _rot(g[2].pre)), _rot(g[2].post)
+        G = _matmul(_matmul(_transpose(A1), R03), _transpose(C3))
+        axis2 = [B12[r][2] for r in range(3)]
+        start = _matvec(B12, [B23[r][2] for r in range(3)])
+        goal = [G[r][2] for r in range(3)]
+        joint1, joint2 = _two_rotations([0, 0, 1], axis2, start, goal, branches[2], sqrt)
+        rest = _matmul(_matmul(_matmul(_matmul(_transpose(B23), _transpose(_rz(*joint2))), _transpose(B12)),
+                               _transpose(_rz(*joint1))), G)
+        joint3 = (rest[0][0], rest[1][0])
+        return [joint1, joint2, joint3, joint4, joint5, joint6]
