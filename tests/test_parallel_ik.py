@@ -35,13 +35,13 @@ def _as_angles(solution, leg):
 @pytest.mark.parametrize("name", sorted(PLATFORMS))
 def test_closed_form_equals_newton(name):
     """Every leg of both bundled platforms: the closed form, with the branches of the home
-    configuration, gives the joint values the reference's Newton iterations find (<= 1e-12)."""
+    configuration (the file's), gives the joint values the reference's Newton iterations find
+    (<= 1e-12)."""
     from symdyn.check.parallel_reference import ParallelReference
     robot = parallel.load(REPO / "robots" / "parallel" / f"{name}.yaml")
-    home = PLATFORMS[name][0]
-    ref = ParallelReference(robot, home)
+    ref = ParallelReference(robot)
     solvers = [LegIK.of(leg.chain) for leg in robot.legs]
-    branches = [ik.branches_of(h) for ik, h in zip(solvers, home)]
+    branches = [ik.branches_of(leg.home) for ik, leg in zip(solvers, robot.legs)]  # the file's home
     numeric = [ik.with_floats() for ik in solvers]
     for p, R, _, _ in _states(name, 5, seed=7):
         newton = ref.leg_positions(p, R)
@@ -96,6 +96,7 @@ def test_refuses_legs_of_another_structure(tmp_path):
     """A leg whose first three axes do not meet, or with a prismatic joint in the spherical pair,
     is not solved by this closed form: LegStructureError says which joints."""
     doc = yaml.safe_load((REPO / "robots" / "parallel" / "flight_simulator.yaml").read_text())
+    del doc["leg"]["home"]  # the changed legs no longer meet the platform at the home pose
     moved = copy.deepcopy(doc)
     moved["leg"]["links"][1]["origin"] = {"xyz": [0, 0, 0.1]}  # axis 2 no longer meets axis 1
     path = tmp_path / "moved.yaml"

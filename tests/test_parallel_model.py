@@ -109,3 +109,29 @@ def test_serial_commands_refuse_a_parallel_file_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert "kind: parallel" in err and "Traceback" not in err and len(err.splitlines()) == 1
     assert not (tmp_path / "out").exists()
+
+
+def test_home_configurations_must_hold_the_platform_at_one_pose(tmp_path):
+    """The bundled platforms' home configurations close every loop; a home that does not, or one
+    given for some legs only, is refused naming the leg."""
+    from helpers import REPO
+    for name in ("flight_simulator", "sru_platform"):
+        robot = parallel.load(REPO / "robots" / "parallel" / f"{name}.yaml")
+        assert all(leg.home is not None and len(leg.home) == 6 for leg in robot.legs)
+    doc = yaml.safe_load((REPO / "robots" / "parallel" / "flight_simulator.yaml").read_text())
+    doc["legs"][2]["home"] = [0, 0, 0, 3.2, 0, 0]  # 4.6 cm too long
+    with pytest.raises(RobotFileError, match=r"leg 3 \('leg3'\): field 'home': the legs' home configurations do "
+                                             r"not hold the platform at one pose"):
+        _read(doc, tmp_path)
+    doc["legs"][2]["home"] = [0, 0, 0, 3.153800684, 0, 0]
+    assert _read(doc, tmp_path).legs[2].home[3] == sp.Rational(788450171, 250000000)
+    del doc["leg"]["home"]
+    with pytest.raises(RobotFileError, match="field 'home': give the home configuration of every leg"):
+        _read(doc, tmp_path)
+    doc = copy.deepcopy(DOC)
+    doc["leg"]["home"] = [0, 0, 0, 1, 0, 0]  # DOC's legs meet no common platform pose
+    with pytest.raises(RobotFileError, match="do not hold the platform at one pose"):
+        _read(doc, tmp_path)
+    doc["leg"]["home"] = [0, 0, 0, 1, 0]
+    with pytest.raises(RobotFileError, match="leg: field 'home': expected a list of 6 numbers"):
+        _read(doc, tmp_path)

@@ -57,14 +57,20 @@ class LegState:
 
 class ParallelReference:
     """Numeric dynamics of a :class:`ParallelRobot` (numbers only: runtime parameters are not
-    supported here).  ``home`` (6 legs x 6 joint positions) starts the inverse kinematics."""
+    supported here).  ``home`` (6 legs x 6 joint positions; default: the file's ``home``) starts
+    the inverse kinematics."""
 
-    def __init__(self, robot: ParallelRobot, home):
+    def __init__(self, robot: ParallelRobot, home=None):
         import symdyn
         if robot.parameters:
             raise ValueError("the numeric reference needs numbers for every parameter")
+        if home is None:
+            if any(leg.home is None for leg in robot.legs):
+                raise ValueError(f"{robot.source}: no home configuration in the file: give home= to start the "
+                                 "inverse kinematics from")
+            home = [leg.home for leg in robot.legs]
         self.robot = robot
-        self.home = [np.asarray(h, dtype=float) for h in home]
+        self.home = [np.asarray([float(v) for v in h], dtype=float) for h in home]
         outputs = ["forward_kinematics", "jacobian", "jacobian_dot_qd", "inverse_dynamics", "mass_matrix"]
         self.legs = [symdyn.derive(leg.chain, outputs=outputs).numeric for leg in robot.legs]
         self.attachments = [np.array(leg.attachment.matrix(), dtype=float) for leg in robot.legs]

@@ -21,9 +21,11 @@ import os
 from dataclasses import dataclass, replace
 from typing import Any
 
+import numpy as np
 import sympy as sp
 
 from .errors import describe, one_line
+from .geometry import joint_geometry
 from .inputs import decode_text, load_yaml, read_input
 from .robot import DEFAULT_GRAVITY, MAX_NAME, ROBOT_NAME_PATTERN, Placement, Robot, _Reader
 
@@ -31,8 +33,11 @@ from .robot import DEFAULT_GRAVITY, MAX_NAME, ROBOT_NAME_PATTERN, Placement, Rob
 KIND = "parallel"
 TOP_KEYS = ("format", "kind", "name", "angles", "parameters", "gravity", "platform", "leg", "legs")
 PLATFORM_KEYS = ("mass", "com", "inertia")
-SHARED_LEG_KEYS = ("convention", "actuated", "links")
+SHARED_LEG_KEYS = ("convention", "actuated", "links", "home")
 LEG_KEYS = ("name", "base", "platform", *SHARED_LEG_KEYS)
+#: how far (m, and rad times 1 m) the platform poses the legs' home configurations give may be
+#: apart (the files' numbers have about ten digits)
+HOME_TOLERANCE = 1e-6
 #: legs of a platform robot, and joints of each leg (the natural orthogonal complement of seed
 #: 002 needs one actuated joint per leg and as many legs as the platform's degrees of freedom)
 LEG_COUNT = 6
@@ -72,6 +77,9 @@ class Leg:
     chain: Robot
     attachment: Placement
     actuated: int
+    #: the leg's joint variables (rad or m) in the robot's home pose, or None: they pick the
+    #: branches of the closed-form inverse kinematics (symdyn.derive.parallel_ik)
+    home: tuple[sp.Expr, ...] | None = None
 
     @property
     def actuated_link(self):
@@ -191,7 +199,54 @@ class _ParallelReader(_Reader):
         links = tuple(self.read_link(k, link, seen, prefix=prefix) for k, link in enumerate(links_raw))
         chain = Robot(name=f"{robot_name}_{name}", convention=convention, gravity=gravity, links=links,
                       source=self.path, base=None if base.is_identity else base)
-        return Leg(name=name, chain=chain, attachment=attachment, actuated=actuated)
+        home = None
+        home_raw = raw["home"] if "home" in raw else shared.get("home") if "links" not in raw else None
+        if home_raw is not None:
+            where = label if "home" in raw else "leg"
+            values = self.vector(home_raw, LEG_JOINTS, where, "home")
+            home = tuple(self.angle(v, where, f"home[{k}]") if link.is_revolute else v
+                         for k, (v, link) in enumerate(zip(values, links)))
+        return Leg(name=name, chain=chain, attachment=attachment, actuated=actuated, home=home)
+
+    def check_home(self, legs: tuple[Leg, ...]) -> None:
+        """Every leg has a home configuration or none does; numeric ones must hold the platform
+        at one pose (each leg's frame 6, moved back by its attachment, gives the platform frame)."""
+        given = [leg.home is not None for leg in legs]
+        if not any(given):
+            return
+        if not all(given):
+            missing = given.index(False)
+            self.fail("give the home configuration of every leg (under the shared 'leg:' or each leg), or "
+                      "of none", f"leg {missing + 1} ('{legs[missing].name}')", "home")
+        poses = []
+        for leg in legs:
+            exprs = [*leg.home, *leg.chain.base_matrix(), *(e for link in leg.chain.links for e in link.expressions()),
+                     *leg.attachment.expressions()]
+            if any(sp.sympify(e).free_symbols for e in exprs):
+                return  # runtime parameters: checked when they get values
+            poses.append(_leg_pose(leg) @ np.linalg.inv(np.array(leg.attachment.matrix(), dtype=float)))
+        for k, pose in enumerate(poses[1:], start=1):
+            offset = float(np.abs(pose[:3, 3] - poses[0][:3, 3]).max())
+            turn = float(np.abs(pose[:3, :3] - poses[0][:3, :3]).max())
+            if max(offset, turn) > HOME_TOLERANCE:
+                self.fail(f"the legs' home configurations do not hold the platform at one pose: this leg "
+                          f"puts the platform frame {offset:.3g} m and {np.degrees(turn):.3g} deg away from where "
+                          f"leg 1 puts it", f"leg {k + 1} ('{legs[k].name}')", "home")
+
+
+def _leg_pose(leg: Leg) -> np.ndarray:
+    """The pose (4x4, world) of the leg's frame 6 at its home configuration (numbers only)."""
+    pose = np.array(leg.chain.base_matrix(), dtype=float).reshape(4, 4)
+    for link, value in zip(leg.chain.links, leg.home):
+        geometry = joint_geometry(link, leg.chain.convention)
+        motion = np.eye(4)
+        if link.is_revolute:
+            angle = float(link.theta + value)
+            motion[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
+        else:
+            motion[2, 3] = float(value)
+        pose = pose @ np.array(geometry.pre, dtype=float) @ motion @ np.array(geometry.post, dtype=float)
+    return pose
 
 
 def is_parallel_document(doc: Any) -> bool:
@@ -235,6 +290,7 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> ParallelRobot:
                     f"platform's degrees of freedom), got {count}", None, "legs")
     names: set = set()
     legs = tuple(reader.leg(k, raw, shared, name, gravity, names) for k, raw in enumerate(legs_raw))
+    reader.check_home(legs)
     used = set().union(*(sp.sympify(e).free_symbols for e in (*gravity, *platform.expressions())),
                        *(e.free_symbols for leg in legs for link in leg.chain.links for e in link.expressions()),
                        *(sp.sympify(e).free_symbols for leg in legs
