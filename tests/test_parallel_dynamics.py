@@ -21,17 +21,15 @@ from symdyn.model import parallel
 
 pin = pytest.importorskip("pinocchio")
 
-HOME_LENGTH = 3.153800684  # m, the flight simulator's home leg length (see its robot file)
-#: bundled platform -> (home joint positions of every leg, home height of P (m), range of the
-#: positions (m) and angles (rad) of the random states about the home pose)
-PLATFORMS = {"flight_simulator": ([[0, 0, 0, HOME_LENGTH, 0, 0]] * 6, 2.0, 0.2, 0.17),
-             "sru_platform": ([[0.0] * 6] * 6, 0.55, 0.03, 0.08)}
+#: bundled platform -> (home height of P (m), range of the positions (m) and angles (rad) of the
+#: random states about the home pose)
+PLATFORMS = {"flight_simulator": (2.0, 0.2, 0.17), "sru_platform": (0.55, 0.03, 0.08)}
 
 
 def _states(name, count, seed):
     """Platform states about the home pose (level, P at the home height), twists and twist rates
     of order 1."""
-    _, height, reach, tilt = PLATFORMS[name]
+    height, reach, tilt = PLATFORMS[name]
     rng = np.random.default_rng(seed)
     for _ in range(count):
         p = np.array([0.0, 0.0, height]) + rng.uniform(-reach, reach, 3)
@@ -180,7 +178,7 @@ def test_constraint_dynamics_gives_back_the_twist_rate():
     from symdyn.check.parallel_reference import ParallelReference
     from symdyn.check.pinocchio_model import build_closed_loop_model
     robot = parallel.load(REPO / "robots" / "parallel" / "flight_simulator.yaml")
-    ref = ParallelReference(robot, PLATFORMS["flight_simulator"][0])
+    ref = ParallelReference(robot)
     model, constraints, info = build_closed_loop_model(robot, armature=1e-9)
     models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
     for cm in constraints:
@@ -208,7 +206,7 @@ def test_power_balance_along_a_trajectory(platform):
     computes from the legs' and the platform's states, to the integration's accuracy."""
     robot, ref, model, models, datas, info = platform
     data = model.createData()
-    height = PLATFORMS[robot.name][1]
+    height = PLATFORMS[robot.name][0]
     hold = ref.inverse_dynamics(np.array([0, 0, height]), np.eye(3), np.zeros(6), np.zeros(6))
 
     def forces(t):
