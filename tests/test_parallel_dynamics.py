@@ -244,3 +244,23 @@ def test_power_balance_along_a_trajectory(platform):
     change = energies[-1] - energies[0]
     assert abs(work) > 1e-3 * abs(energies[0]) * 1e-3, "the platform hardly moved"
     assert abs(change - work) <= 1e-6 * max(abs(work), abs(change)), (change, work)
+
+
+def test_seed_matrices(platform):
+    """The seed's T, L_J, Lambda and M(q): Lambda is the identity (q_J is joint k of leg J),
+    M is symmetric positive definite, L_J maps actuated rates to leg J's joint rates, and inverse
+    dynamics is affine in the actuated accelerations with slope M (two twist rates at one state)."""
+    robot, ref, model, models, datas, info = platform
+    for p, R, twist, twist_rate in _states(robot.name, 5, seed=6):
+        seed = ref.seed_matrices(p, R, twist)
+        assert np.abs(seed["Lambda"] - np.eye(6)).max() <= 1e-12
+        M = seed["M"]
+        assert np.abs(M - M.T).max() <= 1e-12 * np.abs(M).max() and np.linalg.eigvalsh(M).min() > 0
+        K = np.linalg.inv(seed["T"])
+        q_dot = K @ twist
+        for L_J, leg in zip(seed["L"], ref.leg_states(p, R, twist)):
+            assert np.abs(L_J @ q_dot - leg.theta_dot).max() <= 1e-10 * (1 + np.abs(leg.theta_dot).max())
+        other = twist_rate + np.linspace(-1, 1, 6)
+        difference = ref.inverse_dynamics(p, R, twist, other) - ref.inverse_dynamics(p, R, twist, twist_rate)
+        expected = M @ K @ (other - twist_rate)
+        assert np.abs(difference - expected).max() <= 1e-9 * np.abs(expected).max()

@@ -181,3 +181,20 @@ class ParallelReference:
             b += back @ (D @ offset + h)
         K = self.twist_map(states)
         return np.linalg.solve(A, K.T @ np.asarray(phi, float) - b)
+
+    def seed_matrices(self, p, R, twist=None) -> dict:
+        """The seed's matrices at platform pose (p, R): ``T`` (6x6, ``t_M = T q_dot``), ``L``
+        (each leg's 6x6 ``L_J = J_J^-1 T``, with J_J taken at the platform's mass centre),
+        ``Lambda`` (6x6: column J is ``L_J^T e_k``, k leg J's actuated joint; the identity, since
+        ``q_J`` is itself joint k of leg J) and ``M`` (6x6, the mass matrix in actuated coordinates:
+        ``T^T M_M T + sum L_J^T I_J L_J``)."""
+        states = self.leg_states(p, R, np.zeros(6) if twist is None else twist)
+        T = np.linalg.inv(self.twist_map(states))
+        L = [np.linalg.solve(st.jacobian, st.shift) @ T for st in states]
+        Lambda = np.column_stack([L_J[k, :] for L_J, k in zip(L, self.actuated)])
+        M_platform, _ = self._platform_wrench_terms(R, np.zeros(6))
+        M = T.T @ M_platform @ T
+        for k, (st, L_J) in enumerate(zip(states, L)):
+            D = np.asarray(self.legs[k].mass_matrix(st.theta, []), dtype=float).reshape(6, 6)
+            M = M + L_J.T @ D @ L_J
+        return {"T": T, "L": L, "Lambda": Lambda, "M": M}
