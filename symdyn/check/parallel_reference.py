@@ -45,7 +45,8 @@ def _skew(v) -> np.ndarray:
 @dataclass
 class LegState:
     """One leg at a platform state: joint positions, rates and accelerations (6 each), the
-    point U_J (W), its Jacobian J_J (6x6: linear rows first, W axes) and the shift S_J."""
+    point U_J (W), its Jacobian J_J (6x6: linear rows first, W axes), the shift S_J and
+    ``rates = J_J^-1 S_J`` (6x6: the leg's joint rates per unit platform twist)."""
 
     theta: np.ndarray
     theta_dot: np.ndarray
@@ -53,6 +54,7 @@ class LegState:
     point: np.ndarray
     jacobian: np.ndarray
     shift: np.ndarray
+    rates: np.ndarray
 
 
 class ParallelReference:
@@ -120,19 +122,20 @@ class ParallelReference:
             S[:3, 3:] = np.eye(3)
             S[3:, :3] = np.eye(3)
             J = np.asarray(numeric.jacobian(theta, []), dtype=float).reshape(6, 6)
-            theta_dot = np.linalg.solve(J, S @ np.concatenate([omega, c_dot]))
+            rates = np.linalg.solve(J, S)
+            theta_dot = rates @ np.concatenate([omega, c_dot])
             theta_ddot = None
             if twist_rate is not None:
                 omega_dot, c_ddot = np.asarray(twist_rate[:3], float), np.asarray(twist_rate[3:], float)
                 a_u = c_ddot + np.cross(omega_dot, r) + np.cross(omega, np.cross(omega, r))
                 jdqd = np.asarray(numeric.jacobian_dot_qd(theta, theta_dot, []), dtype=float).reshape(6)
                 theta_ddot = np.linalg.solve(J, np.concatenate([a_u, omega_dot]) - jdqd)
-            states.append(LegState(theta, theta_dot, theta_ddot, u, J, S))
+            states.append(LegState(theta, theta_dot, theta_ddot, u, J, S, rates))
         return states
 
     def twist_map(self, states) -> np.ndarray:
         """K (6x6): ``q_dot = K t_M``; the seed's T is its inverse."""
-        return np.array([np.linalg.solve(st.jacobian, st.shift)[self.actuated[k]] for k, st in enumerate(states)])
+        return np.array([st.rates[self.actuated[k]] for k, st in enumerate(states)])
 
     # dynamics -----------------------------------------------------------------------------------
     def _platform_wrench_terms(self, R, twist):
@@ -155,7 +158,7 @@ class ParallelReference:
         for k, st in enumerate(states):
             tau = np.asarray(self.legs[k].inverse_dynamics(st.theta, st.theta_dot, st.theta_ddot, []),
                              dtype=float).reshape(6)
-            wrench = wrench + st.shift.T @ np.linalg.solve(st.jacobian.T, tau)
+            wrench = wrench + st.rates.T @ tau  # S_J^T J_J^-T tau
         K = self.twist_map(states)
         return np.linalg.solve(K.T, wrench)
 
@@ -172,13 +175,11 @@ class ParallelReference:
             D = np.asarray(numeric.mass_matrix(st.theta, []), dtype=float).reshape(6, 6)
             h = np.asarray(numeric.inverse_dynamics(st.theta, st.theta_dot, np.zeros(6), []), dtype=float).reshape(6)
             jdqd = np.asarray(numeric.jacobian_dot_qd(st.theta, st.theta_dot, []), dtype=float).reshape(6)
-            Jinv_S = np.linalg.solve(st.jacobian, st.shift)
             # theta_ddot = J^-1 (S t_dot + centripetal of U - J-dot theta_dot)
             centripetal = np.concatenate([np.cross(omega, np.cross(omega, r)), np.zeros(3)])
             offset = np.linalg.solve(st.jacobian, centripetal - jdqd)
-            back = st.shift.T @ np.linalg.inv(st.jacobian).T
-            A += back @ D @ Jinv_S
-            b += back @ (D @ offset + h)
+            A += st.rates.T @ D @ st.rates  # S_J^T J_J^-T D_J J_J^-1 S_J
+            b += st.rates.T @ (D @ offset + h)
         K = self.twist_map(states)
         return np.linalg.solve(A, K.T @ np.asarray(phi, float) - b)
 
@@ -190,7 +191,7 @@ class ParallelReference:
         ``T^T M_M T + sum L_J^T I_J L_J``)."""
         states = self.leg_states(p, R, np.zeros(6) if twist is None else twist)
         T = np.linalg.inv(self.twist_map(states))
-        L = [np.linalg.solve(st.jacobian, st.shift) @ T for st in states]
+        L = [st.rates @ T for st in states]
         Lambda = np.column_stack([L_J[k, :] for L_J, k in zip(L, self.actuated)])
         M_platform, _ = self._platform_wrench_terms(R, np.zeros(6))
         M = T.T @ M_platform @ T

@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 
 import sympy as sp
 
-from ..model.geometry import JointGeometry, joint_geometry
+from ..model.geometry import JointGeometry, joint_geometry, numeric_pose
 from ..model.robot import Robot
 
 
@@ -179,19 +179,9 @@ class LegIK:
 
         import numpy as np
         numeric = self.with_floats()
-        pose = np.eye(4)
-        values = []
-        for link, g, q in zip(self.leg.links, numeric.geometry, joints):
-            if link.is_revolute:
-                angle = float(link.theta) + float(q)
-                values.append((np.cos(angle), np.sin(angle)))
-                motion = np.eye(4)
-                motion[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
-            else:
-                values.append(float(q))
-                motion = np.eye(4)
-                motion[2, 3] = float(q)
-            pose = pose @ g.pre @ motion @ g.post
+        pose = numeric_pose(self.leg, joints)
+        values = [(np.cos(float(link.theta + q)), np.sin(float(link.theta + q))) if link.is_revolute else float(q)
+                  for link, q in zip(self.leg.links, joints)]
         for branches in itertools.product((1, -1), repeat=3):
             with np.errstate(invalid="ignore"):
                 found = numeric.solve(pose[:3, :3].tolist(), pose[:3, 3].tolist(), branches, np.sqrt)

@@ -103,3 +103,22 @@ def joint_motion(link: Link, q: sp.Expr, cos_sin: tuple[sp.Expr, sp.Expr] | None
         c, s = cos_sin if cos_sin is not None else (sp.cos(link.theta + q), sp.sin(link.theta + q))
         return rot_z_cs(c, s)
     return trans(z=q)
+
+
+def numeric_pose(robot, values):
+    """The pose (4x4 numpy array) of the robot's last link frame in its frame 0 (its ``base``
+    placement not included) at joint variables ``values`` (numbers; revolute offsets theta are
+    added): for checks on numeric models, where no derivation is wanted."""
+    import numpy as np
+    pose = np.eye(4)
+    for link, value in zip(robot.links, values):
+        geometry = joint_geometry(link, robot.convention)
+        motion = np.eye(4)
+        if link.is_revolute:
+            angle = float(link.theta + value)
+            motion[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
+        else:
+            motion[2, 3] = float(value)
+        pose = pose @ np.array(geometry.pre, dtype=float) @ motion @ np.array(geometry.post, dtype=float)
+    return pose
+

@@ -25,7 +25,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import describe, one_line
-from .geometry import joint_geometry
+from .geometry import numeric_pose
 from .inputs import decode_text, load_yaml, read_input
 from .robot import DEFAULT_GRAVITY, MAX_NAME, ROBOT_NAME_PATTERN, Placement, Robot, _Reader
 
@@ -224,7 +224,9 @@ class _ParallelReader(_Reader):
                      *leg.attachment.expressions()]
             if any(sp.sympify(e).free_symbols for e in exprs):
                 return  # runtime parameters: checked when they get values
-            poses.append(_leg_pose(leg) @ np.linalg.inv(np.array(leg.attachment.matrix(), dtype=float)))
+            base = np.array(leg.chain.base_matrix(), dtype=float)
+            poses.append(base @ numeric_pose(leg.chain, leg.home)
+                         @ np.linalg.inv(np.array(leg.attachment.matrix(), dtype=float)))
         for k, pose in enumerate(poses[1:], start=1):
             offset = float(np.abs(pose[:3, 3] - poses[0][:3, 3]).max())
             turn = float(np.abs(pose[:3, :3] - poses[0][:3, :3]).max())
@@ -232,21 +234,6 @@ class _ParallelReader(_Reader):
                 self.fail(f"the legs' home configurations do not hold the platform at one pose: this leg "
                           f"puts the platform frame {offset:.3g} m and {np.degrees(turn):.3g} deg away from where "
                           f"leg 1 puts it", f"leg {k + 1} ('{legs[k].name}')", "home")
-
-
-def _leg_pose(leg: Leg) -> np.ndarray:
-    """The pose (4x4, world) of the leg's frame 6 at its home configuration (numbers only)."""
-    pose = np.array(leg.chain.base_matrix(), dtype=float).reshape(4, 4)
-    for link, value in zip(leg.chain.links, leg.home):
-        geometry = joint_geometry(link, leg.chain.convention)
-        motion = np.eye(4)
-        if link.is_revolute:
-            angle = float(link.theta + value)
-            motion[:2, :2] = [[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]]
-        else:
-            motion[2, 3] = float(value)
-        pose = pose @ np.array(geometry.pre, dtype=float) @ motion @ np.array(geometry.post, dtype=float)
-    return pose
 
 
 def is_parallel_document(doc: Any) -> bool:
