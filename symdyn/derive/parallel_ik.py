@@ -74,16 +74,20 @@ def _rz(c, s):
     return [[c, -s, 0], [s, c, 0], [0, 0, 1]]
 
 
-def _rotation_to(omega, p, q):
+def _keep(hint, value):
+    return value
+
+
+def _rotation_to(omega, p, q, name=_keep):
     """``(cos, sin)`` of the rotation about the unit axis ``omega`` taking p to q (Paden-Kahan
     subproblem 1; p and q have the same component along omega and the same length)."""
-    pp = _sub(p, _scale(_dot(omega, p), omega))
+    pp = [name("pp", x) for x in _sub(p, _scale(_dot(omega, p), omega))]
     qq = _sub(q, _scale(_dot(omega, q), omega))
-    n2 = _dot(pp, pp)
-    return _dot(pp, qq) / n2, _dot(omega, _cross(pp, qq)) / n2
+    n2 = name("den", _dot(pp, pp))
+    return name("c", _dot(pp, qq) / n2), name("s", _dot(omega, _cross(pp, qq)) / n2)
 
 
-def _two_rotations(omega1, omega2, p, q, sign, sqrt):
+def _two_rotations(omega1, omega2, p, q, sign, sqrt, name=_keep):
     """``((cos1, sin1), (cos2, sin2))`` with ``Rot(omega1, t1) Rot(omega2, t2) p = q`` (Paden-Kahan
     subproblem 2; unit axes through the origin, not parallel); ``sign`` picks the solution."""
     w12 = _dot(omega1, omega2)
@@ -91,9 +95,11 @@ def _two_rotations(omega1, omega2, p, q, sign, sqrt):
     alpha = (w12 * _dot(omega2, p) - _dot(omega1, q)) / denom
     beta = (w12 * _dot(omega1, q) - _dot(omega2, p)) / denom
     normal = _cross(omega1, omega2)
-    gamma2 = (_dot(p, p) - alpha * alpha - beta * beta - 2 * alpha * beta * w12) / _dot(normal, normal)
-    z = _add(_add(_scale(alpha, omega1), _scale(beta, omega2)), _scale(sign * sqrt(gamma2), normal))
-    return _rotation_to(omega1, z, q), _rotation_to(omega2, p, z)
+    alpha, beta = name("alpha", alpha), name("beta", beta)
+    gamma2 = name("rad", (_dot(p, p) - alpha * alpha - beta * beta - 2 * alpha * beta * w12) / _dot(normal, normal))
+    z = [name("z", x) for x in _add(_add(_scale(alpha, omega1), _scale(beta, omega2)),
+                                     _scale(sign * sqrt(gamma2), normal))]
+    return _rotation_to(omega1, z, q, name), _rotation_to(omega2, p, z, name)
 
 
 def _rot(m):
@@ -191,15 +197,21 @@ class LegIK:
         raise LegStructureError(f"{self.leg.name}: no branch of the closed form gives back the configuration "
                                 f"{list(joints)} (a singular configuration?)")
 
-    def solve(self, rotation, position, branches=(1, 1, 1), sqrt=sp.sqrt):
+    def solve(self, rotation, position, branches=(1, 1, 1), sqrt=sp.sqrt, name=_keep):
         """Joint values for frame 6 at ``rotation`` (3x3 nested lists) and ``position`` (3) in
         frame 0: six entries, ``(cos, sin)`` of ``theta_i + q_i`` for a revolute joint and the value
-        of a prismatic one (numbers or expressions, as the inputs are)."""
+        of a prismatic one (numbers or expressions, as the inputs are).
+
+        ``name(hint, value) -> value`` sees each intermediate quantity as it is computed (default:
+        returned as is); a derivation names them (intermediate symbols), and every radicand
+        (hint ``"rad"``: it must not be negative) and denominator (hint ``"den"``: it must be
+        positive, a sum of squares) passes through it, so callers can check them."""
         g = self.geometry
         R06, p06 = rotation, position
         u = _add(p06, _matvec(R06, list(self.u_in_6)))
-        e = _sub(u, list(self.centre_s))
-        e2 = _dot(e, e)
+        u = [name("u", x) for x in u]
+        e = [name("e", x) for x in _sub(u, list(self.centre_s))]
+        e2 = name("e2", _dot(e, e))
         c4_local = list(self.u_in_4)
         pre4, post4 = g[3].pre, g[3].post
         w = _add(_matvec(_rot(post4), c4_local), _vec(post4))  # U centre in joint 4's moved frame
@@ -209,39 +221,41 @@ class LegIK:
             A = gap[0] * w[0] + gap[1] * w[1]
             B = gap[1] * w[0] - gap[0] * w[1]
             K = (e2 - _dot(w, w) - _dot(gap, gap)) / 2 - gap[2] * w[2]
-            r2 = A * A + B * B
-            root = branches[0] * sqrt(r2 - K * K)
-            joint4 = ((A * K - B * root) / r2, (B * K + A * root) / r2)
+            A, B, K = name("A", A), name("B", B), name("K", K)
+            r2 = name("den", A * A + B * B)
+            root = branches[0] * sqrt(name("rad", r2 - K * K))
+            joint4 = (name("c", (A * K - B * root) / r2), name("s", (B * K + A * root) / r2))
             motion4 = _rz(*joint4)
             moved = _matvec(motion4, w)
         else:
             a = _sub(_add(_matvec(_rot(pre4), w), _vec(pre4)), s3)
             b = [pre4[r, 2] for r in range(3)]
-            ab = _dot(a, b)
-            joint4 = -ab + branches[0] * sqrt(ab * ab - _dot(a, a) + e2)
+            ab = name("ab", _dot(a, b))
+            joint4 = name("d", -ab + branches[0] * sqrt(name("rad", ab * ab - _dot(a, a) + e2)))
             motion4 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
             moved = _add(w, [0, 0, joint4])
-        d = _sub(_add(_matvec(_rot(pre4), moved), _vec(pre4)), s3)  # leg vector in frame 3
-        R34 = _matmul(_matmul(_rot(pre4), motion4), _rot(post4))
+        d = [name("leg", x) for x in _sub(_add(_matvec(_rot(pre4), moved), _vec(pre4)), s3)]  # in frame 3
+        R34 = [[name("R34", x) for x in row] for row in _matmul(_matmul(_rot(pre4), motion4), _rot(post4))]
         # universal joint: R46 y = x, R46 = A5 Rz(q5) B56 Rz(q6) C6
-        x = _matvec(_transpose(R34), d)
-        y = _matvec(_transpose(R06), e)
+        x = [name("x", v) for v in _matvec(_transpose(R34), d)]
+        y = [name("y", v) for v in _matvec(_transpose(R06), e)]
         A5, B56, C6 = _rot(g[4].pre), _matmul(_rot(g[4].post), _rot(g[5].pre)), _rot(g[5].post)
         p_vec = _matvec(B56, _matvec(C6, y))
         q_vec = _matvec(_transpose(A5), x)
         omega2 = [B56[r][2] for r in range(3)]
-        joint5, joint6 = _two_rotations([0, 0, 1], omega2, p_vec, q_vec, branches[1], sqrt)
-        R46 = _matmul(_matmul(_matmul(_matmul(A5, _rz(*joint5)), B56), _rz(*joint6)), C6)
-        R03 = _matmul(_matmul(R06, _transpose(R46)), _transpose(R34))
+        joint5, joint6 = _two_rotations([0, 0, 1], omega2, p_vec, q_vec, branches[1], sqrt, name)
+        R46 = [[name("R46", v) for v in row]
+               for row in _matmul(_matmul(_matmul(_matmul(A5, _rz(*joint5)), B56), _rz(*joint6)), C6)]
+        R03 = [[name("R03", v) for v in row] for row in _matmul(_matmul(R06, _transpose(R46)), _transpose(R34))]
         # spherical pair: R03 = A1 Rz(q1) B12 Rz(q2) B23 Rz(q3) C3
         A1, B12 = _rot(g[0].pre), _matmul(_rot(g[0].post), _rot(g[1].pre))
         B23, C3 = _matmul(_rot(g[1].post), _rot(g[2].pre)), _rot(g[2].post)
-        G = _matmul(_matmul(_transpose(A1), R03), _transpose(C3))
+        G = [[name("G", v) for v in row] for row in _matmul(_matmul(_transpose(A1), R03), _transpose(C3))]
         axis2 = [B12[r][2] for r in range(3)]
         start = _matvec(B12, [B23[r][2] for r in range(3)])
         goal = [G[r][2] for r in range(3)]
-        joint1, joint2 = _two_rotations([0, 0, 1], axis2, start, goal, branches[2], sqrt)
+        joint1, joint2 = _two_rotations([0, 0, 1], axis2, start, goal, branches[2], sqrt, name)
         rest = _matmul(_matmul(_matmul(_matmul(_transpose(B23), _transpose(_rz(*joint2))), _transpose(B12)),
                                _transpose(_rz(*joint1))), G)
-        joint3 = (rest[0][0], rest[1][0])
+        joint3 = (name("c", rest[0][0]), name("s", rest[1][0]))
         return [joint1, joint2, joint3, joint4, joint5, joint6]

@@ -108,6 +108,8 @@ class _Converter:
         func = _UNARY.get(type(e))
         if func is not None:
             return func(self(e.args[0]))
+        if isinstance(e, sp.atan2):
+            return ca.atan2(self(e.args[0]), self(e.args[1]))
         raise SymdynError(f"no CasADi form for {type(e).__name__} in the equations")
 
 

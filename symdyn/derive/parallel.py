@@ -1,0 +1,453 @@
+"""Platform robots: the dynamics of seed 002 (natural orthogonal complement) as programs of
+straight-line statements and 6x6 linear solves.
+
+The platform's closed loops make some quantities the solutions of linear systems whose
+symbolic inverse would be enormous (each leg's Jacobian J_J, the map K from the platform's
+twist to the actuated joint rates, the platform's generalized inertia).  So a function here is
+a sequence of steps (:data:`Step`): blocks of assignments to intermediate symbols (built as the
+serial derivations build theirs, :mod:`symdyn.derive.program`), LU factorizations of 6x6
+matrices, solves with them, and run-time requirements (a radicand not negative, a denominator
+positive).  Emitters print the blocks and call a numeric LU for the rest; each factorization
+and requirement has the status code a function returns when it fails (:data:`STATUS`).
+
+State (every function): the platform pose ``pose`` = ``[p; quat]`` (7): the position ``p`` of
+the platform frame P's origin (m, world frame W) and P's orientation as a quaternion
+``(x, y, z, w)`` (Pinocchio's free-flyer order; any nonzero quaternion, it is normalized);
+the twist ``t = [omega; c_dot]`` (6: rad/s and m/s, W axes): the platform's angular velocity and
+the velocity of its mass centre C_M, as in the seed; ``t_dot = [omega_dot; c_ddot]`` its
+(classical) time derivative.  ``q`` are the six actuated joint variables, leg by leg.
+
+Per leg J (actuated joint k, frame 6 fixed to the platform at U_J, r_J = U_J - C_M):
+
+- ``theta_J``: closed-form inverse kinematics (:mod:`symdyn.derive.parallel_ik`), branch of the
+  file's home configuration;
+- ``J_J theta_dot_J = S_J t`` with ``S_J = [[-[r_J]x, 1], [1, 0]]`` (the twist of U_J, linear
+  part first, as the serial Jacobian);
+- ``J_J theta_ddot_J = S_J t_dot + [omega x (omega x r_J); 0] - J_J-dot theta_dot_J``;
+- the rows ``e_k^T J_J^-1 S_J`` make ``K`` (``q_dot = K t``); the seed's ``T = K^-1`` and
+  ``L_J = J_J^-1 S_J T``;
+- inverse dynamics by power balance: ``K^T phi = w_M + sum_J S_J^T J_J^-T tau_J`` (tau_J the
+  leg's own inverse dynamics, gravity, armature and friction included; w_M the wrench the
+  platform's motion needs, at C_M);
+- forward dynamics: the same relation is ``A t_dot + b = K^T phi`` with
+  ``A = M_M + sum_J R_J^T (D_J + armature_J) R_J`` (R_J = J_J^-1 S_J) and ``b`` its value at
+  t_dot = 0;
+- the mass matrix in actuated coordinates ``M = T^T A T`` (= the seed's
+  ``T^T M_M T + sum L_J^T I_J L_J``).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Union
+
+import sympy as sp
+
+from ..model.errors import SymdynError
+from ..model.parallel import ParallelRobot
+from .parallel_ik import LegIK, LegStructureError
+from .program import ProgramBuilder
+
+#: status codes of the generated functions (0: success)
+STATUS = {"unreachable": 1, "leg_singular": 2, "singular": 3}
+STATUS_DOC = {
+    "unreachable": "the pose is out of a leg's reach (its closed-form inverse kinematics has no real "
+                   "solution), or the quaternion is zero",
+    "leg_singular": "a leg's Jacobian J_J is singular at the pose (a serial singularity of the leg)",
+    "singular": "the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) "
+                "is singular, or, in forward dynamics, the platform's generalized inertia is",
+}
+
+#: the generated functions: name -> (inputs, outputs (name, rows, cols), summary)
+FUNCTIONS = {
+    "inverse_dynamics": (("pose", "twist", "twist_rate"), (("phi", 6, 1),),
+                         "Actuator forces phi (N or N m, leg by leg) that give the platform the twist rate "
+                         "t_dot at state (pose, t): inverse dynamics."),
+    "forward_dynamics": (("pose", "twist", "phi"), (("twist_rate", 6, 1), ("qdd", 6, 1)),
+                         "The platform's twist rate t_dot = [omega_dot; c_ddot] and the actuated joints' "
+                         "accelerations qdd under actuator forces phi at state (pose, t): forward dynamics."),
+    "mass_matrix": (("pose",), (("M", 6, 6),),
+                    "The mass matrix M (6x6, row-major) in actuated coordinates: the kinetic energy is "
+                    "qd^T M qd / 2 (the seed's M = T^T M_M T + sum_J L_J^T I_J L_J)."),
+    "twist_map": (("pose",), (("T", 6, 6),),
+                  "The seed's T (6x6, row-major): the platform's twist t = T qd for actuated joint "
+                  "rates qd (T = K^-1)."),
+    "leg_rate_maps": (("pose",), (("L", 36, 6),),
+                      "The seed's L_J for the six legs (6 blocks of 6x6, row-major, leg by leg): leg J's "
+                      "joint rates are L_J qd."),
+    "inverse_kinematics": (("pose", "twist"), (("q", 6, 1), ("qd", 6, 1)),
+                           "The actuated joints' positions q (rad or m) and rates qd at state (pose, t): "
+                           "inverse kinematics (the closed form of each leg, on the branch of the robot "
+                           "file's home configuration)."),
+}
+INPUT_SIZES = {"pose": 7, "twist": 6, "twist_rate": 6, "phi": 6}
+
+
+@dataclass(frozen=True)
+class Block:
+    """Assignments ``(symbol, expression)`` in evaluation order."""
+    assignments: tuple
+
+
+@dataclass(frozen=True)
+class Factor:
+    """LU factorization of the 6x6 ``matrix`` (entries: expressions of earlier symbols), named
+    ``name``; a (numerically) singular matrix makes the function return ``status``."""
+    name: str
+    matrix: sp.ImmutableMatrix
+    status: str
+
+
+@dataclass(frozen=True)
+class Solve:
+    """``result = A^-1 rhs`` (``A^-T rhs`` when ``transpose``) with the factorization
+    ``factor``; ``rhs`` 6 x m expressions, ``result`` 6 x m new symbols."""
+    factor: str
+    transpose: bool
+    rhs: sp.ImmutableMatrix
+    result: sp.ImmutableMatrix
+
+
+@dataclass(frozen=True)
+class Require:
+    """``value > 0`` (``strict``) or ``value >= 0`` at run time, else return ``status``."""
+    value: sp.Expr
+    strict: bool
+    status: str
+
+
+Step = Union[Block, Factor, Solve, Require]
+
+
+@dataclass(frozen=True)
+class ParallelFunction:
+    """One generated function: its inputs (name, symbols), steps and outputs (name, matrix)."""
+    name: str
+    summary: str
+    inputs: tuple
+    steps: tuple
+    outputs: tuple
+
+    @property
+    def statuses(self) -> tuple[str, ...]:
+        """The status codes this function can return (names of :data:`STATUS`), in order."""
+        found = {s.status for s in self.steps if isinstance(s, (Factor, Require))}
+        return tuple(k for k in STATUS if k in found)
+
+
+@dataclass(frozen=True)
+class ParallelEquations:
+    """The derived dynamics of a :class:`ParallelRobot` (immutable): every step of every
+    function (:attr:`steps`) and each function's outputs; :meth:`function` keeps what one needs."""
+    robot: ParallelRobot
+    inputs: tuple  # (name, tuple of symbols) for pose, twist, twist_rate, phi
+    steps: tuple
+    outputs: tuple  # (function name, ((output name, matrix), ...))
+    branches: tuple  # per leg: the closed form's branches (joint 4, universal, spherical)
+    seconds: float = 0.0
+
+    @property
+    def function_names(self) -> tuple[str, ...]:
+        return tuple(name for name, _ in self.outputs)
+
+    def function(self, name: str) -> ParallelFunction:
+        """The steps function ``name`` needs, in order (everything else removed)."""
+        if name not in FUNCTIONS:
+            raise KeyError(f"unknown function {name!r}; known: {', '.join(FUNCTIONS)}")
+        inputs, _, summary = FUNCTIONS[name]
+        outputs = dict(self.outputs)[name]
+        return ParallelFunction(name, summary, tuple((k, dict(self.inputs)[k]) for k in inputs),
+                                _needed_steps(self.steps, [e for _, m in outputs for e in m]), outputs)
+
+
+def _needed_steps(steps, results) -> tuple:
+    """Dead-code elimination over a step list: the assignments, solves and factorizations the
+    results depend on; then the requirements on what is kept."""
+    needed: set = set().union(*(sp.sympify(e).free_symbols for e in results))
+    kept: list = []
+    factors_used: set = set()
+    for step in reversed(steps):
+        if isinstance(step, Block):
+            block = []
+            for sym, rhs in reversed(step.assignments):
+                if sym in needed:
+                    block.append((sym, rhs))
+                    needed |= rhs.free_symbols
+            if block:
+                kept.append(Block(tuple(reversed(block))))
+        elif isinstance(step, Solve):
+            if needed & set(step.result):
+                kept.append(step)
+                factors_used.add(step.factor)
+                needed |= set().union(*(e.free_symbols for e in step.rhs))
+        elif isinstance(step, Factor):
+            if step.name in factors_used:
+                kept.append(step)
+                needed |= set().union(*(e.free_symbols for e in step.matrix))
+        else:
+            kept.append(step)
+    kept.reverse()
+    defined = set().union(*(set(s for s, _ in b.assignments) for b in kept if isinstance(b, Block)))
+    out = []
+    for step in kept:
+        if isinstance(step, Require):
+            if not step.value.free_symbols <= defined | needed:
+                continue
+        out.append(step)
+    # merge consecutive blocks (a removed step between them)
+    merged: list = []
+    for step in out:
+        if isinstance(step, Block) and merged and isinstance(merged[-1], Block):
+            merged[-1] = Block(merged[-1].assignments + step.assignments)
+        else:
+            merged.append(step)
+    return tuple(merged)
+
+
+class _Steps:
+    """Collects steps; assignments go to one :class:`ProgramBuilder` (hash-consed), cut into
+    blocks wherever another step comes between."""
+
+    def __init__(self):
+        self.b = ProgramBuilder("_")
+        self.steps: list = []
+        self._mark = 0
+
+    def define(self, hint, expr):
+        return self.b.define(hint, expr)
+
+    def vector(self, hint, exprs):
+        return sp.Matrix([self.define(f"{hint}{k}", e) for k, e in enumerate(exprs)])
+
+    def _flush(self):
+        assigns = self.b.build().assignments
+        if len(assigns) > self._mark:
+            self.steps.append(Block(tuple(assigns[self._mark:])))
+            self._mark = len(assigns)
+
+    def require(self, value, strict: bool, status: str, what: str):
+        value = sp.sympify(value)
+        if value.is_number:
+            ok = (value > 0) if strict else (value >= 0)
+            if not bool(ok):
+                raise SymdynError(f"{what}: the closed-form inverse kinematics is never real for this leg")
+            return
+        self._flush()
+        self.steps.append(Require(value, strict, status))
+
+    def factor(self, name, matrix, status):
+        self._flush()
+        self.steps.append(Factor(name, sp.ImmutableMatrix(matrix), status))
+
+    def solve(self, factor, rhs, hint, transpose=False) -> sp.Matrix:
+        self._flush()
+        rhs = sp.Matrix(rhs)
+        result = sp.Matrix(rhs.rows, rhs.cols, lambda i, j: sp.Symbol(f"{hint}_{i}{j}" if rhs.cols > 1
+                                                                       else f"{hint}_{i}", real=True))
+        self.steps.append(Solve(factor, transpose, sp.ImmutableMatrix(rhs), sp.ImmutableMatrix(result)))
+        return result
+
+    def build(self) -> tuple:
+        self._flush()
+        return tuple(self.steps)
+
+
+def _cross(a, b):
+    return sp.Matrix([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
+def _skew(v):
+    return sp.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+
+
+class _LegImport:
+    """Brings a leg's serial equations into the platform's steps, with its joint functions
+    replaced: the sin/cos symbols and prismatic variables by the inverse kinematics, qd and qdd
+    by given expressions.  ``mapping`` (old symbol -> new expression) is shared by the imports
+    that see the same joint values."""
+
+    def __init__(self, steps: _Steps, eqs, tag: str, mapping: dict):
+        self.steps, self.eqs, self.tag, self.mapping = steps, eqs, tag, mapping
+
+    def get(self, output: str, extra: dict | None = None, suffix: str = "") -> sp.Matrix:
+        mapping = self.mapping if extra is None else {**self.mapping, **extra}
+        matrix = self.eqs.output(output)
+        for sym, rhs in self.eqs.program.needed_for(list(matrix)):
+            if sym in mapping:
+                continue
+            mapping[sym] = self.steps.define(f"{self.tag}{sym.name.lstrip('_')}{suffix}", rhs.xreplace(mapping))
+        out = sp.Matrix(matrix).applyfunc(lambda e: e.xreplace(mapping))
+        leftover = set().union(*(e.free_symbols for e in out)) & set(self.eqs.q + self.eqs.qd + self.eqs.qdd)
+        if leftover:  # a joint variable outside sin/cos: not expected of a serial derivation
+            raise SymdynError(f"{self.eqs.robot.name}: {output} uses {sorted(map(str, leftover))} directly")
+        return out
+
+
+def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> ParallelEquations:
+    """Derive the functions of :data:`FUNCTIONS` (default: all) for ``robot``.
+
+    Needs numbers for every parameter (runtime parameters of platform robots are not supported)
+    and a home configuration in the file (it picks each leg's inverse-kinematics branch).
+    """
+    import symdyn
+    start = time.perf_counter()
+    wanted = tuple(FUNCTIONS) if functions is None else tuple(functions)
+    for name in wanted:
+        if name not in FUNCTIONS:
+            raise SymdynError(f"unknown function {name!r} for a platform robot; known: {', '.join(FUNCTIONS)}")
+    where = robot.source or robot.name
+    if robot.parameters:
+        raise SymdynError(f"{where}: runtime parameters ({', '.join(s.name for s in robot.parameters)}) are not "
+                          "supported for platform robots yet: give numbers")
+    if any(leg.home is None for leg in robot.legs):
+        raise SymdynError(f"{where}: platform robots need 'home' (it picks the branch of each leg's inverse "
+                          "kinematics)")
+
+    def report(part):
+        if progress is not None:
+            progress(f"{robot.name}: {part} ({time.perf_counter() - start:.1f} s)")
+
+    inputs = {k: tuple(sp.Symbol(f"{k}[{i}]", real=True) for i in range(n)) for k, n in INPUT_SIZES.items()}
+    pose, twist, rate, phi = (sp.Matrix(inputs[k]) for k in ("pose", "twist", "twist_rate", "phi"))
+    st = _Steps()
+    # orientation: R from the quaternion (x, y, z, w), normalized
+    x, y, z, w = pose[3:7]
+    norm2 = st.define("quat_n2", x * x + y * y + z * z + w * w)
+    st.require(norm2, True, "unreachable", where)
+    s = st.define("quat_s", 2 / norm2)
+    R = sp.Matrix([[1 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)],
+                   [s * (x * y + z * w), 1 - s * (x * x + z * z), s * (y * z - x * w)],
+                   [s * (x * z - y * w), s * (y * z + x * w), 1 - s * (x * x + y * y)]])
+    R = sp.Matrix(3, 3, lambda i, j: st.define(f"R{i}{j}", R[i, j]))
+    p = pose[:3, 0]
+    omega, c_dot = twist[:3, 0], twist[3:, 0]
+    omega_dot, c_ddot = rate[:3, 0], rate[3:, 0]
+    plat = robot.platform
+    com = sp.Matrix(plat.com)
+    gravity = sp.Matrix(robot.gravity)
+
+    # the platform's own wrench at C_M, [moment; force]: M_M t_dot + bias
+    inertia = R * sp.Matrix(plat.inertia_matrix) * R.T
+    inertia = sp.Matrix(3, 3, lambda i, j: st.define(f"plat_I{min(i, j)}{max(i, j)}", sp.expand(inertia[i, j])))
+    i_omega = st.vector("plat_Iw", inertia * omega)
+    bias_moment = st.vector("plat_gyro", _cross(omega, i_omega))
+    weight = -plat.mass * gravity
+
+    legs = []
+    branches = []
+    for k, leg in enumerate(robot.legs):
+        tag = f"leg{k + 1}_"
+        report(f"leg {k + 1}: serial equations")
+        eqs = symdyn.derive(leg.chain, outputs=["jacobian", "jacobian_dot_qd", "inverse_dynamics", "mass_matrix"])
+        try:
+            ik = LegIK.of(leg.chain)
+            branch = ik.branches_of(leg.home)
+        except LegStructureError as err:
+            raise SymdynError(f"{where}: leg {leg.name}: {err}") from None
+        branches.append(branch)
+        base = sp.Matrix(leg.chain.base_matrix())
+        attach = sp.Matrix(leg.attachment.matrix())
+        rot6 = R * attach[:3, :3]
+        pos6 = p + R * attach[:3, 3]
+        rot06 = base[:3, :3].T * rot6
+        pos06 = base[:3, :3].T * (pos6 - base[:3, 3])
+        rot06 = [[st.define(f"{tag}R06_{i}{j}", sp.expand(rot06[i, j])) for j in range(3)] for i in range(3)]
+        pos06 = [st.define(f"{tag}p06_{i}", sp.expand(pos06[i])) for i in range(3)]
+
+        def name(hint, value, tag=tag, leg=leg):
+            sym = st.define(f"{tag}{hint}", value)
+            if hint in ("den", "rad"):
+                st.require(sym, hint == "den", "unreachable", f"{where}: leg {leg.name}")
+            return sym
+        joints = ik.solve(rot06, pos06, branch, sp.sqrt, name)
+        mapping: dict = {}
+        by_name = {sym.name: sym for sym, _ in eqs.program.assignments}
+        for i, (link, value) in enumerate(zip(leg.chain.links, joints)):
+            if link.is_revolute:
+                mapping[by_name[f"_c{i + 1}"]], mapping[by_name[f"_s{i + 1}"]] = value
+            else:
+                mapping[eqs.q[i]] = value
+        imp = _LegImport(st, eqs, tag, mapping)
+        report(f"leg {k + 1}: Jacobian and rates")
+        jac = imp.get("jacobian")
+        st.factor(f"{tag}J", jac, "leg_singular")
+        r = st.vector(f"{tag}r", R * (sp.Matrix(attach[:3, 3]) - com))
+        v_u = c_dot + _cross(omega, r)
+        theta_dot = st.solve(f"{tag}J", sp.Matrix.vstack(v_u, omega), f"{tag}qd")
+        mapping.update(dict(zip(eqs.qd, theta_dot)))
+        jdqd = imp.get("jacobian_dot_qd")
+        centripetal = st.vector(f"{tag}cp", _cross(omega, _cross(omega, r)))
+        # inverse dynamics: theta_ddot from t_dot, the leg's torques, S^T J^-T tau
+        acc = sp.Matrix.vstack(c_ddot + _cross(omega_dot, r) + centripetal, omega_dot) - jdqd
+        theta_ddot = st.solve(f"{tag}J", acc, f"{tag}qdd")
+        tau = imp.get("inverse_dynamics", dict(zip(eqs.qdd, theta_ddot)))
+        y_lt = st.solve(f"{tag}J", tau, f"{tag}y", transpose=True)
+        unit = sp.Matrix([1 if i == leg.actuated else 0 for i in range(6)])
+        z_lt = st.solve(f"{tag}J", unit, f"{tag}z", transpose=True)
+        # forward dynamics: theta_ddot at t_dot = 0, R_J = J^-1 S, the leg's D
+        offset = st.solve(f"{tag}J", sp.Matrix.vstack(centripetal, sp.zeros(3, 1)) - jdqd, f"{tag}qdd0")
+        tau0 = imp.get("inverse_dynamics", dict(zip(eqs.qdd, offset)), suffix="_0")
+        shift = sp.Matrix(sp.BlockMatrix([[-_skew(r), sp.eye(3)], [sp.eye(3), sp.zeros(3)]]))
+        rates = st.solve(f"{tag}J", shift, f"{tag}R")
+        mass = imp.get("mass_matrix") + sp.diag(*[link.armature for link in leg.chain.links])
+        legs.append(dict(tag=tag, leg=leg, r=r, y=y_lt, z=z_lt, rates=rates, mass=mass, tau0=tau0,
+                         offset=offset, theta_dot=theta_dot, joint=joints[leg.actuated], link=leg.actuated_link))
+
+    report("platform")
+    outputs = {}
+    # inverse dynamics: K^T phi = w_M + sum S^T J^-T tau
+    wrench = sp.Matrix.vstack(inertia * omega_dot + bias_moment, plat.mass * c_ddot + weight)
+    K_rows = []
+    for lg in legs:
+        y_f, y_m, z_f, z_m = lg["y"][:3, 0], lg["y"][3:, 0], lg["z"][:3, 0], lg["z"][3:, 0]
+        wrench += sp.Matrix.vstack(_cross(lg["r"], y_f) + y_m, y_f)
+        K_rows.append(list(_cross(lg["r"], z_f) + z_m) + list(z_f))
+    wrench = st.vector("wrench", wrench)
+    K = sp.Matrix(6, 6, lambda i, j: st.define(f"K{i}{j}", K_rows[i][j]))
+    st.factor("K", K, "singular")
+    phi_out = st.solve("K", wrench, "phi", transpose=True)
+    outputs["inverse_dynamics"] = (("phi", sp.ImmutableMatrix(phi_out)),)
+
+    # forward dynamics: A t_dot = K^T phi - b
+    platform_mass = sp.diag(inertia, plat.mass * sp.eye(3))
+    A = sp.Matrix(platform_mass)
+    b = sp.Matrix.vstack(bias_moment, weight)
+    KR = []
+    for lg in legs:
+        Rj = lg["rates"]
+        DR = sp.Matrix(6, 6, lambda i, j: st.define(f"{lg['tag']}DR{i}{j}", (lg["mass"][i, :] * Rj[:, j])[0]))
+        A += sp.Matrix(6, 6, lambda i, j: (Rj[:, i].T * DR[:, j])[0] if i <= j else 0)
+        b += Rj.T * lg["tau0"]
+        KR.append(list(Rj[lg["leg"].actuated, :]))
+    A = sp.Matrix(6, 6, lambda i, j: st.define(f"A{min(i, j)}{max(i, j)}", A[min(i, j), max(i, j)]))
+    KR = sp.Matrix(6, 6, lambda i, j: KR[i][j])
+    rhs = st.vector("fd_rhs", KR.T * phi - b)
+    st.factor("A", A, "singular")
+    t_dot = st.solve("A", rhs, "tdot")
+    qdd = sp.Matrix([(KR[k, :] * t_dot)[0] + lg["offset"][lg["leg"].actuated] for k, lg in enumerate(legs)])
+    outputs["forward_dynamics"] = (("twist_rate", sp.ImmutableMatrix(t_dot)), ("qdd", sp.ImmutableMatrix(qdd)))
+
+    # T = K^-1 (K from the rows of R_J), M = T^T A T, L_J = R_J T
+    st.factor("KR", KR, "singular")
+    T = st.solve("KR", sp.eye(6), "T")
+    AT = sp.Matrix(6, 6, lambda i, j: st.define(f"AT{i}{j}", (A[i, :] * T[:, j])[0]))
+    M = sp.Matrix(6, 6, lambda i, j: (T[:, min(i, j)].T * AT[:, max(i, j)])[0])
+    outputs["mass_matrix"] = (("M", sp.ImmutableMatrix(M)),)
+    outputs["twist_map"] = (("T", sp.ImmutableMatrix(T)),)
+    outputs["leg_rate_maps"] = (("L", sp.ImmutableMatrix(sp.Matrix.vstack(*[lg["rates"] * T for lg in legs]))),)
+
+    # inverse kinematics
+    positions = []
+    for lg in legs:
+        if lg["link"].is_revolute:
+            c, s_ = lg["joint"]
+            positions.append(sp.atan2(s_, c) - lg["link"].theta)
+        else:
+            positions.append(lg["joint"])
+    rates_out = [lg["theta_dot"][lg["leg"].actuated] for lg in legs]
+    outputs["inverse_kinematics"] = (("q", sp.ImmutableMatrix(positions)), ("qd", sp.ImmutableMatrix(rates_out)))
+
+    return ParallelEquations(robot=robot, inputs=tuple((k, v) for k, v in inputs.items()), steps=st.build(),
+                             outputs=tuple((name, outputs[name]) for name in wanted), branches=tuple(branches),
+                             seconds=time.perf_counter() - start)
