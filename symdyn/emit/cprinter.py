@@ -161,6 +161,12 @@ class CPrinter(C99CodePrinter):
     def _print_cos(self, expr):
         return self._fn("cos", expr)
 
+    def _print_atan2(self, expr):
+        if self.vector_prefix:
+            raise VectorUnsupported("atan2")
+        suffix = "f" if self.precision == "float" else ""
+        return f"atan2{suffix}({self._print(expr.args[0])}, {self._print(expr.args[1])})"
+
     def _print_Pow(self, expr):
         base, exp = expr.args
         if exp.is_Integer:

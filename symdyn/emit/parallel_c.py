@@ -1,0 +1,184 @@
+"""C99 source and header of a platform robot's functions (:mod:`symdyn.derive.parallel`).
+
+Each function is the steps of its program laid out in order: a block of assignments becomes
+``const`` locals (common subexpressions named, constants folded), a requirement an early
+``return`` of its status, a factorization a call of the 6x6 LU with partial pivoting in the
+source (``NAME_lu6``: status when a pivot is not above ``NAME_PIVOT_RTOL`` times the matrix's
+largest entry), a solve a call of the LU's forward and back substitution.  Outputs are written
+last, so a nonzero status leaves them untouched (and no NaN is ever written by a check that
+fails).  No derivation happens here.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from .. import __version__
+from ..derive.parallel import (FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block, Factor, ParallelEquations,
+                               Require, Solve)
+from .cgen import CFunction, _merge_cse, scalar_type
+from .cprinter import CPrinter, count_operations
+from .emission import comment_text, factor_coefficients, fold_constants, source_label, template_environment
+
+#: a factorization reports a singular matrix where a pivot is at most this times its largest entry
+PIVOT_RTOL = {"double": 1e-12, "float": 1e-6}
+
+INPUT_DOCS = {
+    "pose": "platform pose: position of the platform frame P's origin (m, world frame), then P's "
+            "orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized",
+    "twist": "platform twist t = [omega; c_dot]: angular velocity (rad/s) and velocity of the "
+             "platform's mass centre (m/s), world axes",
+    "twist_rate": "t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)",
+    "phi": "actuator forces (N) or torques (N m), leg by leg",
+}
+OUTPUT_DOCS = {
+    "phi": "actuator forces (N) or torques (N m), leg by leg",
+    "twist_rate": "t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)",
+    "qdd": "actuated joint accelerations (rad/s^2 or m/s^2), leg by leg",
+    "M": "mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)",
+    "T": "the seed's T, 6x6 row-major: t = T qd",
+    "L": "the seed's L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)",
+    "q": "actuated joint positions (rad or m), leg by leg",
+    "qd": "actuated joint rates (rad/s or m/s), leg by leg",
+}
+#: operations of the LU helpers (6x6): factorization, and one solve (either side) per column
+LU_OPS = Counter(mul=70, add=55, div=6)
+SOLVE_OPS = Counter(mul=36, add=30)
+
+
+@dataclass
+class _Body:
+    lines: list = field(default_factory=list)
+    ops: Counter = field(default_factory=Counter)
+
+
+def _c_name(sym: sp.Symbol) -> str:
+    return sym.name.lstrip("_")
+
+
+def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: str) -> CFunction:
+    function = eqs.function(name)
+    real = f"{prefix}_real"
+    names: dict = {}
+    for group, syms in function.inputs:
+        for k, s in enumerate(syms):
+            names[s] = f"{group}[{k}]"
+    printer = CPrinter(names, precision)
+    body = _Body()
+    factors: dict[str, str] = {}
+    cse_count = [0]
+
+    def block(assignments, outputs=()):
+        """Lines of a block (and of the output stores, CSE'd with it)."""
+        folded = [(s, fold_constants(r)) for s, r in assignments]
+        outs = [(target, fold_constants(sp.sympify(e))) for target, e in outputs]
+        symbols = sp.numbered_symbols("cse", real=True, start=cse_count[0])
+        replacements, reduced = sp.cse([r for _, r in folded] + [e for _, e in outs], symbols=symbols, order="none")
+        cse_count[0] += len(replacements)
+        statements = _merge_cse([(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])], replacements)
+        for sym, rhs in statements:
+            names[sym] = _c_name(sym)
+            rhs = factor_coefficients(rhs)
+            body.ops += count_operations(rhs)
+            body.lines.append(f"const {real} {names[sym]} = {printer.doprint(rhs)};")
+        for (target, _), e in zip(outs, reduced[len(folded):]):
+            e = factor_coefficients(sp.sympify(e))
+            body.ops += count_operations(e)
+            body.lines.append(f"{target} = {printer.doprint(e)};")
+
+    for step in function.steps:
+        if isinstance(step, Block):
+            block(step.assignments)
+        elif isinstance(step, Require):
+            test = ">" if step.strict else ">="
+            body.lines.append(f"if (!({printer.doprint(step.value)} {test} 0)) return {prefix.upper()}_"
+                              f"{step.status.upper()};")
+        elif isinstance(step, Factor):
+            lu = f"lu_{step.name}"
+            factors[step.name] = lu
+            entries = ", ".join(printer.doprint(fold_constants(sp.sympify(e))) for e in step.matrix)
+            body.lines.append(f"{real} {lu}[36] = {{{entries}}};")
+            body.lines.append(f"int {lu}_piv[6];")
+            body.lines.append(f"if ({prefix}_lu6({lu}, {lu}_piv)) return {prefix.upper()}_{step.status.upper()};")
+            body.ops += LU_OPS
+        else:  # Solve
+            assert isinstance(step, Solve)
+            lu = factors[step.factor]
+            rows, cols = step.rhs.shape
+            array = f"sol_{_c_name(step.result[0, 0]).rsplit('_', 1)[0]}"
+            entries = ", ".join(printer.doprint(fold_constants(sp.sympify(step.rhs[i, j])))
+                                for j in range(cols) for i in range(rows))
+            body.lines.append(f"{real} {array}[{rows * cols}] = {{{entries}}};")
+            helper = f"{prefix}_lu6_solve{'_t' if step.transpose else ''}"
+            if cols == 1:
+                body.lines.append(f"{helper}({lu}, {lu}_piv, {array});")
+            else:
+                body.lines.append(f"for (int col = 0; col < {cols}; ++col) {helper}({lu}, {lu}_piv, {array} + 6*col);")
+            for i in range(rows):
+                for j in range(cols):
+                    names[step.result[i, j]] = f"{array}[{6 * j + i}]"
+            body.ops += Counter({k: v * cols for k, v in SOLVE_OPS.items()})
+    stores = []
+    for arg, matrix in function.outputs:
+        for i in range(matrix.rows):
+            for j in range(matrix.cols):
+                stores.append((f"{arg}[{i * matrix.cols + j}]", matrix[i, j]))
+    block([], stores)
+    body.lines.append("return 0;")
+    args = [(f"const {real} ", f"{group}[{INPUT_SIZES[group]}]", INPUT_DOCS[group], False)
+            for group, _ in function.inputs]
+    args += [(f"{real} ", f"{arg}[{m.rows * m.cols}]", OUTPUT_DOCS[arg], True) for arg, m in function.outputs]
+    statuses = function.statuses
+    returns_doc = "Returns 0 on success; " + "; ".join(
+        f"{prefix.upper()}_{s.upper()} ({STATUS[s]}) when {STATUS_DOC[s]}" for s in statuses) + \
+        ". On a nonzero return no output is written."
+    return CFunction(name=name, summary=function.summary, args=args, lines=body.lines, ops=body.ops,
+                     returns="int", returns_doc=returns_doc)
+
+
+def generate_parallel_c(eqs: ParallelEquations, functions=None, precision: str = "double",
+                        source_name: str = "", source_hash: str = "", notes=(), progress=None) -> dict[str, str]:
+    """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` for a platform robot (``precision``
+    ``double`` or ``float``).  Returns ``{file name: text}``."""
+    robot = eqs.robot
+    prefix = robot.name
+    wanted = [f for f in FUNCTIONS if f in (functions or eqs.function_names)]
+    built = []
+    for f in wanted:
+        if progress is not None:
+            progress(f"{prefix}: C for {f}")
+        built.append(_emit_function(eqs, f, precision, prefix))
+    plat = robot.platform
+    legs = []
+    for leg, branch in zip(robot.legs, eqs.branches):
+        link = leg.actuated_link
+        legs.append(f"{leg.name}: actuated joint {leg.actuated + 1} ({link.name}, "
+                    f"{'revolute' if link.is_revolute else 'prismatic'}); inverse-kinematics branches "
+                    f"(joint 4, universal, spherical) {tuple(branch)}")
+    context = {
+        "prefix": prefix,
+        "upper": prefix.upper(),
+        "guard": f"{prefix.upper()}_DYNAMICS_H",
+        "version": __version__,
+        "source_name": source_label(source_name or robot.source),
+        "source_hash": source_hash or robot.source_hash,
+        "precision": precision,
+        "real": scalar_type(precision),
+        "float": precision == "float",
+        "rtol": CPrinter({}, precision).literal(PIVOT_RTOL[precision]),
+        "rtol_text": repr(PIVOT_RTOL[precision]),
+        "statuses": [(k.upper(), v, STATUS_DOC[k]) for k, v in STATUS.items()],
+        "legs": legs,
+        "constants": [f"platform mass {float(plat.mass)!r} kg, centre of mass {[float(c) for c in plat.com]} m "
+                      f"(platform frame), inertia about it (xx, yy, zz, xy, xz, yz) "
+                      f"{[float(c) for c in plat.inertia]} kg m^2",
+                      f"gravity {[float(g) for g in robot.gravity]} m/s^2 (world frame)"],
+        "functions": built,
+        "notes": [comment_text(note) for note in notes],
+    }
+    env = template_environment()
+    return {f"{prefix}_dynamics.h": env.get_template("parallel.h.j2").render(**context),
+            f"{prefix}_dynamics.c": env.get_template("parallel.c.j2").render(**context)}
