@@ -15,7 +15,7 @@ from symdyn.model import parallel
 
 pin = pytest.importorskip("pinocchio")
 
-from test_parallel_dynamics import PLATFORMS, _states  # noqa: E402
+from closed_loop import PLATFORMS, states as _states  # noqa: E402
 
 
 def _target(leg, p, R):

@@ -103,11 +103,17 @@ def test_a_massless_platform_is_computed_with_a_warning(tmp_path):
 
 
 def test_serial_commands_refuse_a_parallel_file_in_one_line(tmp_path, capsys):
+    """verify and bench refuse a platform file; generate refuses what it cannot do for one (here
+    runtime parameters); each in one line, and nothing is written."""
     path = tmp_path / "plat.yaml"
     path.write_text(yaml.safe_dump(DOC))
+    for command in (["verify", str(path)], ["bench", str(path)]):
+        assert main(command) != 0
+        err = capsys.readouterr().err.strip()
+        assert "kind: parallel" in err and "Traceback" not in err and len(err.splitlines()) == 1, err
     assert main(["generate", str(path), "--out", str(tmp_path / "out")]) != 0
     err = capsys.readouterr().err.strip()
-    assert "kind: parallel" in err and "Traceback" not in err and len(err.splitlines()) == 1
+    assert "runtime parameters" in err and len(err.splitlines()) == 1, err
     assert not (tmp_path / "out").exists()
 
 

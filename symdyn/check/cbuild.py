@@ -138,3 +138,49 @@ def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, 
 
 
 __all__ = ["compile_shared", "build_and_load", "CompiledDynamics", "find_compiler"]
+
+
+class CompiledPlatform:
+    """ctypes access to a compiled platform robot (:mod:`symdyn.emit.parallel_c`): one method per
+    generated function, numpy arrays in, ``(status, outputs...)`` out (outputs as numpy arrays;
+    zeros when the status is nonzero)."""
+
+    def __init__(self, library: str, prefix: str, precision: str = "double"):
+        from ..derive.parallel import FUNCTIONS, INPUT_SIZES
+        self.lib = ctypes.CDLL(library)
+        self.prefix = prefix
+        self.ctype = ctypes.c_float if precision == "float" else ctypes.c_double
+        self.dtype = np.float32 if precision == "float" else np.float64
+        self._sizes = INPUT_SIZES
+        self._functions = FUNCTIONS
+
+    def __getattr__(self, name):
+        if name.startswith("_") or name not in self._functions:
+            raise AttributeError(name)
+        inputs, outputs, _ = self._functions[name]
+        fn = getattr(self.lib, f"{self.prefix}_{name}")
+        fn.restype = ctypes.c_int
+
+        def call(*args):
+            if len(args) != len(inputs):
+                raise TypeError(f"{name} takes {', '.join(inputs)}")
+            arrays = [np.ascontiguousarray(np.asarray(a, dtype=self.dtype).reshape(self._sizes[k]))
+                      for k, a in zip(inputs, args)]
+            outs = [np.zeros(rows * cols, dtype=self.dtype) for _, rows, cols in outputs]
+            pointer = ctypes.POINTER(self.ctype)
+            status = fn(*[a.ctypes.data_as(pointer) for a in arrays], *[o.ctypes.data_as(pointer) for o in outs])
+            shaped = [o.reshape(rows, cols) if cols > 1 else o for o, (_, rows, cols) in zip(outs, outputs)]
+            return (status, *shaped)
+        return call
+
+
+def build_platform(files: dict[str, str], prefix: str, precision: str = "double", workdir: str | None = None,
+                   extra_flags=()) -> CompiledPlatform:
+    """Write a platform robot's generated files to ``workdir`` (default: a new temporary
+    directory), compile them (strict warnings as errors) and load the library."""
+    workdir = workdir or tempfile.mkdtemp(prefix="symdyn-platform-")
+    for name, text in files.items():
+        with open(os.path.join(workdir, name), "w", encoding="utf-8") as handle:
+            handle.write(text)
+    library = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir, extra_flags)
+    return CompiledPlatform(library, prefix, precision)

@@ -69,11 +69,12 @@ def add_size_options(parser) -> None:
                              f"{DEFAULT_MAX_JOINTS}; 20 joints take about a minute, 30 about two)")
 
 
-def load_robot(path, args):
-    """``(robot, scene or None)`` of a robot file, URDF (with ``--tip``/``--tool``) or scene."""
+def load_robot(path, args, parallel: bool = False):
+    """``(robot, scene or None)`` of a robot file, URDF (with ``--tip``/``--tool``) or scene;
+    with ``parallel``, a platform robot file gives ``(ParallelRobot, None)``."""
     from ..model.scene import load_input
     return load_input(path, getattr(args, "tip", None), getattr(args, "tool", None),
-                      getattr(args, "exact_angles", False))
+                      getattr(args, "exact_angles", False), parallel=parallel)
 
 
 def check_size(robot, args, path) -> None:

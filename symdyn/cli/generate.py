@@ -11,6 +11,7 @@ from ..emit.cgen import PRECISION_CHOICES
 from ..model.errors import SymdynError
 from ..derive.equations import default_outputs
 from ..model.inputs import decode_text, load_yaml, read_input
+from ..model.parallel import ParallelRobot
 from ..model.scene import load_input
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
@@ -83,7 +84,10 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
     writing anything.  ``functions``/``precision`` None: the scene's, else all / double.
     ``loaded``: ``load_input(path)`` when the caller already has it; ``progress``: called with a
     short text per derivation part and emitted function."""
-    robot, scene = loaded if loaded is not None else load_input(path)
+    robot, scene = loaded if loaded is not None else load_input(path, parallel=True)
+    if isinstance(robot, ParallelRobot):
+        return parallel_files(path, robot, functions, precision, target, progress)
+    functions = parse_functions(functions) if isinstance(functions, str) else functions
     notes: tuple[str, ...] = robot.notes
     source_hash = robot.source_hash
     if scene is not None:
@@ -115,10 +119,54 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
                         source_hash=source_hash)
 
 
+def parallel_functions(text: str | None) -> tuple[str, ...] | None:
+    """The platform functions ``--functions`` names (None: all)."""
+    from ..derive.parallel import FUNCTIONS
+    if not text:
+        return None
+    names = [t.strip() for t in text.split(",") if t.strip()]
+    unknown = [n for n in names if n not in FUNCTIONS]
+    if unknown:
+        raise SymdynError(f"unknown function '{unknown[0]}' in --functions for a platform robot (known: "
+                          f"{', '.join(FUNCTIONS)})")
+    if not names:
+        raise SymdynError("--functions lists no function")
+    return tuple(n for n in FUNCTIONS if n in names)
+
+
+def parallel_files(path: str, robot: ParallelRobot, functions, precision, target: str, progress=None) -> dict[str, bytes]:
+    """Derive and emit a platform robot (symdyn.derive.parallel): C or CasADi files."""
+    from ..derive.parallel import derive_parallel
+    functions = parallel_functions(functions) if isinstance(functions, str) or functions is None else functions
+    if precision not in (None, "double", "float"):
+        raise SymdynError(f"{path}: platform robots are generated in double or float precision, not {precision}")
+    if target == "casadi-c":
+        raise SymdynError(f"{path}: --target casadi-c is not available for platform robots (use c or casadi)")
+    eqs = derive_parallel(robot, functions, progress=progress)
+    source = os.path.basename(path)
+    if target == "c":
+        from ..emit.parallel_c import generate_parallel_c
+        files = generate_parallel_c(eqs, functions, precision or "double", source_name=source,
+                                    source_hash=robot.source_hash, progress=progress)
+        return {name: text.encode("utf-8") for name, text in files.items()}
+    from ..emit.parallel_casadi import parallel_casadi_files
+    return parallel_casadi_files(eqs, functions, source_name=source, source_hash=robot.source_hash)
+
+
+def _check_parallel_options(args, path) -> None:
+    """Refuse the serial-only options for a platform robot, in one line."""
+    refused = [flag for flag, on in (("--header-only", args.header_only), ("--batch", args.batch),
+                                     ("--size-report", args.size_report),
+                                     ("--parameters base", args.parameters != "standard"),
+                                     ("--fd-method", args.fd_method is not None),
+                                     ("--method", args.method not in (None, "newton-euler"))) if on]
+    if refused:
+        raise SymdynError(f"{path}: {refused[0]} does not apply to a platform robot (kind: parallel)")
+
+
 def run(args) -> int:
     """Load every input, check the output directory, then derive and emit everything, and
     write all files of all robots in one transaction (:func:`symdyn.model.files.write_files`)."""
-    functions = parse_functions(args.functions) if args.functions else None
     if args.target != "c" and (args.precision not in (None, "double") or args.header_only):
         raise SymdynError(f"--precision and --header-only apply to the c target only, not {args.target}")
     if args.batch and args.target != "c":
@@ -130,15 +178,20 @@ def run(args) -> int:
         if not available():
             raise SymdynError(f"--size-report needs {COMPILER} (Debian/Ubuntu: apt install gcc-arm-none-eabi "
                               "libnewlib-arm-none-eabi)")
-    loaded = [load_robot(path, args) for path in args.robots]  # every file is checked before any work
+    loaded = [load_robot(path, args, parallel=True) for path in args.robots]  # every file is checked first
     for path, (robot, _) in zip(args.robots, loaded):
-        check_size(robot, args, path)
+        if isinstance(robot, ParallelRobot):
+            _check_parallel_options(args, path)
+            parallel_functions(args.functions)
+        else:
+            parse_functions(args.functions)
+            check_size(robot, args, path)
     protect = [p for path in args.robots for p in input_files(path)]
     # the directory is checked (and created) before deriving, and removed again if the run fails
     with output_directory(args.out):
         rendered = {}
         for path, inputs in zip(args.robots, loaded):
-            for name, text in generate_files(path, functions, args.precision, args.header_only,
+            for name, text in generate_files(path, args.functions, args.precision, args.header_only,
                                              args.method, not args.no_cache, args.target,
                                              loaded=inputs, progress=progress_printer(args),
                                              fd_method=args.fd_method, size_report=args.size_report,

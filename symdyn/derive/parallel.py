@@ -54,7 +54,8 @@ STATUS = {"unreachable": 1, "leg_singular": 2, "singular": 3}
 STATUS_DOC = {
     "unreachable": "the pose is out of a leg's reach (its closed-form inverse kinematics has no real "
                    "solution), or the quaternion is zero",
-    "leg_singular": "a leg's Jacobian J_J is singular at the pose (a serial singularity of the leg)",
+    "leg_singular": "a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle "
+                    "of its inverse kinematics is not defined)",
     "singular": "the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) "
                 "is singular, or, in forward dynamics, the platform's generalized inertia is",
 }
@@ -82,6 +83,9 @@ FUNCTIONS = {
                            "file's home configuration)."),
 }
 INPUT_SIZES = {"pose": 7, "twist": 6, "twist_rate": 6, "phi": 6}
+#: the relative tolerance of the singularity checks, a symbol: emitters give its value for the
+#: precision (the C functions' ``NAME_PIVOT_RTOL``)
+PIVOT_RTOL = sp.Symbol("pivot_rtol", positive=True)
 
 
 @dataclass(frozen=True)
@@ -228,10 +232,11 @@ class _Steps:
 
     def require(self, value, strict: bool, status: str, what: str):
         value = sp.sympify(value)
-        if value.is_number:
+        if not (value.free_symbols - {PIVOT_RTOL}):
+            value = value.subs(PIVOT_RTOL, 0)
             ok = (value > 0) if strict else (value >= 0)
             if not bool(ok):
-                raise SymdynError(f"{what}: the closed-form inverse kinematics is never real for this leg")
+                raise SymdynError(f"{what}: the closed-form inverse kinematics is never defined for this leg")
             return
         self._flush()
         self.steps.append(Require(value, strict, status))
@@ -355,12 +360,15 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
         rot06 = [[st.define(f"{tag}R06_{i}{j}", sp.expand(rot06[i, j])) for j in range(3)] for i in range(3)]
         pos06 = [st.define(f"{tag}p06_{i}", sp.expand(pos06[i])) for i in range(3)]
 
-        def name(hint, value, tag=tag, leg=leg):
-            sym = st.define(f"{tag}{hint}", value)
-            if hint in ("den", "rad"):
-                st.require(sym, hint == "den", "unreachable", f"{where}: leg {leg.name}")
-            return sym
-        joints = ik.solve(rot06, pos06, branch, sp.sqrt, name)
+        def name(hint, value, tag=tag):
+            return st.define(f"{tag}{hint}", value)
+
+        def check(kind, value, scale=None, leg=leg):
+            if kind == "rad":  # a negative radicand: no real solution
+                st.require(value, False, "unreachable", f"{where}: leg {leg.name}")
+            else:  # a denominator (a sum of squares) not above PIVOT_RTOL^2 of its scale: singular
+                st.require(value - PIVOT_RTOL ** 2 * scale, True, "leg_singular", f"{where}: leg {leg.name}")
+        joints = ik.solve(rot06, pos06, branch, sp.sqrt, name, check)
         mapping: dict = {}
         by_name = {sym.name: sym for sym, _ in eqs.program.assignments}
         for i, (link, value) in enumerate(zip(leg.chain.links, joints)):

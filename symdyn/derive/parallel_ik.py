@@ -78,16 +78,21 @@ def _keep(hint, value):
     return value
 
 
-def _rotation_to(omega, p, q, name=_keep):
+def _ignore(kind, value, scale=None):
+    return None
+
+
+def _rotation_to(omega, p, q, name=_keep, check=_ignore):
     """``(cos, sin)`` of the rotation about the unit axis ``omega`` taking p to q (Paden-Kahan
     subproblem 1; p and q have the same component along omega and the same length)."""
     pp = [name("pp", x) for x in _sub(p, _scale(_dot(omega, p), omega))]
     qq = _sub(q, _scale(_dot(omega, q), omega))
     n2 = name("den", _dot(pp, pp))
+    check("den", n2, _dot(p, p))  # p along the axis: the angle is not defined (a singular configuration)
     return name("c", _dot(pp, qq) / n2), name("s", _dot(omega, _cross(pp, qq)) / n2)
 
 
-def _two_rotations(omega1, omega2, p, q, sign, sqrt, name=_keep):
+def _two_rotations(omega1, omega2, p, q, sign, sqrt, name=_keep, check=_ignore):
     """``((cos1, sin1), (cos2, sin2))`` with ``Rot(omega1, t1) Rot(omega2, t2) p = q`` (Paden-Kahan
     subproblem 2; unit axes through the origin, not parallel); ``sign`` picks the solution."""
     w12 = _dot(omega1, omega2)
@@ -97,9 +102,10 @@ def _two_rotations(omega1, omega2, p, q, sign, sqrt, name=_keep):
     normal = _cross(omega1, omega2)
     alpha, beta = name("alpha", alpha), name("beta", beta)
     gamma2 = name("rad", (_dot(p, p) - alpha * alpha - beta * beta - 2 * alpha * beta * w12) / _dot(normal, normal))
+    check("rad", gamma2)
     z = [name("z", x) for x in _add(_add(_scale(alpha, omega1), _scale(beta, omega2)),
                                      _scale(sign * sqrt(gamma2), normal))]
-    return _rotation_to(omega1, z, q, name), _rotation_to(omega2, p, z, name)
+    return _rotation_to(omega1, z, q, name, check), _rotation_to(omega2, p, z, name, check)
 
 
 def _rot(m):
@@ -197,15 +203,17 @@ class LegIK:
         raise LegStructureError(f"{self.leg.name}: no branch of the closed form gives back the configuration "
                                 f"{list(joints)} (a singular configuration?)")
 
-    def solve(self, rotation, position, branches=(1, 1, 1), sqrt=sp.sqrt, name=_keep):
+    def solve(self, rotation, position, branches=(1, 1, 1), sqrt=sp.sqrt, name=_keep, check=_ignore):
         """Joint values for frame 6 at ``rotation`` (3x3 nested lists) and ``position`` (3) in
         frame 0: six entries, ``(cos, sin)`` of ``theta_i + q_i`` for a revolute joint and the value
         of a prismatic one (numbers or expressions, as the inputs are).
 
         ``name(hint, value) -> value`` sees each intermediate quantity as it is computed (default:
-        returned as is); a derivation names them (intermediate symbols), and every radicand
-        (hint ``"rad"``: it must not be negative) and denominator (hint ``"den"``: it must be
-        positive, a sum of squares) passes through it, so callers can check them."""
+        returned as is): a derivation names them (intermediate symbols).  ``check(kind, value,
+        scale)`` sees each radicand (kind ``"rad"``: negative when the pose is out of reach) and
+        each denominator (``"den"``: a sum of squares, zero at a singular configuration, where
+        the angle it gives is not defined; ``scale`` is the square of the length it is relative to)
+        before it is used."""
         g = self.geometry
         R06, p06 = rotation, position
         u = _add(p06, _matvec(R06, list(self.u_in_6)))
@@ -223,7 +231,10 @@ class LegIK:
             K = (e2 - _dot(w, w) - _dot(gap, gap)) / 2 - gap[2] * w[2]
             A, B, K = name("A", A), name("B", B), name("K", K)
             r2 = name("den", A * A + B * B)
-            root = branches[0] * sqrt(name("rad", r2 - K * K))
+            check("den", r2, (gap[0] * gap[0] + gap[1] * gap[1]) * (w[0] * w[0] + w[1] * w[1]))
+            radicand = name("rad", r2 - K * K)
+            check("rad", radicand)
+            root = branches[0] * sqrt(radicand)
             joint4 = (name("c", (A * K - B * root) / r2), name("s", (B * K + A * root) / r2))
             motion4 = _rz(*joint4)
             moved = _matvec(motion4, w)
@@ -231,7 +242,9 @@ class LegIK:
             a = _sub(_add(_matvec(_rot(pre4), w), _vec(pre4)), s3)
             b = [pre4[r, 2] for r in range(3)]
             ab = name("ab", _dot(a, b))
-            joint4 = name("d", -ab + branches[0] * sqrt(name("rad", ab * ab - _dot(a, a) + e2)))
+            radicand = name("rad", ab * ab - _dot(a, a) + e2)
+            check("rad", radicand)
+            joint4 = name("d", -ab + branches[0] * sqrt(radicand))
             motion4 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
             moved = _add(w, [0, 0, joint4])
         d = [name("leg", x) for x in _sub(_add(_matvec(_rot(pre4), moved), _vec(pre4)), s3)]  # in frame 3
@@ -243,7 +256,7 @@ class LegIK:
         p_vec = _matvec(B56, _matvec(C6, y))
         q_vec = _matvec(_transpose(A5), x)
         omega2 = [B56[r][2] for r in range(3)]
-        joint5, joint6 = _two_rotations([0, 0, 1], omega2, p_vec, q_vec, branches[1], sqrt, name)
+        joint5, joint6 = _two_rotations([0, 0, 1], omega2, p_vec, q_vec, branches[1], sqrt, name, check)
         R46 = [[name("R46", v) for v in row]
                for row in _matmul(_matmul(_matmul(_matmul(A5, _rz(*joint5)), B56), _rz(*joint6)), C6)]
         R03 = [[name("R03", v) for v in row] for row in _matmul(_matmul(R06, _transpose(R46)), _transpose(R34))]
@@ -254,7 +267,7 @@ class LegIK:
         axis2 = [B12[r][2] for r in range(3)]
         start = _matvec(B12, [B23[r][2] for r in range(3)])
         goal = [G[r][2] for r in range(3)]
-        joint1, joint2 = _two_rotations([0, 0, 1], axis2, start, goal, branches[2], sqrt, name)
+        joint1, joint2 = _two_rotations([0, 0, 1], axis2, start, goal, branches[2], sqrt, name, check)
         rest = _matmul(_matmul(_matmul(_matmul(_transpose(B23), _transpose(_rz(*joint2))), _transpose(B12)),
                                _transpose(_rz(*joint1))), G)
         joint3 = (name("c", rest[0][0]), name("s", rest[1][0]))

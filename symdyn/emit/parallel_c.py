@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .. import __version__
+from ..derive.parallel import PIVOT_RTOL as RTOL_SYMBOL
 from ..derive.parallel import (FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block, Factor, ParallelEquations,
                                Require, Solve)
 from .cgen import CFunction, _merge_cse, scalar_type
@@ -62,7 +63,7 @@ def _c_name(sym: sp.Symbol) -> str:
 def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: str) -> CFunction:
     function = eqs.function(name)
     real = f"{prefix}_real"
-    names: dict = {}
+    names: dict = {RTOL_SYMBOL: f"{prefix.upper()}_PIVOT_RTOL"}
     for group, syms in function.inputs:
         for k, s in enumerate(syms):
             names[s] = f"{group}[{k}]"

@@ -603,8 +603,8 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     if not isinstance(doc, dict):
         reader.fail("expected a mapping with format, name, convention and links")
     if doc.get("kind") == "parallel":
-        reader.fail("a parallel robot file (kind: parallel): symdyn.model.parallel.load reads it; the "
-                    "commands do not take parallel robots yet", None, "kind")
+        reader.fail("a platform robot file (kind: parallel): only 'symdyn generate' and 'symdyn derive' "
+                    "take it (symdyn.model.parallel.load reads it)", None, "kind")
     for key in doc:
         if key not in TOP_KEYS:
             reader.fail(f"unknown key {describe(key)} (allowed: {', '.join(TOP_KEYS)})", None, one_line(str(key), 40))

@@ -70,12 +70,18 @@ def read_robot_document(path: str, tip: str | None = None, tool: str | None = No
     return load_yaml(text, path), raw, ()
 
 
-def load_input(path: str, tip: str | None = None, tool: str | None = None, exact_angles: bool = False):
+def load_input(path: str, tip: str | None = None, tool: str | None = None, exact_angles: bool = False,
+               parallel: bool = False):
     """A robot file, a URDF or a scene (told apart by a top-level ``scene`` key), read once:
     returns ``(robot, scene or None)``.  ``tip``/``tool``/``exact_angles``: how to read a URDF
-    (:func:`symdyn.model.urdf.read_urdf`)."""
+    (:func:`symdyn.model.urdf.read_urdf`).  ``parallel``: a platform robot file (``kind:
+    parallel``) gives its :class:`symdyn.model.parallel.ParallelRobot` (else it is refused)."""
     path = os.fspath(path)
     doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles)
+    if parallel:
+        from .parallel import from_document as parallel_document, is_parallel_document
+        if is_parallel_document(doc):
+            return parallel_document(doc, path, hashlib.sha256(raw).hexdigest()), None
     if isinstance(doc, dict) and "scene" in doc:
         scene = _build_scene(path, raw, doc)
         return scene.robot, scene

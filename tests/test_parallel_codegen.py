@@ -1,0 +1,257 @@
+"""Platform robots: the generated C and CasADi functions (symdyn.derive.parallel,
+symdyn.emit.parallel_c, symdyn.emit.parallel_casadi) against Pinocchio's closed-loop model.
+
+Each bundled platform is generated once by the CLI (the files are also checked against
+generated/parallel/) and compiled once (strict warnings as errors).  Pinocchio's side
+(tests/closed_loop.py) takes the legs' joint values from the numeric reference's Newton
+inverse kinematics, not from the generated closed form.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+from closed_loop import (PLATFORMS, free_flyer_twist_rate, pinocchio_forward_dynamics, pinocchio_inverse_dynamics,
+                         pinocchio_state, states)
+from helpers import REPO
+from symdyn.cli import main
+from symdyn.model import parallel
+
+pin = pytest.importorskip("pinocchio")
+CC = shutil.which("gcc") or shutil.which("cc")
+pytestmark = pytest.mark.skipif(CC is None, reason="no C compiler")
+GENERATED = REPO / "generated" / "parallel"
+STATES = 50
+
+
+@pytest.fixture(scope="module")
+def regenerated(tmp_path_factory):
+    out = tmp_path_factory.mktemp("platforms")
+    paths = [str(REPO / "robots" / "parallel" / f"{name}.yaml") for name in sorted(PLATFORMS)]
+    assert main(["generate", *paths, "--out", str(out), "--quiet"]) == 0
+    return out
+
+
+@pytest.fixture(scope="module", params=sorted(PLATFORMS))
+def platform(request, regenerated):
+    from symdyn.check.cbuild import build_platform
+    from symdyn.check.parallel_reference import ParallelReference
+    from symdyn.check.pinocchio_model import build_closed_loop_model
+    from symdyn.derive.parallel import derive_parallel
+    from symdyn.emit.parallel_casadi import parallel_casadi_functions
+    name = request.param
+    robot = parallel.load(REPO / "robots" / "parallel" / f"{name}.yaml")
+    files = {f.name: f.read_text() for f in regenerated.glob(f"{name}_dynamics.*")}
+    lib = build_platform(files, name)
+    model, constraints, info = build_closed_loop_model(robot)
+    models, datas = pin.StdVec_RigidConstraintModel(), pin.StdVec_RigidConstraintData()
+    for cm in constraints:
+        models.append(cm)
+        datas.append(cm.createData())
+    casadi = parallel_casadi_functions(derive_parallel(robot))
+    return dict(robot=robot, lib=lib, casadi=casadi, ref=ParallelReference(robot), model=model,
+                data=model.createData(), models=models, datas=datas, info=info)
+
+
+def _pose(p, R):
+    return np.concatenate([p, pin.Quaternion(R).coeffs()])
+
+
+def test_generated_files_are_current(regenerated):
+    """generated/parallel/ is what the CLI writes now (regenerate with the command in docs)."""
+    for name in PLATFORMS:
+        for ext in ("h", "c"):
+            fresh = (regenerated / f"{name}_dynamics.{ext}").read_bytes()
+            assert fresh == (GENERATED / f"{name}_dynamics.{ext}").read_bytes(), \
+                f"generated/parallel/{name}_dynamics.{ext} is stale: run the command in docs/parallel-format.md"
+
+
+def test_inverse_dynamics_against_pinocchio(platform):
+    """phi of the generated C at 50 random states equals the actuator forces of Pinocchio's
+    closed-loop model (rnea of the tree and the constraint Jacobian), <= 1e-8 of the largest."""
+    P = platform
+    for p, R, twist, rate in states(P["robot"].name, STATES, seed=11):
+        status, phi = P["lib"].inverse_dynamics(_pose(p, R), twist, rate)
+        assert status == 0
+        legs = P["ref"].leg_states(p, R, twist, rate)
+        q, v, a = pinocchio_state(P["model"], P["info"], P["ref"], p, R, twist, rate, legs)
+        theirs = pinocchio_inverse_dynamics(P["model"], P["data"], P["models"], P["datas"], P["info"], q, v, a)
+        assert np.abs(phi - theirs).max() <= 1e-8 * np.abs(theirs).max(), (phi, theirs)
+
+
+def test_forward_dynamics_against_pinocchio(platform):
+    """The twist rate and actuated accelerations of the generated C under forces phi at 50
+    random states equal Pinocchio's constrained forward dynamics, <= 1e-8 (normalized by 1 +
+    the largest)."""
+    P = platform
+    ref, robot = P["ref"], P["robot"]
+    for p, R, twist, rate in states(robot.name, STATES, seed=12):
+        phi = ref.inverse_dynamics(p, R, twist, rate) * 1.1  # not the forces of that motion
+        status, ours, qdd = P["lib"].forward_dynamics(_pose(p, R), twist, phi)
+        assert status == 0
+        legs = ref.leg_states(p, R, twist)
+        q, v, _ = pinocchio_state(P["model"], P["info"], ref, p, R, twist, None,
+                                  [dataclasses.replace(leg, theta_ddot=None) for leg in legs])
+        a = pinocchio_forward_dynamics(P["model"], P["data"], P["models"], P["info"], q, v, phi)
+        theirs = free_flyer_twist_rate(R, ref.com, twist, a)
+        assert np.abs(ours - theirs).max() <= 1e-8 * (1.0 + np.abs(theirs).max()), (ours, theirs)
+        actuated = np.array([a[leg["actuated_v"]] for leg in P["info"]["legs"]])
+        assert np.abs(qdd - actuated).max() <= 1e-8 * (1.0 + np.abs(actuated).max()), (qdd, actuated)
+
+
+def test_matrices_and_kinematics(platform):
+    """M, T, L_J and the inverse kinematics of the generated C against the numeric reference
+    (Newton inverse kinematics, numpy solves), and M symmetric positive definite; the CasADi
+    functions equal the C ones."""
+    P = platform
+    ref, lib = P["ref"], P["lib"]
+    for p, R, twist, rate in states(P["robot"].name, 8, seed=13):
+        pose = _pose(p, R)
+        expected = ref.seed_matrices(p, R)
+        status, M = lib.mass_matrix(pose)
+        assert status == 0
+        assert np.abs(M - expected["M"]).max() <= 1e-10 * np.abs(expected["M"]).max()
+        assert np.array_equal(M, M.T) and np.linalg.eigvalsh(M).min() > 0
+        status, T = lib.twist_map(pose)
+        assert status == 0 and np.abs(T - expected["T"]).max() <= 1e-10 * np.abs(expected["T"]).max()
+        status, L = lib.leg_rate_maps(pose)
+        assert status == 0
+        for k in range(6):
+            assert np.abs(L[6 * k:6 * k + 6] - expected["L"][k]).max() <= 1e-10 * (1 + np.abs(expected["L"][k]).max())
+        status, q, qd = lib.inverse_kinematics(pose, twist)
+        legs = ref.leg_states(p, R, twist)
+        assert status == 0
+        assert np.allclose(q, [leg.theta[k] for leg, k in zip(legs, ref.actuated)], rtol=0, atol=1e-12)
+        assert np.allclose(qd, [leg.theta_dot[k] for leg, k in zip(legs, ref.actuated)], rtol=0, atol=1e-12)
+        for name, args in (("inverse_dynamics", (pose, twist, rate)), ("forward_dynamics", (pose, twist, rate)),
+                           ("mass_matrix", (pose,)), ("leg_rate_maps", (pose,)), ("inverse_kinematics", (pose, twist))):
+            ours = getattr(lib, name)(*args)[1:]
+            theirs = P["casadi"][name](*args)
+            theirs = theirs if isinstance(theirs, (list, tuple)) else [theirs]
+            for a, b in zip(ours, theirs):
+                b = np.array(b).reshape(np.shape(a))
+                assert np.abs(a - b).max() <= 1e-11 * (1 + np.abs(b).max()), name
+
+
+def test_power_balance_of_the_generated_forward_dynamics(platform):
+    """Simulated with the generated C (RK4 from rest at the home pose, actuator forces varying
+    about those that hold it): the work of phi equals the change of the mechanism's kinetic plus
+    potential energy (Pinocchio's, from every body) to the integration's accuracy."""
+    from test_parallel_dynamics import energy_balance
+    P = platform
+
+    def forward(p, R, twist, phi):
+        status, rate, _ = P["lib"].forward_dynamics(_pose(p, R), twist, phi)
+        assert status == 0
+        return rate
+    change, work = energy_balance(P["robot"], P["ref"], P["model"], P["info"], forward, steps=60)
+    assert abs(change - work) <= 1e-6 * max(abs(work), abs(change)), (change, work)
+
+
+def _leg_along_axis(robot, leg_index, axis, length):
+    """A level platform pose that puts leg ``leg_index``'s universal-joint centre at ``length``
+    along axis ``axis`` of the leg's base frame from its spherical centre."""
+    from symdyn.derive.parallel_ik import LegIK
+    leg = robot.legs[leg_index]
+    ik = LegIK.of(leg.chain)
+    base = np.array(leg.chain.base_matrix(), dtype=float)
+    centre = base[:3, :3] @ np.array(ik.centre_s, dtype=float) + base[:3, 3]
+    attach = np.array(leg.attachment.matrix(), dtype=float)
+    u_in_platform = attach[:3, :3] @ np.array(ik.u_in_6, dtype=float) + attach[:3, 3]
+    return np.concatenate([centre + length * base[:3, axis] - u_in_platform, [0.0, 0.0, 0.0, 1.0]])
+
+
+def _statuses(lib, pose):
+    zeros = np.zeros(6)
+    calls = {"inverse_dynamics": (pose, zeros, zeros), "forward_dynamics": (pose, zeros, zeros),
+             "mass_matrix": (pose,), "twist_map": (pose,), "leg_rate_maps": (pose,),
+             "inverse_kinematics": (pose, zeros)}
+    out = {}
+    for name, args in calls.items():
+        status, *outputs = getattr(lib, name)(*args)
+        out[name] = status
+        if status:  # nothing written: the zeros the caller passed in
+            assert all(np.all(o == 0) for o in outputs), name
+        else:
+            assert all(np.all(np.isfinite(o)) for o in outputs), name
+    return out
+
+
+def test_singular_and_unreachable_poses_return_a_status(platform):
+    """A zero quaternion and a pose out of reach give UNREACHABLE (1); the flight simulator
+    turned 90 degrees about the vertical (a parallel singularity: K singular) gives SINGULAR (3)
+    from every function that solves with K (forward dynamics solves with the platform's
+    generalized inertia and K^T phi, defined there; inverse kinematics needs the legs only); a leg whose spherical pair is
+    in gimbal lock gives LEG_SINGULAR (2), a pose 1e-6 m away none (1e-9 m away, forward dynamics
+    reports the platform's generalized inertia singular: the leg's rates grow as 1e9 there); no
+    function writes NaN."""
+    P = platform
+    robot, lib = P["robot"], P["lib"]
+    height = PLATFORMS[robot.name][0]
+    assert set(_statuses(lib, np.array([0.0, 0.0, height, 0.0, 0.0, 0.0, 0.0])).values()) == {1}
+    assert set(_statuses(lib, np.array([0.0, 0.0, 50.0 * height, 0.0, 0.0, 0.0, 1.0])).values()) == (
+        {0} if robot.name == "flight_simulator" else {1})  # prismatic legs reach any height
+    if robot.name != "flight_simulator":
+        return
+    turned = np.array([0.0, 0.0, height, 0.0, 0.0, np.sin(np.pi / 4), np.cos(np.pi / 4)])
+    assert _statuses(lib, turned) == {"inverse_dynamics": 3, "forward_dynamics": 0, "mass_matrix": 3,
+                                      "twist_map": 3, "leg_rate_maps": 3, "inverse_kinematics": 0}
+    gimbal = _leg_along_axis(robot, 0, 1, 3.0)
+    assert set(_statuses(lib, gimbal).values()) == {2}
+    near = gimbal + np.array([1e-6, 1e-6, 0, 0, 0, 0, 0])
+    assert set(_statuses(lib, near).values()) == {0}
+
+
+def test_float_code(platform, tmp_path):
+    """--precision float: compiles warning-free, agrees with double to float accuracy, and on a
+    Cortex-M4 (when arm-none-eabi-gcc is installed) references no double-precision routine."""
+    from test_firmware import ARM_GCC, ARM_NM, CORTEX_M4, _has_newlib
+
+    from symdyn.check.cbuild import build_platform
+    robot = P_robot = platform["robot"]
+    path = REPO / "robots" / "parallel" / f"{robot.name}.yaml"
+    assert main(["generate", str(path), "--out", str(tmp_path), "--precision", "float", "--quiet"]) == 0
+    files = {f.name: f.read_text() for f in tmp_path.glob(f"{robot.name}_dynamics.*")}
+    lib = build_platform(files, robot.name, "float", workdir=str(tmp_path))
+    for p, R, twist, rate in states(P_robot.name, 5, seed=14):
+        pose = _pose(p, R)
+        status, phi = lib.inverse_dynamics(pose, twist, rate)
+        _, expected = platform["lib"].inverse_dynamics(pose, twist, rate)
+        assert status == 0 and np.abs(phi - expected).max() <= 1e-4 * np.abs(expected).max()
+        status, ours, _ = lib.forward_dynamics(pose, twist, expected)
+        _, theirs, _ = platform["lib"].forward_dynamics(pose, twist, expected)
+        assert status == 0 and np.abs(ours - theirs).max() <= 1e-3 * (1 + np.abs(theirs).max())
+    if ARM_NM is None or not _has_newlib():
+        pytest.skip("arm-none-eabi-gcc with newlib not installed")
+    obj = tmp_path / "platform.o"
+    subprocess.run([ARM_GCC, *CORTEX_M4, "-c", str(tmp_path / f"{robot.name}_dynamics.c"), "-o", str(obj)],
+                   check=True, cwd=tmp_path)
+    undefined = subprocess.run([ARM_NM, "-u", str(obj)], capture_output=True, text=True, check=True).stdout.split()
+    names = {entry for entry in undefined if entry != "U"}
+    assert not {n for n in names if n.startswith("__aeabi_d")}, names
+    assert not names & {"sqrt", "fabs", "atan2"}, names
+
+
+def test_cli_casadi_target_and_refusals(tmp_path, capsys):
+    """--target casadi writes one loadable Function per function; serial-only options and
+    unknown functions are refused in one line; the serial commands refuse a platform file."""
+    import casadi as ca
+    path = str(REPO / "robots" / "parallel" / "sru_platform.yaml")
+    assert main(["generate", path, "--out", str(tmp_path), "--target", "casadi", "--functions",
+                 "mass_matrix", "--quiet"]) == 0
+    assert sorted(f.name for f in tmp_path.iterdir()) == ["sru_platform_casadi.txt", "sru_platform_mass_matrix.casadi"]
+    M = np.array(ca.Function.load(str(tmp_path / "sru_platform_mass_matrix.casadi"))([0, 0, 0.55, 0, 0, 0, 1]))
+    assert np.array_equal(M, M.T) and np.linalg.eigvalsh(M).min() > 0
+    for extra in (["--batch"], ["--header-only"], ["--functions", "coriolis"], ["--target", "casadi-c"]):
+        capsys.readouterr()
+        assert main(["generate", path, "--out", str(tmp_path / "x"), *extra]) != 0
+        err = capsys.readouterr().err.strip()
+        assert err.count("\n") == 0 and "error" in err, err
+    assert not (tmp_path / "x").exists()
+    assert main(["verify", path]) != 0
+    assert "kind: parallel" in capsys.readouterr().err
