@@ -89,7 +89,8 @@ def _rotation_to(omega, p, q, name=_keep, check=_ignore):
     qq = _sub(q, _scale(_dot(omega, q), omega))
     n2 = name("den", _dot(pp, pp))
     check("den", n2, _dot(p, p))  # p along the axis: the angle is not defined (a singular configuration)
-    return name("c", _dot(pp, qq) / n2), name("s", _dot(omega, _cross(pp, qq)) / n2)
+    inverse = name("inv", 1 / n2)
+    return name("c", _dot(pp, qq) * inverse), name("s", _dot(omega, _cross(pp, qq)) * inverse)
 
 
 def _two_rotations(omega1, omega2, p, q, sign, sqrt, name=_keep, check=_ignore):
@@ -104,7 +105,7 @@ def _two_rotations(omega1, omega2, p, q, sign, sqrt, name=_keep, check=_ignore):
     gamma2 = name("rad", (_dot(p, p) - alpha * alpha - beta * beta - 2 * alpha * beta * w12) / _dot(normal, normal))
     check("rad", gamma2)
     z = [name("z", x) for x in _add(_add(_scale(alpha, omega1), _scale(beta, omega2)),
-                                     _scale(sign * sqrt(gamma2), normal))]
+                                     _scale(sign * name("root", sqrt(gamma2)), normal))]
     return _rotation_to(omega1, z, q, name, check), _rotation_to(omega2, p, z, name, check)
 
 
@@ -234,8 +235,9 @@ class LegIK:
             check("den", r2, (gap[0] * gap[0] + gap[1] * gap[1]) * (w[0] * w[0] + w[1] * w[1]))
             radicand = name("rad", r2 - K * K)
             check("rad", radicand)
-            root = branches[0] * sqrt(radicand)
-            joint4 = (name("c", (A * K - B * root) / r2), name("s", (B * K + A * root) / r2))
+            root = branches[0] * name("root", sqrt(radicand))
+            inverse = name("inv", 1 / r2)
+            joint4 = (name("c", (A * K - B * root) * inverse), name("s", (B * K + A * root) * inverse))
             motion4 = _rz(*joint4)
             moved = _matvec(motion4, w)
         else:

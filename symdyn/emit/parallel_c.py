@@ -11,6 +11,7 @@ fails).  No derivation happens here.
 
 from __future__ import annotations
 
+import functools
 from collections import Counter
 from dataclasses import dataclass, field
 
@@ -22,7 +23,7 @@ from ..derive.parallel import (FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block
                                Require, Solve)
 from .cgen import CFunction, _merge_cse, scalar_type
 from .cprinter import CPrinter, count_operations
-from .emission import comment_text, factor_coefficients, fold_constants, source_label, template_environment
+from .emission import comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
 
 #: a factorization reports a singular matrix where a pivot is at most this times its largest entry
 PIVOT_RTOL = {"double": 1e-12, "float": 1e-6}
@@ -60,6 +61,12 @@ def _c_name(sym: sp.Symbol) -> str:
     return sym.name.lstrip("_")
 
 
+@functools.lru_cache(maxsize=None)
+def _folded(expr: sp.Expr) -> sp.Expr:
+    """:func:`fold_constants`, once per expression (the functions share most of their steps)."""
+    return fold_constants(expr)
+
+
 def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: str) -> CFunction:
     function = eqs.function(name)
     real = f"{prefix}_real"
@@ -74,10 +81,10 @@ def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: st
 
     def block(assignments, outputs=()):
         """Lines of a block (and of the output stores, CSE'd with it)."""
-        folded = [(s, fold_constants(r)) for s, r in assignments]
-        outs = [(target, fold_constants(sp.sympify(e))) for target, e in outputs]
+        folded = [(s, _folded(r)) for s, r in assignments]
+        outs = [(target, _folded(sp.sympify(e))) for target, e in outputs]
         symbols = sp.numbered_symbols("cse", real=True, start=cse_count[0])
-        replacements, reduced = sp.cse([r for _, r in folded] + [e for _, e in outs], symbols=symbols, order="none")
+        replacements, reduced = pair_cse([r for _, r in folded] + [e for _, e in outs], symbols)
         cse_count[0] += len(replacements)
         statements = _merge_cse([(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])], replacements)
         for sym, rhs in statements:
