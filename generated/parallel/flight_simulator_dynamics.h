@@ -65,7 +65,7 @@ typedef double flight_simulator_real;
  *   twist_rate[6]: t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   phi[6] (out): actuator forces (N) or torques (N m), leg by leg
  * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 3518 multiplications, 2603 additions/subtractions, 61 divisions, 0 sin/cos, 18 square roots.
+ * Cost: 4712 multiplications, 3449 additions/subtractions, 49 divisions, 0 sin/cos, 18 square roots.
  */
 int flight_simulator_inverse_dynamics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], const flight_simulator_real twist_rate[6], flight_simulator_real phi[6]);
 
@@ -77,7 +77,7 @@ int flight_simulator_inverse_dynamics(const flight_simulator_real pose[7], const
  *   twist_rate[6] (out): t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   qdd[6] (out): actuated joint accelerations (rad/s^2 or m/s^2), leg by leg
  * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 5270 multiplications, 4031 additions/subtractions, 61 divisions, 0 sin/cos, 18 square roots.
+ * Cost: 5474 multiplications, 3941 additions/subtractions, 49 divisions, 0 sin/cos, 18 square roots.
  */
 int flight_simulator_forward_dynamics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], const flight_simulator_real phi[6], flight_simulator_real twist_rate[6], flight_simulator_real qdd[6]);
 
@@ -86,7 +86,7 @@ int flight_simulator_forward_dynamics(const flight_simulator_real pose[7], const
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   M[36] (out): mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)
  * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 4193 multiplications, 3400 additions/subtractions, 61 divisions, 0 sin/cos, 18 square roots.
+ * Cost: 3749 multiplications, 2722 additions/subtractions, 49 divisions, 0 sin/cos, 18 square roots.
  */
 int flight_simulator_mass_matrix(const flight_simulator_real pose[7], flight_simulator_real M[36]);
 
@@ -95,7 +95,7 @@ int flight_simulator_mass_matrix(const flight_simulator_real pose[7], flight_sim
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   T[36] (out): the seed's T, 6x6 row-major: t = T qd
  * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 3065 multiplications, 2416 additions/subtractions, 61 divisions, 0 sin/cos, 18 square roots.
+ * Cost: 1229 multiplications, 976 additions/subtractions, 31 divisions, 0 sin/cos, 18 square roots.
  */
 int flight_simulator_twist_map(const flight_simulator_real pose[7], flight_simulator_real T[36]);
 
@@ -104,7 +104,7 @@ int flight_simulator_twist_map(const flight_simulator_real pose[7], flight_simul
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   L[216] (out): the seed's L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)
  * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 4361 multiplications, 3496 additions/subtractions, 61 divisions, 0 sin/cos, 18 square roots.
+ * Cost: 4205 multiplications, 2998 additions/subtractions, 49 divisions, 0 sin/cos, 18 square roots.
  */
 int flight_simulator_leg_rate_maps(const flight_simulator_real pose[7], flight_simulator_real L[216]);
 
@@ -115,7 +115,7 @@ int flight_simulator_leg_rate_maps(const flight_simulator_real pose[7], flight_s
  *   q[6] (out): actuated joint positions (rad or m), leg by leg
  *   qd[6] (out): actuated joint rates (rad/s or m/s), leg by leg
  * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined). On a nonzero return no output is written.
- * Cost: 1699 multiplications, 1281 additions/subtractions, 55 divisions, 0 sin/cos, 18 square roots.
+ * Cost: 961 multiplications, 771 additions/subtractions, 25 divisions, 0 sin/cos, 18 square roots.
  */
 int flight_simulator_inverse_kinematics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], flight_simulator_real q[6], flight_simulator_real qd[6]);
 

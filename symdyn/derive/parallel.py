@@ -196,7 +196,7 @@ def _needed_steps(steps, results) -> tuple:
     out = []
     for step in kept:
         if isinstance(step, Require):
-            if not step.value.free_symbols <= defined | needed:
+            if not step.value.free_symbols - {PIVOT_RTOL} <= defined | needed:
                 continue
         out.append(step)
     # merge consecutive blocks (a removed step between them)
@@ -289,6 +289,62 @@ class _LegImport:
         return out
 
 
+def _det3(m: sp.Matrix):
+    return (m[0, 0] * (m[1, 1] * m[2, 2] - m[1, 2] * m[2, 1]) - m[0, 1] * (m[1, 0] * m[2, 2] - m[1, 2] * m[2, 0])
+            + m[0, 2] * (m[1, 0] * m[2, 1] - m[1, 1] * m[2, 0]))
+
+
+def _inverse3(st: _Steps, hint: str, m: sp.Matrix, scale, what: str) -> sp.Matrix:
+    """The inverse of the 3x3 ``m`` (adjugate over determinant), named; requires
+    ``det^2 > PIVOT_RTOL^2 * scale`` (``scale``: the square of the product of the columns'
+    lengths) at run time, else LEG_SINGULAR."""
+    det = st.define(f"{hint}det", _det3(m))
+    st.require(det * det - PIVOT_RTOL ** 2 * scale, True, "leg_singular", what)
+    inv = st.define(f"{hint}inv", 1 / det)
+    adj = m.adjugate()
+    return sp.Matrix(3, 3, lambda i, j: st.define(f"{hint}{i}{j}", adj[i, j] * inv))
+
+
+def leg_inverse(st: _Steps, tag: str, d: sp.Matrix, fourth: sp.Matrix, axes, revolute: bool, what: str) -> sp.Matrix:
+    """The inverse of an S-X-U leg's Jacobian at the universal joint's centre U (6x6: joint
+    rates from the twist [v_U; omega] of the leg's last link), in closed form.
+
+    ``d`` = U - S (S the spherical pair's centre), ``axes`` the six joints' unit axes (world),
+    ``fourth`` the linear column of joint 4 at U (prismatic: its axis; revolute: axis x (U -
+    a point of the axis)).  The universal joint's axes pass through U and the spherical pair's
+    through S, so with omega_S = a1 qd1 + a2 qd2 + a3 qd3:
+
+        v_U = omega_S x d + l4 qd4        omega = omega_S + a4 qd4 + a5 qd5 + a6 qd6
+
+    d . v_U gives qd4 = g . v_U (g = d / (d . l4)); the part of omega_S normal to d is
+    P v_U (P = [d]x (1 - l4 g^T) / (d . d)); its part s d along d and qd5, qd6 solve
+    [d a5 a6] [s; qd5; qd6] = omega - (P + a4 g^T) v_U; then [a1 a2 a3] qd1..3 = omega_S.
+    Singular (LEG_SINGULAR at run time, relative to PIVOT_RTOL) where d . l4 = 0 (joint 4 cannot
+    change the length of the leg), or either 3x3 matrix is singular (the universal joint's
+    axes coplanar with the leg, the spherical pair in gimbal lock)."""
+    a4 = axes[3] if revolute else sp.zeros(3, 1)
+    dd = st.define(f"{tag}dd", (d.T * d)[0])
+    dl = st.define(f"{tag}dl", (d.T * fourth)[0])
+    st.require(dl * dl - PIVOT_RTOL ** 2 * dd * (fourth.T * fourth)[0], True, "leg_singular", what)
+    inv_dl = st.define(f"{tag}dlinv", 1 / dl)
+    g = st.vector(f"{tag}g", d * inv_dl)
+    inv_dd = st.define(f"{tag}ddinv", 1 / dd)
+    P = _skew(d) * (sp.eye(3) - fourth * g.T) * inv_dd
+    P = sp.Matrix(3, 3, lambda i, j: st.define(f"{tag}P{i}{j}", sp.expand(P[i, j])))
+    Q = sp.Matrix(3, 3, lambda i, j: st.define(f"{tag}Q{i}{j}", P[i, j] + a4[i] * g[j]))
+    N = _inverse3(st, f"{tag}N", sp.Matrix.hstack(d, axes[4], axes[5]), dd, what)
+    S = _inverse3(st, f"{tag}S", sp.Matrix.hstack(axes[0], axes[1], axes[2]), 1, what)
+    # rows of [s; qd5; qd6] = N^-1 [-Q, 1]
+    rest = sp.Matrix(3, 6, lambda i, j: st.define(
+        f"{tag}W{i}{j}", -(N[i, :] * Q[:, j])[0] if j < 3 else N[i, j - 3]))
+    # omega_S = [P, 0] + d (row s); qd1..3 = S^-1 omega_S
+    omega_s = sp.Matrix(3, 6, lambda i, j: st.define(
+        f"{tag}O{i}{j}", (P[i, j] if j < 3 else 0) + d[i] * rest[0, j]))
+    first = sp.Matrix(3, 6, lambda i, j: st.define(f"{tag}Ji{i}{j}", (S[i, :] * omega_s[:, j])[0]))
+    row4 = sp.Matrix([[*g, 0, 0, 0]])
+    return sp.Matrix.vstack(first, row4, rest[1:, :])
+
+
 def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> ParallelEquations:
     """Derive the functions of :data:`FUNCTIONS` (default: all) for ``robot``.
 
@@ -378,26 +434,39 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
                 mapping[eqs.q[i]] = value
         imp = _LegImport(st, eqs, tag, mapping)
         report(f"leg {k + 1}: Jacobian and rates")
-        jac = imp.get("jacobian")
-        st.factor(f"{tag}J", jac, "leg_singular")
-        r = st.vector(f"{tag}r", R * (sp.Matrix(attach[:3, 3]) - com))
+        # the leg's Jacobian at the universal joint's centre U (world axes) and its inverse in
+        # closed form (leg_inverse): J_U^-1 replaces a 6x6 factorization
+        jac6 = imp.get("jacobian")  # at frame 6's origin
+        u_in_platform = sp.Matrix(attach[:3, :3]) * sp.Matrix(ik.u_in_6) + attach[:3, 3]
+        u_offset = st.vector(f"{tag}uP", R * u_in_platform)  # U - p
+        rho = st.vector(f"{tag}rho", R * sp.Matrix(attach[:3, 3]) - u_offset)  # frame 6's origin - U
+        centre = base[:3, :3] * sp.Matrix(ik.centre_s) + base[:3, 3]
+        leg_vector = st.vector(f"{tag}d", p + u_offset - centre)  # U - S
+        axes = [sp.Matrix(jac6[3:6, i]) for i in range(6)]
+        fourth = sp.Matrix(jac6[0:3, 3]) + (_cross(rho, axes[3]) if leg.chain.links[3].is_revolute else sp.zeros(3, 1))
+        jinv = leg_inverse(st, tag, leg_vector, st.vector(f"{tag}l4", fourth), axes,
+                           leg.chain.links[3].is_revolute, f"{where}: leg {leg.name}")
+        r = st.vector(f"{tag}r", R * (u_in_platform - com))  # U - C_M
         v_u = c_dot + _cross(omega, r)
-        theta_dot = st.solve(f"{tag}J", sp.Matrix.vstack(v_u, omega), f"{tag}qd")
+        theta_dot = st.vector(f"{tag}qd", jinv * sp.Matrix.vstack(v_u, omega))
         mapping.update(dict(zip(eqs.qd, theta_dot)))
-        jdqd = imp.get("jacobian_dot_qd")
+        jdqd6 = imp.get("jacobian_dot_qd")  # J-dot qd at frame 6's origin: at U, see below
         centripetal = st.vector(f"{tag}cp", _cross(omega, _cross(omega, r)))
+        bias = sp.Matrix.vstack(
+            sp.Matrix(jdqd6[0:3, 0]) - _cross(sp.Matrix(jdqd6[3:6, 0]), rho) - _cross(omega, _cross(omega, rho)),
+            sp.Matrix(jdqd6[3:6, 0]))
+        bias = st.vector(f"{tag}jdqd", bias)
         # inverse dynamics: theta_ddot from t_dot, the leg's torques, S^T J^-T tau
-        acc = sp.Matrix.vstack(c_ddot + _cross(omega_dot, r) + centripetal, omega_dot) - jdqd
-        theta_ddot = st.solve(f"{tag}J", acc, f"{tag}qdd")
+        acc = sp.Matrix.vstack(c_ddot + _cross(omega_dot, r) + centripetal, omega_dot) - bias
+        theta_ddot = st.vector(f"{tag}qdd", jinv * acc)
         tau = imp.get("inverse_dynamics", dict(zip(eqs.qdd, theta_ddot)))
-        y_lt = st.solve(f"{tag}J", tau, f"{tag}y", transpose=True)
-        unit = sp.Matrix([1 if i == leg.actuated else 0 for i in range(6)])
-        z_lt = st.solve(f"{tag}J", unit, f"{tag}z", transpose=True)
+        y_lt = st.vector(f"{tag}y", jinv.T * tau)
+        z_lt = jinv[leg.actuated, :].T
         # forward dynamics: theta_ddot at t_dot = 0, R_J = J^-1 S, the leg's D
-        offset = st.solve(f"{tag}J", sp.Matrix.vstack(centripetal, sp.zeros(3, 1)) - jdqd, f"{tag}qdd0")
+        offset = st.vector(f"{tag}qdd0", jinv * (sp.Matrix.vstack(centripetal, sp.zeros(3, 1)) - bias))
         tau0 = imp.get("inverse_dynamics", dict(zip(eqs.qdd, offset)), suffix="_0")
         shift = sp.Matrix(sp.BlockMatrix([[-_skew(r), sp.eye(3)], [sp.eye(3), sp.zeros(3)]]))
-        rates = st.solve(f"{tag}J", shift, f"{tag}R")
+        rates = sp.Matrix(6, 6, lambda i, j: st.define(f"{tag}R{i}{j}", (jinv[i, :] * shift[:, j])[0]))
         mass = imp.get("mass_matrix") + sp.diag(*[link.armature for link in leg.chain.links])
         legs.append(dict(tag=tag, leg=leg, r=r, y=y_lt, z=z_lt, rates=rates, mass=mass, tau0=tau0,
                          offset=offset, theta_dot=theta_dot, joint=joints[leg.actuated], link=leg.actuated_link))
