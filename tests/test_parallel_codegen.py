@@ -255,3 +255,49 @@ def test_cli_casadi_target_and_refusals(tmp_path, capsys):
     assert not (tmp_path / "x").exists()
     assert main(["verify", path]) != 0
     assert "kind: parallel" in capsys.readouterr().err
+
+
+def test_derivation_in_seed_order(platform, tmp_path, capsys):
+    """symdyn derive of a platform: the seed's steps in order, in the three formats (LaTeX
+    compiles where pdflatex is installed); the printed quantities agree with the generated
+    functions at the same state: M, T, L_J, Lambda = 1, and phi drives the forward dynamics to
+    the q_ddot it was computed for."""
+    from symdyn.derive.parallel_steps import parallel_steps
+    robot = platform["robot"]
+    path = str(REPO / "robots" / "parallel" / f"{robot.name}.yaml")
+    height = PLATFORMS[robot.name][0]
+    pose = np.array([0.01, -0.02, height + 0.01, 0.02, -0.01, 0.03, 1.0])
+    pose[3:] /= np.linalg.norm(pose[3:])
+    twist, qdd = np.array([0.1, -0.2, 0.05, 0.2, 0.1, -0.1]), np.array([0.5, -0.3, 0.2, 0.0, 0.1, -0.4])
+    derivation = parallel_steps(robot, pose, twist, qdd)
+    titles = [step.title for step in derivation.steps]
+    assert titles == ["Leg Jacobians", "A_J", "Scalar twist-shape relations", "Y", "Z", "T", "L_J", "M", "N",
+                      "Lambda", "phi"]
+    value = {label: v for step in derivation.steps for label, v in step.values}
+    lib = platform["lib"]
+    _, M = lib.mass_matrix(pose)
+    _, T = lib.twist_map(pose)
+    _, L = lib.leg_rate_maps(pose)
+    assert np.abs(value["M(q)"] - M).max() <= 1e-10 * np.abs(M).max()
+    assert np.abs(value["T"] - T).max() <= 1e-10 * np.abs(T).max()
+    for k, roman in enumerate(("I", "II", "III", "IV", "V", "VI")):
+        assert np.abs(value[f"L_{roman}"] - L[6 * k:6 * k + 6]).max() <= 1e-10 * (1 + np.abs(L).max())
+        assert np.abs(value[f"A_{roman} J_{roman}"][:, :3]).max() <= 1e-12 * np.abs(value[f"J_{roman}"]).max()
+    assert np.allclose(value["Lambda"], np.eye(6), rtol=0, atol=1e-12)
+    status, _, accelerations = lib.forward_dynamics(pose, twist, value["phi"])
+    assert status == 0 and np.abs(accelerations - qdd).max() <= 1e-9 * (1 + np.abs(qdd).max())
+    for fmt in ("text", "markdown", "latex"):
+        out = tmp_path / f"derivation.{fmt}"
+        assert main(["derive", path, "--format", fmt, "--out", str(out), "--pose", ",".join(str(float(x)) for x in pose),
+                     "--twist", ",".join(str(float(x)) for x in twist), "--qdd", ",".join(str(float(x)) for x in qdd)]) == 0
+        text = out.read_text()
+        heading = {"text": "{n}. {t}\n", "markdown": "## {n}. {t}\n", "latex": "\\subsection*{{{n}. {t}}}"}[fmt]
+        positions = [text.find(heading.format(n=n, t=t.replace("_", "\\_") if fmt == "latex" else t))
+                     for n, t in enumerate(titles, 1)]
+        assert all(p >= 0 for p in positions) and positions == sorted(positions), (fmt, positions)
+    if shutil.which("pdflatex"):
+        result = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "derivation.latex"],
+                                cwd=tmp_path, capture_output=True, text=True)
+        assert result.returncode == 0, result.stdout[-2000:]
+    assert main(["derive", path, "--pose", "1,2,3"]) != 0
+    assert "--pose takes 7" in capsys.readouterr().err

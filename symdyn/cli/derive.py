@@ -22,7 +22,10 @@ def add_parser(sub) -> None:
                        "(forward and backward recursion of Table 3.2), ending with D, h, c, or the "
                        "articulated-body algorithm (forward dynamics, and the reaction map of a robot with "
                        "passive joints).")
-    p.add_argument("robot", metavar="ROBOT.yaml", help="robot file (format version 1)")
+    p.add_argument("robot", metavar="ROBOT.yaml", help="robot file (format version 1), or a platform robot "
+                   "(kind: parallel): its derivation by the natural orthogonal complement in the order of "
+                   "the seed (leg Jacobians, A_J, the scalar twist-shape relations, Y, Z, T, L_J, M, N, "
+                   "Lambda, phi), each evaluated at one state")
     p.add_argument("--method", default="newton-euler",
                    choices=sorted(set(METHOD_ALIASES) | {"articulated-body", "aba"}),
                    help="newton-euler (default), lagrange-euler, jacobian-newton-euler, or articulated-body "
@@ -43,14 +46,72 @@ def add_parser(sub) -> None:
     p.add_argument("--form", default="auto", choices=("auto", "closed", "named"),
                    help="closed: every quantity expanded and simplified (s12, c1 shorthand); named: "
                         "in terms of named intermediate quantities; auto (default): closed up to 3 joints")
+    p.add_argument("--pose", metavar="X,Y,Z,QX,QY,QZ,QW",
+                   help="platform robots: the pose of the platform frame (position, m; quaternion x, y, z, w) "
+                        "the derivation is evaluated at (default: the file's home pose)")
+    p.add_argument("--twist", metavar="WX,WY,WZ,VX,VY,VZ",
+                   help="platform robots: the platform's twist t_M = [omega; c_dot] (rad/s, m/s; default 0)")
+    p.add_argument("--qdd", metavar="A1,...,A6",
+                   help="platform robots: the actuated joints' accelerations for phi (default 0)")
     p.set_defaults(run=run)
+
+
+def _numbers(text, count: int, option: str):
+    """``count`` comma-separated finite numbers (never evaluated as code), or None."""
+    import math
+    if text is None:
+        return None
+    parts = [t.strip() for t in str(text).split(",")]
+    if len(parts) != count:
+        raise SymdynError(f"{option} takes {count} comma-separated numbers, not {len(parts)}")
+    try:
+        values = [float(t) for t in parts]
+    except ValueError:
+        raise SymdynError(f"{option}: not a number in {str(text)[:60]!r}") from None
+    if not all(math.isfinite(v) for v in values):
+        raise SymdynError(f"{option}: every number must be finite")
+    return values
+
+
+def _run_parallel(args, robot) -> int:
+    """``symdyn derive`` of a platform robot (symdyn.derive.parallel_steps)."""
+    from ..derive.parallel_steps import parallel_steps
+    from ..emit.parallel_printout import render_parallel
+    from .generate import input_files
+    refused = [flag for flag, on in (("--method", args.method != "newton-euler"), ("--steps", args.steps != "all"),
+                                     ("--form", args.form != "auto"), ("--base-parameters", args.base_parameters)) if on]
+    if refused:
+        raise SymdynError(f"{args.robot}: {refused[0]} does not apply to a platform robot (kind: parallel)")
+    pose = _numbers(args.pose, 7, "--pose")
+    twist = _numbers(args.twist, 6, "--twist")
+    qdd = _numbers(args.qdd, 6, "--qdd")
+    if args.out:
+        directory, name = os.path.split(os.path.abspath(args.out))
+        if not os.path.isdir(directory):
+            raise SymdynError(f"cannot write {args.out}: directory {directory} does not exist")
+        protect = input_files(args.robot)
+        check_output_dir(directory, option="the directory of --out")
+        check_targets(directory, [name], protect)
+    derivation = parallel_steps(robot, pose, twist, qdd)
+    text = render_parallel(derivation, args.format, source_name=os.path.basename(args.robot),
+                           source_hash=robot.source_hash)
+    if args.out:
+        write_files(directory, {name: text.encode("utf-8")}, protect=protect)
+    else:
+        sys.stdout.write(text)
+    return 0
 
 
 def run(args) -> int:
     """Load, check where ``--out`` goes (before the derivation, which can take long), derive,
     render, and print or write (:func:`symdyn.model.files.write_files`, the inputs protected)."""
+    from ..model.parallel import ParallelRobot
     from .generate import input_files
-    robot, _ = load_robot(args.robot, args)
+    robot, _ = load_robot(args.robot, args, parallel=True)
+    if isinstance(robot, ParallelRobot):
+        return _run_parallel(args, robot)
+    if args.pose or args.twist or args.qdd:
+        raise SymdynError("--pose, --twist and --qdd apply to platform robots (kind: parallel) only")
     check_size(robot, args, args.robot)
     closed = {"auto": None, "closed": True, "named": False}[args.form]
     if args.method in ("articulated-body", "aba"):
