@@ -1,13 +1,14 @@
 """Time a platform robot's generated inverse and forward dynamics against Pinocchio's C++
 closed-loop computation, in the same run (issue: parallel platforms).
 
-Usage:  python benchmarks/parallel_speed.py [PLATFORM ...] [--states N]
-        (default: flight_simulator, 10000 states)
+Usage:  python benchmarks/parallel_speed.py [PLATFORM ...] [--states N] [--symdyn-flags "-O2"]
+        (default: flight_simulator, 10000 states, the generated C at -O3 -march=native)
 
 For each platform (robots/parallel/NAME.yaml): generates double-precision C, builds Pinocchio's
 closed-loop model (symdyn.check.pinocchio_model.build_closed_loop_model: a free-flying platform,
-six leg chains, a 6D loop closure per leg; 1e-9 armature on the legs' joints, which Pinocchio's
-constraint solvers need), draws N distinct random platform states about the home pose, and gets
+six leg chains, a 6D loop closure per leg; for forward dynamics with a 1e-9 armature on the legs'
+joints, which Pinocchio's constraint solvers need, and which moves the accelerations by about
+1e-9 of themselves: the accuracy column shows it), draws N distinct random platform states about the home pose, and gets
 each leg's joint positions, rates and accelerations from symdyn's numeric reference (Newton
 inverse kinematics: Pinocchio's side is handed them, it has no leg inverse kinematics of its
 own).  benchmarks/pinocchio_platform_bench.cpp, compiled with g++ -O3 -march=native against the
@@ -16,7 +17,8 @@ pin wheel's Pinocchio and linked with the generated C (gcc, same flags), times
 - inverse dynamics: symdyn's NAME_inverse_dynamics(pose, twist, twist_rate) against Pinocchio's
   rnea + computeJointJacobians + getConstraintsJacobian + LU solve of [Jc^T S] (42 x 42);
 - forward dynamics: symdyn's NAME_forward_dynamics(pose, twist, phi) against Pinocchio's
-  constraintDynamics and lcaba (loop-constrained ABA; proximal settings 1e-12, 10 iterations);
+  constraintDynamics (proximal accuracy 1e-12, mu 1e-12, 10 iterations) and lcaba
+  (loop-constrained ABA; accuracy 1e-12, mu 1e-6, up to 50 iterations);
 
 ns per call, median of 7 repeats of 20000 calls cycling over the states, and checks every state's
 results against each other.  Prints a Markdown table (ratio = Pinocchio's time / symdyn's).
@@ -39,6 +41,9 @@ from symdyn.check.timing import parse  # noqa: E402
 #: platform -> (home height of P (m), range of positions (m) and angles (rad) about the home pose)
 PLATFORMS = {"flight_simulator": (2.0, 0.2, 0.17), "sru_platform": (0.55, 0.03, 0.08)}
 ARMATURE = 1e-9
+#: gcc flags of the generated C (--symdyn-flags "-O2" for a baseline x86-64 build); Pinocchio's
+#: side is always built with g++ -O3 -march=native, the flags of its own builds here
+SYMDYN_FLAGS = ["-O3", "-march=native"]
 
 
 def _robot(name):
@@ -87,6 +92,7 @@ def run(name, count, workdir):
     lib = build_platform(files, name, workdir=workdir)
     model, constraints, info = build_closed_loop_model(robot, ARMATURE)
     model.saveToText(os.path.join(workdir, "model.txt"))
+    build_closed_loop_model(robot, 0.0)[0].saveToText(os.path.join(workdir, "model_no_armature.txt"))
     with open(os.path.join(workdir, "closures.txt"), "w") as handle:
         handle.write(f"{len(constraints)}\n")
         for cm in constraints:
@@ -111,7 +117,7 @@ def run(name, count, workdir):
         records.append(np.concatenate([row[:19], phi, row[19:]]))
     np.asarray(records, dtype=np.float64).tofile(os.path.join(workdir, "states.bin"))
 
-    subprocess.run(["gcc", "-std=c99", "-O3", "-march=native", "-c", os.path.join(workdir, f"{name}_dynamics.c"),
+    subprocess.run(["gcc", "-std=c99", *SYMDYN_FLAGS, "-c", os.path.join(workdir, f"{name}_dynamics.c"),
                     "-o", os.path.join(workdir, f"{name}.o")], check=True)
     print(f"{name}: building the C++ benchmark (takes a minute)...", file=sys.stderr)
     exe = pinocchio_bench_binary(workdir, source="pinocchio_platform_bench.cpp", name=f"bench_{name}",
@@ -121,7 +127,8 @@ def run(name, count, workdir):
                                         f"-DPLATFORM_forward_dynamics={name}_forward_dynamics",
                                         os.path.join(workdir, f"{name}.o")))
     output = subprocess.run([exe, os.path.join(workdir, "model.txt"), os.path.join(workdir, "closures.txt"),
-                             os.path.join(workdir, "states.bin"), os.path.join(workdir, "results.bin")],
+                             os.path.join(workdir, "states.bin"), os.path.join(workdir, "results.bin"),
+                             os.path.join(workdir, "model_no_armature.txt")],
                             capture_output=True, text=True, check=True).stdout
     times = parse(output)
     nv = model.nv
@@ -153,6 +160,10 @@ def main(argv=None):
         k = argv.index("--keep")
         keep = argv[k + 1]
         del argv[k:k + 2]
+    if "--symdyn-flags" in argv:
+        k = argv.index("--symdyn-flags")
+        SYMDYN_FLAGS[:] = argv[k + 1].split()
+        del argv[k:k + 2]
     names = argv or ["flight_simulator"]
     print("| platform | function | symdyn (ns) | Pinocchio (ns) | ratio | max difference (normalized) |")
     print("|---|---|---|---|---|---|")
@@ -174,7 +185,8 @@ def main(argv=None):
         header = files[f"{name}_dynamics.h"]
         costs = [line.strip(" *") for line in header.splitlines() if line.startswith(" * Cost:")]
         print(f"\n{name}: op counts (header): inverse dynamics {costs[0]}; forward dynamics {costs[1]}", file=sys.stderr)
-    print(f"\n({count} distinct states; gcc/g++ -O3 -march=native; Pinocchio {__import__('pinocchio').__version__})")
+    print(f"\n({count} distinct states; symdyn: gcc {' '.join(SYMDYN_FLAGS)}; Pinocchio {__import__('pinocchio').__version__}: "
+          "g++ -O3 -march=native)")
 
 
 if __name__ == "__main__":

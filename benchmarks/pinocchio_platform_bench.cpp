@@ -4,12 +4,16 @@
 // cycling over the states) and writes every state's results to a binary file for the accuracy
 // comparison.
 //
-//   pinocchio_platform_bench MODEL.txt CLOSURES.txt STATES.bin RESULTS.bin
+//   pinocchio_platform_bench MODEL.txt CLOSURES.txt STATES.bin RESULTS.bin MODEL_NO_ARMATURE.txt
+//
+// MODEL.txt has a 1e-9 armature on the legs' joints (Pinocchio's constraint solvers factorize the
+// joint-space mass matrix, which the legs' massless crosses leave singular); inverse dynamics uses
+// MODEL_NO_ARMATURE.txt, the same model without it (as the generated functions).
 //
 // Pinocchio's inverse dynamics: rnea of the open tree, the constraint Jacobian, and the square
 // system [Jc^T S] [lambda; phi] = tau (partial-pivoting LU).  Its forward dynamics:
 // constraintDynamics (initConstraintDynamics once, proximal settings 1e-12 / 1e-12 / 10 iterations)
-// and the loop-constrained ABA (lcaba).  Both are given the legs' joint values: Pinocchio has no
+// and the loop-constrained ABA (lcaba, settings below).  Both are given the legs' joint values: Pinocchio has no
 // leg inverse kinematics, symdyn's functions compute theirs from the platform's pose.
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/rnea.hpp>
@@ -30,8 +34,13 @@ extern "C" {
 #include PLATFORM_HEADER
 }
 
+// lcaba's proximal settings: mu 1e-6 (its documentation's typical value; 1e-12 left errors of
+// 1e-5 to 1e-2 in the accelerations here) and up to 50 iterations to an accuracy of 1e-12
 #ifndef LCABA_MU
-#define LCABA_MU 1e-12
+#define LCABA_MU 1e-6
+#endif
+#ifndef LCABA_ITERATIONS
+#define LCABA_ITERATIONS 50
 #endif
 
 template <typename F> double time_ns(F f, int calls) {
@@ -59,10 +68,11 @@ static pinocchio::SE3 read_se3(std::istream &in) {
 }
 
 int main(int argc, char **argv) {
-  if (argc < 5) return 2;
-  pinocchio::Model model;
+  if (argc < 6) return 2;
+  pinocchio::Model model, model_id;
   model.loadFromText(argv[1]);
-  pinocchio::Data data(model);
+  model_id.loadFromText(argv[5]);
+  pinocchio::Data data(model), data_id(model_id);
   const int nq = model.nq, nv = model.nv;
 
   std::ifstream closures(argv[2]);
@@ -111,10 +121,10 @@ int main(int argc, char **argv) {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu(nv);
   Eigen::VectorXd solution(nv);
   auto pin_inverse = [&](int s) {
-    const Eigen::VectorXd &t = pinocchio::rnea(model, data, q[s], v[s], a[s]);
-    pinocchio::computeJointJacobians(model, data, q[s]);
+    const Eigen::VectorXd &t = pinocchio::rnea(model_id, data_id, q[s], v[s], a[s]);
+    pinocchio::computeJointJacobians(model_id, data_id, q[s]);
     Jc.setZero();
-    pinocchio::getConstraintsJacobian(model, data, cmodels, cdatas, Jc);
+    pinocchio::getConstraintsJacobian(model_id, data_id, cmodels, cdatas, Jc);
     system.leftCols(nc) = Jc.transpose();
     lu.compute(system);
     solution = lu.solve(t);
@@ -129,7 +139,7 @@ int main(int argc, char **argv) {
   ConstraintDatas cdatas_lc;
   for (auto &cm : cmodels) cdatas_lc.push_back(pinocchio::RigidConstraintData(cm));
   pinocchio::computeJointMinimalOrdering(model, data_lc, cmodels);
-  pinocchio::ProximalSettings prox_lc(1e-12, LCABA_MU, 10);
+  pinocchio::ProximalSettings prox_lc(1e-12, LCABA_MU, LCABA_ITERATIONS);
   auto pin_lcaba = [&](int s) {
     return pinocchio::lcaba(model, data_lc, q[s], v[s], tau[s], cmodels, cdatas_lc, prox_lc)[0];
   };

@@ -193,3 +193,14 @@ def test_checked_in_derivations_are_up_to_date(tmp_path, name, method, filename)
                  "--format", "markdown", "--out", str(out)]) == 0
     assert out.read_bytes() == (REPO / "docs" / "derivations" / filename).read_bytes(), \
         "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"
+
+
+def test_checked_in_platform_derivation_is_up_to_date(tmp_path):
+    """docs/derivations/sru_platform.md: the seed's worked example (identical S-R-U legs,
+    actuated joint 4) at its home pose with a twist and actuated accelerations."""
+    out = tmp_path / "sru_platform.md"
+    assert main(["derive", str(REPO / "robots" / "parallel" / "sru_platform.yaml"), "--format", "markdown",
+                 "--twist", "0.1,-0.05,0.2,0.02,0.01,-0.03", "--qdd", "0.5,-0.2,0.1,0,0.3,-0.4",
+                 "--out", str(out)]) == 0
+    assert out.read_bytes() == (REPO / "docs" / "derivations" / "sru_platform.md").read_bytes(), \
+        "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"

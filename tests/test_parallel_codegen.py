@@ -213,12 +213,12 @@ def test_float_code(platform, tmp_path):
     from test_firmware import ARM_GCC, ARM_NM, CORTEX_M4, _has_newlib
 
     from symdyn.check.cbuild import build_platform
-    robot = P_robot = platform["robot"]
+    robot = platform["robot"]
     path = REPO / "robots" / "parallel" / f"{robot.name}.yaml"
     assert main(["generate", str(path), "--out", str(tmp_path), "--precision", "float", "--quiet"]) == 0
     files = {f.name: f.read_text() for f in tmp_path.glob(f"{robot.name}_dynamics.*")}
     lib = build_platform(files, robot.name, "float", workdir=str(tmp_path))
-    for p, R, twist, rate in states(P_robot.name, 5, seed=14):
+    for p, R, twist, rate in states(robot.name, 5, seed=14):
         pose = _pose(p, R)
         status, phi = lib.inverse_dynamics(pose, twist, rate)
         _, expected = platform["lib"].inverse_dynamics(pose, twist, rate)
@@ -301,3 +301,22 @@ def test_derivation_in_seed_order(platform, tmp_path, capsys):
         assert result.returncode == 0, result.stdout[-2000:]
     assert main(["derive", path, "--pose", "1,2,3"]) != 0
     assert "--pose takes 7" in capsys.readouterr().err
+
+
+def test_casadi_derivatives(platform):
+    """The CasADi functions differentiate through their solves: d phi / d t_dot times T is the
+    mass matrix M (phi = M q_ddot + ... with t_dot = T q_ddot + ...), and forward dynamics'
+    d t_dot / d phi is the inverse of inverse dynamics' d phi / d t_dot."""
+    import casadi as ca
+    P = platform
+    p, R, twist, rate = next(states(P["robot"].name, 1, seed=15))
+    pose = _pose(p, R)
+    x = ca.SX.sym("x", 6)
+    inverse = ca.Function("d_inverse", [x], [ca.jacobian(P["casadi"]["inverse_dynamics"](pose, twist, x), x)])
+    forward = ca.Function("d_forward", [x], [ca.jacobian(P["casadi"]["forward_dynamics"](pose, twist, x)[0], x)])
+    d_phi = np.array(inverse(rate))
+    _, T = P["lib"].twist_map(pose)
+    _, M = P["lib"].mass_matrix(pose)
+    assert np.abs(d_phi @ T - M).max() <= 1e-9 * np.abs(M).max()
+    _, phi = P["lib"].inverse_dynamics(pose, twist, rate)
+    assert np.abs(d_phi @ np.array(forward(phi)) - np.eye(6)).max() <= 1e-9

@@ -65,7 +65,7 @@ typedef double sru_platform_real;
  *   twist_rate[6]: t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   phi[6] (out): actuator forces (N) or torques (N m), leg by leg
  * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 6578 multiplications, 4805 additions/subtractions, 49 divisions, 0 sin/cos, 90 square roots.
+ * Cost: 6440 multiplications, 4745 additions/subtractions, 49 divisions, 0 sin/cos, 18 square roots.
  */
 int sru_platform_inverse_dynamics(const sru_platform_real pose[7], const sru_platform_real twist[6], const sru_platform_real twist_rate[6], sru_platform_real phi[6]);
 
@@ -77,7 +77,7 @@ int sru_platform_inverse_dynamics(const sru_platform_real pose[7], const sru_pla
  *   twist_rate[6] (out): t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   qdd[6] (out): actuated joint accelerations (rad/s^2 or m/s^2), leg by leg
  * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 7778 multiplications, 5723 additions/subtractions, 49 divisions, 0 sin/cos, 90 square roots.
+ * Cost: 7640 multiplications, 5663 additions/subtractions, 49 divisions, 0 sin/cos, 18 square roots.
  */
 int sru_platform_forward_dynamics(const sru_platform_real pose[7], const sru_platform_real twist[6], const sru_platform_real phi[6], sru_platform_real twist_rate[6], sru_platform_real qdd[6]);
 
@@ -86,7 +86,7 @@ int sru_platform_forward_dynamics(const sru_platform_real pose[7], const sru_pla
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   M[36] (out): mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)
  * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 5417 multiplications, 4012 additions/subtractions, 49 divisions, 0 sin/cos, 90 square roots.
+ * Cost: 5279 multiplications, 3952 additions/subtractions, 49 divisions, 0 sin/cos, 18 square roots.
  */
 int sru_platform_mass_matrix(const sru_platform_real pose[7], sru_platform_real M[36]);
 
@@ -95,7 +95,7 @@ int sru_platform_mass_matrix(const sru_platform_real pose[7], sru_platform_real 
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   T[36] (out): the seed's T, 6x6 row-major: t = T qd
  * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 2501 multiplications, 1816 additions/subtractions, 31 divisions, 0 sin/cos, 90 square roots.
+ * Cost: 2363 multiplications, 1756 additions/subtractions, 31 divisions, 0 sin/cos, 18 square roots.
  */
 int sru_platform_twist_map(const sru_platform_real pose[7], sru_platform_real T[36]);
 
@@ -104,7 +104,7 @@ int sru_platform_twist_map(const sru_platform_real pose[7], sru_platform_real T[
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   L[216] (out): the seed's L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)
  * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) is singular, or, in forward dynamics, the platform's generalized inertia is. On a nonzero return no output is written.
- * Cost: 5435 multiplications, 3862 additions/subtractions, 49 divisions, 0 sin/cos, 90 square roots.
+ * Cost: 5297 multiplications, 3802 additions/subtractions, 49 divisions, 0 sin/cos, 18 square roots.
  */
 int sru_platform_leg_rate_maps(const sru_platform_real pose[7], sru_platform_real L[216]);
 
@@ -115,7 +115,7 @@ int sru_platform_leg_rate_maps(const sru_platform_real pose[7], sru_platform_rea
  *   q[6] (out): actuated joint positions (rad or m), leg by leg
  *   qd[6] (out): actuated joint rates (rad/s or m/s), leg by leg
  * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined). On a nonzero return no output is written.
- * Cost: 2233 multiplications, 1611 additions/subtractions, 25 divisions, 0 sin/cos, 90 square roots, 6 other (sign, pow).
+ * Cost: 2095 multiplications, 1551 additions/subtractions, 25 divisions, 0 sin/cos, 18 square roots, 6 other (sign, pow).
  */
 int sru_platform_inverse_kinematics(const sru_platform_real pose[7], const sru_platform_real twist[6], sru_platform_real q[6], sru_platform_real qd[6]);
 

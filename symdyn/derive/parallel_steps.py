@@ -187,7 +187,7 @@ def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=No
                       (("M_M", MM), ("M(q)", M))))
     # N q_dot and tau^W from the legs' and the platform's inverse dynamics (power balance)
     qd = np.linalg.solve(T, twist)
-    generalized = _generalized_forces(legs, thetas, jacobians, L, T, MM, inertia, mass, gravity, c, twist, qd, R, p)
+    generalized = _generalized_forces(legs, thetas, jacobians, T, MM, inertia, mass, gravity, c, twist)
     n_qd, tau_w = generalized["N q_dot"], generalized["tau^W"]
     steps.append(Step("N", "N(q, q_dot) q_dot = T^T (M_M T_dot + W_M M_M T) q_dot + sum_J L_J^T (I_J L_dot_J + "
                       "C_J L_J) q_dot  (at this state)", (("q_dot", qd), ("N q_dot", n_qd))))
@@ -201,7 +201,7 @@ def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=No
     return ParallelDerivation(robot, pose, twist, qdd, tuple(steps))
 
 
-def _generalized_forces(legs, thetas, jacobians, L, T, MM, inertia, mass, gravity, c, twist, qd, R, p):
+def _generalized_forces(legs, thetas, jacobians, T, MM, inertia, mass, gravity, c, twist):
     """``N q_dot`` and ``tau^W`` at the state: the actuator forces at q_ddot = 0 minus those at
     rest (power balance of the legs' and the platform's Newton-Euler equations)."""
     def forces(tw, rate, with_gravity):
@@ -227,14 +227,14 @@ def _generalized_forces(legs, thetas, jacobians, L, T, MM, inertia, mass, gravit
                                        dtype=float).reshape(6)
             total = total + np.linalg.solve(jac.T, tau)
         return T.T @ total  # generalized forces on q (Lambda = 1)
-    # twist rate with q_ddot = 0: t_dot = T_dot q_dot, by differentiating t = T q_dot along the motion
-    rate0 = _twist_rate_at_zero_qdd(legs, thetas, jacobians, L, T, twist, qd, c, R, p)
-    n_qd = forces(twist, rate0, False) - 0.0
+    # the twist rate with q_ddot = 0 (t_dot = T_dot q_dot)
+    rate0 = _twist_rate_at_zero_qdd(legs, thetas, jacobians, twist, c)
+    n_qd = forces(twist, rate0, False)
     tau_w = -forces(np.zeros(6), np.zeros(6), True)
     return {"N q_dot": n_qd, "tau^W": tau_w}
 
 
-def _twist_rate_at_zero_qdd(legs, thetas, jacobians, L, T, twist, qd, c, R, p):
+def _twist_rate_at_zero_qdd(legs, thetas, jacobians, twist, c):
     """t_dot with the actuated joints' accelerations zero: K t_dot + (K_dot t) = 0 with
     q_dot = K t; each leg's row of K_dot t from its own J-dot: e_k^T J^-1 (t_dot - J_dot theta_dot)
     = q_ddot_J = 0, i.e. e_k^T J^-1 t_dot = e_k^T J^-1 b_J (b_J: the acceleration of C_M at

@@ -102,8 +102,9 @@ def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: st
             block(step.assignments)
         elif isinstance(step, Require):
             test = ">" if step.strict else ">="
-            body.ops += count_operations(step.value)
-            body.lines.append(f"if (!({printer.doprint(step.value)} {test} 0)) return {prefix.upper()}_"
+            value = _folded(step.value)
+            body.ops += count_operations(value)
+            body.lines.append(f"if (!({printer.doprint(value)} {test} 0)) return {prefix.upper()}_"
                               f"{step.status.upper()};")
         elif isinstance(step, Factor):
             lu = f"lu_{step.name}"

@@ -1,6 +1,7 @@
 """Printing a platform robot's derivation (:mod:`symdyn.derive.parallel_steps`) as text,
 LaTeX or Markdown: each step of seed 002 with its formula and its values at the state.  Numbers
-are shown with 6 significant digits.  No derivation happens here."""
+are shown with 6 significant digits (entries below 1e-9, relative to the larger of 1 and their
+array's largest entry, as 0).  No derivation happens here."""
 
 from __future__ import annotations
 
@@ -53,8 +54,15 @@ def _latex_number(text: str) -> str:
     return f"{mantissa} \\cdot 10^{{{int(exponent)}}}"
 
 
+#: entries below this times the larger of 1 and the array's largest entry print as 0 (rounding
+#: noise: the home pose of a file is written to 10 digits, so the legs' joint values at it are
+#: zero only to about 1e-10)
+NOISE = 1e-9
+
+
 def _rows(value) -> list[list[str]]:
     array = np.atleast_1d(np.asarray(value, dtype=float))
+    array = np.where(np.abs(array) < NOISE * max(1.0, float(np.abs(array).max())), 0.0, array)
     if array.ndim == 1:
         return [[_number(x)] for x in array]  # a column vector
     return [[_number(x) for x in row] for row in array]
@@ -88,7 +96,7 @@ def render_parallel(derivation: ParallelDerivation, fmt: str, source_name: str =
         "name": robot.name, "version": __version__,
         "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
-        "pose": [_number(x) for x in derivation.pose], "twist": [_number(x) for x in derivation.twist],
+        "pose": [row[0] for row in _rows(derivation.pose)], "twist": [_number(x) for x in derivation.twist],
         "accelerations": [_number(x) for x in derivation.accelerations],
         "legs": [(leg.name, leg.actuated + 1, leg.actuated_link.name,
                   "revolute" if leg.actuated_link.is_revolute else "prismatic") for leg in robot.legs],
