@@ -188,6 +188,9 @@ def generate_parallel_c(eqs: ParallelEquations, functions=None, precision: str =
                       f"gravity {[float(g) for g in robot.gravity]} m/s^2 (world frame)"],
         "functions": built,
         "notes": [comment_text(note) for note in notes],
+        # the LU helpers the functions call (an unused static function is a warning)
+        "helpers": {helper: any(f"{prefix}_{helper}(" in line for f in built for line in f.lines)
+                    for helper in ("lu6", "lu6_solve", "lu6_solve_t")},
     }
     env = template_environment()
     return {f"{prefix}_dynamics.h": env.get_template("parallel.h.j2").render(**context),
