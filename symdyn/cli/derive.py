@@ -73,11 +73,11 @@ def _numbers(text, count: int, option: str):
     return values
 
 
-def _run_parallel(args, robot) -> int:
-    """``symdyn derive`` of a platform robot (symdyn.derive.parallel_steps)."""
+def _parallel_text(args, robot):
+    """Check a platform robot's options; returns the function that derives and renders it
+    (symdyn.derive.parallel_steps)."""
     from ..derive.parallel_steps import parallel_steps
     from ..emit.parallel_printout import render_parallel
-    from .generate import input_files
     refused = [flag for flag, on in (("--method", args.method != "newton-euler"), ("--steps", args.steps != "all"),
                                      ("--form", args.form != "auto"), ("--base-parameters", args.base_parameters)) if on]
     if refused:
@@ -85,31 +85,12 @@ def _run_parallel(args, robot) -> int:
     pose = _numbers(args.pose, 7, "--pose")
     twist = _numbers(args.twist, 6, "--twist")
     qdd = _numbers(args.qdd, 6, "--qdd")
-    if args.out:
-        directory, name = os.path.split(os.path.abspath(args.out))
-        if not os.path.isdir(directory):
-            raise SymdynError(f"cannot write {args.out}: directory {directory} does not exist")
-        protect = input_files(args.robot)
-        check_output_dir(directory, option="the directory of --out")
-        check_targets(directory, [name], protect)
-    derivation = parallel_steps(robot, pose, twist, qdd)
-    text = render_parallel(derivation, args.format, source_name=os.path.basename(args.robot),
-                           source_hash=robot.source_hash)
-    if args.out:
-        write_files(directory, {name: text.encode("utf-8")}, protect=protect)
-    else:
-        sys.stdout.write(text)
-    return 0
+    return lambda: render_parallel(parallel_steps(robot, pose, twist, qdd), args.format,
+                                   source_name=os.path.basename(args.robot), source_hash=robot.source_hash)
 
 
-def run(args) -> int:
-    """Load, check where ``--out`` goes (before the derivation, which can take long), derive,
-    render, and print or write (:func:`symdyn.model.files.write_files`, the inputs protected)."""
-    from ..model.parallel import ParallelRobot
-    from .generate import input_files
-    robot, _ = load_robot(args.robot, args, parallel=True)
-    if isinstance(robot, ParallelRobot):
-        return _run_parallel(args, robot)
+def _serial_text(args, robot):
+    """Check a serial robot's options; returns the function that derives and renders it."""
     if args.pose or args.twist or args.qdd:
         raise SymdynError("--pose, --twist and --qdd apply to platform robots (kind: parallel) only")
     check_size(robot, args, args.robot)
@@ -119,6 +100,18 @@ def run(args) -> int:
             raise SymdynError("--form closed: the articulated-body derivation is printed in the named form "
                               "only (its quantities are rational in the joint variables)")
         closed = None
+    return lambda: render(derive_steps(robot, args.method, args.steps, closed, args.base_parameters), args.format,
+                          source_name=os.path.basename(args.robot), source_hash=robot.source_hash)
+
+
+def run(args) -> int:
+    """Load, check the options and where ``--out`` goes (before the derivation, which can take
+    long), derive, render, and print or write (:func:`symdyn.model.files.write_files`, the
+    inputs protected)."""
+    from ..model.parallel import ParallelRobot
+    from .generate import input_files
+    robot, _ = load_robot(args.robot, args, parallel=True)
+    text_of = _parallel_text(args, robot) if isinstance(robot, ParallelRobot) else _serial_text(args, robot)
     if args.out:
         directory, name = os.path.split(os.path.abspath(args.out))
         if not os.path.isdir(directory):
@@ -126,9 +119,7 @@ def run(args) -> int:
         protect = input_files(args.robot)
         check_output_dir(directory, option="the directory of --out")
         check_targets(directory, [name], protect)
-    derivation = derive_steps(robot, args.method, args.steps, closed, args.base_parameters)
-    text = render(derivation, args.format, source_name=os.path.basename(args.robot),
-                  source_hash=robot.source_hash)
+    text = text_of()
     if args.out:
         write_files(directory, {name: text.encode("utf-8")}, protect=protect)
     else:

@@ -461,27 +461,26 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
         theta_ddot = st.vector(f"{tag}qdd", jinv * acc)
         tau = imp.get("inverse_dynamics", dict(zip(eqs.qdd, theta_ddot)))
         y_lt = st.vector(f"{tag}y", jinv.T * tau)
-        z_lt = jinv[leg.actuated, :].T
         # forward dynamics: theta_ddot at t_dot = 0, R_J = J^-1 S, the leg's D
         offset = st.vector(f"{tag}qdd0", jinv * (sp.Matrix.vstack(centripetal, sp.zeros(3, 1)) - bias))
         tau0 = imp.get("inverse_dynamics", dict(zip(eqs.qdd, offset)), suffix="_0")
         shift = sp.Matrix(sp.BlockMatrix([[-_skew(r), sp.eye(3)], [sp.eye(3), sp.zeros(3)]]))
         rates = sp.Matrix(6, 6, lambda i, j: st.define(f"{tag}R{i}{j}", (jinv[i, :] * shift[:, j])[0]))
         mass = imp.get("mass_matrix") + sp.diag(*[link.armature for link in leg.chain.links])
-        legs.append(dict(tag=tag, leg=leg, r=r, y=y_lt, z=z_lt, rates=rates, mass=mass, tau0=tau0,
+        legs.append(dict(tag=tag, leg=leg, r=r, y=y_lt, rates=rates, mass=mass, tau0=tau0,
                          offset=offset, theta_dot=theta_dot, joint=joints[leg.actuated], link=leg.actuated_link))
 
     report("platform")
     outputs = {}
+    # K (q_dot = K t): row J is leg J's actuated row of R_J = J_J^-1 S_J; one factorization serves
+    # inverse dynamics (K^T phi = ...) and T = K^-1
+    K = sp.Matrix([list(lg["rates"][lg["leg"].actuated, :]) for lg in legs])
     # inverse dynamics: K^T phi = w_M + sum S^T J^-T tau
     wrench = sp.Matrix.vstack(inertia * omega_dot + bias_moment, plat.mass * c_ddot + weight)
-    K_rows = []
     for lg in legs:
-        y_f, y_m, z_f, z_m = lg["y"][:3, 0], lg["y"][3:, 0], lg["z"][:3, 0], lg["z"][3:, 0]
+        y_f, y_m = lg["y"][:3, 0], lg["y"][3:, 0]
         wrench += sp.Matrix.vstack(_cross(lg["r"], y_f) + y_m, y_f)
-        K_rows.append(list(_cross(lg["r"], z_f) + z_m) + list(z_f))
     wrench = st.vector("wrench", wrench)
-    K = sp.Matrix(6, 6, lambda i, j: st.define(f"K{i}{j}", K_rows[i][j]))
     st.factor("K", K, "singular")
     phi_out = st.solve("K", wrench, "phi", transpose=True)
     outputs["inverse_dynamics"] = (("phi", sp.ImmutableMatrix(phi_out)),)
@@ -490,24 +489,20 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
     platform_mass = sp.diag(inertia, plat.mass * sp.eye(3))
     A = sp.Matrix(platform_mass)
     b = sp.Matrix.vstack(bias_moment, weight)
-    KR = []
     for lg in legs:
         Rj = lg["rates"]
         DR = sp.Matrix(6, 6, lambda i, j: st.define(f"{lg['tag']}DR{i}{j}", (lg["mass"][i, :] * Rj[:, j])[0]))
         A += sp.Matrix(6, 6, lambda i, j: (Rj[:, i].T * DR[:, j])[0] if i <= j else 0)
         b += Rj.T * lg["tau0"]
-        KR.append(list(Rj[lg["leg"].actuated, :]))
     A = sp.Matrix(6, 6, lambda i, j: st.define(f"A{min(i, j)}{max(i, j)}", A[min(i, j), max(i, j)]))
-    KR = sp.Matrix(6, 6, lambda i, j: KR[i][j])
-    rhs = st.vector("fd_rhs", KR.T * phi - b)
+    rhs = st.vector("fd_rhs", K.T * phi - b)
     st.factor("A", A, "singular")
     t_dot = st.solve("A", rhs, "tdot")
-    qdd = sp.Matrix([(KR[k, :] * t_dot)[0] + lg["offset"][lg["leg"].actuated] for k, lg in enumerate(legs)])
+    qdd = sp.Matrix([(K[k, :] * t_dot)[0] + lg["offset"][lg["leg"].actuated] for k, lg in enumerate(legs)])
     outputs["forward_dynamics"] = (("twist_rate", sp.ImmutableMatrix(t_dot)), ("qdd", sp.ImmutableMatrix(qdd)))
 
-    # T = K^-1 (K from the rows of R_J), M = T^T A T, L_J = R_J T
-    st.factor("KR", KR, "singular")
-    T = st.solve("KR", sp.eye(6), "T")
+    # T = K^-1, M = T^T A T, L_J = R_J T
+    T = st.solve("K", sp.eye(6), "T")
     AT = sp.Matrix(6, 6, lambda i, j: st.define(f"AT{i}{j}", (A[i, :] * T[:, j])[0]))
     M = sp.Matrix(6, 6, lambda i, j: (T[:, min(i, j)].T * AT[:, max(i, j)])[0])
     outputs["mass_matrix"] = (("M", sp.ImmutableMatrix(M)),)
