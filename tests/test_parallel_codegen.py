@@ -379,3 +379,29 @@ int main(void) {{
     assert result.returncode == 0, result.stderr[-3000:]
     assert "runtime error" not in result.stderr and "AddressSanitizer" not in result.stderr
     assert int(result.stdout) > 0  # the bad poses did return statuses
+
+
+def test_files_and_poses_refused_in_one_line(tmp_path, capsys):
+    """A misspelt kind, a platform file without one, a leg at a singular configuration at its
+    home pose, and derive at a parallel singularity: one line each, nothing written."""
+    import yaml
+    source = REPO / "robots" / "parallel" / "sru_platform.yaml"
+    doc = yaml.safe_load(source.read_text())
+    cases = []
+    misspelt = dict(doc, kind="paralel")
+    cases.append((misspelt, "unknown kind 'paralel'"))
+    cases.append(({k: v for k, v in doc.items() if k != "kind"}, "add 'kind: parallel'"))
+    text = source.read_text().replace("name: knee, joint: revolute", "name: knee, joint: prismatic")
+    assert text != source.read_text()
+    cases.append((yaml.safe_load(text), "singular configuration at its home pose"))
+    for k, (case, message) in enumerate(cases):
+        path = tmp_path / f"case{k}.yaml"
+        path.write_text(yaml.safe_dump(case))
+        assert main(["generate", str(path), "--out", str(tmp_path / "out")]) != 0
+        err = capsys.readouterr().err.strip()
+        assert message in err and len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert not (tmp_path / "out").exists()
+    turned = f"0,0,2,0,0,{float(np.sin(np.pi / 4))!r},{float(np.cos(np.pi / 4))!r}"
+    assert main(["derive", str(REPO / "robots" / "parallel" / "flight_simulator.yaml"), "--pose", turned]) != 0
+    err = capsys.readouterr().err.strip()
+    assert "parallel singularity" in err and len(err.splitlines()) == 1, err

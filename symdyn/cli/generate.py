@@ -39,7 +39,9 @@ def add_parser(sub) -> None:
                    help="comma-separated subset of: inverse_dynamics, mass_matrix, coriolis, "
                         "coriolis_matrix, gravity, forward_dynamics, forward_kinematics, jacobian, "
                         "jacobian_dot_qd, reaction_map (default: the scene's functions, else all but "
-                        "reaction_map, which is added when the robot has passive joints)")
+                        "reaction_map, which is added when the robot has passive joints); for a platform robot "
+                        "(kind: parallel): inverse_dynamics, forward_dynamics, mass_matrix, twist_map, "
+                        "leg_rate_maps, inverse_kinematics (default all)")
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
     p.add_argument("--parameters", default="standard", choices=("standard", "base"),

@@ -299,6 +299,9 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     -------
     Equations, immutable.
     """
+    if not isinstance(robot, Robot):
+        raise SymdynError(f"{getattr(robot, 'source', '') or getattr(robot, 'name', robot)}: not a serial robot; "
+                          "a platform robot (kind: parallel) is derived by symdyn.derive.parallel.derive_parallel")
     method = _normalize_method(method)
     if parameters not in PARAMETER_FORMS:
         raise ValueError(f"parameters must be one of {', '.join(PARAMETER_FORMS)}, not {parameters!r}")

@@ -42,11 +42,12 @@ import time
 from dataclasses import dataclass
 from typing import Union
 
+import numpy as np
 import sympy as sp
 
 from ..model.errors import SymdynError
 from ..model.parallel import ParallelRobot
-from .parallel_ik import LegIK, LegStructureError
+from .parallel_ik import LegIK, LegStructureError, leg_error
 from .program import ProgramBuilder
 
 #: status codes of the generated functions (0: success)
@@ -57,8 +58,11 @@ STATUS_DOC = {
     "leg_singular": "a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle "
                     "of its inverse kinematics is not defined)",
     "singular": "the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) "
-                "is singular, or, in forward dynamics, the platform's generalized inertia is",
+                "is singular",
 }
+#: forward dynamics' SINGULAR: it solves with the generalized inertia, not with K
+FORWARD_SINGULAR_DOC = ("the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is "
+                        "defined at a parallel singularity and returns 0 there")
 
 #: the generated functions: name -> (inputs, outputs (name, rows, cols), summary)
 FUNCTIONS = {
@@ -150,6 +154,8 @@ class ParallelEquations:
     outputs: tuple  # (function name, ((output name, matrix), ...))
     branches: tuple  # per leg: the closed form's branches (joint 4, universal, spherical)
     seconds: float = 0.0
+    #: the platform's pose at the file's home configuration: position (m) and quaternion (x, y, z, w)
+    home_pose: tuple = ()
 
     @property
     def function_names(self) -> tuple[str, ...]:
@@ -405,7 +411,12 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
             ik = LegIK.of(leg.chain)
             branch = ik.branches_of(leg.home)
         except LegStructureError as err:
-            raise SymdynError(f"{where}: leg {leg.name}: {err}") from None
+            raise SymdynError(f"{where}: leg {leg.name}: {leg_error(err, leg)}") from None
+        home_jacobian = np.asarray(eqs.numeric.jacobian(np.array([float(v) for v in leg.home]), []), dtype=float)
+        if not np.linalg.cond(home_jacobian.reshape(6, 6)) < 1e12:
+            raise SymdynError(f"{where}: leg {leg.name}: the leg is at a singular configuration at its home pose "
+                              "(its Jacobian is singular): the generated functions would return a status there; "
+                              "check the leg's table and 'home'")
         branches.append(branch)
         base = sp.Matrix(leg.chain.base_matrix())
         attach = sp.Matrix(leg.attachment.matrix())
@@ -522,4 +533,36 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
 
     return ParallelEquations(robot=robot, inputs=tuple((k, v) for k, v in inputs.items()), steps=st.build(),
                              outputs=tuple((name, outputs[name]) for name in wanted), branches=tuple(branches),
-                             seconds=time.perf_counter() - start)
+                             seconds=time.perf_counter() - start, home_pose=home_pose(robot))
+
+
+def home_pose(robot: ParallelRobot) -> tuple:
+    """The platform's pose (position, m; quaternion (x, y, z, w)) at the file's home
+    configuration, from the first leg (the file's legs agree to 1e-6)."""
+    from ..model.geometry import numeric_pose
+    leg = robot.legs[0]
+    frame6 = np.array(leg.chain.base_matrix(), dtype=float) @ numeric_pose(leg.chain, leg.home)
+    pose = frame6 @ np.linalg.inv(np.array(leg.attachment.matrix(), dtype=float))
+    return (*[float(x) for x in pose[:3, 3]], *quaternion(pose[:3, :3]))
+
+
+def quaternion(R) -> tuple:
+    """(x, y, z, w) of a 3x3 rotation matrix, w >= 0 (Shepperd's method: the largest of the four
+    first)."""
+    R = np.asarray(R, dtype=float)
+    trace = float(np.trace(R))
+    k = int(np.argmax([trace, R[0, 0], R[1, 1], R[2, 2]]))
+    if k == 0:
+        w = 0.5 * np.sqrt(1 + trace)
+        x, y, z = (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)
+    elif k == 1:
+        x = 0.5 * np.sqrt(1 + 2 * R[0, 0] - trace)
+        w, y, z = (R[2, 1] - R[1, 2]) / (4 * x), (R[0, 1] + R[1, 0]) / (4 * x), (R[0, 2] + R[2, 0]) / (4 * x)
+    elif k == 2:
+        y = 0.5 * np.sqrt(1 + 2 * R[1, 1] - trace)
+        w, x, z = (R[0, 2] - R[2, 0]) / (4 * y), (R[0, 1] + R[1, 0]) / (4 * y), (R[1, 2] + R[2, 1]) / (4 * y)
+    else:
+        z = 0.5 * np.sqrt(1 + 2 * R[2, 2] - trace)
+        w, x, y = (R[1, 0] - R[0, 1]) / (4 * z), (R[0, 2] + R[2, 0]) / (4 * z), (R[1, 2] + R[2, 1]) / (4 * z)
+    q = np.array([x, y, z, w], dtype=float)
+    return tuple(float(v) for v in (q if q[3] >= 0 else -q))

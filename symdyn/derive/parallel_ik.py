@@ -38,6 +38,13 @@ class LegStructureError(ValueError):
     """The leg is not of the S-X-U kind this closed form solves."""
 
 
+def leg_error(err: LegStructureError, leg) -> str:
+    """The message of ``err`` without the leg chain's own name in front (callers name the leg)."""
+    text = str(err)
+    prefix = f"{leg.chain.name}: "
+    return text[len(prefix):] if text.startswith(prefix) else text
+
+
 def _dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
@@ -196,7 +203,7 @@ class LegIK:
         values = [(np.cos(float(link.theta + q)), np.sin(float(link.theta + q))) if link.is_revolute else float(q)
                   for link, q in zip(self.leg.links, joints)]
         for branches in itertools.product((1, -1), repeat=3):
-            with np.errstate(invalid="ignore"):
+            with np.errstate(invalid="ignore", divide="ignore"):
                 found = numeric.solve(pose[:3, :3].tolist(), pose[:3, 3].tolist(), branches, np.sqrt)
             if all(np.allclose(np.array(a, dtype=float), np.array(b, dtype=float), atol=1e-9)
                    for a, b in zip(found, values)):

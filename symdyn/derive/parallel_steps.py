@@ -22,9 +22,13 @@ import numpy as np
 
 from ..model.errors import SymdynError
 from ..model.parallel import ParallelRobot
-from .parallel_ik import LegIK, LegStructureError
+from .parallel import home_pose
+from .parallel_ik import LegIK, LegStructureError, leg_error
 
 ROMAN = ("I", "II", "III", "IV", "V", "VI")
+#: a matrix whose condition number is this or more is treated as singular (the generated
+#: functions' relative pivot tolerance is 1e-12)
+SINGULAR_CONDITION = 1e12
 
 
 @dataclass(frozen=True)
@@ -66,16 +70,17 @@ def _rotation(quaternion) -> np.ndarray:
 class _Leg:
     """Leg J's numeric serial equations and closed-form inverse kinematics."""
 
-    def __init__(self, leg):
+    def __init__(self, leg, where: str):
         import symdyn
         self.leg = leg
+        self.where = f"{where}: leg {leg.name}"
         self.eqs = symdyn.derive(leg.chain, outputs=["forward_kinematics", "jacobian", "jacobian_dot_qd",
                                                      "inverse_dynamics", "mass_matrix"]).numeric
         try:
             structure = LegIK.of(leg.chain)
             self.branches = structure.branches_of(leg.home)
         except LegStructureError as err:
-            raise SymdynError(f"leg {leg.name}: {err}") from None
+            raise SymdynError(f"{self.where}: {leg_error(err, leg)}") from None
         self.ik = structure.with_floats()
         self.centre = np.array([float(x) for x in structure.centre_s])
         self.base = np.array(leg.chain.base_matrix(), dtype=float)
@@ -92,24 +97,20 @@ class _Leg:
             out.append(np.arctan2(value[1], value[0]) - float(link.theta) if link.is_revolute else float(value))
         theta = np.array(out, dtype=float)
         if not np.all(np.isfinite(theta)):
-            raise SymdynError(f"leg {self.leg.name}: the pose is out of the leg's reach")
+            raise SymdynError(f"{self.where}: the pose is out of the leg's reach, or the leg is at a singular "
+                              "configuration there")
         return theta
 
 
 def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=None) -> ParallelDerivation:
     """The seed's quantities at platform state (``pose``: p and quaternion (x, y, z, w), default
     the home pose; ``twist`` t_M, default 0; ``accelerations`` q_ddot, default 0)."""
+    where = robot.source or robot.name
     if robot.parameters:
-        raise SymdynError(f"{robot.source or robot.name}: the derivation of a platform robot needs numbers for "
-                          "every parameter")
-    legs = [_Leg(leg) for leg in robot.legs]
-    if pose is None:
-        first = legs[0]
-        home = np.asarray(first.eqs.forward_kinematics(np.array([float(v) for v in first.leg.home]), []),
-                          dtype=float).reshape(4, 4) @ np.linalg.inv(first.attachment)
-        quat = _quaternion(home[:3, :3])
-        pose = np.concatenate([home[:3, 3], quat])
-    pose = np.asarray(pose, dtype=float)
+        raise SymdynError(f"{where}: runtime parameters ({', '.join(s.name for s in robot.parameters)}) are not "
+                          "supported for platform robots yet: give numbers")
+    legs = [_Leg(leg, where) for leg in robot.legs]
+    pose = np.asarray(home_pose(robot) if pose is None else pose, dtype=float)
     twist = np.zeros(6) if twist is None else np.asarray(twist, dtype=float)
     qdd = np.zeros(6) if accelerations is None else np.asarray(accelerations, dtype=float)
     p, R = pose[:3], _rotation(pose[3:7])
@@ -167,6 +168,13 @@ def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=No
                       "u_J from the other two of joints 4-6)", tuple(values)))
     Y = np.array(ys)
     Z = np.diag(zetas)
+    for J in range(6):
+        if not np.linalg.cond(jacobians[J]) < SINGULAR_CONDITION:
+            raise SymdynError(f"{legs[J].where}: the leg is at a singular configuration at this pose (J_J has "
+                              f"condition number {np.linalg.cond(jacobians[J]):.1e}): give another --pose")
+    if not np.linalg.cond(Y) < SINGULAR_CONDITION or not min(abs(z) for z in zetas) > 0:
+        raise SymdynError(f"{where}: the platform is at a parallel singularity at this pose (Y has condition number "
+                          f"{np.linalg.cond(Y):.1e}; T = Y^-1 Z is not defined): give another --pose")
     steps.append(Step("Y", "Y = [y_I^T; y_II^T; ...; y_VI^T]", (("Y", Y),)))
     steps.append(Step("Z", "Z = diag(zeta_I, ..., zeta_VI)", (("Z", Z),)))
     try:
@@ -253,24 +261,3 @@ def _twist_rate_at_zero_qdd(legs, thetas, jacobians, twist, c):
         rows.append(row)
         rhs.append(row @ np.concatenate([alpha0, a0]))
     return np.linalg.solve(np.array(rows), np.array(rhs))
-
-
-def _quaternion(R) -> np.ndarray:
-    """(x, y, z, w) of a rotation matrix (Shepperd's method: the largest of the four first)."""
-    trace = np.trace(R)
-    values = [trace, R[0, 0], R[1, 1], R[2, 2]]
-    k = int(np.argmax(values))
-    if k == 0:
-        w = 0.5 * np.sqrt(1 + trace)
-        x, y, z = (R[2, 1] - R[1, 2]) / (4 * w), (R[0, 2] - R[2, 0]) / (4 * w), (R[1, 0] - R[0, 1]) / (4 * w)
-    elif k == 1:
-        x = 0.5 * np.sqrt(1 + 2 * R[0, 0] - trace)
-        w, y, z = (R[2, 1] - R[1, 2]) / (4 * x), (R[0, 1] + R[1, 0]) / (4 * x), (R[0, 2] + R[2, 0]) / (4 * x)
-    elif k == 2:
-        y = 0.5 * np.sqrt(1 + 2 * R[1, 1] - trace)
-        w, x, z = (R[0, 2] - R[2, 0]) / (4 * y), (R[0, 1] + R[1, 0]) / (4 * y), (R[1, 2] + R[2, 1]) / (4 * y)
-    else:
-        z = 0.5 * np.sqrt(1 + 2 * R[2, 2] - trace)
-        w, x, y = (R[1, 0] - R[0, 1]) / (4 * z), (R[0, 2] + R[2, 0]) / (4 * z), (R[1, 2] + R[2, 1]) / (4 * z)
-    q = np.array([x, y, z, w])
-    return q if q[3] >= 0 else -q

@@ -19,8 +19,8 @@ import sympy as sp
 
 from .. import __version__
 from ..derive.parallel import PIVOT_RTOL as RTOL_SYMBOL
-from ..derive.parallel import (FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block, Factor, ParallelEquations,
-                               Require, Solve)
+from ..derive.parallel import (FORWARD_SINGULAR_DOC, FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block, Factor,
+                               ParallelEquations, Require, Solve)
 from .cgen import CFunction, _merge_cse, scalar_type
 from .cprinter import CPrinter, count_operations
 from .emission import comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
@@ -142,8 +142,9 @@ def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: st
             for group, _ in function.inputs]
     args += [(f"{real} ", f"{arg}[{m.rows * m.cols}]", OUTPUT_DOCS[arg], True) for arg, m in function.outputs]
     statuses = function.statuses
+    docs = dict(STATUS_DOC, singular=FORWARD_SINGULAR_DOC) if name == "forward_dynamics" else STATUS_DOC
     returns_doc = "Returns 0 on success; " + "; ".join(
-        f"{prefix.upper()}_{s.upper()} ({STATUS[s]}) when {STATUS_DOC[s]}" for s in statuses) + \
+        f"{prefix.upper()}_{s.upper()} ({STATUS[s]}) when {docs[s]}" for s in statuses) + \
         ". On a nonzero return no output is written."
     return CFunction(name=name, summary=function.summary, args=args, lines=body.lines, ops=body.ops,
                      returns="int", returns_doc=returns_doc)
@@ -182,6 +183,8 @@ def generate_parallel_c(eqs: ParallelEquations, functions=None, precision: str =
         "rtol_text": repr(PIVOT_RTOL[precision]),
         "statuses": [(k.upper(), v, STATUS_DOC[k]) for k, v in STATUS.items()],
         "legs": legs,
+        # rounded to 1e-9: the file's home configuration holds the pose to about 1e-10
+        "home": ", ".join(f"{(round(x, 9) or 0.0):.10g}" for x in eqs.home_pose),
         "constants": [f"platform mass {float(plat.mass)!r} kg, centre of mass {[float(c) for c in plat.com]} m "
                       f"(platform frame), inertia about it (xx, yy, zz, xy, xz, yz) "
                       f"{[float(c) for c in plat.inertia]} kg m^2",

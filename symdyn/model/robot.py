@@ -603,8 +603,14 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     if not isinstance(doc, dict):
         reader.fail("expected a mapping with format, name, convention and links")
     if doc.get("kind") == "parallel":
-        reader.fail("a platform robot file (kind: parallel): only 'symdyn generate' and 'symdyn derive' "
-                    "take it (symdyn.model.parallel.load reads it)", None, "kind")
+        reader.fail("a platform robot file (kind: parallel): this command does not take it ('symdyn generate' "
+                    "and 'symdyn derive' do; a scene cannot specialize one)", None, "kind")
+    if "kind" in doc:
+        reader.fail(f"unknown kind {describe(doc['kind'])} (the one kind is 'parallel', for a platform robot; "
+                    "a serial robot file has no kind)", None, "kind")
+    if "legs" in doc or "platform" in doc:
+        reader.fail("'platform' and 'legs' describe a platform robot: add 'kind: parallel' "
+                    "(docs/parallel-format.md)", None, "platform" if "platform" in doc else "legs")
     for key in doc:
         if key not in TOP_KEYS:
             reader.fail(f"unknown key {describe(key)} (allowed: {', '.join(TOP_KEYS)})", None, one_line(str(key), 40))
