@@ -209,6 +209,19 @@ def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=No
     return ParallelDerivation(robot, pose, twist, qdd, tuple(steps))
 
 
+def _rates_and_bias(leg, theta, jac, twist, c):
+    """Leg ``leg``'s joint rates ``J^-1 t`` and the acceleration [alpha; a] of C_M (a point of its
+    last link) at theta_ddot = 0, from its J-dot theta_dot at frame 6's origin."""
+    omega = twist[:3]
+    theta_dot = np.linalg.solve(jac, twist)
+    frame6 = np.asarray(leg.eqs.forward_kinematics(theta, []), dtype=float).reshape(4, 4)
+    rho = c - frame6[:3, 3]
+    jdqd = np.asarray(leg.eqs.jacobian_dot_qd(theta, theta_dot, []), dtype=float).reshape(6)
+    alpha0 = jdqd[3:]
+    a0 = jdqd[:3] + np.cross(alpha0, rho) + np.cross(omega, np.cross(omega, rho))
+    return theta_dot, np.concatenate([alpha0, a0])
+
+
 def _generalized_forces(legs, thetas, jacobians, T, MM, inertia, mass, gravity, c, twist):
     """``N q_dot`` and ``tau^W`` at the state: the actuator forces at q_ddot = 0 minus those at
     rest (power balance of the legs' and the platform's Newton-Euler equations)."""
@@ -218,17 +231,9 @@ def _generalized_forces(legs, thetas, jacobians, T, MM, inertia, mass, gravity, 
                                              -mass * gravity if with_gravity else np.zeros(3)])
         total = wrench.copy()
         for J, leg in enumerate(legs):
-            theta = thetas[J]
-            jac = jacobians[J]  # [angular; linear at C_M]
-            theta_dot = np.linalg.solve(jac, tw)
-            frame6 = np.asarray(leg.eqs.forward_kinematics(theta, []), dtype=float).reshape(4, 4)
-            rho = c - frame6[:3, 3]
-            jdqd = np.asarray(leg.eqs.jacobian_dot_qd(theta, theta_dot, []), dtype=float).reshape(6)
-            # the classical acceleration of C_M (a point of the last link) at theta_ddot = 0
-            alpha0 = jdqd[3:]
-            a0 = jdqd[:3] + np.cross(alpha0, rho) + np.cross(omega, np.cross(omega, rho))
-            rhs = np.concatenate([rate[:3], rate[3:]]) - np.concatenate([alpha0, a0])
-            theta_ddot = np.linalg.solve(jac, rhs)
+            theta, jac = thetas[J], jacobians[J]  # jac: [angular; linear at C_M]
+            theta_dot, bias = _rates_and_bias(leg, theta, jac, tw, c)
+            theta_ddot = np.linalg.solve(jac, rate - bias)
             tau = np.asarray(leg.eqs.inverse_dynamics(theta, theta_dot, theta_ddot, []), dtype=float).reshape(6)
             if not with_gravity:
                 tau = tau - np.asarray(leg.eqs.inverse_dynamics(theta, np.zeros(6), np.zeros(6), []),
@@ -247,17 +252,10 @@ def _twist_rate_at_zero_qdd(legs, thetas, jacobians, twist, c):
     q_dot = K t; each leg's row of K_dot t from its own J-dot: e_k^T J^-1 (t_dot - J_dot theta_dot)
     = q_ddot_J = 0, i.e. e_k^T J^-1 t_dot = e_k^T J^-1 b_J (b_J: the acceleration of C_M at
     theta_ddot = 0)."""
-    omega = twist[:3]
     rows, rhs = [], []
     for J, leg in enumerate(legs):
-        jac = jacobians[J]
-        theta_dot = np.linalg.solve(jac, twist)
-        frame6 = np.asarray(leg.eqs.forward_kinematics(thetas[J], []), dtype=float).reshape(4, 4)
-        rho = c - frame6[:3, 3]
-        jdqd = np.asarray(leg.eqs.jacobian_dot_qd(thetas[J], theta_dot, []), dtype=float).reshape(6)
-        alpha0 = jdqd[3:]
-        a0 = jdqd[:3] + np.cross(alpha0, rho) + np.cross(omega, np.cross(omega, rho))
-        row = np.linalg.solve(jac.T, np.eye(6)[leg.leg.actuated])  # e_k^T J^-1 as a vector
+        _, bias = _rates_and_bias(leg, thetas[J], jacobians[J], twist, c)
+        row = np.linalg.solve(jacobians[J].T, np.eye(6)[leg.leg.actuated])  # e_k^T J^-1 as a vector
         rows.append(row)
-        rhs.append(row @ np.concatenate([alpha0, a0]))
+        rhs.append(row @ bias)
     return np.linalg.solve(np.array(rows), np.array(rhs))
