@@ -12,8 +12,7 @@ import symdyn
 from helpers import REPO
 from symdyn.check.cbuild import WARNING_FLAGS
 from symdyn.cli import main
-from symdyn.emit.cgen import COMBINED, OUTPUT_ARGS, SPLIT_OUTPUTS
-from symdyn.model.outputs import OUTPUT_INPUTS
+from symdyn.model.outputs import COMBINED, OUTPUT_INPUTS, REGISTRY
 
 GCC = shutil.which("gcc")
 CLANG = shutil.which("clang")
@@ -32,13 +31,11 @@ def signature(robot, eqs, name):
     parts = COMBINED.get(name, (name,))
     inputs = [(group, robot.dof) for group in OUTPUT_INPUTS[parts[0]]]
     outputs = []
-    for part in parts:
-        if part in SPLIT_OUTPUTS:
-            matrix = eqs.output(part)
-            outputs += [(arg, matrix[:, first:end].rows * matrix[:, first:end].cols)
-                        for arg, _, first, end in SPLIT_OUTPUTS[part]]
-        else:
-            outputs.append((OUTPUT_ARGS[part][0], eqs.output(part).rows * eqs.output(part).cols))
+    for part in parts:  # the derived matrix's blocks, as the registry splits them
+        matrix = eqs.output(part)
+        for argument in REGISTRY[part].arguments:
+            block = matrix[:, argument.first:argument.end]
+            outputs.append((argument.name, block.rows * block.cols))
     return inputs, outputs
 
 

@@ -406,6 +406,12 @@ int main(void) {
         int status = hostile_forward_dynamics_checked(qs[k], qd, tau, qdd);
         printf("%d %g %g\\n", status, (double)qdd[0], (double)qdd[1]);
     }
+    {   /* the regular pose with ordinary torques: solved */
+        const float torque[2] = {1.0F, -2.0F};
+        float qdd[2] = {7.0F, 7.0F};
+        int status = hostile_forward_dynamics_checked(qs[1], qd, torque, qdd);
+        printf("%d %g %g\\n", status, (double)qdd[0], (double)qdd[1]);
+    }
     return 0;
 }
 """)
@@ -419,5 +425,10 @@ int main(void) {
     assert build.returncode == 0, build.stderr
     run = subprocess.run([str(exe)], capture_output=True, text=True, timeout=60)
     assert run.returncode == 0, run.stderr
-    statuses = [int(line.split()[0]) for line in run.stdout.split("\n") if line.strip()]
-    assert statuses[0] == 1 and statuses[2] != 0 and statuses[3] != 0
+    rows = [line.split() for line in run.stdout.split("\n") if line.strip()]
+    statuses = [int(row[0]) for row in rows]
+    # singular pose: 1; regular pose, torques of 3e38 N m: the accelerations overflow float, 2;
+    # NaN in q: 1 (no pivot compares true); huge q and torques: nonzero; regular and ordinary: 0
+    assert statuses[:3] == [1, 2, 1] and statuses[3] != 0 and statuses[4] == 0, rows
+    assert all(np.isfinite(float(x)) and float(x) != 7.0 for x in rows[4][1:]), rows  # solved, written
+    assert all(row[1:] == ["7", "7"] for row in rows if row[0] != "0"), rows  # not written on a status

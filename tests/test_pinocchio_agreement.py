@@ -7,6 +7,8 @@ import numpy as np
 import pytest
 
 from helpers import ROBOTS, TOL, PinocchioReference, normalized_error, parameter_values, random_states
+from symdyn.check.pinocchio_model import compare
+from symdyn.model.outputs import ALL_OUTPUTS
 
 STATES = 50
 #: the derivations other than the default one are checked at fewer states (they share no code
@@ -32,25 +34,14 @@ def test_agrees_with_pinocchio(derived, name, method):
     values = parameter_values(eqs.robot)
     p = [values[s] for s in eqs.parameters]
     ref = PinocchioReference(eqs.robot, values)
-    num = eqs.numeric
-    keys = ("D", "c") if (name, method) in PARTIAL else ("D", "h", "C", "c", "tau", "fd")
-    results = {k: ([], []) for k in keys}
+    # every derived output, in the registry's order; each must have its independent reference
+    functions = [name for name in ALL_OUTPUTS if name in eqs.output_names]
+    missing = [f for f in functions if not hasattr(ref, f)]
+    assert not missing, f"no Pinocchio reference for {missing}"
     count = STATES if method == "newton-euler" else OTHER_METHOD_STATES
-    for q, qd, qdd, tau in random_states(eqs.n, count, seed=zlib.crc32(name.encode()) % 1000):
-        pairs = {
-            "D": lambda: (num.mass_matrix(q, p), ref.mass_matrix(q)),
-            "h": lambda: (num.coriolis(q, qd, p), ref.coriolis(q, qd)),
-            "C": lambda: (num.coriolis_matrix(q, qd, p), ref.coriolis_matrix(q, qd)),
-            "c": lambda: (num.gravity(q, p), ref.gravity(q)),
-            "tau": lambda: (num.inverse_dynamics(q, qd, qdd, p), ref.inverse_dynamics(q, qd, qdd)),
-            "fd": lambda: (num.forward_dynamics(q, qd, tau, p), ref.forward_dynamics(q, qd, tau)),
-        }
-        for key in keys:
-            mine, theirs = pairs[key]()
-            results[key][0].append(mine)
-            results[key][1].append(theirs)
-    errors = {key: normalized_error(np.array(m), np.array(r)) for key, (m, r) in results.items()}
-    assert all(np.isfinite(v) for v in errors.values())
+    states = list(random_states(eqs.n, count, seed=zlib.crc32(name.encode()) % 1000))
+    errors = compare(eqs.numeric, ref, states, functions, p)
+    assert set(errors) == set(functions) and all(np.isfinite(v) for v in errors.values()), errors
     bad = {k: v for k, v in errors.items() if v > TOL}
     assert not bad, f"{name} {method}: normalized errors over {TOL}: {bad}"
 

@@ -37,7 +37,7 @@ import sympy as sp
 
 from ..derive.cache import derive_cached
 from .cbuild import build_and_load, find_compiler
-from ..derive.equations import OUTPUT_INPUTS
+from ..model.outputs import OUTPUT_INPUTS, with_requirements
 from ..model.errors import SymdynError
 from .pinocchio_model import normalized_error
 from ..derive.program import Program
@@ -117,7 +117,7 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
     refs = {f: [getattr(reference, f)(*[s[k] for k in INPUTS[f]]) for s in states] for f in functions}
     refs_float = None
     results: list[Result] = []
-    wanted = tuple(functions) + (("mass_matrix",) if "forward_dynamics" in functions else ())
+    wanted = with_requirements(functions)
     workdir = workdir or tempfile.mkdtemp(prefix="symdyn-bench-")
 
     def error_of(call, f, float_inputs=False):

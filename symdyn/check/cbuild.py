@@ -12,6 +12,7 @@ import tempfile
 import numpy as np
 
 from ..model.errors import SymdynError
+from ..model.outputs import COMBINED_SPECS, REGISTRY, SPECS, Dimensions
 
 WARNING_FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
 
@@ -58,45 +59,6 @@ class CompiledDynamics:
         code = fn(*[a.ctypes.data_as(pointer) for a in arrays], out.ctypes.data_as(pointer))
         return (int(code), out) if status else out
 
-    def inverse_dynamics(self, q, qd, qdd, p=None):
-        return self._call("inverse_dynamics", (q, qd, qdd), p, self.n)
-
-    def mass_matrix(self, q, p=None):
-        return self._call("mass_matrix", (q,), p, self.n * self.n).reshape(self.n, self.n)
-
-    def coriolis(self, q, qd, p=None):
-        return self._call("coriolis", (q, qd), p, self.n)
-
-    def coriolis_matrix(self, q, qd, p=None):
-        return self._call("coriolis_matrix", (q, qd), p, self.n * self.n).reshape(self.n, self.n)
-
-    def gravity(self, q, p=None):
-        return self._call("gravity", (q,), p, self.n)
-
-    def forward_dynamics(self, q, qd, tau, p=None):
-        return self._call("forward_dynamics", (q, qd, tau), p, self.n)
-
-    def forward_kinematics(self, q, p=None):
-        return self._call("forward_kinematics", (q,), p, 16).reshape(4, 4)
-
-    def jacobian(self, q, p=None):
-        return self._call("jacobian", (q,), p, 6 * self.n).reshape(6, self.n)
-
-    def jacobian_dot_qd(self, q, qd, p=None):
-        return self._call("jacobian_dot_qd", (q, qd), p, 6)
-
-    def regressor(self, q, qd, qdd, p=None):
-        """``Y`` (n, 13 n) from ``NAME_regressor``."""
-        return self._call("regressor", (q, qd, qdd), p, 13 * self.n * self.n).reshape(self.n, 13 * self.n)
-
-    def base_regressor(self, q, qd, qdd, p=None, columns: int | None = None):
-        """``Y_b`` (n, ``columns``) from ``NAME_base_regressor`` (``columns``: the number of base
-        parameters, default ``self.base_columns``)."""
-        count = columns or self.base_columns
-        if not count:
-            raise ValueError("base_regressor: give the number of base parameters (columns, or set base_columns)")
-        return self._call("base_regressor", (q, qd, qdd), p, count * self.n).reshape(self.n, count)
-
     def _call_outputs(self, name, args, p, sizes):
         """Call ``NAME_<name>`` that writes several output arrays (of ``sizes`` numbers each)
         after its inputs; returns them, flat."""
@@ -110,20 +72,55 @@ class CompiledDynamics:
         fn(*[a.ctypes.data_as(pointer) for a in arrays + outputs])
         return outputs
 
-    def reaction_map(self, q, qd, p=None):
-        """``[k0 | D]`` (6, 1 + actuated joints) from ``NAME_reaction_map(q, qd, [p,] k0, D)``."""
-        k0, D = self._call_outputs("reaction_map", (q, qd), p, (6, 6 * self.actuated))
-        return np.hstack([k0.reshape(6, 1), D.reshape(6, self.actuated)])
-
-    def kinematics(self, q, p=None):
-        """``(T, J)`` from ``NAME_kinematics`` (pose and Jacobian in one call)."""
-        T, J = self._call_outputs("kinematics", (q,), p, (16, 6 * self.n))
-        return T.reshape(4, 4), J.reshape(6, self.n)
-
     def forward_dynamics_checked(self, q, qd, tau, p=None, qdd=None):
         """``(status, qdd)`` from ``NAME_forward_dynamics_checked``; ``qdd`` (default zeros) is the
         array passed in, returned as the function left it."""
         return self._call("forward_dynamics_checked", (q, qd, tau), p, self.n, out=qdd, status=True)
+
+
+def _dims(lib, columns=None) -> Dimensions:
+    return Dimensions(lib.n, lib.actuated, columns or lib.base_columns)
+
+
+def _compiled_method(spec):
+    """``CompiledDynamics.<output>(*inputs, p=None)``: calls ``NAME_<output>`` and returns the
+    output as numpy (a vector for one column, else the matrix; split arguments side by side)."""
+    def method(self, *args, p=None, columns: int | None = None):
+        if len(args) == len(spec.inputs) + 1 and p is None:
+            *args, p = args
+        dims = _dims(self, columns)
+        shape = spec.shape(dims)
+        if 0 in shape and spec.name == "base_regressor":
+            raise ValueError("base_regressor: give the number of base parameters (columns, or set base_columns)")
+        blocks = spec.argument_shapes(dims)
+        flat = self._call_outputs(spec.name, args, p, [rows * cols for _, (rows, cols) in blocks])
+        if len(blocks) > 1:
+            return np.hstack([f.reshape(rows, cols) for f, (_, (rows, cols)) in zip(flat, blocks)])
+        return flat[0] if shape[1] == 1 and not spec.always_matrix else flat[0].reshape(shape)
+    method.__name__ = spec.name
+    method.__doc__ = f"{spec.summary} From ``NAME_{spec.name}``; shape {spec.shape_text}."
+    return method
+
+
+def _combined_method(combined):
+    """``CompiledDynamics.<combined>(*inputs, p=None)``: the tuple of its parts' outputs."""
+    parts = [REGISTRY[part] for part in combined.parts]
+
+    def method(self, *args, p=None):
+        if len(args) == len(parts[0].inputs) + 1 and p is None:
+            *args, p = args
+        dims = _dims(self)
+        flat = self._call_outputs(combined.name, args, p, [r * c for part in parts for _, (r, c) in part.argument_shapes(dims)])
+        return tuple(f.reshape(part.shape(dims)) if part.shape(dims)[1] > 1 else f for f, part in zip(flat, parts))
+    method.__name__ = combined.name
+    method.__doc__ = f"{combined.summary} From ``NAME_{combined.name}``: ({', '.join(combined.parts)})."
+    return method
+
+
+for _spec in SPECS:
+    setattr(CompiledDynamics, _spec.name, _compiled_method(_spec))
+for _combined in COMBINED_SPECS:
+    setattr(CompiledDynamics, _combined.name, _combined_method(_combined))
 
 
 def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, precision: str = "double",

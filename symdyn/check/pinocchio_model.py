@@ -26,6 +26,7 @@ from typing import Mapping
 
 import numpy as np
 
+from ..model.outputs import ALL_OUTPUTS, OUTPUT_INPUTS
 from ..model.robot import Robot
 
 
@@ -325,10 +326,9 @@ def compare(mine, reference, states, functions, p=None) -> dict[str, float]:
     """The normalized error (:func:`normalized_error`) of each named function of ``mine``
     against the same function of ``reference``, over ``states`` (each ``[q, qd, qdd, tau]``).
 
-    Both take the function's inputs in symdyn's order (:data:`symdyn.derive.equations.OUTPUT_INPUTS`);
+    Both take the function's inputs in symdyn's order (:data:`symdyn.model.outputs.OUTPUT_INPUTS`);
     ``p`` (runtime parameters) is passed to ``mine`` only, when given.
     """
-    from ..derive.equations import OUTPUT_INPUTS
     extra = [] if p is None else [p]
     errors = {}
     for name in functions:
@@ -393,6 +393,9 @@ class PinocchioReference:
         self.pin.forwardKinematics(self.model, self.data, q)
         force = self.world_to_base.act(self.data.oMi[1].act(self.data.f[1]))
         return np.concatenate([force.angular, force.linear])
+
+    #: functions computed from the others (so taking q as the others do, not wrapped again)
+    COMPOSED = ("reaction_map",)
 
     def reaction_map(self, q, qd):
         """``[k0 | D]`` (6, 1 + actuated joints) from :meth:`base_wrench` at zero and at unit
@@ -512,6 +515,6 @@ def _configured(method):
     return wrapped
 
 
-for _name in ("mass_matrix", "gravity", "coriolis", "coriolis_matrix", "inverse_dynamics",
-              "forward_dynamics", "forward_kinematics", "jacobian", "jacobian_dot_qd", "base_wrench"):
-    setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))
+for _name in (*ALL_OUTPUTS, "base_wrench"):  # every reference function, q as the URDF reader orders it
+    if _name in vars(PinocchioReference) and _name not in PinocchioReference.COMPOSED:
+        setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))

@@ -4,10 +4,13 @@ import os
 import re
 import subprocess
 
+from ..model.outputs import COMBINED, REGISTRY, Dimensions
+
 #: C prelude: includes, a monotonic clock, S seeded random states of N joints (q, qd, qdd) and
 #: TIME(label, call): median of 7 repeats of 20000 calls, printed as "label ns".  The includes
 #: of the code under test go in %(includes)s (which may #define REAL, the scalar type of the
-#: state arrays, default double); N is %(dof)d.  Follow it with the body of main
+#: state arrays, default double, and OUT_SIZE, the size of the output buffer, default
+#: N * N + 6 N + 16); N is %(dof)d.  Follow it with the body of main
 #: and "return 0; }".
 PRELUDE = r"""#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -17,11 +20,14 @@ PRELUDE = r"""#define _POSIX_C_SOURCE 199309L
 #ifndef REAL
 #define REAL double
 #endif
+#ifndef OUT_SIZE
+#define OUT_SIZE (N * N + 6 * N + 16)
+#endif
 #define N %(dof)d
 #define S 10000 /* distinct random states, cycled */
 static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
 static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
-static REAL q[S][N], qd[S][N], qdd[S][N], out[N * N + 6 * N + 16];
+static REAL q[S][N], qd[S][N], qdd[S][N], out[OUT_SIZE];
 static volatile double sink;
 #define TIME(label, call) do { double runs[7]; int r, i; for (r = 0; r < 7; ++r) { double t0 = now(); \
     for (i = 0; i < 20000; ++i) { int k = i %% S; call; sink += out[0]; } runs[r] = (now() - t0) / 20000; } \
@@ -40,10 +46,16 @@ def parse(text):
     return {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+) ([\d.]+)$", text, re.M)}
 
 
-ARGUMENTS = {"inverse_dynamics": "q[k], qd[k], qdd[k]", "mass_matrix": "q[k]", "coriolis": "q[k], qd[k]",
-             "coriolis_matrix": "q[k], qd[k]", "gravity": "q[k]", "forward_dynamics": "q[k], qd[k], qdd[k]",
-             "forward_kinematics": "q[k]", "jacobian": "q[k]", "jacobian_dot_qd": "q[k], qd[k]",
-             "kinematics": "q[k], out + 6 * N"}  # T after J in out
+def call_arguments(function: str, dof: int, base_parameters: int = 0) -> tuple[str, list[str], int]:
+    """The harness's arguments of ``NAME_<function>`` before ``p`` and its output arrays: the
+    inputs (state k; tau is read from the qdd array), then every output argument at its own
+    offset in ``out`` (the first at ``out``); and the numbers the outputs take."""
+    parts = COMBINED.get(function, (function,))
+    dims = Dimensions(dof, dof, base_parameters or dof)
+    inputs = ", ".join(f"{'qdd' if g == 'tau' else g}[k]" for g in REGISTRY[parts[0]].inputs)
+    sizes = [rows * cols for part in parts for _, (rows, cols) in REGISTRY[part].argument_shapes(dims)]
+    offsets = [sum(sizes[:k]) for k in range(len(sizes))]
+    return inputs, [("out" if offset == 0 else f"out + {offset}") for offset in offsets], sum(sizes)
 
 
 def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", parameters=()) -> str:
@@ -55,7 +67,12 @@ def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", 
     if parameters:
         includes += f"\nstatic const REAL p[{len(parameters)}] = {{{', '.join(repr(float(v)) for v in parameters)}}};"
         extra = ", p"
-    body = "".join(f'    TIME("{f}", {prefix}_{f}({ARGUMENTS[f]}{extra}, out));\n' for f in functions)
+    body, out_size = "", 1
+    for f in functions:
+        inputs, outputs, size = call_arguments(f, dof)
+        out_size = max(out_size, size)
+        body += f'    TIME("{f}", {prefix}_{f}({inputs}{extra}, {", ".join(outputs)}));\n'
+    includes += f"\n#define OUT_SIZE {out_size}"
     return PRELUDE.replace("%(includes)s", includes) % {"dof": dof} + body + "    return 0;\n}\n"
 
 

@@ -9,9 +9,10 @@ from ..model.files import output_directory, write_files
 from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
 from ..model.errors import SymdynError
-from ..derive.equations import default_outputs
+from ..model.outputs import default_outputs, functions_help, with_requirements
 from ..model.inputs import decode_text, load_yaml, read_input
 from ..model.parallel import ParallelRobot
+from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
 from ..model.scene import load_input
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
@@ -36,12 +37,8 @@ def add_parser(sub) -> None:
                    help="scalar type of the generated C (float gives sinf/cosf and float literals); c target "
                         "only; default: the scene's precision, else double")
     p.add_argument("--functions", metavar="LIST",
-                   help="comma-separated subset of: inverse_dynamics, mass_matrix, coriolis, "
-                        "coriolis_matrix, gravity, forward_dynamics, forward_kinematics, jacobian, "
-                        "jacobian_dot_qd, reaction_map (default: the scene's functions, else all but "
-                        "reaction_map, which is added when the robot has passive joints); for a platform robot "
-                        "(kind: parallel): inverse_dynamics, forward_dynamics, mass_matrix, twist_map, "
-                        "leg_rate_maps, inverse_kinematics (default all)")
+                   help=f"{functions_help()}; for a platform robot (kind: parallel): "
+                        f"{', '.join(PLATFORM_FUNCTIONS)} (default all)")
     p.add_argument("--header-only", action="store_true",
                    help="write one header of static inline functions instead of .h + .c; c target only")
     p.add_argument("--parameters", default="standard", choices=("standard", "base"),
@@ -99,10 +96,7 @@ def generate_files(path: str, functions, precision, header_only: bool, method: s
     functions = functions or default_outputs(robot)
     precision = precision or "double"
     fd_method = fd_method or default_fd_method(precision)
-    wanted = set(functions)
-    if "forward_dynamics" in wanted:
-        wanted |= {"mass_matrix"}
-    eqs = derive_cached(robot, method, tuple(wanted), use_cache=use_cache, progress=progress, fd_method=fd_method,
+    eqs = derive_cached(robot, method, with_requirements(functions), use_cache=use_cache, progress=progress, fd_method=fd_method,
                         parameters=parameters)
     source = os.path.basename(path)
     if target == "c":

@@ -10,7 +10,7 @@ from ..derive.cache import derive_cached
 from ..check.cbuild import build_and_load
 from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
-from ..derive.equations import default_outputs
+from ..model.outputs import ALL_OUTPUTS, default_outputs, with_requirements
 from ..model.errors import SymdynError
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
@@ -29,7 +29,7 @@ def add_parser(sub) -> None:
     p.add_argument("--precision", default=None, choices=PRECISION_CHOICES,
                    help="default: the scene's precision, else double")
     p.add_argument("--functions", metavar="LIST",
-                   help="comma-separated functions to check (default: the scene's functions, else all)")
+                   help="comma-separated functions to check, from: " + ", ".join(ALL_OUTPUTS) + " (default: the scene's functions, else all that generate writes by default)")
     p.add_argument("--tolerance", type=float, help="normalized error bound (default 1e-10 double, 1e-4 float)")
     p.add_argument("--seed", type=int, default=0, help="random seed for the states (default 0)")
     add_method_option(p)
@@ -59,8 +59,7 @@ def run(args) -> int:
     for sym, nominal in zip(robot.parameters, robot.nominal):
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
-    wanted = set(functions) | ({"mass_matrix"} if "forward_dynamics" in functions else set())
-    eqs = derive_cached(robot, args.method, tuple(wanted), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision),
+    eqs = derive_cached(robot, args.method, with_requirements(functions), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision),
                          parameters=args.parameters)
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:

@@ -88,9 +88,16 @@ def robot_fingerprint(robot) -> str:
 
 
 #: modules whose code decides what a derivation produces
-DERIVATION_MODULES = ("derive/articulated_body", "derive/chain", "derive/composite", "derive/equations", "derive/jacobian_newton_euler", "derive/kinematics", "derive/regressor",
-                      "derive/lagrange_euler", "derive/newton_euler", "derive/program", "derive/tool", "model/expr",
-                      "model/geometry", "model/outputs", "model/robot")
+#: the folders whose source a derivation depends on (every module in them is hashed, so a new
+#: derivation module cannot be forgotten)
+DERIVATION_FOLDERS = ("derive", "model")
+
+
+def derivation_modules() -> tuple[str, ...]:
+    """``folder/module`` of every Python module a derivation may depend on, sorted."""
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    return tuple(sorted(f"{folder}/{name[:-3]}" for folder in DERIVATION_FOLDERS
+                        for name in os.listdir(os.path.join(package, folder)) if name.endswith(".py")))
 
 
 @functools.lru_cache(maxsize=1)
@@ -98,7 +105,7 @@ def code_fingerprint() -> str:
     """Hash of the source of the derivation modules."""
     digest = hashlib.sha256()
     package = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    for name in DERIVATION_MODULES:
+    for name in derivation_modules():
         with open(os.path.join(package, f"{name}.py"), "rb") as handle:
             digest.update(name.encode() + b"\0" + handle.read())
     return digest.hexdigest()

@@ -51,7 +51,7 @@ from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
-                             OUTPUT_SYMBOLS, OUTPUTS, default_outputs)
+                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, default_outputs, spec, with_requirements)
 from ..model.robot import Robot
 from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
@@ -268,12 +268,185 @@ LOOPED_SOLVE_FROM_DOF = 16
 FD_METHODS = ("ldlt", "aba")
 
 
-def _coriolis_matrix(b, h: sp.Matrix, qd) -> sp.Matrix:
+def _coriolis_matrix_of(b, h: sp.Matrix, qd) -> sp.Matrix:
     """C = dh/dqd / 2 (n x n), the Christoffel-consistent Coriolis matrix (h is quadratic in qd),
     by forward-mode differentiation of h's recursion, seeded with 1/2."""
     columns = differentiate(b.build(), h, qd, b, "dh", scale=sp.Rational(1, 2))
     n = len(qd)
     return sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}{k + 1}", columns[k][i]))
+
+
+class _Derivation:
+    """The quantities of one derivation, each derived once on first use (:meth:`get`), in the
+    program of one :class:`ProgramBuilder`: the order of first use is the order of the
+    program's statements (so the output of a derivation is reproducible)."""
+
+    def __init__(self, robot: Robot, method: str, need: set[str], fd_method: str, parameters: str, report):
+        self.robot, self.method, self.need, self.fd_method, self.parameters = robot, method, need, fd_method, parameters
+        self.report = report
+        self.chain = chain = make_chain(robot)
+        self.b, self.n = chain.builder, chain.n
+        self.zero = [sp.S.Zero] * chain.n
+        self.friction = _friction(robot, chain.qd, chain.qdd)
+        self.values: dict[str, sp.Matrix] = {}
+        self.mass_factors: tuple = ()
+        self.fd_system: tuple = ()
+        self.pivots: tuple = ()
+        self.base: tuple = ()
+        self.jne = self.le = None
+        if method == "jacobian-newton-euler":
+            report("world-frame link quantities (k_i, d_i, h_i, I_i)")
+            self.jne = JacobianNewtonEuler(chain)
+        elif method == "lagrange-euler":
+            report("link transforms, U_ij, U_ijk")
+            self.le = LagrangeEuler(chain)
+
+    def get(self, name: str) -> sp.Matrix:
+        if name not in self.values:
+            self.values[name] = DERIVATIONS[name](self)
+        return self.values[name]
+
+    def forces(self, qd, qdd, gravity, tag: str) -> sp.Matrix:
+        """Joint forces of the rigid bodies (no friction) by the method's recursion."""
+        if self.jne is not None:
+            return self.jne.joint_forces(qd, qdd, gravity, tag)
+        return joint_forces(self.chain, qd, qdd, gravity, tag)
+
+    @property
+    def static_friction(self) -> sp.Matrix:
+        """Friction and armature terms at qdd = 0 (viscous and Coulomb friction)."""
+        return self.friction.subs({v: 0 for v in self.chain.qdd})
+
+
+def _gravity(d: _Derivation) -> sp.Matrix:
+    if d.le is not None:
+        return d.le.gravity()
+    d.report("gravity (backward recursion at qd = qdd = 0)" if d.jne is not None else "gravity")
+    return d.forces(d.zero, d.zero, d.chain.gravity, "g")
+
+
+def _coriolis(d: _Derivation) -> sp.Matrix:
+    if d.le is not None:
+        C = d.get("coriolis_matrix")
+        return sp.Matrix([d.b.define(f"h{i + 1}", (C[i, :] * sp.Matrix(d.chain.qd))[0]) for i in range(d.n)])
+    d.report("coriolis (J_c^T (M gamma + u_n))" if d.jne is not None else "coriolis")
+    return d.forces(d.chain.qd, d.zero, sp.zeros(3, 1), "h")
+
+
+def _coriolis_matrix(d: _Derivation) -> sp.Matrix:
+    if d.le is not None:
+        return d.le.coriolis_matrix(d.chain.qd)
+    h = d.get("coriolis")
+    d.report("coriolis_matrix (derivative of h by qd)")
+    return _coriolis_matrix_of(d.b, h, d.chain.qd)
+
+
+def _mass_matrix(d: _Derivation) -> sp.Matrix:
+    if d.le is not None:
+        return d.le.mass_matrix()
+    if d.jne is not None:
+        d.report("mass_matrix (sum of J_ci^T M_i J_ci)")
+        return d.jne.mass_matrix()
+    d.report("mass_matrix (composite rigid bodies)")
+    D, d.mass_factors = mass_matrix_factored(d.chain)
+    return D
+
+
+def _inverse_dynamics(d: _Derivation) -> sp.Matrix:
+    chain = d.chain
+    if d.le is not None:
+        return (d.get("mass_matrix") * sp.Matrix(chain.qdd) + d.get("coriolis") + d.get("gravity") + d.friction)
+    d.report("inverse_dynamics")
+    return d.forces(chain.qd, chain.qdd, chain.gravity, "") + d.friction
+
+
+def _bias(d: _Derivation) -> sp.Matrix:
+    """h + c, the right-hand side of forward dynamics at tau = 0 (without friction)."""
+    if d.le is not None:
+        return d.get("coriolis") + d.get("gravity")
+    d.report("forward_dynamics (bias forces)")
+    return d.forces(d.chain.qd, d.zero, d.chain.gravity, "b")
+
+
+def _tool(d: _Derivation) -> sp.Matrix:
+    """Every kinematic output needed, derived together (they share the link poses)."""
+    kinematic = [name for name in KINEMATIC_OUTPUTS if name in d.need]
+    d.report("tool kinematics")
+    d.values.update(tool_kinematics(d.chain, kinematic))
+    return d.values[kinematic[0]]
+
+
+def _forward_dynamics(d: _Derivation) -> sp.Matrix:
+    robot, chain, b = d.robot, d.chain, d.b
+    M = d.get("mass_matrix") + sp.diag(*[link.armature for link in robot.links])
+    d.report("forward_dynamics (LDL^T solve)")
+    check_not_singular(robot, b.build(), M)
+    if d.fd_method == "aba":
+        d.report("forward_dynamics (articulated-body algorithm)")
+        qdd, d.pivots = articulated_body_fd(chain, chain.tau, d.static_friction)
+        return qdd
+    rhs = sp.Matrix(chain.tau) - d.get("fd_bias") - d.static_friction
+    rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
+    qdd, d.pivots = _ldlt_solve(b, M, rhs)
+    if d.n >= LOOPED_SOLVE_FROM_DOF:
+        d.fd_system = (sp.ImmutableMatrix(M), sp.ImmutableMatrix(rhs), d.mass_factors)
+    return qdd
+
+
+def _reaction_map(d: _Derivation) -> sp.Matrix:
+    d.report("reaction_map (articulated-body recursion at tau = 0, eqs. 5-14 of seed 004)")
+    return reaction_map(d.chain, d.static_friction).matrix
+
+
+def _regressor(d: _Derivation) -> sp.Matrix:
+    d.report("regressor (spatial Newton-Euler, linear in the standard parameters)")
+    return regressor_matrix(d.chain)
+
+
+def _base_regressor(d: _Derivation) -> sp.Matrix:
+    robot, chain = d.robot, d.chain
+    Y = d.get("regressor")
+    geometric = set()
+    for link in robot.links:
+        placement = [link.a, link.alpha, link.d, link.theta, *(link.fixed or ()), *(link.axis or ()),
+                     *(link.origin.expressions() if link.origin else ())]
+        geometric |= set().union(*(sp.sympify(e).free_symbols for e in placement))
+    geometric |= set().union(*(sp.sympify(e).free_symbols for e in robot.base_matrix()))
+    if geometric:
+        names = ", ".join(sorted(s.name for s in geometric))
+        raise SymdynError(f"{robot.source or robot.name}: base parameters need a numeric geometry, but "
+                          f"{names} (in the link placements) {'is' if len(geometric) == 1 else 'are'} "
+                          "symbolic: their regrouping coefficients depend on it (give values, or use "
+                          "the full regressor)")
+    d.report("base parameters (QR of the regressor stacked at random states)")
+    evaluate = compile_function([chain.q, chain.qd, chain.qdd, robot.parameters], d.b.build(), Y, "regressor_rank")
+    values = np.random.default_rng(3).uniform(0.5, 1.5, len(robot.parameters))
+    found = find_base_parameters(robot, lambda *state: evaluate(*state, values))
+    d.base = tuple(zip(found.names, found.expressions))
+    if d.parameters == "base" and "inverse_dynamics" in d.need:
+        d.report("inverse_dynamics from the base parameters")
+        pi = base_equivalent(robot, found)
+        qd, qdd = chain.qd, chain.qdd
+        rigid = joint_forces(chain, qd, qdd, chain.gravity, "B", parameters=pi)
+        k = PARAMETERS_PER_LINK
+        d.values["inverse_dynamics"] = sp.Matrix([
+            rigid[j] + pi[k * j + 10] * qdd[j] + pi[k * j + 11] * qd[j] + pi[k * j + 12] * sp.sign(qd[j])
+            for j in range(d.n)])
+    return Y[:, list(found.independent)]
+
+
+#: how each output (and the internal quantity ``fd_bias``) is derived, in the order a derivation
+#: visits them: each function takes the :class:`_Derivation` and returns the matrix, asking
+#: ``d.get`` for what it builds on.  Lagrange-Euler visits D, C, h, c first (its inverse
+#: dynamics is assembled from them).  A test checks every registered output has an entry.
+DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
+    "gravity": _gravity, "coriolis": _coriolis, "coriolis_matrix": _coriolis_matrix, "mass_matrix": _mass_matrix,
+    "inverse_dynamics": _inverse_dynamics, "fd_bias": _bias,
+    **{name: _tool for name in KINEMATIC_OUTPUTS},
+    "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
+    "base_regressor": _base_regressor,
+}
+_LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")
 
 
 def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | None = None,
@@ -284,7 +457,8 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     Parameters
     ----------
     robot : the robot description (see :func:`symdyn.load`).
-    method : ``'newton-euler'`` (recursive, Table 3.2; D by composite rigid bodies) or ``'lagrange-euler'`` (trace form).
+    method : ``'newton-euler'`` (recursive, Table 3.2; D by composite rigid bodies), ``'lagrange-euler'``
+        (trace form) or ``'jacobian-newton-euler'``.
     outputs : names from :data:`ALL_OUTPUTS` to derive (default: :func:`default_outputs`, all of
         :data:`OUTPUTS` and the reaction map when the robot has passive joints).
     progress : called with a short text as each part starts (for long derivations).
@@ -309,152 +483,30 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
         raise ValueError(f"unknown forward-dynamics method {fd_method!r}; use {' or '.join(FD_METHODS)}")
     wanted = default_outputs(robot) if outputs is None else tuple(outputs)
     for name in wanted:
-        if name not in ALL_OUTPUTS:
-            raise ValueError(f"unknown output {name!r}; known: {', '.join(ALL_OUTPUTS)}")
+        spec(name)  # a ValueError for an unknown name
     start = time.perf_counter()
 
     def report(part: str) -> None:
         if progress is not None:
             progress(f"{robot.name}: {method}: {part} ({time.perf_counter() - start:.1f} s)")
-    chain = make_chain(robot)
-    b = chain.builder
-    n = chain.n
-    q, qd, qdd, tau = chain.q, chain.qd, chain.qdd, chain.tau
-    zero = [sp.S.Zero] * n
-    no_gravity = sp.zeros(3, 1)
-    friction = _friction(robot, qd, qdd)
-    result: dict[str, sp.Matrix] = {}
-    mass_factors: tuple = ()
-    fd_system: tuple = ()
-    need = set(wanted)
-    if "forward_dynamics" in need:
-        need |= {"mass_matrix"}
-
-    if method == "newton-euler":
-        if "gravity" in need:
-            report("gravity")
-            result["gravity"] = joint_forces(chain, zero, zero, chain.gravity, "g")
-        if need & {"coriolis", "coriolis_matrix"}:
-            report("coriolis")
-            h = joint_forces(chain, qd, zero, no_gravity, "h")
-            result["coriolis"] = h
-            if "coriolis_matrix" in need:
-                report("coriolis_matrix (derivative of h by qd)")
-                result["coriolis_matrix"] = _coriolis_matrix(b, h, qd)
-        if "mass_matrix" in need:
-            report("mass_matrix (composite rigid bodies)")
-            result["mass_matrix"], mass_factors = mass_matrix_factored(chain)
-        if "inverse_dynamics" in need:
-            report("inverse_dynamics")
-            rigid = joint_forces(chain, qd, qdd, chain.gravity, "")
-            result["inverse_dynamics"] = rigid + friction
-        if "forward_dynamics" in need and fd_method == "ldlt":
-            report("forward_dynamics (bias forces)")
-            bias = joint_forces(chain, qd, zero, chain.gravity, "b")
-    elif method == "jacobian-newton-euler":
-        report("world-frame link quantities (k_i, d_i, h_i, I_i)")
-        jne = JacobianNewtonEuler(chain)
-        if "gravity" in need:
-            report("gravity (backward recursion at qd = qdd = 0)")
-            result["gravity"] = jne.joint_forces(zero, zero, chain.gravity, "g")
-        if need & {"coriolis", "coriolis_matrix"}:
-            report("coriolis (J_c^T (M gamma + u_n))")
-            h = jne.joint_forces(qd, zero, no_gravity, "h")
-            result["coriolis"] = h
-            if "coriolis_matrix" in need:
-                report("coriolis_matrix (derivative of h by qd)")
-                result["coriolis_matrix"] = _coriolis_matrix(b, h, qd)
-        if "mass_matrix" in need:
-            report("mass_matrix (sum of J_ci^T M_i J_ci)")
-            result["mass_matrix"] = jne.mass_matrix()
-        if "inverse_dynamics" in need:
-            report("inverse_dynamics")
-            result["inverse_dynamics"] = jne.joint_forces(qd, qdd, chain.gravity, "") + friction
-        if "forward_dynamics" in need and fd_method == "ldlt":
-            report("forward_dynamics (bias forces)")
-            bias = jne.joint_forces(qd, zero, chain.gravity, "b")
-    else:
-        report("link transforms, U_ij, U_ijk")
-        le = LagrangeEuler(chain)
-        if need & {"mass_matrix", "inverse_dynamics"}:
-            result["mass_matrix"] = le.mass_matrix()
-        if need & {"coriolis", "coriolis_matrix", "inverse_dynamics", "forward_dynamics"}:
-            C = le.coriolis_matrix(qd)
-            result["coriolis_matrix"] = C
-            result["coriolis"] = sp.Matrix([b.define(f"h{i + 1}", (C[i, :] * sp.Matrix(qd))[0]) for i in range(n)])
-        if need & {"gravity", "inverse_dynamics", "forward_dynamics"}:
-            result["gravity"] = le.gravity()
-        if "inverse_dynamics" in need:
-            result["inverse_dynamics"] = (result["mass_matrix"] * sp.Matrix(qdd) + result["coriolis"]
-                                          + result["gravity"] + friction)
-        if "forward_dynamics" in need:
-            bias = result["coriolis"] + result["gravity"]
-
-    kinematic = [name for name in KINEMATIC_OUTPUTS if name in need]
-    if kinematic:
-        report("tool kinematics")
-        result.update(tool_kinematics(chain, kinematic))
-
-    pivots: tuple[tuple[sp.Expr, sp.Expr], ...] = ()
-    if "forward_dynamics" in need:
-        M = result["mass_matrix"] + sp.diag(*[link.armature for link in robot.links])
-        report("forward_dynamics (LDL^T solve)")
-        check_not_singular(robot, b.build(), M)
-        if fd_method == "aba":
-            report("forward_dynamics (articulated-body algorithm)")
-            result["forward_dynamics"], pivots = articulated_body_fd(chain, tau, friction.subs({v: 0 for v in qdd}))
-        else:
-            rhs = sp.Matrix(tau) - bias - friction.subs({v: 0 for v in qdd})
-            rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
-            result["forward_dynamics"], pivots = _ldlt_solve(b, M, rhs)
-            if n >= LOOPED_SOLVE_FROM_DOF:
-                fd_system = (sp.ImmutableMatrix(M), sp.ImmutableMatrix(rhs), mass_factors)
-
-    if "reaction_map" in need:
-        report("reaction_map (articulated-body recursion at tau = 0, eqs. 5-14 of seed 004)")
-        result["reaction_map"] = reaction_map(chain, friction.subs({v: 0 for v in qdd})).matrix
-
-    base: tuple = ()
+    need = set(with_requirements(wanted))
+    if "forward_dynamics" in need and fd_method == "ldlt":
+        need.add("fd_bias")
     if parameters == "base" and "inverse_dynamics" in need:
-        need |= {"base_regressor"}
-    if need & {"regressor", "base_regressor"}:
-        report("regressor (spatial Newton-Euler, linear in the standard parameters)")
-        Y = regressor_matrix(chain)
-        result["regressor"] = Y
-        if "base_regressor" in need:
-            geometric = set()
-            for link in robot.links:
-                placement = [link.a, link.alpha, link.d, link.theta, *(link.fixed or ()), *(link.axis or ()),
-                             *(link.origin.expressions() if link.origin else ())]
-                geometric |= set().union(*(sp.sympify(e).free_symbols for e in placement))
-            geometric |= set().union(*(sp.sympify(e).free_symbols for e in robot.base_matrix()))
-            if geometric:
-                names = ", ".join(sorted(s.name for s in geometric))
-                raise SymdynError(f"{robot.source or robot.name}: base parameters need a numeric geometry, but "
-                                  f"{names} (in the link placements) {'is' if len(geometric) == 1 else 'are'} "
-                                  "symbolic: their regrouping coefficients depend on it (give values, or use "
-                                  "the full regressor)")
-            report("base parameters (QR of the regressor stacked at random states)")
-            evaluate = compile_function([q, qd, qdd, robot.parameters], b.build(), Y, "regressor_rank")
-            values = np.random.default_rng(3).uniform(0.5, 1.5, len(robot.parameters))
-            found = find_base_parameters(robot, lambda *state: evaluate(*state, values))
-            result["base_regressor"] = Y[:, list(found.independent)]
-            base = tuple(zip(found.names, found.expressions))
-            if parameters == "base" and "inverse_dynamics" in need:
-                report("inverse_dynamics from the base parameters")
-                pi = base_equivalent(robot, found)
-                rigid = joint_forces(chain, qd, qdd, chain.gravity, "B", parameters=pi)
-                result["inverse_dynamics"] = sp.Matrix([
-                    rigid[j] + pi[13 * j + 10] * qdd[j] + pi[13 * j + 11] * qd[j] + pi[13 * j + 12] * sp.sign(qd[j])
-                    for j in range(n)])
-
-    outputs_tuple = tuple((name, sp.ImmutableMatrix(result[name])) for name in ALL_OUTPUTS if name in wanted)
-    return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,
-                     program=b.build(), outputs=outputs_tuple,
+        need.add("base_regressor")
+    d = _Derivation(robot, method, need, fd_method, parameters, report)
+    order = (_LAGRANGE_ORDER if method == "lagrange-euler" else ()) + tuple(DERIVATIONS)
+    for name in dict.fromkeys(order):
+        if name in need:
+            d.get(name)
+    chain = d.chain
+    outputs_tuple = tuple((name, sp.ImmutableMatrix(d.values[name])) for name in ALL_OUTPUTS if name in wanted)
+    return Equations(robot=robot, method=method, q=chain.q, qd=chain.qd, qdd=chain.qdd, tau=chain.tau,
+                     program=d.b.build(), outputs=outputs_tuple,
                      seconds=time.perf_counter() - start,
-                     pivots=pivots if "forward_dynamics" in wanted else (),
+                     pivots=d.pivots if "forward_dynamics" in wanted else (),
                      fd_method=fd_method if "forward_dynamics" in wanted else "",
-                     base_parameters=base if ("base_regressor" in wanted or parameters == "base") else (),
+                     base_parameters=d.base if ("base_regressor" in wanted or parameters == "base") else (),
                      parameter_form="base" if (parameters == "base" and "inverse_dynamics" in wanted) else "standard",
-                     mass_factors=mass_factors if "mass_matrix" in wanted else (),
-                     fd_system=fd_system if "forward_dynamics" in wanted else ())
+                     mass_factors=d.mass_factors if "mass_matrix" in wanted else (),
+                     fd_system=d.fd_system if "forward_dynamics" in wanted else ())

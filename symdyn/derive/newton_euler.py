@@ -43,6 +43,7 @@ from typing import Sequence
 import sympy as sp
 
 from .chain import Chain
+from ..model.outputs import PARAMETERS_PER_LINK as PER_LINK
 
 
 @dataclass
@@ -218,7 +219,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
             N = b.vector(f"N{k}{tag}", inertia * omegad_i + _skip_zero_cross(omega_i, Iw))
         else:
-            m, mx, my, mz, ixx, ixy, iyy, ixz, iyz, izz = parameters[13 * i:13 * i + 10]
+            m, mx, my, mz, ixx, ixy, iyy, ixz, iyz, izz = parameters[PER_LINK * i:PER_LINK * i + 10]
             moment = sp.Matrix([mx, my, mz])
             inertia = sp.Matrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
             relative = _relative_acceleration(b, U, omega_i, omegad_i, moment, f"wm{k}{tag}")

@@ -14,7 +14,7 @@ import numpy as np
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
-from ..model.outputs import OUTPUT_INPUTS
+from ..model.outputs import OUTPUT_INPUTS, SPECS
 
 
 class _Printer(PythonCodePrinter):
@@ -90,45 +90,20 @@ class NumericEquations:
         out = self._function(name)(*args, p if p is not None else [])
         return out[:, 0] if out.shape[1] == 1 and not matrix else out
 
-    def inverse_dynamics(self, q, qd, qdd, p=None):
-        return self._call("inverse_dynamics", (q, qd, qdd), p)
 
-    def mass_matrix(self, q, p=None):
-        return self._call("mass_matrix", (q,), p)
+def _numeric_method(spec):
+    """``NumericEquations.<output>(*inputs, p=None)`` for one registered output."""
+    def method(self, *args, p=None):
+        if len(args) == len(spec.inputs) + 1 and p is None:  # p given by position
+            *args, p = args
+        if len(args) != len(spec.inputs):
+            raise TypeError(f"{spec.name} takes {', '.join(spec.inputs)}[, p]")
+        return self._call(spec.name, tuple(args), p, matrix=spec.always_matrix)
+    method.__name__ = spec.name
+    rows = "(n,)" if spec.shape_text == "N" else f"({spec.shape_text.replace(' x ', ', ')})"
+    method.__doc__ = f"{spec.summary} Arguments {', '.join(spec.inputs)}[, p]; returns {rows} ({spec.units})."
+    return method
 
-    def coriolis(self, q, qd, p=None):
-        return self._call("coriolis", (q, qd), p)
 
-    def coriolis_matrix(self, q, qd, p=None):
-        return self._call("coriolis_matrix", (q, qd), p)
-
-    def gravity(self, q, p=None):
-        return self._call("gravity", (q,), p)
-
-    def forward_dynamics(self, q, qd, tau, p=None):
-        return self._call("forward_dynamics", (q, qd, tau), p)
-
-    def forward_kinematics(self, q, p=None):
-        """Tool pose in the world, (4, 4)."""
-        return self._call("forward_kinematics", (q,), p)
-
-    def jacobian(self, q, p=None):
-        """Tool Jacobian (6, n), world axes: linear rows 0-2, angular rows 3-5."""
-        return self._call("jacobian", (q,), p)
-
-    def jacobian_dot_qd(self, q, qd, p=None):
-        """J-dot qd (6,): classical acceleration of the tool at qdd = 0, world axes."""
-        return self._call("jacobian_dot_qd", (q, qd), p)
-
-    def regressor(self, q, qd, qdd, p=None):
-        """``Y`` (n, 13 n): tau = Y pi for the standard parameters (symdyn.derive.regressor)."""
-        return self._call("regressor", (q, qd, qdd), p)
-
-    def base_regressor(self, q, qd, qdd, p=None):
-        """``Y_b`` (n, number of base parameters): tau = Y_b beta."""
-        return self._call("base_regressor", (q, qd, qdd), p)
-
-    def reaction_map(self, q, qd, p=None):
-        """``[k0 | D]`` (6, 1 + actuated joints): the wrench ``[n; f]`` the base exerts on body 1,
-        in the base frame, is ``k0 + D tau_H`` for the actuated joints' forces ``tau_H``."""
-        return self._call("reaction_map", (q, qd), p, matrix=True)  # 6 x 1 too, with no actuated joint
+for _spec in SPECS:
+    setattr(NumericEquations, _spec.name, _numeric_method(_spec))

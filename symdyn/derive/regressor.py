@@ -36,9 +36,8 @@ import sympy as sp
 from .articulated_body import _cross_force, _cross_motion, joint_frames, motion_transform
 from .chain import Chain
 
-#: the 13 standard parameters of a link, in order (see the module's documentation)
-LINK_PARAMETERS = ("m", "mx", "my", "mz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz", "Ia", "fv", "fc")
-PER_LINK = len(LINK_PARAMETERS)
+from ..model.outputs import LINK_PARAMETERS  # the 13 standard parameters of a link, in order
+from ..model.outputs import PARAMETERS_PER_LINK as PER_LINK
 
 #: what each standard parameter is, with its unit (revolute joint; prismatic in parentheses)
 PARAMETER_DOCS = {

@@ -29,7 +29,8 @@ import casadi as ca
 import sympy as sp
 
 from .emission import fold_constants
-from ..derive.equations import ALL_OUTPUTS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS, Equations, default_outputs
+from ..derive.equations import Equations
+from ..model.outputs import ALL_OUTPUTS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS, REGISTRY, default_outputs, with_requirements
 from ..model.errors import SymdynError
 
 INPUT_DOCS = {
@@ -158,8 +159,10 @@ def casadi_function(eqs: Equations, name: str, function_name: str | None = None,
         raise SymdynError(f"unknown function {name!r} (known: {', '.join(ALL_OUTPUTS)})")
     symbols, in_names, env = _inputs_for(eqs, OUTPUT_INPUTS[name])
     [out] = _outputs_sx(eqs, [name], env)
-    if name == "reaction_map":
-        return ca.Function(function_name or name, symbols, [out[:, 0], out[:, 1:]], in_names, ["k0", "D"],
+    arguments = REGISTRY[name].arguments
+    if len(arguments) > 1:  # one CasADi output per argument, the output's columns split as in C
+        blocks = [out[:, a.first:(out.size2() if a.end is None else a.end)] for a in arguments]
+        return ca.Function(function_name or name, symbols, blocks, in_names, [a.name for a in arguments],
                            {"cse": cse})
     return ca.Function(function_name or name, symbols, [out], in_names, [OUTPUT_SYMBOLS[name]],
                        {"cse": cse})
@@ -207,8 +210,7 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
         source.output_names if isinstance(source, Equations) else OUTPUTS)
     wanted = tuple(f for f in ALL_OUTPUTS if f in (functions or default))
     if isinstance(source, Robot):
-        need = set(wanted) | ({"mass_matrix"} if "forward_dynamics" in wanted else set())
-        source = derive_cached(source, method, tuple(need), use_cache=use_cache, fd_method=fd_method)
+        source = derive_cached(source, method, with_requirements(wanted), use_cache=use_cache, fd_method=fd_method)
     if not isinstance(source, Equations):
         raise TypeError("to_casadi takes Equations, a Robot or a robot file path")
     return {name: casadi_function(source, name, prefix + name) for name in wanted}

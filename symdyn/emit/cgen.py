@@ -17,7 +17,8 @@ from .._version import __version__
 from ..model.errors import warn
 from .cprinter import CPrinter, VectorUnsupported, count_operations
 from .emission import comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
-from ..derive.equations import ALL_OUTPUTS, OUTPUT_INPUTS, PIVOT_RTOL, Equations
+from ..derive.equations import PIVOT_RTOL, Equations
+from ..model.outputs import ALL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY, Dimensions
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -25,20 +26,6 @@ ARG_DOCS = {
     "qdd": "joint accelerations, N (rad/s^2 or m/s^2)",
     "tau": "joint torques/forces, N (N m or N)",
     "p": "runtime parameters, NP, in the order listed above",
-}
-
-OUTPUT_ARGS = {
-    "inverse_dynamics": ("tau", "joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)"),
-    "mass_matrix": ("D", "joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)"),
-    "coriolis": ("h", "Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)"),
-    "coriolis_matrix": ("C", "Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)"),
-    "gravity": ("c", "gravity vector c(q), N (N m or N)"),
-    "forward_dynamics": ("qdd", "joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N"),
-    "forward_kinematics": ("T", "pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)"),
-    "jacobian": ("J", "tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)"),
-    "regressor": ("Y", "regressor, N*P row-major (P = 13 N standard parameters in the order listed above): tau = Y pi"),
-    "base_regressor": ("Yb", "base regressor, N*NB row-major (NB base parameters in the order listed above): tau = Yb beta"),
-    "jacobian_dot_qd": ("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),
 }
 
 #: functions of at least this many statements get the pair CSE (:func:`emission.pair_cse`) instead
@@ -52,36 +39,6 @@ PAIR_CSE_FROM = 10000
 #: scratch arrays of the function body (not the caller's outputs)
 LOCAL_ARRAYS = ("mass_s[", "mass_f[", "fd_M[", "fd_b[")
 
-#: outputs written to several arguments: (argument, documentation, first column, end column)
-SPLIT_OUTPUTS = {
-    "reaction_map": (
-        ("k0", "base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) "
-               "and force (N) the base exerts on body 1 through joint 1, base-frame axes", 0, 1),
-        ("D", "wrench per unit actuated torque, 6*NA row-major (column j: actuated joint j in the order "
-              "listed above): [n; f] = k0 + D tau_H", 1, None)),
-}
-
-SUMMARIES = {
-    "inverse_dynamics": "Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).",
-    "mass_matrix": "Mass (joint-space inertia) matrix D(q), without armature.",
-    "coriolis": "Coriolis and centrifugal torques h(q, qd).",
-    "coriolis_matrix": "Coriolis matrix C(q, qd), C qd = h.",
-    "gravity": "Gravity torques c(q).",
-    "forward_dynamics": "Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).",
-    "forward_kinematics": "Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",
-    "jacobian": "Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.",
-    "jacobian_dot_qd": "J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.",
-    "regressor": "Inverse dynamics in linear form: the regressor Y(q, qd, qdd) with tau = Y pi, pi the standard parameters (13 per link: mass, first moment, inertia about the link origin, armature, viscous and Coulomb friction).",
-    "base_regressor": "Inverse dynamics in the base parameters: the columns of the regressor that the identifiable combinations beta of the standard parameters multiply, tau = Yb beta.",
-    "reaction_map": "Force-to-torque map (seed 004 of the design notes, eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).",
-    "kinematics": "Pose and Jacobian of the tool in one call: the same results as NAME_forward_kinematics and NAME_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls).",
-}
-
-
-#: functions that write several outputs in one call (sharing their intermediate quantities),
-#: emitted beside the single ones when all their parts are generated
-COMBINED = {"kinematics": ("forward_kinematics", "jacobian")}
-
 #: precisions of the generated C: double, float (float all the way: no double operation, for
 #: single-precision FPUs), mixed (float arguments, forward dynamics computed in double inside)
 PRECISION_CHOICES = ("double", "float", "mixed")
@@ -94,14 +51,12 @@ def scalar_type(precision: str) -> str:
     return "double" if precision == "double" else "float"
 
 
-STATUS_DOC = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its "
-              "LDL^T factorization is not above {rtol:g} times its diagonal entry, or is not a "
-              "number); 2 when a result is not finite (NaN or beyond the range of {real}). On a "
-              "nonzero return qdd is not written.")
-STATUS_DOC_ABA = ("Returns 0 on success; 1 when the mass matrix is singular at q (an articulated inertia d_j "
-                  "about joint j's axis, by which the algorithm divides, is not positive, or is not a "
-                  "number); 2 when a result is not finite (NaN or beyond the range of {real}). On a "
-                  "nonzero return qdd is not written.")
+_COMBINED_SUMMARIES = {c.name: c.summary for c in COMBINED_SPECS}
+
+
+def _dimensions(eqs: Equations) -> Dimensions:
+    """The sizes the outputs of ``eqs`` depend on."""
+    return Dimensions(eqs.n, len(eqs.robot.actuated_joints), len(eqs.base_parameters))
 
 
 @dataclass
@@ -342,8 +297,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     with ``batch_form``, also the batch form over arrays of states (``CFunction.batch``)."""
     n = eqs.n
     real = f"{prefix}_real"
-    parts = COMBINED.get(name, (name,))  # the outputs this function writes, one argument each
-    out_name, out_doc = OUTPUT_ARGS[parts[0]] if parts[0] in OUTPUT_ARGS else SPLIT_OUTPUTS[parts[0]][0][:2]
+    parts = COMBINED.get(name, (name,))  # the outputs this function writes
+    out_name = REGISTRY[parts[0]].arguments[0].name
     targets: list[tuple[str, sp.Expr]] = []
     aliases: list[tuple[str, str]] = []
     gram: tuple[str, int] | None = None  # (output, n) of a mass matrix written by a loop
@@ -363,33 +318,29 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         matrix = eqs.output(name)
         targets = [(f"result{i}", matrix[i]) for i in range(n)]
     for part in (() if checked else parts):
-        if part in SPLIT_OUTPUTS:
-            matrix = eqs.output(part)
-            for arg, _, first, end in SPLIT_OUTPUTS[part]:
-                block = matrix[:, first:end]
-                if block.cols == 0:
-                    empty_outputs.append(arg)
-                for i in range(block.rows):
-                    for j in range(block.cols):
-                        targets.append((f"{arg}[{i * block.cols + j}]", block[i, j]))
-            continue
+        output = REGISTRY[part]
         matrix = eqs.output(part)
-        part_name = OUTPUT_ARGS[part][0]
-        rows, cols = matrix.shape
-        symmetric = part == "mass_matrix"
+        if output.shape(_dimensions(eqs)) != matrix.shape:
+            raise AssertionError(f"{part}: derived {matrix.shape}, registered {output.shape(_dimensions(eqs))}")
+        symmetric = output.symmetric
         factored = symmetric and bool(eqs.mass_factors)
-        for i in range(rows):
-            for j in range(cols):
-                if symmetric and j < i:
-                    if not factored:  # the loop writes both triangles
-                        aliases.append((f"{part_name}[{i * cols + j}]", f"{part_name}[{j * cols + i}]"))
-                elif not (factored and j > i):
-                    targets.append((f"{part_name}[{i * cols + j}]", matrix[i, j]))
-        if factored:  # D[i][j] = S_i . F_j (i < j) as a loop over two arrays of 6-vectors
-            motions, momenta = eqs.mass_factors
-            targets += [(f"mass_s[{k * (rows - 1) + i}]", e) for i, row in enumerate(motions) for k, e in enumerate(row)]
-            targets += [(f"mass_f[{6 * j + k}]", e) for j, row in enumerate(momenta) for k, e in enumerate(row)]
-            gram = (part_name, rows)
+        for argument, (rows, cols) in output.argument_shapes(_dimensions(eqs)):
+            block = matrix[:, argument.first:argument.first + cols]
+            if cols == 0:
+                empty_outputs.append(argument.name)
+            arg = argument.name
+            for i in range(rows):
+                for j in range(cols):
+                    if symmetric and j < i:
+                        if not factored:  # the loop writes both triangles
+                            aliases.append((f"{arg}[{i * cols + j}]", f"{arg}[{j * cols + i}]"))
+                    elif not (factored and j > i):
+                        targets.append((f"{arg}[{i * cols + j}]", block[i, j]))
+            if factored:  # D[i][j] = S_i . F_j (i < j) as a loop over two arrays of 6-vectors
+                motions, momenta = eqs.mass_factors
+                targets += [(f"mass_s[{k * (rows - 1) + i}]", e) for i, row in enumerate(motions) for k, e in enumerate(row)]
+                targets += [(f"mass_f[{6 * j + k}]", e) for j, row in enumerate(momenta) for k, e in enumerate(row)]
+                gram = (arg, rows)
     checks = [e for pair in eqs.pivots for e in pair] if checked and not looped else []
     assigns = list(eqs.program.needed_for([e for _, e in targets] + checks))
     folded = [(s, fold_constants(r)) for s, r in assigns]
@@ -415,7 +366,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     local_type = real if internal == scalar else internal
     cast = "(double)" if internal != scalar else ""
     names: dict[sp.Symbol, str] = {}
-    inputs = OUTPUT_INPUTS[parts[0]]
+    inputs = REGISTRY[parts[0]].inputs
     for group in inputs:
         for k, sym in enumerate(getattr(eqs, group)):
             names[sym] = f"{cast}{group}[{k}]"
@@ -572,14 +523,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                 else:
                     lanes_unused = [a for a in [*inputs, *(["p"] if eqs.parameters else [])] if not any(
                         names.get(x, "").startswith(a + "[") for x in lanes_used)]
-        sizes = []
-        for part in parts:
-            if part in SPLIT_OUTPUTS:
-                matrix = eqs.output(part)
-                sizes.extend((arg, matrix[:, first:end].rows * matrix[:, first:end].cols)
-                             for arg, _, first, end in SPLIT_OUTPUTS[part])
-            else:
-                sizes.append((OUTPUT_ARGS[part][0], eqs.output(part).rows * eqs.output(part).cols))
+        sizes = [(argument.name, rows * cols) for part in parts
+                 for argument, (rows, cols) in REGISTRY[part].argument_shapes(_dimensions(eqs))]
         batch = {"name": f"{name}_batch", "lanes": lanes, "lanes_unused": lanes_unused,
                  "vector_functions": sorted(vector_functions), "checked": checked,
                  "inputs": [(group, len(getattr(eqs, group))) for group in inputs],
@@ -589,23 +534,16 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     args = [(f"const {real} *", group, ARG_DOCS[group], False) for group in inputs]
     if eqs.parameters:
         args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
-    for part in parts:
-        if part in SPLIT_OUTPUTS:
-            args.extend((f"{real} *", arg, doc, True) for arg, doc, _, _ in SPLIT_OUTPUTS[part])
-        else:
-            args.append((f"{real} *", *OUTPUT_ARGS[part], True))
+    args += [(f"{real} *", argument.name, argument.doc, True) for part in parts for argument in REGISTRY[part].arguments]
     unused = [a for _, a, _, is_out in args if not is_out and not any(
         names.get(s, "").startswith(cast + a + "[") for s in used)] + empty_outputs
-    summary = SUMMARIES[name].replace("NAME", prefix)
-    if name == "forward_dynamics" and eqs.fd_method == "aba":
-        summary = ("Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
-                   "algorithm written out for this robot (three sweeps, N divisions, no mass matrix).")
+    summary = (REGISTRY[name].summary_for(eqs.fd_method) if name in REGISTRY else _COMBINED_SUMMARIES[name]).replace("NAME", prefix)
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
     trig_type = internal if angles else ""
     if checked:
-        status = STATUS_DOC_ABA if eqs.fd_method == "aba" else STATUS_DOC
+        status = REGISTRY[name].status_for(eqs.fd_method)
         return CFunction(name=f"{name}_checked", summary=summary, args=args, lines=lines, ops=ops, unused=unused,
                          returns="int", returns_doc=status.format(rtol=PIVOT_RTOL, real=scalar),
                          trig_type=trig_type, batch=batch, gram_loop=bool(gram))

@@ -1,18 +1,225 @@
-"""The functions symdyn can produce for a robot: their names, inputs and symbols in the notes."""
+"""The functions symdyn can produce for a serial robot: one frozen spec per output.
+
+Every consumer reads this registry and nothing else: derivation dispatch
+(:mod:`symdyn.derive.equations`), numpy evaluation (:mod:`symdyn.derive.numeric`), C and CasADi
+emission (:mod:`symdyn.emit.cgen`, :mod:`symdyn.emit.casadi_backend`), the compile-and-call
+wrapper (:mod:`symdyn.check.cbuild`), timing (:mod:`symdyn.check.timing`), ``verify``'s
+comparison list and ``--functions`` (help and validation).  Adding an output is its
+:class:`OutputSpec` here, its derivation (``symdyn.derive.equations.DERIVATIONS``), its
+independent reference (hand-written on purpose, :mod:`symdyn.check.pinocchio_model`) and its tests.
+"""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Callable, Iterable
+
+#: the standard inertial, drive and friction parameters of one link (the regressor's columns):
+#: mass, first moment (m * com, 3), inertia about the link origin (6), armature, viscous and
+#: Coulomb friction
+LINK_PARAMETERS = ("m", "mx", "my", "mz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz", "Ia", "fv", "fc")
+#: how many standard parameters each link has
+PARAMETERS_PER_LINK = len(LINK_PARAMETERS)
+
+#: the input groups of the serial functions, in the order they are passed; each has one entry per joint
+INPUT_GROUPS = ("q", "qd", "qdd", "tau")
+
+
+@dataclass(frozen=True)
+class Dimensions:
+    """What an output's size depends on: joints, actuated joints, base parameters (0 when unknown)."""
+
+    dof: int
+    actuated: int | None = None
+    base_parameters: int = 0
+
+    @property
+    def na(self) -> int:
+        return self.dof if self.actuated is None else self.actuated
+
+
+@dataclass(frozen=True)
+class OutputArgument:
+    """One output argument of a generated function: its name (C and CasADi), what it holds and
+    which columns of the output matrix it is (``first``, ``end``; ``end`` None: to the last)."""
+
+    name: str
+    doc: str
+    first: int = 0
+    end: int | None = None
+
+    @property
+    def whole(self) -> bool:
+        return self.first == 0 and self.end is None
+
+    def shape(self, full: tuple[int, int]) -> tuple[int, int]:
+        """Rows and columns of this argument's block of an output of shape ``full``."""
+        rows, cols = full
+        end = cols if self.end is None else self.end
+        return rows, max(0, end - self.first)
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    """One output symdyn can derive and generate.
+
+    ``shape`` maps :class:`Dimensions` to (rows, columns) of the output matrix (a vector is
+    one column); ``arguments`` are the output arguments it is written to (most outputs one,
+    the reaction map two); ``requires`` lists outputs its derivation or emission needs derived
+    beside it; ``status`` documents the return value of the function that checks its inputs,
+    formatted with ``rtol`` and ``real`` (empty: none).
+    """
+
+    name: str
+    symbol: str
+    inputs: tuple[str, ...]
+    shape: Callable[[Dimensions], tuple[int, int]]
+    shape_text: str
+    units: str
+    summary: str
+    arguments: tuple[OutputArgument, ...]
+    default: bool = True
+    kinematic: bool = False
+    requires: tuple[str, ...] = ()
+    symmetric: bool = False
+    #: numeric evaluation returns the matrix even when it has one column
+    always_matrix: bool = False
+    status: str = ""
+    #: summaries and statuses that replace the above for another forward-dynamics method
+    fd_variants: tuple[tuple[str, str, str], ...] = ()
+
+    def summary_for(self, fd_method: str = "") -> str:
+        return next((s for m, s, _ in self.fd_variants if m == fd_method), self.summary)
+
+    def status_for(self, fd_method: str = "") -> str:
+        return next((s for m, _, s in self.fd_variants if m == fd_method), self.status)
+
+    def argument_shapes(self, dims: Dimensions) -> list[tuple[OutputArgument, tuple[int, int]]]:
+        full = self.shape(dims)
+        return [(arg, arg.shape(full)) for arg in self.arguments]
+
+
+@dataclass(frozen=True)
+class CombinedSpec:
+    """A generated function that writes several outputs in one call, sharing their intermediate
+    quantities; emitted beside the single ones when all its parts are generated."""
+
+    name: str
+    parts: tuple[str, ...]
+    summary: str
+
+
+_PIVOTS = ("Returns 0 on success; 1 when the mass matrix is singular at q ({why}); 2 when a result is not "
+           "finite (NaN or beyond the range of {{real}}). On a nonzero return qdd is not written.")
+
+SPECS: tuple[OutputSpec, ...] = (
+    OutputSpec(
+        "inverse_dynamics", "tau", ("q", "qd", "qdd"), lambda d: (d.dof, 1), "N", "N m or N",
+        "Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).",
+        (OutputArgument("tau", "joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)"),)),
+    OutputSpec(
+        "mass_matrix", "D", ("q",), lambda d: (d.dof, d.dof), "N x N", "kg m^2, kg m or kg",
+        "Mass (joint-space inertia) matrix D(q), without armature.",
+        (OutputArgument("D", "joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)"),),
+        symmetric=True),
+    OutputSpec(
+        "coriolis", "h", ("q", "qd"), lambda d: (d.dof, 1), "N", "N m or N",
+        "Coriolis and centrifugal torques h(q, qd).",
+        (OutputArgument("h", "Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)"),)),
+    OutputSpec(
+        "coriolis_matrix", "C", ("q", "qd"), lambda d: (d.dof, d.dof), "N x N", "N m s or N s",
+        "Coriolis matrix C(q, qd), C qd = h.",
+        (OutputArgument("C", "Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)"),)),
+    OutputSpec(
+        "gravity", "c", ("q",), lambda d: (d.dof, 1), "N", "N m or N",
+        "Gravity torques c(q).",
+        (OutputArgument("c", "gravity vector c(q), N (N m or N)"),)),
+    OutputSpec(
+        "forward_dynamics", "qdd", ("q", "qd", "tau"), lambda d: (d.dof, 1), "N", "rad/s^2 or m/s^2",
+        "Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).",
+        (OutputArgument("qdd", "joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N"),),
+        requires=("mass_matrix",),
+        status=_PIVOTS.format(why="a pivot d_j of its LDL^T factorization is not above {rtol:g} times its "
+                                  "diagonal entry, or is not a number"),
+        fd_variants=(("aba", "Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
+                             "algorithm written out for this robot (three sweeps, N divisions, no mass matrix).",
+                      _PIVOTS.format(why="an articulated inertia d_j about joint j's axis, by which the algorithm "
+                                         "divides, is not positive, or is not a number")),)),
+    OutputSpec(
+        "forward_kinematics", "T", ("q",), lambda d: (4, 4), "4 x 4", "m",
+        "Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",
+        (OutputArgument("T", "pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)"),),
+        kinematic=True),
+    OutputSpec(
+        "jacobian", "J", ("q",), lambda d: (6, d.dof), "6 x N", "m/s and rad/s per unit qd",
+        "Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.",
+        (OutputArgument("J", "tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)"),),
+        kinematic=True),
+    OutputSpec(
+        "jacobian_dot_qd", "a", ("q", "qd"), lambda d: (6, 1), "6", "m/s^2 and rad/s^2",
+        "J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.",
+        (OutputArgument("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),),
+        kinematic=True),
+    OutputSpec(
+        "reaction_map", "k0_D", ("q", "qd"), lambda d: (6, 1 + d.na), "6 x (1 + NA)", "N m and N",
+        "Force-to-torque map (seed 004 of the design notes, eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).",
+        (OutputArgument("k0", "base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) "
+                              "and force (N) the base exerts on body 1 through joint 1, base-frame axes", 0, 1),
+         OutputArgument("D", "wrench per unit actuated torque, 6*NA row-major (column j: actuated joint j in the order "
+                             "listed above): [n; f] = k0 + D tau_H", 1, None)),
+        default=False, always_matrix=True),
+    OutputSpec(
+        "regressor", "Y", ("q", "qd", "qdd"), lambda d: (d.dof, PARAMETERS_PER_LINK * d.dof), "N x 13 N",
+        "N m or N per unit parameter",
+        "Inverse dynamics in linear form: the regressor Y(q, qd, qdd) with tau = Y pi, pi the standard parameters (13 per link: mass, first moment, inertia about the link origin, armature, viscous and Coulomb friction).",
+        (OutputArgument("Y", "regressor, N*P row-major (P = 13 N standard parameters in the order listed above): tau = Y pi"),),
+        default=False),
+    OutputSpec(
+        "base_regressor", "Yb", ("q", "qd", "qdd"), lambda d: (d.dof, d.base_parameters), "N x NB",
+        "N m or N per unit parameter",
+        "Inverse dynamics in the base parameters: the columns of the regressor that the identifiable combinations beta of the standard parameters multiply, tau = Yb beta.",
+        (OutputArgument("Yb", "base regressor, N*NB row-major (NB base parameters in the order listed above): tau = Yb beta"),),
+        default=False),
+)
+
+#: every output by name, in the order generated code and documentation list them
+REGISTRY: dict[str, OutputSpec] = {spec.name: spec for spec in SPECS}
+
+#: functions that write several outputs in one call
+COMBINED_SPECS: tuple[CombinedSpec, ...] = (
+    CombinedSpec("kinematics", ("forward_kinematics", "jacobian"),
+                 "Pose and Jacobian of the tool in one call: the same results as NAME_forward_kinematics and "
+                 "NAME_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls)."),
+)
+COMBINED: dict[str, tuple[str, ...]] = {c.name: c.parts for c in COMBINED_SPECS}
+
 #: the standard outputs, in the order generated code and documentation list them
-OUTPUTS = ("inverse_dynamics", "mass_matrix", "coriolis", "coriolis_matrix", "gravity",
-           "forward_dynamics", "forward_kinematics", "jacobian", "jacobian_dot_qd")
+OUTPUTS = tuple(s.name for s in SPECS if s.default)
 
 #: outputs derived and generated only when asked for (``--functions``): the base reaction wrench
 #: as an affine map of the actuated torques (seed 004; by default for a robot with passive joints,
 #: ``actuated: false``), and the identification regressors (tau = Y pi, tau = Y_b beta)
-EXTRA_OUTPUTS = ("reaction_map", "regressor", "base_regressor")
+EXTRA_OUTPUTS = tuple(s.name for s in SPECS if not s.default)
 
 #: every output symdyn can produce
 ALL_OUTPUTS = OUTPUTS + EXTRA_OUTPUTS
+
+#: the outputs about the tool frame (the others are joint-space dynamics)
+KINEMATIC_OUTPUTS = tuple(s.name for s in SPECS if s.kinematic)
+
+#: the inputs each output depends on, in the order of the generated functions' arguments
+OUTPUT_INPUTS = {s.name: s.inputs for s in SPECS}
+
+#: the symbol of each output in the notes (and the name of its output argument everywhere)
+OUTPUT_SYMBOLS = {s.name: s.symbol for s in SPECS}
+
+
+def spec(name: str) -> OutputSpec:
+    """The spec of an output; a ValueError naming the known ones for anything else."""
+    try:
+        return REGISTRY[name]
+    except KeyError:
+        raise ValueError(f"unknown output {name!r}; known: {', '.join(ALL_OUTPUTS)}") from None
 
 
 def default_outputs(robot) -> tuple[str, ...]:
@@ -21,46 +228,31 @@ def default_outputs(robot) -> tuple[str, ...]:
     return OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
 
 
-#: the outputs about the tool frame (the others are joint-space dynamics)
-KINEMATIC_OUTPUTS = ("forward_kinematics", "jacobian", "jacobian_dot_qd")
-
-#: the inputs each output depends on, in the order of the generated functions' arguments
-OUTPUT_INPUTS = {
-    "inverse_dynamics": ("q", "qd", "qdd"),
-    "mass_matrix": ("q",),
-    "coriolis": ("q", "qd"),
-    "coriolis_matrix": ("q", "qd"),
-    "gravity": ("q",),
-    "forward_dynamics": ("q", "qd", "tau"),
-    "forward_kinematics": ("q",),
-    "jacobian": ("q",),
-    "jacobian_dot_qd": ("q", "qd"),
-    "reaction_map": ("q", "qd"),
-    "regressor": ("q", "qd", "qdd"),
-    "base_regressor": ("q", "qd", "qdd"),
-}
-
-#: the symbol of each output in the notes (and the name of its output argument everywhere)
-OUTPUT_SYMBOLS = {
-    "inverse_dynamics": "tau",
-    "mass_matrix": "D",
-    "coriolis": "h",
-    "coriolis_matrix": "C",
-    "gravity": "c",
-    "forward_dynamics": "qdd",
-    "forward_kinematics": "T",
-    "jacobian": "J",
-    "jacobian_dot_qd": "a",
-    "reaction_map": "k0_D",
-    "regressor": "Y",
-    "base_regressor": "Yb",
-}
+def with_requirements(names: Iterable[str]) -> tuple[str, ...]:
+    """``names`` and every output they require (transitively), in registry order."""
+    wanted = set(names)
+    pending = list(wanted)
+    while pending:
+        for needed in spec(pending.pop()).requires:
+            if needed not in wanted:
+                wanted.add(needed)
+                pending.append(needed)
+    return tuple(n for n in ALL_OUTPUTS if n in wanted)
 
 
-def output_shape(name: str, n: int, actuated: int | None = None) -> tuple[int, int]:
+def in_order(names: Iterable[str]) -> tuple[str, ...]:
+    """The known outputs among ``names``, in registry order."""
+    names = set(names)
+    return tuple(n for n in ALL_OUTPUTS if n in names)
+
+
+def output_shape(name: str, n: int, actuated: int | None = None, base_parameters: int = 0) -> tuple[int, int]:
     """Rows and columns of an output for a robot of ``n`` joints (``actuated`` of them actuated,
-    default all): the reaction map is ``[k0 | D]``, 6 x (1 + actuated)."""
-    return {"forward_kinematics": (4, 4), "jacobian": (6, n), "jacobian_dot_qd": (6, 1),
-            "mass_matrix": (n, n), "coriolis_matrix": (n, n),
-            "reaction_map": (6, 1 + (n if actuated is None else actuated)),
-            "regressor": (n, 13 * n)}.get(name, (n, 1))
+    default all; ``base_parameters`` columns of the base regressor)."""
+    return spec(name).shape(Dimensions(n, actuated, base_parameters))
+
+
+def functions_help() -> str:
+    """The ``--functions`` help text of serial robots, from the registry."""
+    return (f"comma-separated subset of: {', '.join(ALL_OUTPUTS)} (default: the scene's functions, else "
+            f"{', '.join(OUTPUTS)}, and reaction_map when the robot has passive joints)")

@@ -1,0 +1,132 @@
+"""The output registry (symdyn.model.outputs): every registered output is derived, emitted in C
+and CasADi, compiled and called, timed and verified against Pinocchio, so that none can be
+half-added."""
+
+import shutil
+import subprocess
+
+import numpy as np
+import pytest
+
+import symdyn
+from helpers import robot_path
+from symdyn.check.cbuild import build_and_load, find_compiler
+from symdyn.check.timing import symdyn_harness
+from symdyn.cli import main
+from symdyn.cli.common import parse_functions
+from symdyn.derive.equations import DERIVATIONS
+from symdyn.emit.casadi_backend import casadi_function
+from symdyn.emit.cgen import generate_c
+from symdyn.model.outputs import (ALL_OUTPUTS, COMBINED_SPECS, OUTPUTS, REGISTRY, SPECS, Dimensions,
+                                  default_outputs, functions_help, with_requirements)
+
+#: passive joints (a nontrivial reaction map) and a numeric geometry (base parameters)
+ROBOT = "pendulum_leg"
+
+
+@pytest.fixture(scope="module")
+def everything(tmp_path_factory):
+    """(robot, Equations of every output, compiled library, generated files)."""
+    robot = symdyn.load(robot_path(ROBOT))
+    eqs = symdyn.derive(robot, outputs=ALL_OUTPUTS)
+    files = generate_c(eqs, ALL_OUTPUTS)
+    workdir = tmp_path_factory.mktemp("registry")
+    lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), workdir=str(workdir),
+                         actuated=len(robot.actuated_joints))
+    lib.base_columns = len(eqs.base_parameters)
+    return robot, eqs, lib, files, workdir
+
+
+def test_specs_are_consistent():
+    assert [s.name for s in SPECS] == list(ALL_OUTPUTS) and len(set(ALL_OUTPUTS)) == len(ALL_OUTPUTS)
+    for spec in SPECS:
+        assert spec.inputs and set(spec.inputs) <= {"q", "qd", "qdd", "tau"}, spec.name
+        assert spec.arguments and spec.summary and spec.units, spec.name
+        assert all(r in REGISTRY for r in spec.requires), spec.name
+        names = [a.name for a in spec.arguments]
+        assert len(set(names)) == len(names), spec.name
+    for combined in COMBINED_SPECS:
+        assert combined.name not in REGISTRY and all(p in REGISTRY for p in combined.parts)
+    assert with_requirements(["forward_dynamics"]) == ("mass_matrix", "forward_dynamics")
+
+
+def test_every_output_has_a_derivation():
+    missing = [name for name in ALL_OUTPUTS if name not in DERIVATIONS]
+    assert not missing, f"registered without a derivation: {missing}"
+
+
+def test_functions_option_knows_every_output():
+    assert parse_functions(",".join(reversed(ALL_OUTPUTS))) == ALL_OUTPUTS
+    for name in ALL_OUTPUTS:
+        assert name in functions_help()
+    with pytest.raises(symdyn.SymdynError, match="unknown function 'kinematic'"):
+        parse_functions("kinematic")
+
+
+def test_default_outputs_follow_the_registry():
+    robot = symdyn.load(robot_path(ROBOT))
+    assert default_outputs(robot) == OUTPUTS + ("reaction_map",)
+    assert default_outputs(symdyn.load(robot_path("puma560"))) == tuple(s.name for s in SPECS if s.default)
+
+
+def test_every_output_derived_emitted_and_called(everything):
+    """Each registered output: its derived matrix has the registered shape, and the compiled C
+    function returns the numbers the numpy evaluation of the same equations gives."""
+    robot, eqs, lib, files, _ = everything
+    dims = Dimensions(robot.dof, len(robot.actuated_joints), len(eqs.base_parameters))
+    rng = np.random.default_rng(5)
+    state = {g: rng.uniform(-1, 1, robot.dof) for g in ("q", "qd", "qdd", "tau")}
+    for spec in SPECS:
+        assert eqs.output(spec.name).shape == spec.shape(dims), spec.name
+        for argument in spec.arguments:
+            assert f"{robot.name}_{spec.name}(" in files[f"{robot.name}_dynamics.h"], spec.name
+        args = [state[g] for g in spec.inputs]
+        mine = getattr(lib, spec.name)(*args)
+        expected = getattr(eqs.numeric, spec.name)(*args)
+        assert mine.shape == expected.shape, spec.name
+        scale = max(1.0, float(np.max(np.abs(expected))))
+        np.testing.assert_allclose(mine, expected, rtol=0, atol=1e-12 * scale, err_msg=spec.name)
+    for combined in COMBINED_SPECS:
+        results = getattr(lib, combined.name)(*[state[g] for g in REGISTRY[combined.parts[0]].inputs])
+        for part, value in zip(combined.parts, results):
+            np.testing.assert_allclose(value, getattr(lib, part)(state["q"]), rtol=0, atol=1e-14)
+
+
+def test_every_output_as_casadi(everything):
+    robot, eqs, _, _, _ = everything
+    rng = np.random.default_rng(6)
+    state = {g: rng.uniform(-1, 1, robot.dof) for g in ("q", "qd", "qdd", "tau")}
+    for spec in SPECS:
+        function = casadi_function(eqs, spec.name)
+        assert [function.name_out(k) for k in range(function.n_out())] == (
+            [spec.symbol] if len(spec.arguments) == 1 else [a.name for a in spec.arguments]), spec.name
+        args = [state[g] for g in spec.inputs]
+        values = [np.array(v) for v in function(*args)] if function.n_out() > 1 else [np.array(function(*args))]
+        got = np.hstack(values) if len(values) > 1 else values[0]
+        expected = getattr(eqs.numeric, spec.name)(*args)
+        np.testing.assert_allclose(got.reshape(expected.shape), expected, rtol=0,
+                                   atol=1e-12 * max(1.0, float(np.max(np.abs(expected)))), err_msg=spec.name)
+
+
+@pytest.mark.skipif(shutil.which("gcc") is None and shutil.which("cc") is None, reason="no C compiler")
+def test_every_output_can_be_timed(everything):
+    """The timing harness calls every generated function (compiled and linked, not run)."""
+    robot, _, _, files, workdir = everything
+    names = list(ALL_OUTPUTS) + [c.name for c in COMBINED_SPECS]
+    harness = workdir / "bench.c"
+    harness.write_text(symdyn_harness(robot.name, robot.dof, names))
+    result = subprocess.run([find_compiler(), "-std=c99", "-Wall", "-Werror", "-O0", str(harness),
+                             str(workdir / f"{robot.name}_dynamics.c"), "-o", str(workdir / "bench"), "-lm"],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr[:2000]
+
+
+def test_every_output_verified(capsys):
+    """symdyn verify compares every registered output with Pinocchio (regressors as torques)."""
+    pytest.importorskip("pinocchio")
+    code = main(["verify", str(robot_path(ROBOT)), "--functions", ",".join(ALL_OUTPUTS), "--states", "4"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    for name in ALL_OUTPUTS:
+        line = next(line for line in out.splitlines() if line.split()[:1] == [name])
+        assert line.split()[-1] == "ok", line
