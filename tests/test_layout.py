@@ -116,3 +116,52 @@ def test_no_import_cycles():
     for module in sorted(graph):
         if module not in state:
             visit(module, [module])
+
+
+def _package_import_problems(source: str, module: str, is_package: bool, label: str) -> list[str]:
+    """Imports of another module's private name (``_x``) or of the package itself (``import
+    symdyn``, ``from symdyn import ...``, ``from .. import ...`` at the top) in ``source``, the
+    text of ``module``."""
+    package = module if is_package else module.rsplit(".", 1)[0]
+    problems = []
+    for node in ast.walk(ast.parse(source, label)):
+        where = f"{label}:{getattr(node, 'lineno', '?')}"
+        if isinstance(node, ast.Import):
+            if any(a.name == "symdyn" for a in node.names):
+                problems.append(f"{where} imports the whole package")
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")
+                target = ".".join(base[:len(base) - (node.level - 1)] + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            if target.split(".")[0] != "symdyn":
+                continue
+            if target == "symdyn" and not all(a.name == "_version" for a in node.names):
+                problems.append(f"{where} imports from the whole package ({', '.join(a.name for a in node.names)})")
+            private = [a.name for a in node.names if a.name.startswith("_") and a.name != "__version__"
+                       and not (PACKAGE.parent / (f"{target}.{a.name}".replace(".", "/") + ".py")).exists()]
+            if private:
+                problems.append(f"{where} imports private names of {target}: {private}")
+    return problems
+
+
+@pytest.mark.parametrize("path", MODULES, ids=lambda p: str(p.relative_to(PACKAGE)))
+def test_no_private_names_or_whole_package_imports(path):
+    """Inside the folders, no module imports another's private name, and none imports the
+    package itself, which would load every folder, later ones included, past the layering."""
+    if _folder(_module_name(path)) is None:
+        return
+    problems = _package_import_problems(path.read_text(), _module_name(path), path.name == "__init__.py",
+                                        str(path.relative_to(PACKAGE)))
+    assert not problems, problems
+
+
+def test_layering_check_sees_whole_package_imports():
+    """The check above is not vacuous: it finds each kind of import in a module's text."""
+    probe = "symdyn.derive.probe"
+    assert "imports the whole package" in _package_import_problems("import symdyn\n", probe, False, "p")[0]
+    assert "whole package" in _package_import_problems("from .. import derive\n", probe, False, "p")[0]
+    assert "private names" in _package_import_problems("from .equations import _Derivation\n", probe, False, "p")[0]
+    assert not _package_import_problems("from .equations import derive\nfrom .._version import __version__\n",
+                                        probe, False, "p")

@@ -34,12 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..derive.spatial import skew_numeric
 from ..model.parallel import ParallelRobot
-
-
-def _skew(v) -> np.ndarray:
-    x, y, z = v
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
 @dataclass
@@ -63,7 +59,7 @@ class ParallelReference:
     the inverse kinematics."""
 
     def __init__(self, robot: ParallelRobot, home=None):
-        import symdyn
+        from ..derive.equations import derive
         if robot.parameters:
             raise ValueError("the numeric reference needs numbers for every parameter")
         if home is None:
@@ -74,7 +70,7 @@ class ParallelReference:
         self.robot = robot
         self.home = [np.asarray([float(v) for v in h], dtype=float) for h in home]
         outputs = ["forward_kinematics", "jacobian", "jacobian_dot_qd", "inverse_dynamics", "mass_matrix"]
-        self.legs = [symdyn.derive(leg.chain, outputs=outputs).numeric for leg in robot.legs]
+        self.legs = [derive(leg.chain, outputs=outputs).numeric for leg in robot.legs]
         self.attachments = [np.array(leg.attachment.matrix(), dtype=float) for leg in robot.legs]
         plat = robot.platform
         self.mass = float(plat.mass)
@@ -118,7 +114,7 @@ class ParallelReference:
             r = u - c
             # [v_U; omega] = S t_M with t_M = [omega; c_dot]
             S = np.zeros((6, 6))
-            S[:3, :3] = -_skew(r)
+            S[:3, :3] = -skew_numeric(r)
             S[:3, 3:] = np.eye(3)
             S[3:, :3] = np.eye(3)
             J = np.asarray(numeric.jacobian(theta, []), dtype=float).reshape(6, 6)

@@ -29,42 +29,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .chain import Chain
-
-
-def _skew(p: sp.Matrix) -> sp.Matrix:
-    return sp.Matrix([[0, -p[2], p[1]], [p[2], 0, -p[0]], [-p[1], p[0], 0]])
-
-
-def motion_transform(pose: sp.Matrix) -> sp.Matrix:
-    """``X`` (6 x 6) mapping motion vectors of frame A to frame B, ``pose`` = B in A (4x4)."""
-    R, p = pose[:3, :3], pose[:3, 3]
-    X = sp.zeros(6, 6)
-    X[:3, :3] = R.T
-    X[3:, 3:] = R.T
-    X[3:, :3] = -R.T * _skew(p)
-    return X
-
-
-def spatial_inertia(mass, com: sp.Matrix, inertia_com: sp.Matrix) -> sp.Matrix:
-    """The 6 x 6 spatial inertia about a frame's origin of a body with centre of mass ``com``
-    and inertia ``inertia_com`` about it (both in that frame)."""
-    cx = _skew(com)
-    I = sp.zeros(6, 6)
-    I[:3, :3] = inertia_com - mass * cx * cx
-    I[:3, 3:] = mass * cx
-    I[3:, :3] = -mass * cx
-    I[3:, 3:] = mass * sp.eye(3)
-    return I
-
-
-def _cross_motion(v: sp.Matrix, m: sp.Matrix) -> sp.Matrix:
-    w, u = v[:3, 0], v[3:, 0]
-    return sp.Matrix.vstack(w.cross(m[:3, 0]), w.cross(m[3:, 0]) + u.cross(m[:3, 0]))
-
-
-def _cross_force(v: sp.Matrix, f: sp.Matrix) -> sp.Matrix:
-    w, u = v[:3, 0], v[3:, 0]
-    return sp.Matrix.vstack(w.cross(f[:3, 0]) + u.cross(f[3:, 0]), w.cross(f[3:, 0]))
+from .spatial import cross_force, cross_motion, motion_transform, spatial_inertia
 
 
 def joint_frames(chain: Chain):
@@ -141,13 +106,13 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         link = robot.links[j]
         X.append(Xj)
         v.append(velocity)
-        c.append(vec(f"sc{k}", _cross_motion(velocity, S_qd)))
+        c.append(vec(f"sc{k}", cross_motion(velocity, S_qd)))
         R, t = post[:3, :3], post[:3, 3]
         com = R * sp.Matrix(link.com) + t
         inertia = spatial_inertia(link.mass, com, R * sp.Matrix(link.inertia_matrix) * R.T)
         I.append(sym6(f"IA{k}", inertia))
         IA.append(I[j])
-        pA.append(vec(f"pA{k}", _cross_force(velocity, I[j] * velocity)))
+        pA.append(vec(f"pA{k}", cross_force(velocity, I[j] * velocity)))
     pA0 = tuple(pA)
 
     U, d, u, inv, Ia, pa = [None] * n, [None] * n, [None] * n, [None] * n, [None] * n, [None] * n

@@ -546,8 +546,8 @@ def derive_cached(robot, method: str = "newton-euler", outputs=None, use_cache: 
     """:func:`symdyn.derive` with the on-disk cache (``use_cache=False`` bypasses it;
     ``progress`` is passed on to the derivation when one runs; ``fd_method``: how forward
     dynamics is solved, ``'ldlt'`` or ``'aba'``)."""
-    from .equations import ALL_OUTPUTS, _normalize_method, default_outputs
-    method = _normalize_method(method)
+    from .equations import ALL_OUTPUTS, normalize_method, default_outputs
+    method = normalize_method(method)
     wanted = tuple(o for o in ALL_OUTPUTS if o in (outputs or default_outputs(robot)))
     if not use_cache:
         return derive(robot, method, wanted, progress, fd_method, parameters)

@@ -34,6 +34,8 @@ class Chain:
     transforms: list[sp.Matrix]  # ^{i-1}T_i written with the sin/cos symbols
     motions: list[sp.Matrix]  # Joint_i(q_i) (4x4) written with the sin/cos symbols
     trig: dict[sp.Symbol, sp.Expr]  # trig symbol -> cos/sin(theta + q)
+    #: per joint, its (cos, sin) symbols (revolute), or () (prismatic)
+    joint_trig: tuple = ()
 
     @property
     def n(self) -> int:
@@ -47,7 +49,7 @@ class Chain:
 def make_chain(robot: Robot, prefix: str = "_") -> Chain:
     q, qd, qdd, tau = joint_symbols(robot.dof)
     builder = ProgramBuilder(prefix)
-    geometry, transforms, motions, trig = [], [], [], {}
+    geometry, transforms, motions, trig, joint_trig = [], [], [], {}, []
     for i, link in enumerate(robot.links):
         geo = joint_geometry(link, robot.convention)
         cos_sin = None
@@ -65,7 +67,8 @@ def make_chain(robot: Robot, prefix: str = "_") -> Chain:
                 s = builder.define(f"s{i + 1}", sp.sin(link.theta) * cq + sp.cos(link.theta) * sq, force=True)
             trig[c], trig[s] = sp.cos(angle), sp.sin(angle)
             cos_sin = (c, s)
+        joint_trig.append(cos_sin or ())
         geometry.append(geo)
         motions.append(joint_motion(link, q[i], cos_sin))
         transforms.append(sp.Matrix(geo.pre) * motions[-1] * sp.Matrix(geo.post))
-    return Chain(robot, q, qd, qdd, tau, builder, geometry, transforms, motions, trig)
+    return Chain(robot, q, qd, qdd, tau, builder, geometry, transforms, motions, trig, tuple(joint_trig))

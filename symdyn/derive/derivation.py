@@ -32,9 +32,9 @@ import sympy as sp
 
 from .chain import make_chain
 from .articulated_body import accelerations, reaction_map, sweeps
-from .equations import _friction, _normalize_method, derive
+from .equations import friction_terms, normalize_method, derive
 from .jacobian_newton_euler import JacobianNewtonEuler
-from .lagrange_euler import LagrangeEuler, _q_operator, pseudo_inertia
+from .lagrange_euler import LagrangeEuler, q_operator, pseudo_inertia
 from .newton_euler import recursion
 from ..model.robot import Robot
 
@@ -394,7 +394,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
             raise ValueError("the articulated-body derivation is printed in the named form only "
                              "(its quantities are rational in the joint variables)")
         return _with_base_parameters(_articulated_body_steps(robot, steps), base_parameters)
-    method = _normalize_method(method)
+    method = normalize_method(method)
     if steps not in STEPS:
         raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
     closed = robot.dof <= 3 if closed_form is None else closed_form
@@ -422,7 +422,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
             A0 = [closed_value(le.A[i]) for i in range(n)]
             sections.append(Section("base_transform", tuple(Quantity("base_transform", (i + 1,), A0[i]) for i in range(n))))
         sections.append(Section("q_operator", tuple(
-            Quantity("q_operator", (j + 1,), sp.ImmutableMatrix(_q_operator(link.is_revolute)))
+            Quantity("q_operator", (j + 1,), sp.ImmutableMatrix(q_operator(link.is_revolute)))
             for j, link in enumerate(robot.links))))
         sections.append(Section("pseudo_inertia", tuple(
             Quantity("pseudo_inertia", (i + 1,), sp.ImmutableMatrix(pseudo_inertia(link)))
@@ -622,7 +622,7 @@ def _articulated_body_steps(robot: Robot, steps: str) -> Derivation:
     chain = make_chain(robot)
     notation = _Notation(chain)
     n = chain.n
-    friction = _friction(robot, chain.qd, [sp.S.Zero] * n)
+    friction = friction_terms(robot, chain.qd, [sp.S.Zero] * n)
     sw = sweeps(chain, chain.tau, friction)
     a_prime, qdd, accel = accelerations(chain, sw)
     rm = reaction_map(chain, friction) if robot.passive_joints else None

@@ -107,6 +107,10 @@ class Equations:
     #: :data:`LOOPED_SOLVE_FROM_DOF` joints or more); else ``()``.  Both give the same
     #: solution up to rounding; the pivots checked are the same.
     fd_system: tuple = ()
+    #: per joint, the program's symbols ``(c_j, s_j)`` for the cosine and sine of a revolute
+    #: joint's angle theta_j + q_j (:func:`symdyn.derive.chain.make_chain`), ``()`` for a
+    #: prismatic joint: what a consumer substitutes to give the joint angles another way
+    joint_trig: tuple = ()
 
     @property
     def n(self) -> int:
@@ -169,14 +173,14 @@ class Equations:
         return NumericEquations(self)
 
 
-def _normalize_method(method: str) -> str:
+def normalize_method(method: str) -> str:
     key = method.lower().replace("_", "-")
     if key not in METHOD_ALIASES:
         raise ValueError(f"unknown method {method!r}; use newton-euler, lagrange-euler or jacobian-newton-euler")
     return METHOD_ALIASES[key]
 
 
-def _friction(robot: Robot, qd, qdd) -> sp.Matrix:
+def friction_terms(robot: Robot, qd, qdd) -> sp.Matrix:
     return sp.Matrix([link.armature * qdd[i] + link.damping * qd[i] + link.coulomb * sp.sign(qd[i])
                       for i, link in enumerate(robot.links)])
 
@@ -287,7 +291,7 @@ class _Derivation:
         self.chain = chain = make_chain(robot)
         self.b, self.n = chain.builder, chain.n
         self.zero = [sp.S.Zero] * chain.n
-        self.friction = _friction(robot, chain.qd, chain.qdd)
+        self.friction = friction_terms(robot, chain.qd, chain.qdd)
         self.values: dict[str, sp.Matrix] = {}
         self.mass_factors: tuple = ()
         self.fd_system: tuple = ()
@@ -476,7 +480,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     if not isinstance(robot, Robot):
         raise SymdynError(f"{getattr(robot, 'source', '') or getattr(robot, 'name', robot)}: not a serial robot; "
                           "a platform robot (kind: parallel) is derived by symdyn.derive.parallel.derive_parallel")
-    method = _normalize_method(method)
+    method = normalize_method(method)
     if parameters not in PARAMETER_FORMS:
         raise ValueError(f"parameters must be one of {', '.join(PARAMETER_FORMS)}, not {parameters!r}")
     if fd_method not in FD_METHODS:
@@ -509,4 +513,5 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      base_parameters=d.base if ("base_regressor" in wanted or parameters == "base") else (),
                      parameter_form="base" if (parameters == "base" and "inverse_dynamics" in wanted) else "standard",
                      mass_factors=d.mass_factors if "mass_matrix" in wanted else (),
-                     fd_system=d.fd_system if "forward_dynamics" in wanted else ())
+                     fd_system=d.fd_system if "forward_dynamics" in wanted else (),
+                     joint_trig=chain.joint_trig)

@@ -44,7 +44,7 @@ from typing import Sequence
 import sympy as sp
 
 from .chain import Chain
-from .newton_euler import _skip_zero_cross as _cross
+from .spatial import cross_nonzero as _cross
 
 
 @dataclass

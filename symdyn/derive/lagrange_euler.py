@@ -47,7 +47,7 @@ def pseudo_inertia(link) -> sp.Matrix:
     return J
 
 
-def _q_operator(revolute: bool) -> sp.Matrix:
+def q_operator(revolute: bool) -> sp.Matrix:
     Q = sp.zeros(4, 4)
     if revolute:
         Q[0, 1], Q[1, 0] = -1, 1
@@ -85,7 +85,7 @@ class LagrangeEuler:
         for i, link in enumerate(chain.robot.links):
             geo = chain.geometry[i]
             joint_frame = current * sp.Matrix(geo.pre)
-            Q = _q_operator(link.is_revolute)
+            Q = q_operator(link.is_revolute)
             R, t = joint_frame[:3, :3], joint_frame[:3, 3]
             inv = sp.eye(4)
             inv[:3, :3] = R.T

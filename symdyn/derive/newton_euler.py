@@ -43,6 +43,7 @@ from typing import Sequence
 import sympy as sp
 
 from .chain import Chain
+from .spatial import cross_nonzero
 from ..model.outputs import PARAMETERS_PER_LINK as PER_LINK
 
 
@@ -59,12 +60,6 @@ class LinkState:
     f: sp.Matrix | None = None
     n: sp.Matrix | None = None
     tau: sp.Expr | None = None
-
-
-def _skip_zero_cross(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
-    if a.is_zero_matrix or b.is_zero_matrix:
-        return sp.zeros(3, 1)
-    return a.cross(b)
 
 
 def _acceleration_operator(b, omega: sp.Matrix, omegad: sp.Matrix, hint: str) -> sp.Matrix | None:
@@ -92,7 +87,7 @@ def _point_acceleration(U: sp.Matrix | None, omega: sp.Matrix, omegad: sp.Matrix
         return sp.zeros(3, 1)
     if U is not None:
         return (U * p).applyfunc(sp.expand)
-    return _skip_zero_cross(omegad, p) + _skip_zero_cross(omega, _skip_zero_cross(omega, p))
+    return cross_nonzero(omegad, p) + cross_nonzero(omega, cross_nonzero(omega, p))
 
 
 def _relative_acceleration(b, U: sp.Matrix | None, omega: sp.Matrix, omegad: sp.Matrix, p: sp.Matrix,
@@ -101,8 +96,8 @@ def _relative_acceleration(b, U: sp.Matrix | None, omega: sp.Matrix, omegad: sp.
     U, else the table's cross products with ``omega x p`` named ``name`` (the printouts show
     it)."""
     if U is None and not p.is_zero_matrix:
-        wp = b.vector(name, _skip_zero_cross(omega, p))
-        return _skip_zero_cross(omegad, p) + _skip_zero_cross(omega, wp)
+        wp = b.vector(name, cross_nonzero(omega, p))
+        return cross_nonzero(omegad, p) + cross_nonzero(omega, wp)
     return _point_acceleration(U, omega, omegad, p)
 
 
@@ -193,7 +188,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
         if link.is_revolute:
             w_rot = b.vector(f"Rw{k}{tag}", Rt * omega)
             omega_i = b.vector(f"w{k}{tag}", w_rot + z * qd[i])
-            omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad + _skip_zero_cross(w_rot, z * qd[i]) + z * qdd[i])
+            omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad + cross_nonzero(w_rot, z * qd[i]) + z * qdd[i])
             r1 = frame.pre[:3, 3]
             r2 = frame.r2
             a_joint = vd + _point_acceleration(U, omega, omegad, r1)
@@ -209,7 +204,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             U = None if textbook else _acceleration_operator(b, omega_i, omegad_i, f"U{k}{tag}")
             relative = _relative_acceleration(b, U, omega_i, omegad_i, p_star, f"wp{k}{tag}")
             vd_i = b.vector(f"vd{k}{tag}", Rt * vd + relative
-                            + 2 * _skip_zero_cross(omega_i, z * qd[i]) + z * qdd[i])
+                            + 2 * cross_nonzero(omega_i, z * qd[i]) + z * qdd[i])
         if parameters is None:
             s = frame.com
             relative = _relative_acceleration(b, U, omega_i, omegad_i, s, f"ws{k}{tag}")
@@ -217,7 +212,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             F = b.vector(f"F{k}{tag}", link.mass * abar)
             inertia = frame.inertia
             Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
-            N = b.vector(f"N{k}{tag}", inertia * omegad_i + _skip_zero_cross(omega_i, Iw))
+            N = b.vector(f"N{k}{tag}", inertia * omegad_i + cross_nonzero(omega_i, Iw))
         else:
             m, mx, my, mz, ixx, ixy, iyy, ixz, iyz, izz = parameters[PER_LINK * i:PER_LINK * i + 10]
             moment = sp.Matrix([mx, my, mz])
@@ -226,8 +221,8 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             abar = vd_i
             F = b.vector(f"F{k}{tag}", m * vd_i + relative)
             Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
-            N = b.vector(f"N{k}{tag}", inertia * omegad_i + _skip_zero_cross(omega_i, Iw)
-                         + _skip_zero_cross(moment, vd_i))
+            N = b.vector(f"N{k}{tag}", inertia * omegad_i + cross_nonzero(omega_i, Iw)
+                         + cross_nonzero(moment, vd_i))
         states.append(LinkState(omega_i, omegad_i, vd_i, abar, F, N))
         omega, omegad, vd = omega_i, omegad_i, vd_i
 
@@ -247,20 +242,20 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
                 # R n + p x (R f) = R (n + r2 x f) + r1 x (R f): the joint moment link i+1's
                 # torque already needed, and no product with q_{i+1}'s sine and cosine
                 r1_next = frames[i + 1].pre[:3, 3]
-                moment_next = T_next[:3, :3] * joint_moment_next + _skip_zero_cross(r1_next, f_rot)
+                moment_next = T_next[:3, :3] * joint_moment_next + cross_nonzero(r1_next, f_rot)
             else:
                 n_rot = T_next[:3, :3] * n_next
-                moment_next = n_rot + _skip_zero_cross(T_next[:3, 3], f_rot)
+                moment_next = n_rot + cross_nonzero(T_next[:3, 3], f_rot)
         else:
             f_rot = sp.zeros(3, 1)
             moment_next = sp.zeros(3, 1)
         st.f = b.vector(f"f{k}{tag}", st.F + f_rot)
-        st.n = b.vector(f"n{k}{tag}", st.N + _skip_zero_cross(s, st.F) + moment_next)
+        st.n = b.vector(f"n{k}{tag}", st.N + cross_nonzero(s, st.F) + moment_next)
         z = frames[i].axis
         joint_moment_next = None
         if link.is_revolute:
             r2 = frames[i].r2
-            moment = st.n + _skip_zero_cross(r2, st.f)
+            moment = st.n + cross_nonzero(r2, st.f)
             if i > 0 and not textbook and not r2.is_zero_matrix:
                 moment = b.vector(f"nJ{k}{tag}", moment)
             joint_moment_next = moment

@@ -49,6 +49,7 @@ from ..model.errors import SymdynError
 from ..model.parallel import ParallelRobot
 from .parallel_ik import LegIK, LegStructureError, leg_error
 from .program import ProgramBuilder
+from .spatial import cross, skew
 
 #: status codes of the generated functions (0: success)
 STATUS = {"unreachable": 1, "leg_singular": 2, "singular": 3}
@@ -264,14 +265,6 @@ class _Steps:
         return tuple(self.steps)
 
 
-def _cross(a, b):
-    return sp.Matrix([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
-
-
-def _skew(v):
-    return sp.Matrix([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
-
-
 class _LegImport:
     """Brings a leg's serial equations into the platform's steps, with its joint functions
     replaced: the sin/cos symbols and prismatic variables by the inverse kinematics, qd and qdd
@@ -335,7 +328,7 @@ def leg_inverse(st: _Steps, tag: str, d: sp.Matrix, fourth: sp.Matrix, axes, rev
     inv_dl = st.define(f"{tag}dlinv", 1 / dl)
     g = st.vector(f"{tag}g", d * inv_dl)
     inv_dd = st.define(f"{tag}ddinv", 1 / dd)
-    P = _skew(d) * (sp.eye(3) - fourth * g.T) * inv_dd
+    P = skew(d) * (sp.eye(3) - fourth * g.T) * inv_dd
     P = sp.Matrix(3, 3, lambda i, j: st.define(f"{tag}P{i}{j}", sp.expand(P[i, j])))
     Q = sp.Matrix(3, 3, lambda i, j: st.define(f"{tag}Q{i}{j}", P[i, j] + a4[i] * g[j]))
     N = _inverse3(st, f"{tag}N", sp.Matrix.hstack(d, axes[4], axes[5]), dd, what)
@@ -357,7 +350,7 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
     Needs numbers for every parameter (runtime parameters of platform robots are not supported)
     and a home configuration in the file (it picks each leg's inverse-kinematics branch).
     """
-    import symdyn
+    from .equations import derive
     start = time.perf_counter()
     wanted = tuple(FUNCTIONS) if functions is None else tuple(functions)
     for name in wanted:
@@ -398,7 +391,7 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
     inertia = R * sp.Matrix(plat.inertia_matrix) * R.T
     inertia = sp.Matrix(3, 3, lambda i, j: st.define(f"plat_I{min(i, j)}{max(i, j)}", sp.expand(inertia[i, j])))
     i_omega = st.vector("plat_Iw", inertia * omega)
-    bias_moment = st.vector("plat_gyro", _cross(omega, i_omega))
+    bias_moment = st.vector("plat_gyro", cross(omega, i_omega))
     weight = -plat.mass * gravity
 
     legs = []
@@ -406,7 +399,7 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
     for k, leg in enumerate(robot.legs):
         tag = f"leg{k + 1}_"
         report(f"leg {k + 1}: serial equations")
-        eqs = symdyn.derive(leg.chain, outputs=["jacobian", "jacobian_dot_qd", "inverse_dynamics", "mass_matrix"])
+        eqs = derive(leg.chain, outputs=["jacobian", "jacobian_dot_qd", "inverse_dynamics", "mass_matrix"])
         try:
             ik = LegIK.of(leg.chain)
             branch = ik.branches_of(leg.home)
@@ -437,10 +430,10 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
                 st.require(value - PIVOT_RTOL ** 2 * scale, True, "leg_singular", f"{where}: leg {leg.name}")
         joints = ik.solve(rot06, pos06, branch, sp.sqrt, name, check)
         mapping: dict = {}
-        by_name = {sym.name: sym for sym, _ in eqs.program.assignments}
         for i, (link, value) in enumerate(zip(leg.chain.links, joints)):
             if link.is_revolute:
-                mapping[by_name[f"_c{i + 1}"]], mapping[by_name[f"_s{i + 1}"]] = value
+                cos_symbol, sin_symbol = eqs.joint_trig[i]
+                mapping[cos_symbol], mapping[sin_symbol] = value
             else:
                 mapping[eqs.q[i]] = value
         imp = _LegImport(st, eqs, tag, mapping)
@@ -454,28 +447,28 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
         centre = base[:3, :3] * sp.Matrix(ik.centre_s) + base[:3, 3]
         leg_vector = st.vector(f"{tag}d", p + u_offset - centre)  # U - S
         axes = [sp.Matrix(jac6[3:6, i]) for i in range(6)]
-        fourth = sp.Matrix(jac6[0:3, 3]) + (_cross(rho, axes[3]) if leg.chain.links[3].is_revolute else sp.zeros(3, 1))
+        fourth = sp.Matrix(jac6[0:3, 3]) + (cross(rho, axes[3]) if leg.chain.links[3].is_revolute else sp.zeros(3, 1))
         jinv = leg_inverse(st, tag, leg_vector, st.vector(f"{tag}l4", fourth), axes,
                            leg.chain.links[3].is_revolute, f"{where}: leg {leg.name}")
         r = st.vector(f"{tag}r", R * (u_in_platform - com))  # U - C_M
-        v_u = c_dot + _cross(omega, r)
+        v_u = c_dot + cross(omega, r)
         theta_dot = st.vector(f"{tag}qd", jinv * sp.Matrix.vstack(v_u, omega))
         mapping.update(dict(zip(eqs.qd, theta_dot)))
         jdqd6 = imp.get("jacobian_dot_qd")  # J-dot qd at frame 6's origin: at U, see below
-        centripetal = st.vector(f"{tag}cp", _cross(omega, _cross(omega, r)))
+        centripetal = st.vector(f"{tag}cp", cross(omega, cross(omega, r)))
         bias = sp.Matrix.vstack(
-            sp.Matrix(jdqd6[0:3, 0]) - _cross(sp.Matrix(jdqd6[3:6, 0]), rho) - _cross(omega, _cross(omega, rho)),
+            sp.Matrix(jdqd6[0:3, 0]) - cross(sp.Matrix(jdqd6[3:6, 0]), rho) - cross(omega, cross(omega, rho)),
             sp.Matrix(jdqd6[3:6, 0]))
         bias = st.vector(f"{tag}jdqd", bias)
         # inverse dynamics: theta_ddot from t_dot, the leg's torques, S^T J^-T tau
-        acc = sp.Matrix.vstack(c_ddot + _cross(omega_dot, r) + centripetal, omega_dot) - bias
+        acc = sp.Matrix.vstack(c_ddot + cross(omega_dot, r) + centripetal, omega_dot) - bias
         theta_ddot = st.vector(f"{tag}qdd", jinv * acc)
         tau = imp.get("inverse_dynamics", dict(zip(eqs.qdd, theta_ddot)))
         y_lt = st.vector(f"{tag}y", jinv.T * tau)
         # forward dynamics: theta_ddot at t_dot = 0, R_J = J^-1 S, the leg's D
         offset = st.vector(f"{tag}qdd0", jinv * (sp.Matrix.vstack(centripetal, sp.zeros(3, 1)) - bias))
         tau0 = imp.get("inverse_dynamics", dict(zip(eqs.qdd, offset)), suffix="_0")
-        shift = sp.Matrix(sp.BlockMatrix([[-_skew(r), sp.eye(3)], [sp.eye(3), sp.zeros(3)]]))
+        shift = sp.Matrix(sp.BlockMatrix([[-skew(r), sp.eye(3)], [sp.eye(3), sp.zeros(3)]]))
         rates = sp.Matrix(6, 6, lambda i, j: st.define(f"{tag}R{i}{j}", (jinv[i, :] * shift[:, j])[0]))
         mass = imp.get("mass_matrix") + sp.diag(*[link.armature for link in leg.chain.links])
         legs.append(dict(tag=tag, leg=leg, r=r, y=y_lt, rates=rates, mass=mass, tau0=tau0,
@@ -490,7 +483,7 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
     wrench = sp.Matrix.vstack(inertia * omega_dot + bias_moment, plat.mass * c_ddot + weight)
     for lg in legs:
         y_f, y_m = lg["y"][:3, 0], lg["y"][3:, 0]
-        wrench += sp.Matrix.vstack(_cross(lg["r"], y_f) + y_m, y_f)
+        wrench += sp.Matrix.vstack(cross(lg["r"], y_f) + y_m, y_f)
     wrench = st.vector("wrench", wrench)
     st.factor("K", K, "singular")
     phi_out = st.solve("K", wrench, "phi", transpose=True)

@@ -32,6 +32,7 @@ import sympy as sp
 
 from ..model.geometry import JointGeometry, joint_geometry, numeric_pose
 from ..model.robot import Robot
+from .spatial import cross3, dot3
 
 
 class LegStructureError(ValueError):
@@ -43,14 +44,6 @@ def leg_error(err: LegStructureError, leg) -> str:
     text = str(err)
     prefix = f"{leg.chain.name}: "
     return text[len(prefix):] if text.startswith(prefix) else text
-
-
-def _dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def _cross(a, b):
-    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 
 
 def _add(a, b):
@@ -92,24 +85,24 @@ def _ignore(kind, value, scale=None):
 def _rotation_to(omega, p, q, name=_keep, check=_ignore):
     """``(cos, sin)`` of the rotation about the unit axis ``omega`` taking p to q (Paden-Kahan
     subproblem 1; p and q have the same component along omega and the same length)."""
-    pp = [name("pp", x) for x in _sub(p, _scale(_dot(omega, p), omega))]
-    qq = _sub(q, _scale(_dot(omega, q), omega))
-    n2 = name("den", _dot(pp, pp))
-    check("den", n2, _dot(p, p))  # p along the axis: the angle is not defined (a singular configuration)
+    pp = [name("pp", x) for x in _sub(p, _scale(dot3(omega, p), omega))]
+    qq = _sub(q, _scale(dot3(omega, q), omega))
+    n2 = name("den", dot3(pp, pp))
+    check("den", n2, dot3(p, p))  # p along the axis: the angle is not defined (a singular configuration)
     inverse = name("inv", 1 / n2)
-    return name("c", _dot(pp, qq) * inverse), name("s", _dot(omega, _cross(pp, qq)) * inverse)
+    return name("c", dot3(pp, qq) * inverse), name("s", dot3(omega, cross3(pp, qq)) * inverse)
 
 
 def _two_rotations(omega1, omega2, p, q, sign, sqrt, name=_keep, check=_ignore):
     """``((cos1, sin1), (cos2, sin2))`` with ``Rot(omega1, t1) Rot(omega2, t2) p = q`` (Paden-Kahan
     subproblem 2; unit axes through the origin, not parallel); ``sign`` picks the solution."""
-    w12 = _dot(omega1, omega2)
+    w12 = dot3(omega1, omega2)
     denom = w12 * w12 - 1
-    alpha = (w12 * _dot(omega2, p) - _dot(omega1, q)) / denom
-    beta = (w12 * _dot(omega1, q) - _dot(omega2, p)) / denom
-    normal = _cross(omega1, omega2)
+    alpha = (w12 * dot3(omega2, p) - dot3(omega1, q)) / denom
+    beta = (w12 * dot3(omega1, q) - dot3(omega2, p)) / denom
+    normal = cross3(omega1, omega2)
     alpha, beta = name("alpha", alpha), name("beta", beta)
-    gamma2 = name("rad", (_dot(p, p) - alpha * alpha - beta * beta - 2 * alpha * beta * w12) / _dot(normal, normal))
+    gamma2 = name("rad", (dot3(p, p) - alpha * alpha - beta * beta - 2 * alpha * beta * w12) / dot3(normal, normal))
     check("rad", gamma2)
     z = [name("z", x) for x in _add(_add(_scale(alpha, omega1), _scale(beta, omega2)),
                                      _scale(sign * name("root", sqrt(gamma2)), normal))]
@@ -126,14 +119,14 @@ def _vec(m):
 
 def _meet(p1, d1, p2, d2, what: str):
     """The point where two lines (point, direction; exact) meet, else LegStructureError."""
-    n = _cross(d1, d2)
-    nn = sp.nsimplify(_dot(n, n))
+    n = cross3(d1, d2)
+    nn = sp.nsimplify(dot3(n, n))
     if nn == 0:
         raise LegStructureError(f"{what}: parallel axes")
     gap = _sub(p2, p1)
-    if abs(float(_dot(gap, n))) > 1e-9 * max(1.0, float(sp.sqrt(nn))):
+    if abs(float(dot3(gap, n))) > 1e-9 * max(1.0, float(sp.sqrt(nn))):
         raise LegStructureError(f"{what}: the axes do not meet")
-    t = _dot(_cross(gap, d2), n) / nn
+    t = dot3(cross3(gap, d2), n) / nn
     return [sp.nsimplify(x) if x.is_number else x for x in _add(p1, _scale(t, d1))]
 
 
@@ -227,7 +220,7 @@ class LegIK:
         u = _add(p06, _matvec(R06, list(self.u_in_6)))
         u = [name("u", x) for x in u]
         e = [name("e", x) for x in _sub(u, list(self.centre_s))]
-        e2 = name("e2", _dot(e, e))
+        e2 = name("e2", dot3(e, e))
         c4_local = list(self.u_in_4)
         pre4, post4 = g[3].pre, g[3].post
         w = _add(_matvec(_rot(post4), c4_local), _vec(post4))  # U centre in joint 4's moved frame
@@ -236,7 +229,7 @@ class LegIK:
             gap = _matvec(_transpose(_rot(pre4)), _sub(_vec(pre4), s3))
             A = gap[0] * w[0] + gap[1] * w[1]
             B = gap[1] * w[0] - gap[0] * w[1]
-            K = (e2 - _dot(w, w) - _dot(gap, gap)) / 2 - gap[2] * w[2]
+            K = (e2 - dot3(w, w) - dot3(gap, gap)) / 2 - gap[2] * w[2]
             A, B, K = name("A", A), name("B", B), name("K", K)
             r2 = name("den", A * A + B * B)
             check("den", r2, (gap[0] * gap[0] + gap[1] * gap[1]) * (w[0] * w[0] + w[1] * w[1]))
@@ -250,8 +243,8 @@ class LegIK:
         else:
             a = _sub(_add(_matvec(_rot(pre4), w), _vec(pre4)), s3)
             b = [pre4[r, 2] for r in range(3)]
-            ab = name("ab", _dot(a, b))
-            radicand = name("rad", ab * ab - _dot(a, a) + e2)
+            ab = name("ab", dot3(a, b))
+            radicand = name("rad", ab * ab - dot3(a, a) + e2)
             check("rad", radicand)
             joint4 = name("d", -ab + branches[0] * sqrt(radicand))
             motion4 = [[1, 0, 0], [0, 1, 0], [0, 0, 1]]

@@ -24,6 +24,7 @@ from ..model.errors import SymdynError
 from ..model.parallel import ParallelRobot
 from .parallel import home_pose
 from .parallel_ik import LegIK, LegStructureError, leg_error
+from .spatial import skew_numeric
 
 ROMAN = ("I", "II", "III", "IV", "V", "VI")
 #: a matrix whose condition number is this or more is treated as singular (the generated
@@ -52,10 +53,6 @@ class ParallelDerivation:
     steps: tuple
 
 
-def _skew(v):
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
-
-
 def _rotation(quaternion) -> np.ndarray:
     x, y, z, w = quaternion
     n = x * x + y * y + z * z + w * w
@@ -71,10 +68,10 @@ class _Leg:
     """Leg J's numeric serial equations and closed-form inverse kinematics."""
 
     def __init__(self, leg, where: str):
-        import symdyn
+        from .equations import derive
         self.leg = leg
         self.where = f"{where}: leg {leg.name}"
-        self.eqs = symdyn.derive(leg.chain, outputs=["forward_kinematics", "jacobian", "jacobian_dot_qd",
+        self.eqs = derive(leg.chain, outputs=["forward_kinematics", "jacobian", "jacobian_dot_qd",
                                                      "inverse_dynamics", "mass_matrix"]).numeric
         try:
             structure = LegIK.of(leg.chain)
@@ -144,7 +141,7 @@ def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=No
     eliminated = []
     values = []
     for J in range(6):
-        A = np.hstack([_skew(r1s[J]), np.eye(3)])
+        A = np.hstack([skew_numeric(r1s[J]), np.eye(3)])
         AJ = A @ jacobians[J]
         eliminated.append(AJ)
         values += [(f"r_{ROMAN[J]}1", r1s[J]), (f"A_{ROMAN[J]}", A), (f"A_{ROMAN[J]} J_{ROMAN[J]}", AJ)]

@@ -33,7 +33,8 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from .articulated_body import _cross_force, _cross_motion, joint_frames, motion_transform
+from .articulated_body import joint_frames
+from .spatial import cross_force, cross_motion, motion_transform
 from .chain import Chain
 
 from ..model.outputs import LINK_PARAMETERS  # the 13 standard parameters of a link, in order
@@ -82,7 +83,7 @@ def _body_regressor():
     spatial[:3, 3:] = h
     spatial[3:, :3] = -h
     spatial[3:, 3:] = m * sp.eye(3)
-    force = (spatial * a + _cross_force(v, spatial * v)).applyfunc(sp.expand)
+    force = (spatial * a + cross_force(v, spatial * v)).applyfunc(sp.expand)
     A = sp.Matrix(6, 10, lambda r, k: force[r].coeff(pi[k]))
     return v, a, A
 
@@ -107,7 +108,7 @@ def regressor(chain: Chain) -> sp.Matrix:
         X.append(Xj)
         S_qdd = sp.zeros(6, 1)
         S_qdd[axis[j]] = qdd[j]
-        accel = vec(f"sa{k}", Xj * accel + S_qdd + _cross_motion(velocity, S_qd))
+        accel = vec(f"sa{k}", Xj * accel + S_qdd + cross_motion(velocity, S_qd))
         # the body regressor in the link frame L (pose ``post`` in the joint frame J), carried to J
         Xp = motion_transform(post)
         v_link = vec(f"rv{k}", Xp * velocity)

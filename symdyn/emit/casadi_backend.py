@@ -45,7 +45,7 @@ _UNARY = {sp.sin: ca.sin, sp.cos: ca.cos, sp.tan: ca.tan, sp.exp: ca.exp, sp.log
           sp.Abs: ca.fabs, sp.sign: ca.sign}
 
 
-class _Converter:
+class SxConverter:
     """SymPy expression -> SX, with inputs and intermediate symbols looked up in ``env``."""
 
     def __init__(self, env: dict[sp.Symbol, ca.SX]):
@@ -137,7 +137,7 @@ def _inputs_for(eqs: Equations, groups: Iterable[str]):
 def _outputs_sx(eqs: Equations, names: Iterable[str], env: dict) -> list[ca.SX]:
     names = list(names)
     matrices = [eqs.output(name) for name in names]
-    convert = _Converter(env)
+    convert = SxConverter(env)
     for sym, rhs in eqs.program.needed_for([e for m in matrices for e in m]):
         env[sym] = convert(fold_constants(rhs))
     results = []
@@ -216,7 +216,7 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
     return {name: casadi_function(source, name, prefix + name) for name in wanted}
 
 
-def _signature(function: ca.Function) -> str:
+def signature_text(function: ca.Function) -> str:
     def part(k, io):
         name = function.name_in(k) if io == "in" else function.name_out(k)
         sp_ = function.sparsity_in(k) if io == "in" else function.sparsity_out(k)
@@ -276,7 +276,7 @@ def casadi_files(eqs: Equations, functions: Iterable[str] | None = None, casadi_
         casadi_version=ca.__version__, method=eqs.method,
         source_name=source_label(source_name or robot.source), source_hash=source_hash or robot.source_hash,
         combined_inputs=[combined.name_in(k) for k in range(combined.n_in())],
-        files=[(f"{fn.name()}.casadi", _signature(fn)) for fn in [combined] + single],
+        files=[(f"{fn.name()}.casadi", signature_text(fn)) for fn in [combined] + single],
         casadi_c=casadi_c,
         input_docs=[(k, v) for k, v in INPUT_DOCS.items() if k != "p" or robot.parameters],
         parameters=[(k, s.name, "runtime parameter" if s.name in robot.runtime_names else "free symbol",

@@ -179,7 +179,7 @@ def _gram_loop(out: str, size: int, ltype: str, element_bytes: int, prefix: str,
             "#endif"]
 
 
-def _merge_cse(program_assigns, replacements):
+def merge_cse(program_assigns, replacements):
     """Interleave CSE replacements with program assignments so each follows its dependencies."""
     index = {sym: k for k, (sym, _) in enumerate(program_assigns)}
     slot: dict[sp.Symbol, int] = {}
@@ -354,7 +354,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     program = [(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])]
     final_outputs = reduced[len(folded):len(folded) + len(outputs)]
     final_checks = reduced[len(folded) + len(outputs):]
-    statements = _prune(_merge_cse(program, replacements), list(final_outputs) + list(final_checks))
+    statements = _prune(merge_cse(program, replacements), list(final_outputs) + list(final_checks))
     # terms sharing a numeric coefficient grouped (printing and counting only: unevaluated)
     statements = [(sym, factor_coefficients(rhs)) for sym, rhs in statements]
     final_outputs = [factor_coefficients(sp.sympify(e)) for e in final_outputs]

@@ -17,11 +17,11 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .. import __version__
+from .._version import __version__
 from ..derive.parallel import PIVOT_RTOL as RTOL_SYMBOL
 from ..derive.parallel import (FORWARD_SINGULAR_DOC, FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block, Factor,
                                ParallelEquations, Require, Solve)
-from .cgen import CFunction, _merge_cse, scalar_type
+from .cgen import CFunction, merge_cse, scalar_type
 from .cprinter import CPrinter, count_operations
 from .emission import comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
 
@@ -86,7 +86,7 @@ def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: st
         symbols = sp.numbered_symbols("cse", real=True, start=cse_count[0])
         replacements, reduced = pair_cse([r for _, r in folded] + [e for _, e in outs], symbols)
         cse_count[0] += len(replacements)
-        statements = _merge_cse([(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])], replacements)
+        statements = merge_cse([(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])], replacements)
         for sym, rhs in statements:
             names[sym] = _c_name(sym)
             rhs = factor_coefficients(rhs)

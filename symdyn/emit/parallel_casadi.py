@@ -13,7 +13,7 @@ import casadi as ca
 import sympy as sp
 
 from ..derive.parallel import FUNCTIONS, Block, Factor, ParallelEquations, Solve
-from .casadi_backend import _Converter
+from .casadi_backend import SxConverter
 from .emission import fold_constants
 
 
@@ -29,7 +29,7 @@ def parallel_casadi_function(eqs: ParallelEquations, name: str, function_name: s
         env.update({s: sx[k] for k, s in enumerate(syms)})
         symbols.append(sx)
         names.append(group)
-    convert = _Converter(env)
+    convert = SxConverter(env)
     factors: dict[str, ca.SX] = {}
 
     def matrix(m: sp.MatrixBase) -> ca.SX:
@@ -69,7 +69,7 @@ def parallel_casadi_files(eqs: ParallelEquations, functions=None, source_name: s
     import tempfile
 
     from .._version import __version__
-    from .casadi_backend import _signature
+    from .casadi_backend import signature_text
     from .emission import source_label, template_environment
     from .parallel_c import INPUT_DOCS, OUTPUT_DOCS
 
@@ -90,7 +90,7 @@ def parallel_casadi_files(eqs: ParallelEquations, functions=None, source_name: s
     readme = template_environment().get_template("parallel_casadi_readme.txt.j2").render(
         prefix=prefix, version=__version__, casadi_version=ca.__version__,
         source_name=source_label(source_name or robot.source), source_hash=source_hash or robot.source_hash,
-        files=[(f"{fn.name()}.casadi", _signature(fn)) for fn in built], docs=docs)
+        files=[(f"{fn.name()}.casadi", signature_text(fn)) for fn in built], docs=docs)
     files[f"{prefix}_casadi.txt"] = readme.encode("utf-8")
     return files
 

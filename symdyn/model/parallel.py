@@ -27,7 +27,7 @@ import sympy as sp
 from .errors import describe, one_line
 from .geometry import numeric_pose
 from .inputs import decode_text, load_yaml, read_input
-from .robot import DEFAULT_GRAVITY, MAX_NAME, ROBOT_NAME_PATTERN, Placement, Robot, _Reader
+from .robot import DEFAULT_GRAVITY, MAX_NAME, ROBOT_NAME_PATTERN, Placement, Robot, RobotFileReader
 
 #: the value of the top-level ``kind`` field of a parallel robot file
 KIND = "parallel"
@@ -115,7 +115,7 @@ class ParallelRobot:
         return tuple(f"{leg.name}.{leg.actuated_link.name}" for leg in self.legs)
 
 
-class _ParallelReader(_Reader):
+class _ParallelReader(RobotFileReader):
     """The serial reader, plus the platform and the legs."""
 
     def platform(self, raw: Any) -> Platform:

@@ -299,7 +299,7 @@ def parameter_symbol(name: str) -> sp.Symbol:
 # Loading
 
 
-class _Reader:
+class RobotFileReader:
     """Turns the parsed YAML document into a Robot, tracking names in order of appearance."""
 
     def __init__(self, path: str):
@@ -599,7 +599,7 @@ def loads(text: str, path: str = "<string>") -> Robot:
 def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     """The robot of a parsed robot file (plain data as YAML gives it); ``path`` names the file
     in errors, ``source_hash`` is recorded as the robot's :attr:`Robot.source_hash`."""
-    reader = _Reader(path)
+    reader = RobotFileReader(path)
     if not isinstance(doc, dict):
         reader.fail("expected a mapping with format, name, convention and links")
     if doc.get("kind") == "parallel":
