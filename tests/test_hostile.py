@@ -202,6 +202,28 @@ def massless_first_link(tmp_path_factory):
     return libs, eqs
 
 
+def test_pivot_tolerance_follows_the_precision(massless_first_link):
+    """The LDL^T pivot check is relative to the arithmetic (symdyn.model.tolerances): near the
+    stretched pose the second pivot is about (0.7 q2)^2 of its diagonal entry; at q2 = 4e-5
+    (1e-9) double solves it and float reports singular; at q2 = 3e-3 (5e-6) both solve it."""
+    from symdyn.model.tolerances import PIVOT_RTOL
+    libs, eqs = massless_first_link
+    qd, tau = np.array([0.1, 0.2]), np.array([1.0, 2.0])
+    D = eqs.numeric.mass_matrix
+    for q2, expect in ((4e-5, {"double": 0, "float": 1}), (3e-3, {"double": 0, "float": 0})):
+        q = np.array([0.3, q2])
+        M = D(q)
+        ratio = (M[1, 1] - M[1, 0] ** 2 / M[0, 0]) / M[1, 1]
+        assert PIVOT_RTOL["double"] < ratio and (ratio < PIVOT_RTOL["float"]) == (expect["float"] == 1), ratio
+        for precision, lib in libs.items():
+            status, qdd = lib.forward_dynamics_checked(q, qd, tau)
+            assert status == expect[precision], (q2, precision, ratio)
+            if status == 0:
+                expected = eqs.numeric.forward_dynamics(q, qd, tau)
+                bound = 1e-6 if precision == "double" else 0.5  # the solution's error grows as 1/ratio
+                assert np.allclose(qdd, expected, rtol=bound, atol=0), (precision, qdd, expected)
+
+
 @pytest.mark.parametrize("precision", ["double", "float"])
 def test_forward_dynamics_status(massless_first_link, precision):
     libs, eqs = massless_first_link

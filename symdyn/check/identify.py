@@ -15,9 +15,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.errors import SymdynError
+from ..model.tolerances import IDENTIFICATION_MAX_CONDITION
 
 #: a stacked regressor above this condition number does not determine every base parameter
-MAX_CONDITION = 1e12
+MAX_CONDITION = IDENTIFICATION_MAX_CONDITION
 
 
 @dataclass(frozen=True)

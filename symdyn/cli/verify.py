@@ -12,10 +12,11 @@ from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
 from ..model.outputs import ALL_OUTPUTS, default_outputs, with_requirements
 from ..model.errors import SymdynError
+from ..model.tolerances import VERIFY_TOLERANCE
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
-DEFAULT_TOLERANCE = {"double": 1e-10, "float": 1e-4, "mixed": 1e-4}
+DEFAULT_TOLERANCE = VERIFY_TOLERANCE
 
 
 def add_parser(sub) -> None:

@@ -53,6 +53,7 @@ from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, default_outputs, spec, with_requirements)
 from ..model.robot import Robot
+from ..model.tolerances import PIVOT_RTOL as TOLERANCES
 from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
 from .tool import tool_kinematics
@@ -185,9 +186,10 @@ def friction_terms(robot: Robot, qd, qdd) -> sp.Matrix:
                       for i, link in enumerate(robot.links)])
 
 
-#: forward dynamics reports a singular mass matrix where a pivot d_j <= PIVOT_RTOL * M_jj (the
-#: solution would carry a relative error of about 1e-16 / PIVOT_RTOL or more)
-PIVOT_RTOL = 1e-12
+#: forward dynamics in double reports a singular mass matrix where a pivot d_j <= PIVOT_RTOL * M_jj
+#: (the solution would carry a relative error of about 1e-16 / PIVOT_RTOL or more); every
+#: precision's value is in :mod:`symdyn.model.tolerances`
+PIVOT_RTOL = TOLERANCES["double"]
 
 
 def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int = 2, seed: int = 0) -> None:

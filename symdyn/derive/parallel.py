@@ -47,6 +47,7 @@ import sympy as sp
 
 from ..model.errors import SymdynError
 from ..model.parallel import ParallelRobot
+from ..model.tolerances import PIVOT_RTOL_SYMBOL
 from .parallel_ik import LegIK, LegStructureError, leg_error
 from .program import ProgramBuilder
 from .spatial import cross, skew
@@ -89,8 +90,8 @@ FUNCTIONS = {
 }
 INPUT_SIZES = {"pose": 7, "twist": 6, "twist_rate": 6, "phi": 6}
 #: the relative tolerance of the singularity checks, a symbol: emitters give its value for the
-#: precision (the C functions' ``NAME_PIVOT_RTOL``)
-PIVOT_RTOL = sp.Symbol("pivot_rtol", positive=True)
+#: precision (the C functions' ``NAME_PIVOT_RTOL``; :mod:`symdyn.model.tolerances`)
+PIVOT_RTOL = PIVOT_RTOL_SYMBOL
 
 
 @dataclass(frozen=True)

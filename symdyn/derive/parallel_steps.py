@@ -25,11 +25,9 @@ from ..model.parallel import ParallelRobot
 from .parallel import home_pose
 from .parallel_ik import LegIK, LegStructureError, leg_error
 from .spatial import skew_numeric
+from ..model.tolerances import SINGULAR_CONDITION
 
 ROMAN = ("I", "II", "III", "IV", "V", "VI")
-#: a matrix whose condition number is this or more is treated as singular (the generated
-#: functions' relative pivot tolerance is 1e-12)
-SINGULAR_CONDITION = 1e12
 
 
 @dataclass(frozen=True)

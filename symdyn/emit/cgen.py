@@ -17,7 +17,8 @@ from .._version import __version__
 from ..model.errors import warn
 from .cprinter import CPrinter, VectorUnsupported, count_operations
 from .emission import comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
-from ..derive.equations import PIVOT_RTOL, Equations
+from ..derive.equations import Equations
+from ..model.tolerances import pivot_rtol
 from ..model.outputs import ALL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY, Dimensions
 
 ARG_DOCS = {
@@ -363,6 +364,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     # double (for robots whose D is too ill-conditioned for float); "float" is float all the way.
     scalar = scalar_type(precision)
     internal = "double" if (precision == "mixed" and name == "forward_dynamics") else scalar
+    rtol_value = pivot_rtol(internal)  # checked in the arithmetic the pivots are computed in
     local_type = real if internal == scalar else internal
     cast = "(double)" if internal != scalar else ""
     names: dict[sp.Symbol, str] = {}
@@ -403,7 +405,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         position = {sym: k for k, (sym, _) in enumerate(statements)}
         pivot_checks: dict[int, list[str]] = {}
         if checked:
-            rtol = printer.literal(PIVOT_RTOL)
+            rtol = printer.literal(rtol_value)
             for d, m in zip(final_checks[0::2], final_checks[1::2]):
                 deps = sp.sympify(d).free_symbols | sp.sympify(m).free_symbols
                 at = max((position[x] for x in deps if x in position), default=-1)
@@ -500,7 +502,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
             lines += _gram_loop(out, size, ltype, 4 if internal == "float" else 8, prefix, vector)
             ops += Counter({"mul": 6 * size * (size - 1) // 2, "add": 5 * size * (size - 1) // 2})
         if looped:
-            solve, solve_ops = _looped_solve(n, ltype, printer.literal(PIVOT_RTOL), printer.literal(1.0), vector,
+            solve, solve_ops = _looped_solve(n, ltype, printer.literal(rtol_value), printer.literal(1.0), vector,
                                              out_name, store, internal, scalar)
             lines += solve
             ops += solve_ops
@@ -545,7 +547,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     if checked:
         status = REGISTRY[name].status_for(eqs.fd_method)
         return CFunction(name=f"{name}_checked", summary=summary, args=args, lines=lines, ops=ops, unused=unused,
-                         returns="int", returns_doc=status.format(rtol=PIVOT_RTOL, real=scalar),
+                         returns="int", returns_doc=status.format(rtol=rtol_value, real=scalar),
                          trig_type=trig_type, batch=batch, gram_loop=bool(gram))
     return CFunction(name=name, summary=summary, args=args, lines=lines, ops=ops, unused=unused,
                      trig_type=trig_type, batch=batch, gram_loop=bool(gram))

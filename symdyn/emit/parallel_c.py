@@ -18,15 +18,13 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .._version import __version__
-from ..derive.parallel import PIVOT_RTOL as RTOL_SYMBOL
+from ..model.tolerances import PIVOT_RTOL, PIVOT_RTOL_SYMBOL as RTOL_SYMBOL
 from ..derive.parallel import (FORWARD_SINGULAR_DOC, FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block, Factor,
                                ParallelEquations, Require, Solve)
 from .cgen import CFunction, merge_cse, scalar_type
 from .cprinter import CPrinter, count_operations
 from .emission import comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
 
-#: a factorization reports a singular matrix where a pivot is at most this times its largest entry
-PIVOT_RTOL = {"double": 1e-12, "float": 1e-6}
 
 INPUT_DOCS = {
     "pose": "platform pose: position of the platform frame P's origin (m, world frame), then P's "

@@ -1,0 +1,42 @@
+"""Tolerances and condition limits, in one place, keyed by precision where they depend on it.
+
+Generated code in ``double`` checks each pivot it divides by (an LDL^T pivot against its
+diagonal entry, a 6x6 LU pivot against its matrix's largest entry, a determinant or denominator
+against its scale) at a relative tolerance of 1e-12: a solution past it would carry a relative
+error of about 1e-16 / 1e-12 = 1e-4 or more.  In ``float`` the same check is made at 1e-6
+(single precision rounds at 6e-8, so a smaller pivot is rounding noise and the solution would
+carry an error of several percent or more): serial chains and platforms alike.  The ``mixed``
+precision computes forward dynamics in double inside, and checks as double does.  The
+articulated-body algorithm checks that each articulated inertia it divides by is positive.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+#: relative pivot tolerance of the generated factorizations and singularity checks, per precision
+#: of the arithmetic they run in
+PIVOT_RTOL = {"double": 1e-12, "float": 1e-6}
+
+#: the tolerance as a symbol, in derivations that leave its value to the emitter (the platform
+#: functions' ``NAME_PIVOT_RTOL`` macro)
+PIVOT_RTOL_SYMBOL = sp.Symbol("pivot_rtol", positive=True)
+
+#: a matrix whose condition number is this or more is treated as singular where symdyn evaluates
+#: it numerically (derivation printouts of platforms); the reciprocal of the double tolerance
+SINGULAR_CONDITION = 1 / PIVOT_RTOL["double"]
+
+#: a stacked identification regressor above this condition number does not determine every base
+#: parameter
+IDENTIFICATION_MAX_CONDITION = 1e12
+
+#: the normalized error ``symdyn verify`` accepts by default, per precision of the generated code
+VERIFY_TOLERANCE = {"double": 1e-10, "float": 1e-4, "mixed": 1e-4}
+
+
+def pivot_rtol(arithmetic: str) -> float:
+    """The relative pivot tolerance of code computing in ``arithmetic`` (``double`` or ``float``)."""
+    try:
+        return PIVOT_RTOL[arithmetic]
+    except KeyError:
+        raise ValueError(f"no pivot tolerance for {arithmetic!r} arithmetic (double or float)") from None
