@@ -57,6 +57,18 @@ def _fold_constant(expr: sp.Expr, digits: int) -> sp.Expr:
     return expr.replace(is_const, lambda e: sp.Float(sp.N(e, digits), digits))
 
 
+def banner_fields(prefix: str, precision: str, method: str = "", dof: int = 0, convention: str = "") -> dict:
+    """``banner_title`` and ``banner_generator`` of ``templates/banner.j2``: a serial robot's
+    (``method``, ``dof`` joints, ``convention``) or, without a method, a platform robot's."""
+    if not method:
+        return {"banner_title": f"dynamics of platform robot '{prefix}' (6 legs, one actuated joint each; "
+                                "natural orthogonal complement)",
+                "banner_generator": f"platform robot, {precision} precision"}
+    placements = "general joint placements" if convention == "general" else f"{convention} DH"
+    return {"banner_title": f"equations of motion of robot '{prefix}' ({dof} joints, {placements})",
+            "banner_generator": f"{method}, {precision} precision"}
+
+
 def template_environment() -> jinja2.Environment:
     """The Jinja2 environment of the shipped templates (``symdyn.templates``), StrictUndefined."""
     from importlib.resources import files
@@ -121,7 +133,7 @@ def pair_cse(exprs, symbols) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.E
     names each pair that occurs at least twice, and rewrites each term with its most frequent
     pairs, in one linear pass.  Generic 12-joint chain, Coriolis matrix: 8773 multiplications
     against SymPy's 9232, 2.5 against 4.7 s, 9 against 27 MB; SymPy's CSE also groups common
-    sums, which this pass does not (see :data:`symdyn.emit.cgen.PAIR_CSE_FROM`)."""
+    sums, which this pass does not (see :data:`symdyn.emit.cplan.PAIR_CSE_FROM`)."""
     exprs = list(exprs)
 
     def terms(e):

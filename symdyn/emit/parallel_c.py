@@ -21,9 +21,10 @@ from .._version import __version__
 from ..model.tolerances import PIVOT_RTOL, PIVOT_RTOL_SYMBOL as RTOL_SYMBOL
 from ..derive.parallel import (FORWARD_SINGULAR_DOC, FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block, Factor,
                                ParallelEquations, Require, Solve)
-from .cgen import CFunction, merge_cse, scalar_type
+from .cgen import CFunction, scalar_type
+from .cplan import merge_cse
 from .cprinter import CPrinter, count_operations
-from .emission import comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
+from .emission import banner_fields, comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
 
 
 INPUT_DOCS = {
@@ -177,6 +178,7 @@ def generate_parallel_c(eqs: ParallelEquations, functions=None, precision: str =
         "precision": precision,
         "real": scalar_type(precision),
         "float": precision == "float",
+        **banner_fields(prefix, precision),
         "rtol": CPrinter({}, precision).literal(PIVOT_RTOL[precision]),
         "rtol_text": repr(PIVOT_RTOL[precision]),
         "statuses": [(k.upper(), v, STATUS_DOC[k]) for k, v in STATUS.items()],

@@ -1,0 +1,184 @@
+"""The first two stages of the C emitter: what a function writes, then its statements.
+
+1. :func:`collect_targets`: the function's targets, each an lvalue (an output argument's entry,
+   an entry of a scratch array, or a local result) and the expression it gets, with flags that
+   say what kind of target it is; the mass matrix's mirrored entries and the pivot checks.
+2. :func:`reduce_targets`: the program's assignments the targets need, constants folded,
+   common subexpressions eliminated (SymPy's CSE, or :func:`~symdyn.emit.emission.pair_cse`
+   for very long functions), statements nothing uses pruned, numeric coefficients grouped.
+
+The third stage, laying the statements out as C, is :mod:`symdyn.emit.cbody`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..derive.equations import Equations
+from ..model.outputs import COMBINED, REGISTRY, Dimensions
+from .emission import factor_coefficients, fold_constants, pair_cse
+
+#: functions of at least this many statements get the pair CSE (:func:`emission.pair_cse`) instead
+#: of SymPy's: in practice the Coriolis matrix of chains of about 14 joints or more (16,000
+#: statements at 24 joints, 64,000 at 48), where SymPy's CSE took most of the emission's time
+#: and memory.  Generic 24-joint chain: emission 22.9 -> 8.6 s, 38168 -> 36175 multiplications,
+#: 15.1 -> 14.0 us at gcc -O2; `symdyn generate` of every default function at 48 joints:
+#: 155 -> 93 s, 817 -> 410 MB peak.  Below, SymPy's CSE, which also groups common sums, is kept.
+PAIR_CSE_FROM = 10000
+
+
+@dataclass(frozen=True)
+class Target:
+    """One value a function stores: ``lvalue`` (C) gets ``expr``.  ``local``: an entry of a
+    scratch array of the body (the mass matrix's factors, forward dynamics' system), stored as
+    soon as its operands are computed; otherwise a result written at the end."""
+
+    lvalue: str
+    expr: sp.Expr
+    local: bool = False
+
+
+@dataclass
+class FunctionPlan:
+    """Stage 1: what one C function computes and writes.
+
+    ``gram``: ``(array, n)`` when the body ends with the loop filling the mass matrix's
+    off-diagonal entries from the factors; ``aliases``: ``(lvalue, source)`` copies written last
+    (the lower triangle of a symmetric output); ``pivots``: the ``(d_j, M_jj)`` pairs checked in
+    the unrolled forward dynamics, flattened; ``looped``: forward dynamics solved by a loop."""
+
+    name: str
+    parts: tuple[str, ...]
+    inputs: tuple[str, ...]
+    out_name: str
+    targets: list[Target] = field(default_factory=list)
+    aliases: list[tuple[str, str]] = field(default_factory=list)
+    gram: tuple[str, int] | None = None
+    empty_outputs: list[str] = field(default_factory=list)
+    checked: bool = False
+    looped: bool = False
+    pivots: list[sp.Expr] = field(default_factory=list)
+
+
+@dataclass
+class ReducedPlan:
+    """Stage 2: the statements ``(symbol, expression)`` in order, the expression of each target
+    (in the order of the plan's targets) and of each pivot check."""
+
+    statements: list[tuple[sp.Symbol, sp.Expr]]
+    outputs: list[sp.Expr]
+    checks: list[sp.Expr]
+
+
+def dimensions(eqs: Equations) -> Dimensions:
+    """The sizes the outputs of ``eqs`` depend on."""
+    return Dimensions(eqs.n, len(eqs.robot.actuated_joints), len(eqs.base_parameters))
+
+
+def _factor_targets(motions, momenta, size: int) -> list[Target]:
+    """The scratch entries of the mass matrix's factors: ``mass_s`` (component k of S_i at
+    ``k * (size - 1) + i``) and ``mass_f`` (F_j's 6 components at ``6 j``)."""
+    return ([Target(f"mass_s[{k * (size - 1) + i}]", e, True) for i, row in enumerate(motions) for k, e in enumerate(row)]
+            + [Target(f"mass_f[{6 * j + k}]", e, True) for j, row in enumerate(momenta) for k, e in enumerate(row)])
+
+
+def _output_targets(eqs: Equations, plan: FunctionPlan, part: str) -> None:
+    """Add the entries of output ``part`` (each of its arguments, row-major) to ``plan``."""
+    output = REGISTRY[part]
+    matrix = eqs.output(part)
+    dims = dimensions(eqs)
+    if output.shape(dims) != matrix.shape:
+        raise AssertionError(f"{part}: derived {matrix.shape}, registered {output.shape(dims)}")
+    factored = output.symmetric and bool(eqs.mass_factors)
+    for argument, (rows, cols) in output.argument_shapes(dims):
+        block = matrix[:, argument.first:argument.first + cols]
+        arg = argument.name
+        if cols == 0:
+            plan.empty_outputs.append(arg)
+        for i in range(rows):
+            for j in range(cols):
+                if output.symmetric and j < i:
+                    if not factored:  # the loop writes both triangles
+                        plan.aliases.append((f"{arg}[{i * cols + j}]", f"{arg}[{j * cols + i}]"))
+                elif not (factored and j > i):
+                    plan.targets.append(Target(f"{arg}[{i * cols + j}]", block[i, j]))
+        if factored:  # D[i][j] = S_i . F_j (i < j) as a loop over two arrays of 6-vectors
+            plan.targets.extend(_factor_targets(*eqs.mass_factors, rows))
+            plan.gram = (arg, rows)
+
+
+def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
+    """Stage 1 for the function ``name`` (an output, or a combined function of several)."""
+    parts = COMBINED.get(name, (name,))
+    plan = FunctionPlan(name, parts, REGISTRY[parts[0]].inputs, REGISTRY[parts[0]].arguments[0].name)
+    plan.checked = name == "forward_dynamics" and bool(eqs.pivots)
+    plan.looped = plan.checked and bool(eqs.fd_system)
+    n = eqs.n
+    if plan.looped:  # M's lower triangle (or the factor arrays) and rhs into local arrays
+        system, rhs, factors = eqs.fd_system
+        plan.targets = [Target(f"fd_M[{j * n + i}]", system[i, j], True) for i in range(n) for j in range(i, n)
+                        if j == i or not factors]  # the factor loop writes both triangles
+        if factors:
+            plan.targets += _factor_targets(*factors, n)
+            plan.gram = ("fd_M", n)
+        plan.targets += [Target(f"fd_b[{i}]", rhs[i], True) for i in range(n)]
+    elif plan.checked:  # results go to locals first: qdd is written only when every check passes
+        matrix = eqs.output(name)
+        plan.targets = [Target(f"result{i}", matrix[i]) for i in range(n)]
+        plan.pivots = [e for pair in eqs.pivots for e in pair]
+    else:
+        for part in parts:
+            _output_targets(eqs, plan, part)
+    return plan
+
+
+def _prune(statements, results):
+    """Drop the statements nothing uses any more: folding constants can cancel a term (a
+    coefficient that folds to exactly 0), leaving its intermediate unused."""
+    live = set().union(*(sp.sympify(e).free_symbols for e in results)) if results else set()
+    kept = []
+    for sym, rhs in reversed(statements):
+        if sym in live:
+            kept.append((sym, rhs))
+            live |= rhs.free_symbols
+    return kept[::-1]
+
+
+def merge_cse(program_assigns, replacements):
+    """Interleave CSE replacements with program assignments so each follows its dependencies."""
+    index = {sym: k for k, (sym, _) in enumerate(program_assigns)}
+    slot: dict[sp.Symbol, int] = {}
+    buckets: dict[int, list] = {}
+    for sym, rhs in replacements:
+        deps = [index.get(s, slot.get(s, -1)) for s in rhs.free_symbols]
+        position = max(deps, default=-1)
+        slot[sym] = position
+        buckets.setdefault(position, []).append((sym, rhs))
+    merged = list(buckets.get(-1, []))
+    for k, item in enumerate(program_assigns):
+        merged.append(item)
+        merged.extend(buckets.get(k, []))
+    return merged
+
+
+def reduce_targets(eqs: Equations, plan: FunctionPlan) -> ReducedPlan:
+    """Stage 2: fold, eliminate common subexpressions, prune, group coefficients."""
+    assigns = list(eqs.program.needed_for([t.expr for t in plan.targets] + plan.pivots))
+    folded = [(s, fold_constants(r)) for s, r in assigns]
+    outputs = [fold_constants(sp.sympify(t.expr)) for t in plan.targets]
+    checks = [fold_constants(sp.sympify(e)) for e in plan.pivots]
+    cse_symbols = sp.numbered_symbols("cse", real=True)
+    if len(folded) >= PAIR_CSE_FROM:
+        replacements, reduced = pair_cse([r for _, r in folded] + outputs + checks, cse_symbols)
+    else:
+        replacements, reduced = sp.cse([r for _, r in folded] + outputs + checks, symbols=cse_symbols, order="none")
+    program = [(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])]
+    final_outputs = reduced[len(folded):len(folded) + len(outputs)]
+    final_checks = list(reduced[len(folded) + len(outputs):])
+    statements = _prune(merge_cse(program, replacements), list(final_outputs) + final_checks)
+    # terms sharing a numeric coefficient grouped (printing and counting only: unevaluated)
+    statements = [(sym, factor_coefficients(rhs)) for sym, rhs in statements]
+    final_outputs = [factor_coefficients(sp.sympify(e)) for e in final_outputs]
+    return ReducedPlan(statements, final_outputs, final_checks)
