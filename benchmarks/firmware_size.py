@@ -18,7 +18,7 @@ sys.path.insert(0, os.path.join(HERE, ".."))
 
 import symdyn  # noqa: E402
 from symdyn.check.firmware import measure  # noqa: E402
-from symdyn.cli.generate import generate_files  # noqa: E402
+from symdyn.emit.pipeline import GenerateOptions, configure, generate  # noqa: E402
 
 
 def main(argv=None):
@@ -28,7 +28,7 @@ def main(argv=None):
     doubles, toolchain = {}, ""
     for name in names:
         path = os.path.join(HERE, "..", "robots", f"{name}.yaml")
-        files = {k: v.decode() for k, v in generate_files(path, None, "float", False, "newton-euler").items()}
+        files = {k: v.decode() for k, v in generate(configure(path, GenerateOptions(precision="float"))).items()}
         report = measure(files, symdyn.load(path).name)
         toolchain = report.toolchain
         doubles[name] = report.doubles

@@ -8,6 +8,7 @@ Public API::
     eqs.inverse_dynamics, eqs.forward_dynamics          # SymPy matrices
     eqs.numeric.inverse_dynamics(q, qd, qdd)            # numpy evaluation
     fns = symdyn.to_casadi(robot)                       # {name: casadi.Function}
+    files = symdyn.generate("robots/puma560.yaml", precision="float")  # {file name: bytes}, as the CLI writes
 """
 
 from ._version import __version__
@@ -25,5 +26,15 @@ def to_casadi(source, functions=None, method="newton-euler", prefix="", use_cach
     return build(source, functions, method, prefix, use_cache)
 
 
+def generate(path, **options) -> dict:
+    """The files ``symdyn generate`` writes for one input (robot file, URDF, scene or platform
+    robot), ``{file name: bytes}``, written nowhere; ``options`` are the fields of
+    :class:`symdyn.emit.pipeline.GenerateOptions` (functions, precision, target, method,
+    fd_method, parameters, header_only, batch, size_report, use_cache)."""
+    from .emit.pipeline import GenerateOptions, configure
+    from .emit.pipeline import generate as emit
+    return emit(configure(path, GenerateOptions(**options)))
+
+
 __all__ = ["__version__", "load", "loads", "derive", "Robot", "Link", "Equations", "OUTPUTS", "ALL_OUTPUTS",
-           "METHODS", "RobotFileError", "SymdynError", "SymdynWarning", "to_casadi"]
+           "METHODS", "RobotFileError", "SymdynError", "SymdynWarning", "to_casadi", "generate"]

@@ -31,3 +31,40 @@ def random_states(n: int, count: int, seed: int = 0):
     rng = np.random.default_rng(seed)
     return [(rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n), rng.uniform(-5, 5, n),
              rng.uniform(-20, 20, n)) for _ in range(count)]
+
+
+#: the sanitizers every C test program runs under: addresses, undefined behaviour, float
+#: division by zero and out-of-range conversions, the first report fatal
+SANITIZER_FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O1", "-g",
+                   "-fsanitize=address,undefined", "-fsanitize=float-divide-by-zero,float-cast-overflow",
+                   "-fno-sanitize-recover=all"]
+
+
+def run_sanitized(workdir, program: str, files: dict) -> str:
+    """Compile ``program`` (the text of main.c) with the generated ``files`` ({name: str or
+    bytes}; every ``.c`` among them is compiled) under :data:`SANITIZER_FLAGS`, run it, check
+    that it exits 0 with no sanitizer report, and return its standard output.  Skips the test
+    where the compiler has no sanitizer runtime."""
+    import os
+    import shutil
+    import subprocess
+
+    import pytest
+    compiler = shutil.which("gcc") or shutil.which("cc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    workdir = __import__("pathlib").Path(workdir)
+    for name, text in files.items():
+        (workdir / name).write_bytes(text if isinstance(text, bytes) else text.encode())
+    (workdir / "main.c").write_text(program)
+    exe = workdir / "sanitized"
+    sources = [str(workdir / "main.c")] + [str(workdir / name) for name in sorted(files) if name.endswith(".c")]
+    build = subprocess.run([compiler, *SANITIZER_FLAGS, *sources, "-o", str(exe), "-lm"], capture_output=True, text=True)
+    if build.returncode != 0 and "sanitize" in build.stderr and ("cannot find" in build.stderr or "unrecognized" in build.stderr):
+        pytest.skip("compiler without sanitizer runtime")
+    assert build.returncode == 0, build.stderr[-3000:]
+    run = subprocess.run([str(exe)], capture_output=True, text=True, timeout=120,
+                         env={**os.environ, "ASAN_OPTIONS": "detect_leaks=1"})
+    assert run.returncode == 0, run.stderr[-3000:]
+    assert "runtime error" not in run.stderr and "Sanitizer" not in run.stderr, run.stderr[-3000:]
+    return run.stdout

@@ -9,13 +9,12 @@ from __future__ import annotations
 import ctypes
 import os
 import pathlib
-import subprocess
 import time
 
 import numpy as np
 import pytest
 
-from helpers import REPO
+from helpers import REPO, run_sanitized
 from symdyn.check.cbuild import build_and_load, compile_shared
 from symdyn.check.pinocchio_model import normalized_error
 from symdyn.cli import main
@@ -313,11 +312,11 @@ def test_bounded_work(workspace, capsys):
 
 
 def test_max_joints_refused_before_deriving(workspace, capsys, monkeypatch):
-    import symdyn.cli.generate as generate
+    import symdyn.emit.pipeline as pipeline
 
     def never(*args, **kwargs):
         raise AssertionError("derived although the robot is too large")
-    monkeypatch.setattr(generate, "derive_cached", never)
+    monkeypatch.setattr(pipeline, "derive_cached", never)
     link = "{joint: revolute, a: 0.1, alpha: 0, d: 0, theta: 0, mass: 1, inertia: [0.01, 0.01, 0.01, 0, 0, 0]}"
     (workspace / "r.yaml").write_text(robot_text(links=[link] * 41))
     (line,), seconds = run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out"], capsys, 1)
@@ -401,7 +400,7 @@ def test_internal_errors_are_one_line(workspace, capsys, monkeypatch):
 
     def broken(*args, **kwargs):
         raise ZeroDivisionError("boom\nsecond line")
-    monkeypatch.setattr(generate, "generate_files", broken)
+    monkeypatch.setattr(generate, "generate", broken)
     assert main(["generate", str(REPO / "robots" / "planar2r.yaml"), "--out", str(workspace / "o")]) == 3
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("symdyn: internal error: ZeroDivisionError: boom second line")
@@ -413,9 +412,7 @@ def test_generated_c_compiles_under_sanitizers(massless_first_link, tmp_path):
     libs, eqs = massless_first_link
     from symdyn.emit.cgen import generate_c
     files = generate_c(eqs, None, "float")
-    for name, text in files.items():
-        (tmp_path / name).write_text(text)
-    (tmp_path / "main.c").write_text("""
+    stdout = run_sanitized(tmp_path, """
 #include <math.h>
 #include <stdio.h>
 #include "hostile_dynamics.h"
@@ -436,18 +433,8 @@ int main(void) {
     }
     return 0;
 }
-""")
-    exe = tmp_path / "main"
-    flags = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-g", "-fsanitize=address,undefined",
-             "-fsanitize=float-cast-overflow,float-divide-by-zero", "-fno-sanitize-recover=all"]
-    build = subprocess.run(["cc", *flags, "main.c", "hostile_dynamics.c", "-o", str(exe), "-lm"],
-                           cwd=tmp_path, capture_output=True, text=True)
-    if build.returncode != 0 and "sanitize" in build.stderr and "unrecognized" in build.stderr:
-        pytest.skip("compiler without sanitizers")
-    assert build.returncode == 0, build.stderr
-    run = subprocess.run([str(exe)], capture_output=True, text=True, timeout=60)
-    assert run.returncode == 0, run.stderr
-    rows = [line.split() for line in run.stdout.split("\n") if line.strip()]
+""", files)
+    rows = [line.split() for line in stdout.split("\n") if line.strip()]
     statuses = [int(row[0]) for row in rows]
     # singular pose: 1; regular pose, torques of 3e38 N m: the accelerations overflow float, 2;
     # NaN in q: 1 (no pivot compares true); huge q and torques: nonzero; regular and ordinary: 0

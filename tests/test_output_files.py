@@ -12,7 +12,8 @@ import textwrap
 
 import pytest
 
-import symdyn.cli.generate as generate_cli
+import symdyn.emit.pipeline as pipeline
+from symdyn.model.scene import input_files
 import symdyn.model.files as files
 from symdyn.cli import main
 from symdyn.model.errors import SymdynError
@@ -175,7 +176,7 @@ def test_derive_out_onto_its_own_input_is_refused(tmp_path, capsys):
 
 def test_input_files_of_a_scene_name_its_robot():
     scene = REPO / "robots" / "scenes" / "puma560_gravity.yaml"
-    paths = generate_cli.input_files(str(scene))
+    paths = input_files(str(scene))
     assert os.path.samefile(paths[0], scene)
     assert any(os.path.exists(p) and os.path.samefile(p, REPO / "robots" / "puma560.yaml") for p in paths)
 
@@ -347,7 +348,7 @@ def test_concurrent_writers_never_mix_a_pair(tmp_path):
 def no_derivation(monkeypatch):
     def derive_cached(*args, **kwargs):
         raise AssertionError("derived before the output directory was checked")
-    monkeypatch.setattr(generate_cli, "derive_cached", derive_cached)
+    monkeypatch.setattr(pipeline, "derive_cached", derive_cached)
 
 
 def test_out_is_a_file(tmp_path, capsys, no_derivation):

@@ -18,7 +18,7 @@ import pytest
 
 from closed_loop import (PLATFORMS, free_flyer_twist_rate, pinocchio_forward_dynamics, pinocchio_inverse_dynamics,
                          pinocchio_state, states)
-from helpers import REPO
+from helpers import REPO, run_sanitized
 from symdyn.cli import main
 from symdyn.model import parallel
 
@@ -364,21 +364,9 @@ int main(void) {{
     return 0;
 }}
 """
-    (tmp_path / "main.c").write_text(program)
-    for suffix in ("c", "h"):
-        (tmp_path / f"{name}_dynamics.{suffix}").write_bytes((GENERATED / f"{name}_dynamics.{suffix}").read_bytes())
-    exe = tmp_path / "check"
-    cmd = [CC, "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O1", "-g", "-fsanitize=address,undefined",
-           "-fsanitize=float-divide-by-zero,float-cast-overflow", "-fno-sanitize-recover=all",
-           str(tmp_path / "main.c"), str(tmp_path / f"{name}_dynamics.c"), "-o", str(exe), "-lm"]
-    build = subprocess.run(cmd, capture_output=True, text=True)
-    if build.returncode != 0 and "sanitize" in build.stderr and "cannot find" in build.stderr:
-        pytest.skip("sanitizer runtime not installed")
-    assert build.returncode == 0, build.stderr
-    result = subprocess.run([str(exe)], capture_output=True, text=True)
-    assert result.returncode == 0, result.stderr[-3000:]
-    assert "runtime error" not in result.stderr and "AddressSanitizer" not in result.stderr
-    assert int(result.stdout) > 0  # the bad poses did return statuses
+    files = {f"{name}_dynamics.{suffix}": (GENERATED / f"{name}_dynamics.{suffix}").read_bytes() for suffix in ("c", "h")}
+    stdout = run_sanitized(tmp_path, program, files)
+    assert int(stdout) > 0  # the bad poses did return statuses
 
 
 def test_files_and_poses_refused_in_one_line(tmp_path, capsys):

@@ -11,7 +11,7 @@ import symdyn
 from helpers import REPO, normalized_error, random_states
 from symdyn.check.cbuild import build_and_load
 from symdyn.cli import main
-from symdyn.cli.generate import generate_files
+from symdyn.emit.pipeline import configure, generate
 from symdyn.check.pinocchio_model import build_model
 from symdyn.model.scene import load_scene
 
@@ -90,8 +90,7 @@ def test_runtime_payload_agrees_with_pinocchio_for_several_payloads(tmp_path):
     scene = load_scene(str(SCENES / "ur5_payload.yaml"))
     robot = scene.robot
     assert [s.name for s in robot.parameters] == ["m_p", "c_z"]
-    files = {k: v.decode() for k, v in generate_files(str(SCENES / "ur5_payload.yaml"), None, None, False,
-                                                      "newton-euler").items()}
+    files = {k: v.decode() for k, v in generate(configure(SCENES / "ur5_payload.yaml")).items()}
     assert "ur5_payload.yaml" in files["ur5_payload_dynamics.h"] and "runtime parameters: m_p, c_z" in files["ur5_payload_dynamics.h"]
     lib = build_and_load(files, "ur5_payload", 6, 2, "double", str(tmp_path))
     full = symdyn.load(REPO / "robots" / "ur5.yaml")
@@ -135,7 +134,7 @@ def test_runtime_payload_equals_the_folded_payload(tmp_path):
 
 def test_gravity_only_float_scene_emits_only_gravity(tmp_path):
     path = str(SCENES / "puma560_gravity.yaml")
-    files = {k: v.decode() for k, v in generate_files(path, None, None, False, "newton-euler").items()}
+    files = {k: v.decode() for k, v in generate(configure(path)).items()}
     header = files["puma560_gravity_dynamics.h"]
     assert "typedef float puma560_gravity_real;" in header
     lib = build_and_load(files, "puma560_gravity", 6, 0, "float", str(tmp_path))

@@ -8,6 +8,7 @@ import tempfile
 
 from ..model.files import output_directory, write_files
 from ..model.errors import SymdynError
+from ..emit.pipeline import scene_choices
 from .common import add_fd_method_option, add_size_options, check_size, load_robot, parse_functions
 
 HELP = "time each generation variant and measure its error against a 50-digit reference"
@@ -52,7 +53,7 @@ def run(args) -> int:
     if not args.out:
         _bench(args, robots, functions, variants)
         return 0
-    from .generate import input_files
+    from ..model.scene import input_files
     protect = [p for path in args.robots for p in input_files(path)]
     with output_directory(args.out):  # checked (and created) before the long measurements
         results = _bench(args, robots, functions, variants)
@@ -87,7 +88,7 @@ def _plan(bench, scene, functions, variants):
     """(functions, variants) for one input: the options when given, else what a scene asks
     for (its functions; its precision picks the symdyn C variants), else the defaults."""
     if functions is None:
-        functions = scene.functions if scene is not None and scene.functions else bench.DEFAULT_FUNCTIONS
+        functions, _, _ = scene_choices(None, scene, None, None, bench.DEFAULT_FUNCTIONS)
     if variants is None:
         variants = list(bench.VARIANTS)
         precision = scene.precision if scene is not None else None

@@ -4,27 +4,9 @@ from __future__ import annotations
 
 import sys
 
-from ..derive.equations import ALL_OUTPUTS, METHOD_ALIASES, OUTPUTS
+from ..derive.equations import METHOD_ALIASES
+from ..emit.pipeline import default_fd_method, parse_functions  # noqa: F401 (the subcommands' helpers)
 from ..model.errors import SymdynError
-
-
-def parse_functions(text: str | None) -> tuple[str, ...]:
-    if not text:
-        return OUTPUTS
-    names = [t.strip() for t in text.split(",") if t.strip()]
-    unknown = [n for n in names if n not in ALL_OUTPUTS]
-    if unknown:
-        raise SymdynError(f"unknown function '{unknown[0]}' in --functions (known: {', '.join(ALL_OUTPUTS)})")
-    if not names:
-        raise SymdynError("--functions lists no function")
-    return tuple(n for n in ALL_OUTPUTS if n in names)
-
-
-def default_fd_method(precision: str) -> str:
-    """How forward dynamics is solved unless --fd-method says: LDL^T of D in double (fewer
-    operations, faster on the bundled arms), the articulated-body algorithm in float (about
-    twice as accurate there: chain12 3e-5 against 6e-5; docs/benchmarks.md)."""
-    return "aba" if precision == "float" else "ldlt"
 
 
 def add_fd_method_option(parser) -> None:

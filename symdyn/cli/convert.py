@@ -26,7 +26,7 @@ from ..model.files import write_atomic
 from ..model.robot import from_document
 from ..model.scene import is_urdf, load_input, read_robot_document
 from .common import add_urdf_options
-from .generate import input_files
+from ..model.scene import input_files
 
 HELP = "convert a URDF to a robot file (YAML), or a robot file or scene to URDF"
 FORMATS = ("urdf", "yaml")

@@ -108,10 +108,10 @@ def run(args) -> int:
     """Load, check the options and where ``--out`` goes (before the derivation, which can take
     long), derive, render, and print or write (:func:`symdyn.model.files.write_files`, the
     inputs protected)."""
-    from ..model.parallel import ParallelRobot
-    from .generate import input_files
+    from ..emit.pipeline import PLATFORM, kind_of
+    from ..model.scene import input_files
     robot, _ = load_robot(args.robot, args, parallel=True)
-    text_of = _parallel_text(args, robot) if isinstance(robot, ParallelRobot) else _serial_text(args, robot)
+    text_of = _parallel_text(args, robot) if kind_of(robot) is PLATFORM else _serial_text(args, robot)
     if args.out:
         directory, name = os.path.split(os.path.abspath(args.out))
         if not os.path.isdir(directory):

@@ -23,7 +23,7 @@ from ..model.errors import SymdynError
 from ..model.files import write_atomic
 from ..model.samples import read_samples
 from .common import add_method_option, add_size_options, check_size, load_robot, progress_printer
-from .generate import input_files
+from ..model.scene import input_files
 
 HELP = "identify the base parameters from measured samples (CSV of q, qd, qdd, tau) by least squares"
 

@@ -10,7 +10,8 @@ from ..derive.cache import derive_cached
 from ..check.cbuild import build_and_load
 from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
-from ..model.outputs import ALL_OUTPUTS, default_outputs, with_requirements
+from ..emit.pipeline import scene_choices
+from ..model.outputs import ALL_OUTPUTS, with_requirements
 from ..model.errors import SymdynError
 from ..model.tolerances import VERIFY_TOLERANCE
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
@@ -52,9 +53,8 @@ def run(args) -> int:
         raise SymdynError("--states must be at least 1")
     robot, scene = load_robot(args.robot, args)
     check_size(robot, args, args.robot)
-    functions = parse_functions(args.functions) if args.functions else (
-        scene.functions if scene is not None and scene.functions else default_outputs(robot))
-    precision = args.precision or (scene.precision if scene is not None and scene.precision else "double")
+    asked = parse_functions(args.functions) if args.functions else None
+    functions, precision, _ = scene_choices(robot, scene, asked, args.precision)
     rng = np.random.default_rng(args.seed)
     values = {}
     for sym, nominal in zip(robot.parameters, robot.nominal):

@@ -89,6 +89,20 @@ def load_input(path: str, tip: str | None = None, tool: str | None = None, exact
     return (replace(robot, notes=notes) if notes else robot), None
 
 
+def input_files(path: str) -> list[str]:
+    """The files reading ``path`` involves: ``path`` itself and, for a scene, the robot file it
+    names (resolved against the scene's directory).  Best effort: a file that cannot be read or
+    parsed just adds nothing (loading it reports the problem)."""
+    paths = [os.fspath(path)]
+    try:
+        doc = load_yaml(decode_text(read_input(paths[0]), paths[0]), paths[0])
+    except (SymdynError, OSError, ValueError):
+        return paths
+    if isinstance(doc, dict) and "scene" in doc and isinstance(doc.get("robot"), str):
+        paths.append(os.path.join(os.path.dirname(os.path.abspath(paths[0])), doc["robot"]))
+    return paths
+
+
 def load(path, tip: str | None = None, tool: str | None = None, exact_angles: bool = False) -> Robot:
     """The robot of a robot file, a URDF (``tip``/``tool``: its tip and tool links;
     ``exact_angles``: rpy angles as written, see :func:`symdyn.model.urdf.read_urdf`) or a

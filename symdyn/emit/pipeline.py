@@ -1,0 +1,245 @@
+"""The library API under ``symdyn generate``: what to generate, resolved once, and one function
+that derives and emits it, for every kind of robot.
+
+>>> from symdyn.emit.pipeline import GenerateOptions, configure, generate
+>>> config = configure("robots/puma560.yaml", GenerateOptions(precision="float"))
+>>> files = generate(config)          # {"puma560_dynamics.h": b"...", "puma560_dynamics.c": b"..."}
+
+:class:`GenerateOptions` is what a user asks for (``None``: the scene's choice, else the
+default); :func:`configure` loads the input (robot file, URDF, scene or platform robot), looks up
+its :class:`RobotKind`, checks the options against it and applies the scene's defaults, giving
+a :class:`GenerateConfig`; :func:`generate` derives (through the cache) and emits, writing
+nothing.  Each kind of robot registers its functions, the options that apply to it and its
+emitter once, in :data:`KINDS`.
+"""
+
+from __future__ import annotations
+
+import functools
+import os
+from dataclasses import dataclass, field
+from typing import Callable
+
+from ..derive.cache import derive_cached
+from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
+from ..model.errors import SymdynError
+from ..model.outputs import ALL_OUTPUTS, OUTPUTS, default_outputs, with_requirements
+from ..model.parallel import ParallelRobot
+from ..model.robot import Robot
+from .cgen import PRECISION_CHOICES
+
+TARGETS = ("c", "casadi", "casadi-c")
+
+
+@dataclass(frozen=True)
+class GenerateOptions:
+    """What to generate.  ``functions``: names or a comma-separated text (None: the scene's, else
+    the kind's default); ``precision`` (None: the scene's, else double); ``fd_method`` (None:
+    ``ldlt`` in double, ``aba`` in float); ``size_report``: a function ``(files, prefix=...)``
+    measuring code size and stack use (:func:`symdyn.check.firmware.measure`), or None."""
+
+    functions: tuple[str, ...] | str | None = None
+    precision: str | None = None
+    target: str = "c"
+    method: str = "newton-euler"
+    fd_method: str | None = None
+    parameters: str = "standard"
+    header_only: bool = False
+    batch: bool = False
+    size_report: Callable | None = None
+    use_cache: bool = True
+
+
+@dataclass(frozen=True)
+class RobotKind:
+    """One kind of robot the pipeline generates code for.
+
+    ``options``: the names of the :class:`GenerateOptions` fields that apply beyond
+    ``functions``, ``precision`` and ``target`` (the others are refused when set);
+    ``parse_functions(text or names or None, robot)``: the functions asked, checked;
+    ``emit(config, progress)``: ``{file name: bytes}``."""
+
+    name: str
+    label: str
+    plural: str
+    robot_type: type
+    functions: tuple[str, ...]
+    precisions: tuple[str, ...]
+    targets: tuple[str, ...]
+    options: frozenset
+    parse_functions: Callable
+    emit: Callable
+
+
+@dataclass(frozen=True)
+class GenerateConfig:
+    """A generation resolved once: the input, its kind, and every choice made."""
+
+    path: str
+    robot: object
+    scene: object
+    kind: RobotKind
+    options: GenerateOptions
+    functions: tuple[str, ...]
+    precision: str
+    fd_method: str
+    notes: tuple[str, ...] = field(default=())
+
+    @property
+    def source_name(self) -> str:
+        return os.path.basename(self.path)
+
+
+def default_fd_method(precision: str) -> str:
+    """How forward dynamics is solved unless asked: LDL^T of D in double (fewer operations,
+    faster on the bundled arms), the articulated-body algorithm in float (about twice as
+    accurate there: chain12 3e-5 against 6e-5; docs/benchmarks.md)."""
+    return "aba" if precision == "float" else "ldlt"
+
+
+def parse_functions(text, robot=None) -> tuple[str, ...]:
+    """The serial functions named by ``text`` (comma-separated, or a sequence of names), in
+    registry order; ``None`` or empty: the standard outputs."""
+    return _parse(text, ALL_OUTPUTS, OUTPUTS, "")
+
+
+def parse_platform_functions(text, robot=None) -> tuple[str, ...] | None:
+    """The platform functions named by ``text``; ``None``: all of them."""
+    if not text:
+        return None
+    return _parse(text, PLATFORM_FUNCTIONS, PLATFORM_FUNCTIONS, " for a platform robot")
+
+
+def _parse(text, known, default, where: str) -> tuple[str, ...]:
+    if not text:
+        return tuple(default)
+    names = [t.strip() for t in text.split(",") if t.strip()] if isinstance(text, str) else list(text)
+    unknown = [n for n in names if n not in known]
+    if unknown:
+        raise SymdynError(f"unknown function '{unknown[0]}' in --functions{where} (known: {', '.join(known)})")
+    if not names:
+        raise SymdynError("--functions lists no function")
+    return tuple(n for n in known if n in names)
+
+
+def scene_choices(robot, scene, functions=None, precision=None, default_functions=None):
+    """``(functions, precision, notes)``: what was asked, else the scene's choice, else the
+    defaults (``default_functions``, or the robot's default outputs; double; the robot's notes).
+    The one place where a scene's defaults apply (generate, verify and bench read it)."""
+    notes = tuple(getattr(robot, "notes", ()))
+    if scene is not None:
+        functions = functions or scene.functions
+        precision = precision or scene.precision
+        notes = scene.notes
+    if not functions:
+        functions = default_functions if default_functions is not None else default_outputs(robot)
+    return tuple(functions), precision or "double", notes
+
+
+def _emit_serial(config: GenerateConfig, progress=None) -> dict[str, bytes]:
+    from .cgen import generate_c
+    robot, options = config.robot, config.options
+    eqs = derive_cached(robot, options.method, with_requirements(config.functions), use_cache=options.use_cache,
+                        progress=progress, fd_method=config.fd_method, parameters=options.parameters)
+    if options.target == "c":
+        report = None if options.size_report is None else functools.partial(options.size_report, prefix=robot.name)
+        files = generate_c(eqs, config.functions, config.precision, options.header_only,
+                           source_name=config.source_name, source_hash=robot.source_hash, notes=config.notes,
+                           progress=progress, size_report=report, batch=options.batch)
+        return {name: text.encode("utf-8") for name, text in files.items()}
+    from .casadi_backend import casadi_files
+    return casadi_files(eqs, config.functions, casadi_c=options.target == "casadi-c", source_name=config.source_name,
+                        source_hash=robot.source_hash)
+
+
+def _emit_platform(config: GenerateConfig, progress=None) -> dict[str, bytes]:
+    from ..derive.parallel import derive_parallel
+    robot = config.robot
+    eqs = derive_parallel(robot, config.functions, progress=progress)
+    if config.options.target == "c":
+        from .parallel_c import generate_parallel_c
+        files = generate_parallel_c(eqs, config.functions, config.precision, source_name=config.source_name,
+                                    source_hash=robot.source_hash, progress=progress)
+        return {name: text.encode("utf-8") for name, text in files.items()}
+    from .parallel_casadi import parallel_casadi_files
+    return parallel_casadi_files(eqs, config.functions, source_name=config.source_name,
+                                 source_hash=robot.source_hash)
+
+
+SERIAL = RobotKind(
+    name="serial", label="a serial robot", plural="serial robots", robot_type=Robot, functions=ALL_OUTPUTS,
+    precisions=PRECISION_CHOICES, targets=TARGETS,
+    options=frozenset({"method", "fd_method", "parameters", "header_only", "batch", "size_report"}),
+    parse_functions=parse_functions, emit=_emit_serial)
+
+PLATFORM = RobotKind(
+    name="parallel", label="a platform robot (kind: parallel)", plural="platform robots", robot_type=ParallelRobot,
+    functions=tuple(PLATFORM_FUNCTIONS), precisions=("double", "float"), targets=("c", "casadi"),
+    options=frozenset(), parse_functions=parse_platform_functions, emit=_emit_platform)
+
+#: every kind of robot, looked up by the type of the loaded robot
+KINDS = (SERIAL, PLATFORM)
+
+#: how each option is called on the command line, in the order refusals are reported
+_FLAGS = (("header_only", "--header-only"), ("batch", "--batch"), ("size_report", "--size-report"),
+          ("parameters", "--parameters base"), ("fd_method", "--fd-method"), ("method", "--method"))
+_UNSET = GenerateOptions()
+
+
+def kind_of(robot) -> RobotKind:
+    """The registered kind of a loaded robot."""
+    for kind in KINDS:
+        if isinstance(robot, kind.robot_type):
+            return kind
+    raise SymdynError(f"{getattr(robot, 'source', '') or robot!r}: not a robot symdyn generates code for")
+
+
+def check_options(options: GenerateOptions) -> None:
+    """Refuse combinations of options that apply to no robot (before anything is loaded)."""
+    if options.target not in TARGETS:
+        raise SymdynError(f"unknown target {options.target!r} (known: {', '.join(TARGETS)})")
+    if options.target != "c" and (options.precision not in (None, "double") or options.header_only):
+        raise SymdynError(f"--precision and --header-only apply to the c target only, not {options.target}")
+    if options.batch and options.target != "c":
+        raise SymdynError(f"--batch applies to the c target only, not {options.target}")
+    if options.size_report is not None and (options.target != "c" or options.header_only):
+        raise SymdynError("--size-report applies to the c target with .h + .c files (not --header-only)")
+
+
+def check_kind_options(kind: RobotKind, options: GenerateOptions, path: str) -> None:
+    """Refuse, in one line naming ``path``, the options that do not apply to ``kind``."""
+    for name, flag in _FLAGS:
+        if name not in kind.options and getattr(options, name) != getattr(_UNSET, name) \
+                and not (name == "method" and options.method in (None, "newton-euler")):
+            raise SymdynError(f"{path}: {flag} does not apply to {kind.label}")
+    if options.precision is not None and options.precision not in kind.precisions:
+        raise SymdynError(f"{path}: {kind.plural} are generated in {' or '.join(kind.precisions)} precision, "
+                          f"not {options.precision}")
+    if options.target not in kind.targets:
+        raise SymdynError(f"{path}: --target {options.target} is not available for {kind.plural} "
+                          f"(use {' or '.join(kind.targets)})")
+
+
+def configure(path, options: GenerateOptions = _UNSET, loaded=None) -> GenerateConfig:
+    """Resolve one input: load it (``loaded``: ``(robot, scene)`` when the caller has read it),
+    look up its kind, check the options against it, and apply the scene's defaults."""
+    from ..model.scene import load_input
+    path = os.fspath(path)
+    check_options(options)
+    robot, scene = loaded if loaded is not None else load_input(path, parallel=True)
+    kind = kind_of(robot)
+    check_kind_options(kind, options, path)
+    functions = kind.parse_functions(options.functions, robot) if options.functions else None
+    if kind is SERIAL:
+        functions, precision, notes = scene_choices(robot, scene, functions, options.precision)
+    else:
+        functions, precision, notes = functions, options.precision or "double", ()
+    return GenerateConfig(path=path, robot=robot, scene=scene, kind=kind, options=options, functions=functions,
+                          precision=precision, fd_method=options.fd_method or default_fd_method(precision),
+                          notes=notes)
+
+
+def generate(config: GenerateConfig, progress=None) -> dict[str, bytes]:
+    """Derive (through the cache) and emit ``config``: ``{file name: content}``, written nowhere.
+    ``progress``: called with a short text per derivation part and emitted function."""
+    return config.kind.emit(config, progress)

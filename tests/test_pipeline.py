@@ -1,0 +1,74 @@
+"""The library API under the CLI (symdyn.emit.pipeline, symdyn.generate): one configuration per
+input, resolved once (the kind of robot looked up, options checked against it, a scene's
+defaults applied), the same files as the command line."""
+
+import pytest
+
+import symdyn
+from helpers import REPO
+from symdyn.emit.pipeline import (KINDS, PLATFORM, SERIAL, GenerateOptions, check_options, configure, generate,
+                                  kind_of)
+
+PUMA = REPO / "robots" / "puma560.yaml"
+PLATFORM_FILE = REPO / "robots" / "parallel" / "sru_platform.yaml"
+
+
+def test_library_gives_the_checked_in_files():
+    files = symdyn.generate(PUMA)
+    assert set(files) == {"puma560_dynamics.h", "puma560_dynamics.c"}
+    for name, text in files.items():
+        assert text == (REPO / "generated" / name).read_bytes(), name
+
+
+def test_kinds_are_looked_up():
+    assert kind_of(symdyn.load(PUMA)) is SERIAL
+    config = configure(PLATFORM_FILE)
+    assert config.kind is PLATFORM and config.functions is None and config.precision == "double"
+    assert {k.name for k in KINDS} == {"serial", "parallel"}
+    with pytest.raises(symdyn.SymdynError, match="not a robot"):
+        kind_of(object())
+
+
+@pytest.mark.parametrize("options, message", [
+    (GenerateOptions(batch=True), "--batch does not apply to a platform robot"),
+    (GenerateOptions(header_only=True), "--header-only does not apply to a platform robot"),
+    (GenerateOptions(method="lagrange-euler"), "--method does not apply to a platform robot"),
+    (GenerateOptions(fd_method="aba"), "--fd-method does not apply"),
+    (GenerateOptions(precision="mixed"), "platform robots are generated in double or float precision, not mixed"),
+    (GenerateOptions(target="casadi-c"), "--target casadi-c is not available for platform robots"),
+    (GenerateOptions(functions="mass_matrix,jacobian"), "unknown function 'jacobian' in --functions for a platform"),
+])
+def test_platform_options_refused_in_one_line(options, message):
+    with pytest.raises(symdyn.SymdynError, match=message) as caught:
+        configure(PLATFORM_FILE, options)
+    assert str(PLATFORM_FILE) in str(caught.value) or "unknown function" in str(caught.value)
+
+
+def test_options_checked_before_loading():
+    with pytest.raises(symdyn.SymdynError, match="--batch applies to the c target only"):
+        check_options(GenerateOptions(batch=True, target="casadi"))
+    with pytest.raises(symdyn.SymdynError, match="--batch applies to the c target only"):
+        configure(REPO / "robots" / "no_such_file.yaml", GenerateOptions(batch=True, target="casadi"))
+
+
+def test_scene_defaults_apply_once(tmp_path):
+    """A scene's functions and precision are the defaults (and its notes go to the header);
+    what is asked wins; without a scene, the robot's defaults."""
+    scene = tmp_path / "cell.yaml"
+    scene.write_text(f"scene: 1\nrobot: {PUMA}\nname: cell\nlock: {{flange: 1.0}}\n"
+                     "functions: [inverse_dynamics, gravity]\nprecision: float\n")
+    config = configure(scene)
+    assert config.functions == ("inverse_dynamics", "gravity") and config.precision == "float"
+    assert config.fd_method == "aba" and config.notes == config.scene.notes and config.notes
+    asked = configure(scene, GenerateOptions(functions="mass_matrix", precision="double"))
+    assert asked.functions == ("mass_matrix",) and asked.precision == "double" and asked.fd_method == "ldlt"
+    plain = configure(PUMA)
+    assert plain.functions == symdyn.OUTPUTS and plain.precision == "double" and plain.scene is None
+
+
+def test_serial_functions_in_registry_order():
+    config = configure(PUMA, GenerateOptions(functions=("jacobian", "gravity")))
+    assert config.functions == ("gravity", "jacobian")
+    files = generate(config)
+    header = files["puma560_dynamics.h"].decode()
+    assert "puma560_gravity(" in header and "puma560_jacobian(" in header and "puma560_mass_matrix(" not in header
