@@ -68,3 +68,25 @@ def run_sanitized(workdir, program: str, files: dict) -> str:
     assert run.returncode == 0, run.stderr[-3000:]
     assert "runtime error" not in run.stderr and "Sanitizer" not in run.stderr, run.stderr[-3000:]
     return run.stdout
+
+
+# the Cortex-M4 toolchain (gcc-arm-none-eabi, libnewlib-arm-none-eabi), for the firmware tests
+import shutil as _shutil  # noqa: E402
+import subprocess as _subprocess  # noqa: E402
+
+ARM_GCC = _shutil.which("arm-none-eabi-gcc")
+ARM_NM = _shutil.which("arm-none-eabi-nm")
+
+
+def has_newlib() -> bool:
+    """arm-none-eabi-gcc with a C library's headers (Debian: libnewlib-arm-none-eabi)."""
+    if ARM_GCC is None:
+        return False
+    probe = _subprocess.run([ARM_GCC, "-x", "c", "-fsyntax-only", "-"], input="#include <math.h>\n",
+                           capture_output=True, text=True)
+    return probe.returncode == 0
+
+
+#: the flags of the firmware tests: Cortex-M4, single-precision FPU, strict warnings
+CORTEX_M4 = ["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16", "-O2", "-std=c99",
+             "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wdouble-promotion", "-fstack-usage"]

@@ -190,7 +190,7 @@ def test_generated_c_for_general_robot_compiles_and_agrees(tmp_path, capsys, gen
         assert np.allclose(T, lib.forward_kinematics(q), rtol=1e-14, atol=1e-15)
         assert np.allclose(J, lib.jacobian(q), rtol=1e-14, atol=1e-15)
         assert np.allclose(T, general.numeric.forward_kinematics(q), rtol=1e-12, atol=1e-13)
-    assert main(["verify", GENERAL]) == 0  # float: every bundled robot in tests/test_cgen.py
+    assert main(["verify", GENERAL]) == 0  # float: every bundled robot in tests/emit/test_cgen.py
     out = capsys.readouterr().out
     rows = [line.split() for line in out.splitlines()]
     checked = {row[0]: row[-1] for row in rows if len(row) == 3 and row[0] in symdyn.ALL_OUTPUTS}

@@ -142,7 +142,7 @@ def test_power_balance_of_the_generated_forward_dynamics(platform):
     """Simulated with the generated C (RK4 from rest at the home pose, actuator forces varying
     about those that hold it): the work of phi equals the change of the mechanism's kinetic plus
     potential energy (Pinocchio's, from every body) to the integration's accuracy."""
-    from test_parallel_dynamics import energy_balance
+    from closed_loop import energy_balance
     P = platform
 
     def forward(p, R, twist, phi):
@@ -211,7 +211,7 @@ def test_float_code(platform, tmp_path):
     """--precision float: compiles warning-free, agrees with double to float accuracy (inverse
     dynamics and kinematics), and on a Cortex-M4 (when arm-none-eabi-gcc is installed)
     references no double-precision routine."""
-    from test_firmware import ARM_GCC, ARM_NM, CORTEX_M4, _has_newlib
+    from helpers import ARM_GCC, ARM_NM, CORTEX_M4, has_newlib as _has_newlib
 
     from symdyn.check.cbuild import build_platform
     robot = platform["robot"]

@@ -18,7 +18,7 @@ OTHER_METHOD_STATES = 20
 
 #: (robot, method) checked on D and c only: Lagrange-Euler's velocity terms grow as n^4 and derive
 #: in about 30 s for chain12's 12 joints (it is checked whole on every other robot, and equal to
-#: Newton-Euler exactly on 3-joint chains, tests/test_symbolic.py)
+#: Newton-Euler exactly on 3-joint chains, tests/derive/test_symbolic.py)
 PARTIAL = {("chain12", "lagrange-euler"): ("mass_matrix", "gravity")}
 
 

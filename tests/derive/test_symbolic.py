@@ -78,7 +78,7 @@ def test_exact_check_detects_a_difference(derived):
 
 
 @pytest.mark.parametrize("name", [r for r in ROBOTS if r != "chain12"])  # chain12's LE: D and c only,
-def test_methods_agree_numerically(derived, name):                       # tests/test_pinocchio_agreement.py
+def test_methods_agree_numerically(derived, name):                       # tests/check/test_pinocchio_agreement.py
     ne, le = derived(name, "newton-euler"), derived(name, "lagrange-euler")
     rng = np.random.default_rng(3)
     p = rng.uniform(0.5, 1.5, len(ne.parameters))

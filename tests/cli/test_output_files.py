@@ -19,7 +19,7 @@ from symdyn.cli import main
 from symdyn.model.errors import SymdynError
 from symdyn.model.files import JOURNAL, TEMP_PREFIX, lock_directory, write_files
 
-REPO = pathlib.Path(__file__).resolve().parent.parent
+REPO = pathlib.Path(__file__).resolve().parents[2]
 ROBOT = str(REPO / "robots" / "planar2r.yaml")
 NAMES = ["planar2r_dynamics.c", "planar2r_dynamics.h"]
 

@@ -3,28 +3,12 @@ arm-none-eabi-gcc and references no double-precision routine (no __aeabi_d*, no 
 
 from __future__ import annotations
 
-import shutil
 import subprocess
 
 import pytest
 
-from helpers import REPO
+from helpers import ARM_GCC, ARM_NM, CORTEX_M4, REPO, has_newlib as _has_newlib
 from symdyn.cli import main
-
-ARM_GCC = shutil.which("arm-none-eabi-gcc")
-ARM_NM = shutil.which("arm-none-eabi-nm")
-
-
-def _has_newlib() -> bool:
-    """arm-none-eabi-gcc with a C library's headers (Debian: libnewlib-arm-none-eabi)."""
-    if ARM_GCC is None:
-        return False
-    probe = subprocess.run([ARM_GCC, "-x", "c", "-fsyntax-only", "-"], input="#include <math.h>\n",
-                           capture_output=True, text=True)
-    return probe.returncode == 0
-
-CORTEX_M4 = ["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16", "-O2", "-std=c99",
-             "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wdouble-promotion", "-fstack-usage"]
 
 
 @pytest.mark.skipif(ARM_NM is None or not _has_newlib(),
