@@ -35,10 +35,18 @@ What a write guarantees
   completed before it propagates.)
 - **Journal.**  Before the renames, ``.symdyn-commit`` (written atomically) lists them; it is removed
   after.  If the process dies between the two (SIGKILL, power loss), the next write into the
-  directory, under the lock, *rolls the commit forward*: it completes the renames whose temporaries
-  still exist, then deletes leftover symdyn temporaries (only regular files named
-  ``.symdyn-tmp-*``).  A rollback after a failed rename is journaled the
-  same way, so an interrupted rollback is completed too.
+  directory that writes every file the journal names, under the lock, *rolls the commit
+  forward*: it completes the renames whose temporaries still exist, then deletes leftover symdyn
+  temporaries.  A rollback after a failed rename is journaled the same way, so an interrupted
+  rollback is completed too.  A write of other files is refused while a journal is pending
+  (the message names the files and how to finish or drop it): a journal never replaces a file
+  the run would not itself write.
+- **Only symdyn's own traces are acted on.**  Temporaries carry a tag and the journal a MAC,
+  HMAC-SHA256 under the per-user secret (:mod:`symdyn.model.userdir`), bound to the directory's
+  device and inode and, for the journal, to its own inode.  A journal that does not verify
+  (planted in a repository, copied with a directory, written without a usable secret) is
+  refused in one line and nothing is changed; a ``.symdyn-tmp-*`` file without a valid tag is
+  never deleted nor renamed.
 
 What it does not guarantee
 --------------------------
@@ -64,6 +72,8 @@ replacing the output directory's path during a write does not redirect it.
 from __future__ import annotations
 
 import contextlib
+import hashlib
+import hmac
 import os
 import secrets
 import signal
@@ -76,12 +86,13 @@ except ImportError:  # not POSIX: no locking
     fcntl = None
 
 from .errors import SymdynError, one_line
+from .userdir import user_secret
 
 #: prefix of every temporary symdyn creates in an output directory (and deletes when left over)
 TEMP_PREFIX = ".symdyn-tmp-"
 #: name of the commit journal in an output directory
 JOURNAL = ".symdyn-commit"
-_JOURNAL_HEADER = b"symdyn-commit 1\n"
+_JOURNAL_HEADER = b"symdyn-commit 2\n"
 _MAX_JOURNAL = 1 << 20
 _SIGNALS = {getattr(signal, name) for name in ("SIGINT", "SIGTERM", "SIGHUP") if hasattr(signal, name)}
 _O_CLOEXEC = getattr(os, "O_CLOEXEC", 0)
@@ -120,6 +131,39 @@ def _check_name(name: str) -> None:
             or any(ord(ch) < 32 or ord(ch) == 127 for ch in name)
             or name.startswith(TEMP_PREFIX) or name == JOURNAL):
         raise OutputError(f"cannot write a file named {one_line(repr(name), 120)}: not a plain file name")
+
+
+class _Signer:
+    """Marks what symdyn writes into one output directory so that only this user's symdyn on
+    this machine acts on it later: temporaries carry a tag and journals a MAC, both HMAC-SHA256
+    under the per-user secret (:mod:`symdyn.model.userdir`) bound to the directory's device and
+    inode (and a journal to its own inode).  A copy of the directory (a clone of a repository
+    with a planted ``.symdyn-commit`` or ``.symdyn-tmp-*``) carries neither the secret nor the
+    inodes.  Without a usable secret nothing is ever recognized as symdyn's."""
+
+    def __init__(self, dfd: int):
+        info = os.fstat(dfd)
+        self.where = b"%d|%d" % (info.st_dev, info.st_ino)
+        self.secret = user_secret()
+
+    def _mac(self, kind: bytes, data: bytes) -> str:
+        return hmac.new(self.secret or b"", kind + b"|" + self.where + b"|" + data, hashlib.sha256).hexdigest()
+
+    def temp_name(self, suffix: str) -> str:
+        """A new temporary's name: ``.symdyn-tmp-<random>-<tag><suffix>``."""
+        token = secrets.token_hex(8)
+        tag = self._mac(b"tmp", token.encode())[:16] if self.secret else "0" * 16
+        return f"{TEMP_PREFIX}{token}-{tag}{suffix}"
+
+    def is_ours(self, name: str) -> bool:
+        """Whether ``name`` is a temporary symdyn made in this directory with this secret."""
+        if not self.secret or not name.startswith(TEMP_PREFIX):
+            return False
+        token, _, rest = name[len(TEMP_PREFIX):].partition("-")
+        return len(token) == 16 and hmac.compare_digest(rest[:16], self._mac(b"tmp", token.encode())[:16])
+
+    def journal_mac(self, inode: int, body: bytes) -> str:
+        return self._mac(b"journal", b"%d|" % inode + body) if self.secret else ""
 
 
 # ---------------------------------------------------------------------------------------------
@@ -283,19 +327,26 @@ def check_targets(directory: str, names: Iterable[str], protect: Iterable[str] =
 # ---------------------------------------------------------------------------------------------
 # The journal: a list of ("rename", src, dst) and ("unlink", dst, inode) steps, replayed at most once
 
-def _encode_journal(steps) -> bytes:
-    lines = [_JOURNAL_HEADER]
-    for op, a, b in steps:
-        lines.append(b"\t".join((op.encode(), os.fsencode(str(a)), os.fsencode(str(b)))) + b"\n")
-    return b"".join(lines)
+def _journal_body(steps) -> bytes:
+    return b"".join(b"\t".join((op.encode(), os.fsencode(str(a)), os.fsencode(str(b)))) + b"\n"
+                    for op, a, b in steps)
+
+
+def _encode_journal(steps, mac: str) -> bytes:
+    return _JOURNAL_HEADER + b"mac\t" + mac.encode() + b"\n" + _journal_body(steps)
 
 
 def _parse_journal(data: bytes):
-    """The journal's steps; lines that are not well-formed symdyn steps are dropped."""
+    """``(mac, body, steps)`` of a journal (None if it is not one); lines that are not
+    well-formed symdyn steps are dropped from the steps (the MAC covers the whole body)."""
     if not data.startswith(_JOURNAL_HEADER):
         return None
+    first, _, body = data[len(_JOURNAL_HEADER):].partition(b"\n")
+    if not first.startswith(b"mac\t"):
+        return None
+    mac = first[4:].decode("ascii", "replace")
     steps = []
-    for line in data[len(_JOURNAL_HEADER):].split(b"\n"):
+    for line in body.split(b"\n"):
         parts = line.split(b"\t")
         if len(parts) != 3:
             continue
@@ -309,7 +360,7 @@ def _parse_journal(data: bytes):
                 steps.append(("unlink", a, int(b)))
         except OutputError:
             continue
-    return steps
+    return mac, body, steps
 
 
 def _lstat(dfd: int, name: str):
@@ -319,13 +370,16 @@ def _lstat(dfd: int, name: str):
         return None
 
 
-def _replay(dfd: int, steps, protected) -> None:
+def _replay(dfd: int, steps, protected, signer: _Signer | None = None) -> None:
     """Apply journal steps that are still pending (idempotent): rename a temporary that still
     exists over its target (unless the target is not a regular file or is an input); unlink a
-    target that is still the file the journal created."""
+    target that is still the file the journal created.  With ``signer`` (a journal read back
+    from the directory), only temporaries symdyn made there are renamed."""
     euid = os.geteuid()
     for op, a, b in steps:
         if op == "rename":
+            if signer is not None and not signer.is_ours(a):
+                continue
             src, dst = _lstat(dfd, a), _lstat(dfd, b)
             if src is None or not stat.S_ISREG(src.st_mode):
                 continue  # already renamed
@@ -338,37 +392,58 @@ def _replay(dfd: int, steps, protected) -> None:
                 os.unlink(a, dir_fd=dfd)
 
 
-def _recover(dfd: int, directory: str, protected) -> None:
-    """Under the lock: finish a commit (or rollback) a killed run left half done, then delete
-    leftover symdyn temporaries owned by this user."""
-    euid = os.geteuid()
+def _pending_steps(dfd: int, directory: str, signer: _Signer, names) -> list | None:
+    """The steps of the journal in the directory, if there is one this user's symdyn wrote there
+    and every file it would replace is one the current run writes (``names``); raises
+    :class:`OutputError` (one line, nothing touched) for any other journal."""
     journal_path = os.path.join(directory, JOURNAL)
+    info = _lstat(dfd, JOURNAL)
+    if info is None:
+        return None
+    if not stat.S_ISREG(info.st_mode):
+        raise OutputError(f"{journal_path} is {_kind(info.st_mode)}, not a symdyn journal: remove it")
+    if info.st_uid != os.geteuid():
+        raise OutputError(f"{journal_path}: an interrupted write by another user (uid {info.st_uid}) "
+                          "is pending in this directory: run symdyn there as that user, or remove the file")
+    fd = os.open(JOURNAL, os.O_RDONLY | _O_NOFOLLOW | _O_NONBLOCK | _O_CLOEXEC, dir_fd=dfd)
     try:
-        info = _lstat(dfd, JOURNAL)
-        if info is not None:
-            if not stat.S_ISREG(info.st_mode):
-                raise OutputError(f"{journal_path} is {_kind(info.st_mode)}, not a symdyn journal: remove it")
-            if info.st_uid != euid:
-                raise OutputError(f"{journal_path}: an interrupted write by another user (uid {info.st_uid}) "
-                                  "is pending in this directory: run symdyn there as that user, or remove the file")
-            fd = os.open(JOURNAL, os.O_RDONLY | _O_NOFOLLOW | _O_NONBLOCK | _O_CLOEXEC, dir_fd=dfd)
-            try:
-                data = os.read(fd, _MAX_JOURNAL)
-            finally:
-                os.close(fd)
-            steps = _parse_journal(data)
-            if steps is None:
-                raise OutputError(f"{journal_path} is not a journal this symdyn can read: remove it")
+        inode = os.fstat(fd).st_ino
+        data = os.read(fd, _MAX_JOURNAL)
+    finally:
+        os.close(fd)
+    parsed = _parse_journal(data)
+    expected = signer.journal_mac(inode, parsed[1]) if parsed is not None else ""
+    if parsed is None or not expected or not hmac.compare_digest(parsed[0], expected):
+        raise OutputError(f"{journal_path} was not written by symdyn on this machine for this directory "
+                          "(copied or planted?): nothing was written and no file was changed; remove it")
+    steps = parsed[2]
+    others = sorted({step[1] if step[0] == "unlink" else step[2] for step in steps} - set(names))
+    if others:
+        raise OutputError(f"an interrupted symdyn write of {', '.join(others)} is pending in {directory}: "
+                          "run the command that wrote them again (it finishes that write first), or remove "
+                          f"{journal_path} to keep the files as they are; nothing was written")
+    return steps
+
+
+def _recover(dfd: int, directory: str, protected, names=()) -> None:
+    """Under the lock: finish a commit (or rollback) this user's symdyn left half done in the
+    directory (when it only replaces files the current run writes, ``names``), then delete the
+    leftover temporaries symdyn made there.  A journal or temporary it did not make is never
+    acted on."""
+    signer = _Signer(dfd)
+    try:
+        steps = _pending_steps(dfd, directory, signer, names)
+        if steps is not None:
             blocked = _block_signals()
             try:
-                _replay(dfd, steps, protected)
+                _replay(dfd, steps, protected, signer)
                 os.fsync(dfd)
                 os.unlink(JOURNAL, dir_fd=dfd)
                 os.fsync(dfd)
             finally:
                 _restore_signals(blocked)
         for name in os.listdir(dfd):
-            if name.startswith(TEMP_PREFIX):
+            if signer.is_ours(name):
                 leftover = _lstat(dfd, name)
                 if leftover is not None and stat.S_ISREG(leftover.st_mode):
                     with contextlib.suppress(FileNotFoundError, PermissionError):  # sticky directory
@@ -377,6 +452,7 @@ def _recover(dfd: int, directory: str, protected) -> None:
         if isinstance(exc, OutputError):
             raise
         raise OutputError(f"cannot finish an interrupted write in {directory}: {_reason(exc)}") from None
+    return signer
 
 
 # ---------------------------------------------------------------------------------------------
@@ -385,9 +461,10 @@ def _recover(dfd: int, directory: str, protected) -> None:
 class _Transaction:
     """Temporaries of one write in a locked directory, and their commit or removal."""
 
-    def __init__(self, dfd: int, directory: str):
+    def __init__(self, dfd: int, directory: str, signer: _Signer):
         self.dfd = dfd
         self.directory = directory
+        self.signer = signer
         self.staged: list[list] = []  # [temp, final, inode, backup or None]
         self.scratch: list[str] = []  # every name this transaction created (removed at the end)
         self.unresolved = False  # a journal is in place that the next run must replay
@@ -397,7 +474,7 @@ class _Transaction:
 
     def _create(self, suffix: str, mode: int) -> tuple[str, int]:
         while True:
-            name = f"{TEMP_PREFIX}{secrets.token_hex(8)}{suffix}"
+            name = self.signer.temp_name(suffix)
             self.scratch.append(name)  # before creating: an interrupt right after still cleans up
             try:
                 return name, os.open(name, _CREATE, mode, dir_fd=self.dfd)
@@ -433,7 +510,7 @@ class _Transaction:
         if _lstat(self.dfd, final) is None:
             return
         while True:
-            name = f"{TEMP_PREFIX}{secrets.token_hex(8)}.old"
+            name = self.signer.temp_name(".old")
             self.scratch.append(name)
             try:
                 os.link(final, name, src_dir_fd=self.dfd, dst_dir_fd=self.dfd, follow_symlinks=False)
@@ -468,8 +545,8 @@ class _Transaction:
     def _journal(self, steps) -> None:
         """Atomically put ``steps`` in place as the directory's journal."""
         name, fd = self._create(".journal", 0o600)
-        try:
-            self._write(fd, _encode_journal(steps))
+        try:  # the MAC binds the journal to its own inode (the rename keeps it) and the directory
+            self._write(fd, _encode_journal(steps, self.signer.journal_mac(os.fstat(fd).st_ino, _journal_body(steps))))
         finally:
             os.close(fd)
         os.replace(name, JOURNAL, src_dir_fd=self.dfd, dst_dir_fd=self.dfd)
@@ -574,9 +651,9 @@ def write_files(directory: str, files: Mapping[str, bytes], protect: Iterable[st
         return []
     protected = _file_ids(protect)
     with lock_directory(directory) as dfd:
-        _recover(dfd, directory, protected)
+        signer = _recover(dfd, directory, protected, names)
         modes = {name: _check_target(dfd, directory, name, protected) for name in names}
-        transaction = _Transaction(dfd, directory)
+        transaction = _Transaction(dfd, directory, signer)
         try:
             for name in names:
                 transaction.stage(name, files[name], mode if mode is not None else modes[name])

@@ -4,6 +4,7 @@ directory checked before any derivation."""
 
 import os
 import pathlib
+import shutil
 import signal
 import stat
 import subprocess
@@ -17,7 +18,7 @@ from symdyn.model.scene import input_files
 import symdyn.model.files as files
 from symdyn.cli import main
 from symdyn.model.errors import SymdynError
-from symdyn.model.files import JOURNAL, TEMP_PREFIX, lock_directory, write_files
+from symdyn.model.files import JOURNAL, TEMP_PREFIX, OutputError, lock_directory, write_files
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
 ROBOT = str(REPO / "robots" / "planar2r.yaml")
@@ -300,8 +301,74 @@ def test_killed_write_is_completed_by_the_next_one(tmp_path, mode, expected):
     left = os.listdir(tmp_path)
     assert JOURNAL in left and any(name.startswith(TEMP_PREFIX) for name in left)  # really cut short
     assert contents(tmp_path)["a.h"] == b"new h" and contents(tmp_path)["a.c"] == b"old c"  # a mixed pair
-    write_files(str(tmp_path), {"other.txt": b"x"})  # any later write into the directory
+    before = sorted(os.listdir(tmp_path))
+    # a write of other files does not replay into a.h and a.c: refused, nothing changed
+    pending = "a.c, a.h" if mode == "commit" else "a.h"  # the rollback puts back a.h only
+    with pytest.raises(OutputError, match=f"an interrupted symdyn write of {pending} is pending"):
+        write_files(str(tmp_path), {"other.txt": b"x"})
+    assert sorted(os.listdir(tmp_path)) == before and contents(tmp_path)["a.c"] == b"old c"
+    if mode == "commit":  # a write of a.h alone would leave a.c pending: refused too
+        with pytest.raises(OutputError, match="pending"):
+            write_files(str(tmp_path), {"a.h": b"x"})
+    write_files(str(tmp_path), {"a.h": expected + b" h", "a.c": expected + b" c", "other.txt": b"x"})
+    assert sorted(os.listdir(tmp_path)) == ["a.c", "a.h", "other.txt"]  # journal and temporaries gone
     assert contents(tmp_path) == {"a.c": expected + b" c", "a.h": expected + b" h", "other.txt": b"x"}
+
+
+def test_planted_temporaries_are_left_alone(tmp_path):
+    """A file named like a symdyn temporary that symdyn did not make there is not deleted."""
+    (tmp_path / ".symdyn-tmp-0123456789abcdef-0123456789abcdef.new").write_bytes(b"someone's file")
+    (tmp_path / ".symdyn-tmp-notes").write_bytes(b"another")
+    write_files(str(tmp_path), {"a.h": b"h"})
+    assert contents(tmp_path) == {".symdyn-tmp-0123456789abcdef-0123456789abcdef.new": b"someone's file",
+                                  ".symdyn-tmp-notes": b"another", "a.h": b"h"}
+
+
+def test_a_copied_journal_is_refused(tmp_path):
+    """A journal symdyn wrote is bound to its directory and its own inode (and the user's
+    secret): a copy of the directory (as a clone of a repository would be) is refused in one
+    line, and nothing in it changes."""
+    original = tmp_path / "original"
+    original.mkdir()
+    write_files(str(original), {"a.h": b"old h", "a.c": b"old c"})
+    run = subprocess.run([sys.executable, "-c", KILLED_WRITER, str(original), "commit"], timeout=60)
+    assert run.returncode == -signal.SIGKILL
+    copy = tmp_path / "copy"
+    shutil.copytree(original, copy)
+    snapshot = contents(copy)
+    with pytest.raises(OutputError, match="was not written by symdyn on this machine for this directory"):
+        write_files(str(copy), {"a.h": b"x", "a.c": b"y"})
+    assert contents(copy) == snapshot
+
+
+@pytest.mark.parametrize("version", [1, 2])
+def test_planted_journal_never_replaces_a_file(tmp_path, capsys, version):
+    """A .symdyn-commit and .symdyn-tmp-* committed to a repository (so owned by whoever
+    clones it) that would rename a temporary over the Makefile: generate, convert, derive and
+    identify refuse in one line and leave every file as it was."""
+    from symdyn.cli import main
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "Makefile").write_bytes(b"all:\n\tmake real\n")
+    (out / ".symdyn-tmp-0123456789abcdef-0000000000000000.new").write_bytes(b"evil: rm -rf ~\n")
+    mac = "" if version == 1 else "mac\t" + "0" * 64 + "\n"
+    (out / ".symdyn-commit").write_bytes(f"symdyn-commit {version}\n{mac}rename\t.symdyn-tmp-0123456789abcdef-"
+                                         "0000000000000000.new\tMakefile\n".encode())
+    (out / ".symdyn-tmp-planted").write_bytes(b"a planted file")
+    snapshot = contents(out)
+    robot = str(REPO / "robots" / "planar2r.yaml")
+    rng = __import__("numpy").random.default_rng(0)
+    data = tmp_path / "samples.csv"
+    data.write_text(",".join(f"{p}{i}" for p in ("q", "qd", "qdd", "tau") for i in range(1, 7)) + "\n" + "".join(
+        ",".join(f"{x:.6f}" for x in rng.uniform(-1, 1, 24)) + "\n" for _ in range(100)))
+    numeric = str(REPO / "robots" / "puma560.yaml")
+    for argv in (["generate", robot, "--out", str(out)], ["convert", numeric, "--to", "urdf", "--out", str(out / "a.urdf")],
+                 ["derive", robot, "--out", str(out / "d.txt")],
+                 ["identify", numeric, str(data), "--out", str(out / "identified.yaml")]):
+        assert main(argv) == 1, argv
+        err = [line for line in capsys.readouterr().err.strip().splitlines() if "warning" not in line]
+        assert len(err) == 1 and ".symdyn-commit" in err[0] and "nothing was written" in err[0], (argv, err)
+        assert contents(out) == snapshot, argv
 
 
 # ---------------------------------------------------------------------------------------------
