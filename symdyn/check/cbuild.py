@@ -96,7 +96,7 @@ def _compiled_method(spec):
         flat = self._call_outputs(spec.name, args, p, [rows * cols for _, (rows, cols) in blocks])
         if len(blocks) > 1:
             return np.hstack([f.reshape(rows, cols) for f, (_, (rows, cols)) in zip(flat, blocks)])
-        return flat[0] if shape[1] == 1 and not spec.always_matrix else flat[0].reshape(shape)
+        return flat[0] if spec.is_vector else flat[0].reshape(shape)
     method.__name__ = spec.name
     method.__doc__ = f"{spec.summary} From ``NAME_{spec.name}``; shape {spec.shape_text}."
     return method
@@ -111,7 +111,7 @@ def _combined_method(combined):
             *args, p = args
         dims = _dims(self)
         flat = self._call_outputs(combined.name, args, p, [r * c for part in parts for _, (r, c) in part.argument_shapes(dims)])
-        return tuple(f.reshape(part.shape(dims)) if part.shape(dims)[1] > 1 else f for f, part in zip(flat, parts))
+        return tuple(f if part.is_vector else f.reshape(part.shape(dims)) for f, part in zip(flat, parts))
     method.__name__ = combined.name
     method.__doc__ = f"{combined.summary} From ``NAME_{combined.name}``: ({', '.join(combined.parts)})."
     return method

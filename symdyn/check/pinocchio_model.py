@@ -312,14 +312,25 @@ def normalized_error(mine, ref) -> float:
     if mine.shape != ref.shape or not (np.all(np.isfinite(mine)) and np.all(np.isfinite(ref))):
         return float("inf")
     states, n = ref.shape[:2]
-    diff = np.abs(mine - ref).reshape(states, n, -1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        diff = np.abs(mine - ref).reshape(states, n, -1)  # inf where the difference overflows: a failure
     refs = ref.reshape(states, n, -1)
-    overall = float(np.sqrt(np.mean(refs**2))) or 1.0
+    overall = _rms(refs) or 1.0
     worst = 0.0
     for j in range(n):
-        rms = float(np.sqrt(np.mean(refs[:, j, :] ** 2)))
+        rms = _rms(refs[:, j, :])
         worst = max(worst, float(np.max(diff[:, j, :])) / (rms if rms > 1e-9 * overall else overall))
-    return worst
+    return worst if np.isfinite(worst) else float("inf")
+
+
+def _rms(values) -> float:
+    """Root mean square without overflow or underflow (scaled by the largest magnitude): the
+    RMS of values near 1e200 is near 1e200, not infinity."""
+    values = np.asarray(values, dtype=float)
+    scale = float(np.max(np.abs(values))) if values.size else 0.0
+    if scale == 0.0:
+        return 0.0
+    return scale * float(np.sqrt(np.mean((values / scale) ** 2)))
 
 
 def compare(mine, reference, states, functions, p=None) -> dict[str, float]:
@@ -415,8 +426,9 @@ class PinocchioReference:
     def jacobian(self, q):
         self.pin.computeJointJacobians(self.model, self.data, q)
         self.pin.updateFramePlacements(self.model, self.data)
-        return self.pin.getFrameJacobian(self.model, self.data, self.tool_frame,
-                                         self.pin.ReferenceFrame.LOCAL_WORLD_ALIGNED).copy()
+        J = self.pin.getFrameJacobian(self.model, self.data, self.tool_frame,
+                                      self.pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        return np.array(J).reshape(6, self.model.nv)  # 6 x 1 for one joint (Pinocchio gives a vector)
 
     def jacobian_dot_qd(self, q, qd):
         self.pin.forwardKinematics(self.model, self.data, q, qd, np.zeros(self.model.nv))

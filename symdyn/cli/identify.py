@@ -69,6 +69,7 @@ def run(args) -> int:
         _print(args, eqs, result, nominal, samples.count)
     if args.out:
         text = _identified_robot_file(args, eqs, result)
+        _check_readable(text, args.out)
         write_atomic(args.out, text.encode("utf-8"), protect=input_files(args.robot) + [args.data])
         if not args.quiet:
             print(f"wrote {args.out}")
@@ -99,6 +100,21 @@ def _print(args, eqs, result, nominal, count) -> None:
         expression = sp.sstr(eqs.base_parameters[k][1])
         shown = expression if len(expression) <= 100 else expression[:99] + "…"
         print(f"{name:<10} {value:14.6g} {std:11.3g} {relative} {file_value}  {shown}")
+
+
+def _check_readable(text: str, out: str) -> None:
+    """Refuse to write a robot file symdyn would not read back (an identified mass that is
+    negative, a damping beyond the limits, ...): one line naming the problem."""
+    import warnings
+    from ..model.errors import SymdynWarning
+    from ..model.robot import loads
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SymdynWarning)
+            loads(text, out)
+    except SymdynError as exc:
+        raise SymdynError(f"not writing {out}: symdyn would refuse the identified robot file ({exc}); the samples "
+                          "do not determine physical values: excite the robot more, or check the data") from None
 
 
 def _identified_robot_file(args, eqs, result) -> str:

@@ -51,6 +51,8 @@ def run(args) -> int:
     from ..model.scene import is_urdf
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
+    if args.seed < 0:
+        raise SymdynError(f"--seed must be a non-negative integer, not {args.seed}")
     robot, scene = load_robot(args.robot, args)
     check_size(robot, args, args.robot)
     asked = parse_functions(args.functions) if args.functions else None

@@ -98,7 +98,7 @@ def _numeric_method(spec):
             *args, p = args
         if len(args) != len(spec.inputs):
             raise TypeError(f"{spec.name} takes {', '.join(spec.inputs)}[, p]")
-        return self._call(spec.name, tuple(args), p, matrix=spec.always_matrix)
+        return self._call(spec.name, tuple(args), p, matrix=not spec.is_vector)
     method.__name__ = spec.name
     rows = "(n,)" if spec.shape_text == "N" else f"({spec.shape_text.replace(' x ', ', ')})"
     method.__doc__ = f"{spec.summary} Arguments {', '.join(spec.inputs)}[, p]; returns {rows} ({spec.units})."

@@ -53,14 +53,16 @@ from .program import ProgramBuilder
 from .spatial import cross, skew
 
 #: status codes of the generated functions (0: success)
-STATUS = {"unreachable": 1, "leg_singular": 2, "singular": 3}
+STATUS = {"unreachable": 1, "leg_singular": 2, "singular": 3, "not_finite": 4}
 STATUS_DOC = {
     "unreachable": "the pose is out of a leg's reach (its closed-form inverse kinematics has no real "
                    "solution), or the quaternion is zero",
     "leg_singular": "a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle "
                     "of its inverse kinematics is not defined)",
-    "singular": "the platform is at a parallel singularity: K (q_dot = K t, the inverse of the seed's T) "
+    "singular": "the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) "
                 "is singular",
+    "not_finite": "a result is not finite (NaN, or beyond the range of the scalar type: a twist or force "
+                  "so large that the dynamics overflow)",
 }
 #: forward dynamics' SINGULAR: it solves with the generalized inertia, not with K
 FORWARD_SINGULAR_DOC = ("the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is "
@@ -76,12 +78,12 @@ FUNCTIONS = {
                          "accelerations qdd under actuator forces phi at state (pose, t): forward dynamics."),
     "mass_matrix": (("pose",), (("M", 6, 6),),
                     "The mass matrix M (6x6, row-major) in actuated coordinates: the kinetic energy is "
-                    "qd^T M qd / 2 (the seed's M = T^T M_M T + sum_J L_J^T I_J L_J)."),
+                    "qd^T M qd / 2 (M = T^T M_M T + sum_J L_J^T I_J L_J, natural orthogonal complement)."),
     "twist_map": (("pose",), (("T", 6, 6),),
-                  "The seed's T (6x6, row-major): the platform's twist t = T qd for actuated joint "
+                  "The twist map T (6x6, row-major): the platform's twist t = T qd for actuated joint "
                   "rates qd (T = K^-1)."),
     "leg_rate_maps": (("pose",), (("L", 36, 6),),
-                      "The seed's L_J for the six legs (6 blocks of 6x6, row-major, leg by leg): leg J's "
+                      "The leg rate maps L_J for the six legs (6 blocks of 6x6, row-major, leg by leg): leg J's "
                       "joint rates are L_J qd."),
     "inverse_kinematics": (("pose", "twist"), (("q", 6, 1), ("qd", 6, 1)),
                            "The actuated joints' positions q (rad or m) and rates qd at state (pose, t): "
@@ -142,7 +144,7 @@ class ParallelFunction:
     @property
     def statuses(self) -> tuple[str, ...]:
         """The status codes this function can return (names of :data:`STATUS`), in order."""
-        found = {s.status for s in self.steps if isinstance(s, (Factor, Require))}
+        found = {s.status for s in self.steps if isinstance(s, (Factor, Require))} | {"not_finite"}
         return tuple(k for k in STATUS if k in found)
 
 
@@ -373,9 +375,13 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
     pose, twist, rate, phi = (sp.Matrix(inputs[k]) for k in ("pose", "twist", "twist_rate", "phi"))
     st = _Steps()
     # orientation: R from the quaternion (x, y, z, w), normalized
-    x, y, z, w = pose[3:7]
+    # (scaled by the sum of magnitudes first: 1e-300 or 1e300 components neither underflow nor
+    # overflow in the squares; only the zero quaternion is refused)
+    scale = st.define("quat_m", sum(sp.Abs(c) for c in pose[3:7]))
+    st.require(scale, True, "unreachable", where)
+    inverse = st.define("quat_im", 1 / scale)
+    x, y, z, w = (st.define(f"quat_{c}", value * inverse) for c, value in zip("xyzw", pose[3:7]))
     norm2 = st.define("quat_n2", x * x + y * y + z * z + w * w)
-    st.require(norm2, True, "unreachable", where)
     s = st.define("quat_s", 2 / norm2)
     R = sp.Matrix([[1 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)],
                    [s * (x * y + z * w), 1 - s * (x * x + z * z), s * (y * z - x * w)],

@@ -52,10 +52,11 @@ class ParallelDerivation:
 
 
 def _rotation(quaternion) -> np.ndarray:
-    x, y, z, w = quaternion
+    scale = sum(abs(float(c)) for c in quaternion)  # scaled: tiny or huge components stay representable
+    if not 0 < scale < float("inf"):
+        raise SymdynError("the pose's quaternion is zero" if scale == 0 else "the pose's quaternion is not finite")
+    x, y, z, w = (float(c) / scale for c in quaternion)
     n = x * x + y * y + z * z + w * w
-    if not n > 0:
-        raise SymdynError("the pose's quaternion is zero")
     s = 2.0 / n
     return np.array([[1 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)],
                      [s * (x * y + z * w), 1 - s * (x * x + z * z), s * (y * z - x * w)],

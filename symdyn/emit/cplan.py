@@ -18,7 +18,7 @@ import sympy as sp
 
 from ..derive.equations import Equations
 from ..model.outputs import COMBINED, REGISTRY, Dimensions
-from .emission import factor_coefficients, fold_constants, pair_cse
+from .emission import factor_coefficients, fold_constants, fresh_symbols, pair_cse
 
 #: functions of at least this many statements get the pair CSE (:func:`emission.pair_cse`) instead
 #: of SymPy's: in practice the Coriolis matrix of chains of about 14 joints or more (16,000
@@ -169,7 +169,7 @@ def reduce_targets(eqs: Equations, plan: FunctionPlan) -> ReducedPlan:
     folded = [(s, fold_constants(r)) for s, r in assigns]
     outputs = [fold_constants(sp.sympify(t.expr)) for t in plan.targets]
     checks = [fold_constants(sp.sympify(e)) for e in plan.pivots]
-    cse_symbols = sp.numbered_symbols("cse", real=True)
+    cse_symbols = fresh_symbols("cse", [r for _, r in folded] + outputs + checks + [s for s, _ in folded])
     if len(folded) >= PAIR_CSE_FROM:
         replacements, reduced = pair_cse([r for _, r in folded] + outputs + checks, cse_symbols)
     else:

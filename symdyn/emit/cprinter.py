@@ -158,6 +158,9 @@ class CPrinter(C99CodePrinter):
     def _print_sin(self, expr):
         return self._fn("sin", expr)
 
+    def _print_Abs(self, expr):
+        return self._fn("fabs", expr)
+
     def _print_cos(self, expr):
         return self._fn("cos", expr)
 

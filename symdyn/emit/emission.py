@@ -120,6 +120,19 @@ def _product_parts(term: sp.Expr) -> tuple[int, list[sp.Expr]]:
     return sign, ([coeff] if coeff != 1 else []) + factors
 
 
+def fresh_symbols(prefix: str, exprs, start: int = 0):
+    """``prefix0, prefix1, ...`` (from ``start``) as real SymPy symbols, skipping every name a
+    free symbol of ``exprs`` already has: a temporary never takes the name of a parameter or
+    an intermediate (a robot parameter called ``cse0``)."""
+    used = {s.name for e in exprs for s in sp.sympify(e).free_symbols}
+    k = start
+    while True:
+        name = f"{prefix}{k}"
+        k += 1
+        if name not in used:
+            yield sp.Symbol(name, real=True)
+
+
 def pair_cse(exprs, symbols) -> tuple[list[tuple[sp.Symbol, sp.Expr]], list[sp.Expr]]:
     """Common products of two factors, named once: the common-subexpression pass for very long
     straight-line programs (same results as ``sp.cse(exprs, symbols=symbols, order="none")``:

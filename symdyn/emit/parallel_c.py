@@ -24,7 +24,7 @@ from ..derive.parallel import (FORWARD_SINGULAR_DOC, FUNCTIONS, INPUT_SIZES, STA
 from .cgen import CFunction, scalar_type
 from .cplan import merge_cse
 from .cprinter import CPrinter, count_operations
-from .emission import banner_fields, comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
+from .emission import fresh_symbols, banner_fields, comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
 
 
 INPUT_DOCS = {
@@ -82,9 +82,11 @@ def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: st
         """Lines of a block (and of the output stores, CSE'd with it)."""
         folded = [(s, _folded(r)) for s, r in assignments]
         outs = [(target, _folded(sp.sympify(e))) for target, e in outputs]
-        symbols = sp.numbered_symbols("cse", real=True, start=cse_count[0])
-        replacements, reduced = pair_cse([r for _, r in folded] + [e for _, e in outs], symbols)
-        cse_count[0] += len(replacements)
+        exprs = [r for _, r in folded] + [e for _, e in outs]
+        symbols = fresh_symbols("cse", exprs + [s for s, _ in folded], start=cse_count[0])
+        replacements, reduced = pair_cse(exprs, symbols)
+        if replacements:  # the next block's temporaries are numbered after the last one taken
+            cse_count[0] = int(replacements[-1][0].name[3:]) + 1
         statements = merge_cse([(s, r) for (s, _), r in zip(folded, reduced[:len(folded)])], replacements)
         for sym, rhs in statements:
             names[sym] = _c_name(sym)
@@ -130,12 +132,21 @@ def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: st
                 for j in range(cols):
                     names[step.result[i, j]] = f"{array}[{6 * j + i}]"
             body.ops += Counter({k: v * cols for k, v in SOLVE_OPS.items()})
-    stores = []
+    # the results into a local array first: every one finite, else a status and no output written
+    stores, copies, size = [], [], 0
     for arg, matrix in function.outputs:
-        for i in range(matrix.rows):
-            for j in range(matrix.cols):
-                stores.append((f"{arg}[{i * matrix.cols + j}]", matrix[i, j]))
+        count = matrix.rows * matrix.cols
+        stores += [(f"result[{size + k}]", matrix[k // matrix.cols, k % matrix.cols]) for k in range(count)]
+        copies.append((arg, size, count))
+        size += count
+    body.lines.append(f"{real} result[{size}];")
     block([], stores)
+    fabs, limit = ("fabsf", "FLT_MAX") if precision == "float" else ("fabs", "DBL_MAX")
+    body.lines += [f"for (int k = 0; k < {size}; ++k) {{",
+                   f"    if (!({fabs}(result[k]) <= {limit})) return {prefix.upper()}_NOT_FINITE;",
+                   "}"]
+    for arg, offset, count in copies:
+        body.lines += [f"for (int k = 0; k < {count}; ++k) {{", f"    {arg}[k] = result[{offset} + k];", "}"]
     body.lines.append("return 0;")
     args = [(f"const {real} ", f"{group}[{INPUT_SIZES[group]}]", INPUT_DOCS[group], False)
             for group, _ in function.inputs]

@@ -88,6 +88,12 @@ class OutputSpec:
     #: summaries and statuses that replace the above for another forward-dynamics method
     fd_variants: tuple[tuple[str, str, str], ...] = ()
 
+    @property
+    def is_vector(self) -> bool:
+        """Whether the output is a vector (one column whatever the robot), not a matrix that
+        may have one column (the Jacobian of a one-joint robot is 6 x 1, still a matrix)."""
+        return " x " not in self.shape_text and not self.always_matrix
+
     def summary_for(self, fd_method: str = "") -> str:
         return next((s for m, s, _ in self.fd_variants if m == fd_method), self.summary)
 

@@ -33,7 +33,9 @@ MAX_NAME = 31
 #: the largest magnitude of a numeric field (products of three such stay finite in double)
 MAX_MAGNITUDE = sp.Integer(10) ** 100
 # Names the derivation itself uses for joint variables; a parameter may not shadow them.
-_RESERVED_NAME = re.compile(r"(q|qd|qdd|tau|p)[0-9]*\Z")
+#: names that print like symdyn's own symbols (joint variables and their rates in code and
+#: printouts, the sin/cos shorthand c1, s1 of the printouts, the C emitter's temporaries cse0, ...)
+_RESERVED_NAME = re.compile(r"(q|qd|qdd|qdot|qddot|tau|p|cse)[0-9]*\Z|(c|s)[0-9]+\Z")
 _RESERVED_WORDS = frozenset({"pi", "e", "E", "I", "sin", "cos", "sqrt"})
 _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any case
 
@@ -318,8 +320,8 @@ class RobotFileReader:
                 or name.lower() in _RESERVED_FOLDED or _RESERVED_NAME.match(name)):
             self.fail(f"{describe(name)} cannot be used as a {what}: names are letters, digits and '_', "
                       f"start with a letter, have at most {MAX_NAME} characters, and may not be pi, e, E, "
-                      "I, sin, cos, sqrt, nan, inf, oo, zoo or a joint variable name (q1, qd1, qdd1, "
-                      "tau1, p...)", link, fld)
+                      "I, sin, cos, sqrt, nan, inf, oo, zoo, a joint variable name (q1, qd1, qdot1, qdd1, "
+                      "qddot1, tau1, p...) or a name symdyn uses itself (c1, s1, cse0, ...)", link, fld)
 
     def warn(self, reason: str, link: str | None = None, fld: str | None = None):
         """A one-line :class:`SymdynWarning` naming the file, link and field."""

@@ -23,6 +23,9 @@ from .errors import SymdynError
 
 #: largest data file read (bytes)
 MAX_SAMPLES_BYTES = 512 * 1024 * 1024
+#: the largest magnitude of a sample value (rad, m, their rates, N m, N): far beyond any robot,
+#: and small enough that the regressor's products and squares stay finite in double
+MAX_SAMPLE_MAGNITUDE = 1e9
 GROUPS = ("q", "qd", "qdd", "tau")
 
 
@@ -103,6 +106,11 @@ def read_samples(path: str, n: int) -> Samples:
                 raise SymdynError(f"{name}: line {line_number}, column {header[c]}: {cell.strip()[:40]!r} is not a number") from None
             if not math.isfinite(value):
                 raise SymdynError(f"{name}: line {line_number}, column {header[c]}: {cell.strip()} is not a finite number")
+            if abs(value) > MAX_SAMPLE_MAGNITUDE:
+                raise SymdynError(f"{name}: line {line_number}, column {header[c]}: {cell.strip()[:40]} is beyond "
+                                  f"{MAX_SAMPLE_MAGNITUDE:g} in magnitude: no joint position (rad or m), rate or "
+                                  "torque is that large, and the least-squares fit would lose every other "
+                                  "sample to it (check the units and the column order)")
             data[r, c] = value
     index = {h: k for k, h in enumerate(header)}
     arrays = [data[:, [index[f"{g}{k + 1}"] for k in range(n)]] for g in GROUPS]

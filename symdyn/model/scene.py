@@ -331,12 +331,17 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     if not isinstance(lock, dict):
         _fail(path, "expected a mapping of joint (1-based index or link name) to value", "lock")
     locked: dict[int, sp.Expr] = {}
+    keys: dict[int, object] = {}  # the key that locked each joint
     names = {link.name: k for k, link in enumerate(robot.links)}
     for key, value in lock.items():
         index = names.get(key) if isinstance(key, str) else (key - 1 if isinstance(key, int) and not isinstance(key, bool) else None)
         where = f"lock.{one_line(str(key), 40)}"
         if index is None or not 0 <= index < robot.dof:
             _fail(path, f"no joint {describe(key)} in {robot.name} (give a 1-based index or a link name)", where)
+        if index in keys:
+            _fail(path, f"joint {index + 1} ({robot.links[index].name}) is locked twice, as "
+                        f"{describe(keys[index])} and as {describe(key)}: give it once", where)
+        keys[index] = key
         if not isinstance(value, (int, float)) or isinstance(value, bool):
             _fail(path, f"expected a number (rad or m), not {describe(value)}", where)
         if not math.isfinite(value) or abs(value) > MAX_LOCK_VALUE:

@@ -8,7 +8,7 @@ import pytest
 import sympy as sp
 
 import symdyn
-from helpers import PinocchioReference, robot_path
+from helpers import REPO, PinocchioReference, robot_path
 from symdyn.cli import main
 from symdyn.derive.regressor import parameter_names, standard_parameters
 from symdyn.model.samples import Samples, write_samples
@@ -92,6 +92,8 @@ def test_bad_data_files_are_refused(tmp_path, capsys):
         "semicolons.csv": (good.replace(",", ";"), "separated by semicolons"),
         "longfield.csv": (good + "9" * 200_000 + "," + ",".join(["1"] * 23) + "\n", "not a readable CSV file"),
         "underscore.csv": (good.replace(good.splitlines()[1].split(",")[0], "1_000", 1), "is not a number"),
+        "huge.csv": (good.replace(good.splitlines()[3].split(",")[20], "1e308", 1), "is beyond 1e+09 in magnitude"),
+        "large.csv": (good.replace(good.splitlines()[3].split(",")[2], "-2e9", 1), "is beyond 1e+09 in magnitude"),
     }
     for name, (text, message) in cases.items():
         path = tmp_path / name
@@ -124,3 +126,16 @@ def test_scara_round_trip():
     result = identify(eqs, _exciting(robot, 300, seed=66))
     assert "my1" not in [name for name, _ in eqs.base_parameters]
     assert np.max(np.abs(result.values - truth)) <= 1e-8 * np.max(np.abs(truth))
+
+
+def test_an_unreadable_robot_file_is_never_written(tmp_path):
+    """identify refuses to write what symdyn would refuse to read (here a negative mass)."""
+    from symdyn.cli.identify import _check_readable
+    text = (REPO / "robots" / "planar2r.yaml").read_text()
+    _check_readable(text, str(tmp_path / "ok.yaml"))
+    broken = text.replace("m1: 1.0", "m1: -4.9e305") if "m1: 1.0" in text else None
+    doc = "format: 1\nname: bad\nconvention: standard\nlinks:\n  - {joint: revolute, a: 1, alpha: 0, d: 0, theta: 0, mass: -3}\n"
+    for bad in filter(None, (broken, doc)):
+        with pytest.raises(symdyn.SymdynError, match="not writing .*symdyn would refuse the identified robot file"):
+            _check_readable(bad, str(tmp_path / "bad.yaml"))
+

@@ -58,3 +58,18 @@ def test_error_measure_catches_a_wrong_model(derived):
     q = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6])
     err = normalized_error(eqs.numeric.gravity(q)[None, :], ref.gravity(q)[None, :])
     assert err > 1e-5
+
+
+def test_error_measure_does_not_overflow():
+    """Values near 1e200 are compared by their ratio, not by squares that overflow: a relative
+    difference of 1e-3 measures as at scale 1 (not 0), an overflowing difference is inf, and numpy warns of
+    nothing."""
+    import warnings
+    ref = np.array([[1e200, -2e200, 3e200], [2e200, 1e200, -1e200]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        unit = normalized_error(ref / 1e200 * (1 + 1e-3), ref / 1e200)  # the same comparison at scale 1
+        assert unit > 1e-3 and abs(normalized_error(ref * (1 + 1e-3), ref) - unit) < 1e-12
+        assert normalized_error(ref, ref) == 0.0
+        assert normalized_error(np.array([[1e308, 1.0]]), np.array([[-1e308, 1.0]])) == float("inf")
+        assert normalized_error(np.array([[1e-300, 0.0]]), np.array([[2e-300, 0.0]])) > 0.4

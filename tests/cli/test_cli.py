@@ -147,3 +147,17 @@ def test_verify_by_the_jacobian_projected_method(capsys):
                  "--states", "10"]) == 0
     out = capsys.readouterr().out
     assert "jacobian-newton-euler" in out and out.count(" ok") == 9
+
+
+def test_verify_a_one_joint_robot_and_a_negative_seed(tmp_path, capsys):
+    """A one-joint robot's Jacobian (6 x 1) is compared as a matrix on both sides; a negative
+    --seed is a one-line error, not an internal one."""
+    path = tmp_path / "one.yaml"
+    path.write_text("format: 1\nname: one\nconvention: standard\nlinks:\n  - {joint: revolute, a: 0.4, alpha: 0, "
+                    "d: 0, theta: 0, mass: 1.0, com: [0.2, 0, 0], inertia: [0.01, 0.01, 0.01, 0, 0, 0]}\n")
+    assert main(["verify", str(path), "--states", "3"]) == 0
+    out = capsys.readouterr().out
+    assert "FAIL" not in out and any(line.split()[:1] == ["jacobian"] and line.endswith("ok") for line in out.splitlines())
+    assert main(["verify", str(path), "--seed", "-1"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--seed must be a non-negative integer" in err[0]

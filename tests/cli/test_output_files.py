@@ -357,11 +357,16 @@ def test_planted_journal_never_replaces_a_file(tmp_path, capsys, version):
     (out / ".symdyn-tmp-planted").write_bytes(b"a planted file")
     snapshot = contents(out)
     robot = str(REPO / "robots" / "planar2r.yaml")
-    rng = __import__("numpy").random.default_rng(0)
-    data = tmp_path / "samples.csv"
-    data.write_text(",".join(f"{p}{i}" for p in ("q", "qd", "qdd", "tau") for i in range(1, 7)) + "\n" + "".join(
-        ",".join(f"{x:.6f}" for x in rng.uniform(-1, 1, 24)) + "\n" for _ in range(100)))
+    import numpy as np
+    import symdyn
+    from symdyn.model.samples import Samples, write_samples
     numeric = str(REPO / "robots" / "puma560.yaml")
+    eqs = symdyn.derive(symdyn.load(numeric), outputs=["inverse_dynamics"])
+    rng = np.random.default_rng(0)
+    q, qd, qdd = (rng.uniform(-2, 2, (150, 6)) for _ in range(3))
+    tau = np.array([eqs.numeric.inverse_dynamics(*state) for state in zip(q, qd, qdd)])
+    data = tmp_path / "samples.csv"
+    data.write_text(write_samples(Samples(q, qd, qdd, tau)))  # the file's own dynamics: physical values
     for argv in (["generate", robot, "--out", str(out)], ["convert", numeric, "--to", "urdf", "--out", str(out / "a.urdf")],
                  ["derive", robot, "--out", str(out / "d.txt")],
                  ["identify", numeric, str(data), "--out", str(out / "identified.yaml")]):

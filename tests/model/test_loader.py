@@ -189,3 +189,37 @@ def test_undeclared_name_suggests_the_declared_one(tmp_path):
     message = str(err.value)
     assert "link 1 ('first')" in message and "field 'd'" in message
     assert "unknown name 'l_of'" in message and "did you mean 'l_off'?" in message
+
+
+@pytest.mark.parametrize("name", ["qdot2", "qddot1", "cse0", "cse12", "c1", "s3", "q", "tau4"])
+def test_names_that_print_like_symdyns_own_are_reserved(tmp_path, name):
+    """A parameter named like a joint rate of the printouts (qdot2), the sin/cos shorthand (c1)
+    or the C emitter's temporaries (cse0) is refused, naming it: it would merge with them."""
+    text = textwrap.dedent(f"""\
+        format: 1
+        name: two
+        convention: standard
+        parameters:
+          {name}: 0.5
+        links:
+          - {{joint: revolute, a: 0.4, alpha: 0, d: 0, theta: 0, mass: {name}, com: [0.2, 0, 0], inertia: 0}}
+        """)
+    with pytest.raises(RobotFileError, match=f"'{name}' cannot be used as a"):
+        load_text(tmp_path, text)
+
+
+def test_temporaries_never_take_a_name_in_use():
+    """The C emitter's temporaries skip every name the expressions use (a parameter named cse0
+    reaching the emitter some other way is never replaced by a temporary)."""
+    import sympy as sp
+    from symdyn.emit.emission import fresh_symbols, pair_cse
+    a, b, c, used = sp.symbols("a b c cse0", real=True)
+    exprs = [used * a * b + c, used * a * b - 2 * c, a * b * c]
+    replacements, reduced = pair_cse(exprs, fresh_symbols("cse", exprs))
+    assert replacements and all(s.name != "cse0" for s, _ in replacements)
+    values = {a: 1.5, b: -0.7, c: 0.3, used: 2.0}
+    back = dict(replacements)
+    for original, rewritten in zip(exprs, reduced):
+        for _ in range(3):
+            rewritten = rewritten.xreplace(back)
+        assert abs(float(original.xreplace(values)) - float(rewritten.xreplace(values))) < 1e-12

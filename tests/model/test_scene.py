@@ -154,6 +154,8 @@ def test_scene_errors_name_the_file_and_field(tmp_path, capsys):
         "missing robot": ("scene: 1\nrobot: ROBOTS/none.yaml\n", "robot"),
         "lock value": ("scene: 1\nrobot: ROBOTS/puma560.yaml\nlock: {2: __import__}\n", "lock.2"),
         "all locked": ("scene: 1\nrobot: ROBOTS/scara.yaml\nlock: {1: 0, 2: 0, 3: 0, 4: 0}\n", "free"),
+        "locked twice": ("scene: 1\nrobot: ROBOTS/puma560.yaml\nlock: {1: 0, waist: 0.1}\n",
+                         "joint 1 (waist) is locked twice, as 1 and as 'waist'"),
     }
     for label, (text, needle) in cases.items():
         path = _scene_file(tmp_path, text, f"{label.replace(' ', '_')}.yaml")
