@@ -56,6 +56,15 @@ def add_parser(sub) -> None:
     p.set_defaults(run=run)
 
 
+#: the most joints --form closed is accepted for (measured on the 2-core reference machine: a
+#: 4-joint SCARA by Lagrange-Euler 9 s; the 6-joint Stanford arm by Newton-Euler 87 s, the
+#: Puma 560 over 100 s)
+CLOSED_FORM_MAX_DOF = 4
+
+#: the largest magnitude of a --pose, --twist or --qdd entry
+MAX_STATE_VALUE = 1e9
+
+
 def _numbers(text, count: int, option: str):
     """``count`` comma-separated finite numbers (never evaluated as code), or None."""
     import math
@@ -70,6 +79,9 @@ def _numbers(text, count: int, option: str):
         raise SymdynError(f"{option}: not a number in {str(text)[:60]!r}") from None
     if not all(math.isfinite(v) for v in values):
         raise SymdynError(f"{option}: every number must be finite")
+    if any(abs(v) > MAX_STATE_VALUE for v in values):
+        raise SymdynError(f"{option}: every number must be at most {MAX_STATE_VALUE:g} in magnitude (m, rad/s, "
+                          "m/s, N: the printout's products would overflow)")
     return values
 
 
@@ -95,6 +107,11 @@ def _serial_text(args, robot):
         raise SymdynError("--pose, --twist and --qdd apply to platform robots (kind: parallel) only")
     check_size(robot, args, args.robot)
     closed = {"auto": None, "closed": True, "named": False}[args.form]
+    if closed and robot.dof > CLOSED_FORM_MAX_DOF:
+        raise SymdynError(f"{args.robot}: --form closed expands every quantity in the joint variables, which does not "
+                          f"finish in minutes beyond {CLOSED_FORM_MAX_DOF} joints (this robot has {robot.dof}; "
+                          "6 joints take over 100 s by Newton-Euler): use --form named (the default for more "
+                          "than 3 joints)")
     if args.method in ("articulated-body", "aba"):
         if closed:
             raise SymdynError("--form closed: the articulated-body derivation is printed in the named form "

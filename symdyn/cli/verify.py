@@ -75,10 +75,18 @@ def run(args) -> int:
         if is_urdf(args.robot) and scene is None:  # Pinocchio reads the file itself: an independent reading
             from ..model.urdf import QUARTER_TOLERANCE
             snapped = not args.exact_angles and any("multiple of pi/2" in note for note in robot.notes)
-            ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None)
-            reading = "Pinocchio's own URDF parser" + (
-                " (near-quarter-turn rpy angles made exact, as symdyn reads them; --exact-angles "
-                "keeps them as written)" if snapped else "")
+            try:
+                with _stderr_silenced():  # urdfdom prints its complaints on the process's stderr
+                    ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None)
+                reading = "Pinocchio's own URDF parser" + (
+                    " (near-quarter-turn rpy angles made exact, as symdyn reads them; --exact-angles "
+                    "keeps them as written)" if snapped else "")
+            except Exception as exc:  # Pinocchio's parser refuses what symdyn read: compare with symdyn's reading
+                from ..model.errors import one_line, warn
+                warn(f"{args.robot}: Pinocchio's URDF parser cannot read it ({type(exc).__name__}: "
+                     f"{one_line(exc, 160)}); comparing with a Pinocchio model of symdyn's reading instead")
+                ref = PinocchioReference(robot, values)
+                reading = "a Pinocchio model of symdyn's reading"
         else:
             ref = PinocchioReference(robot, values)
             reading = "a Pinocchio model of symdyn's reading"
@@ -148,3 +156,24 @@ class _ReferenceTorques:
 
     def __getattr__(self, name):
         return getattr(self._reference, name)
+
+
+class _stderr_silenced:
+    """Point file descriptor 2 at the null device for a while (C libraries write there directly)."""
+
+    def __enter__(self):
+        import os
+        import sys
+        sys.stderr.flush()
+        self.saved = os.dup(2)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 2)
+        os.close(devnull)
+        return self
+
+    def __exit__(self, *exc):
+        import os
+        os.dup2(self.saved, 2)
+        os.close(self.saved)
+        return False
+

@@ -22,6 +22,7 @@ not a finite number or a finite expression (``0**-1``, ``zoo``) is refused.
 
 from __future__ import annotations
 
+import math
 import re
 from fractions import Fraction
 from typing import Callable
@@ -40,6 +41,12 @@ MAX_DEPTH = 50
 MAX_LITERAL = 64
 MAX_EXPONENT = 400
 MAX_POWER = 64
+#: the most terms a power of a sum may expand to ((a+b+c+d)**64 would be 47,905: minutes and
+#: gigabytes once it meets the trigonometry of a derivation)
+MAX_EXPANDED_TERMS = 1000
+#: the most digits of an exact number in a parsed expression (parameters defined from earlier
+#: ones, p2 = p1*p1, ..., double their digits at every step)
+MAX_DIGITS = 1000
 _LOG10_LIMIT = 300
 
 
@@ -89,6 +96,11 @@ def _check_power(base: sp.Expr, exponent: sp.Expr, text: str) -> None:
         raise ExpressionError(f"the exponent after '**' must be a number in expression '{_short(text)}'")
     if abs(exponent) > MAX_POWER:
         raise ExpressionError(f"exponent {float(exponent):g} is larger than {MAX_POWER} in expression '{_short(text)}'")
+    if base.free_symbols and exponent.is_integer and abs(exponent) >= 2:
+        k, n = len(sp.Add.make_args(sp.expand(base))), int(abs(exponent))
+        if k > 1 and math.comb(n + k - 1, k - 1) > MAX_EXPANDED_TERMS:
+            raise ExpressionError(f"the power in expression '{_short(text)}' expands to {math.comb(n + k - 1, k - 1)} "
+                                  f"terms, more than {MAX_EXPANDED_TERMS}: write it with fewer terms or a smaller exponent")
     if base.is_number and not base.free_symbols:
         if base == 0:
             if exponent.is_negative:
@@ -177,6 +189,9 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
             take()
             exponent = nested(unary)
             _check_power(base, exponent, text)
+            if base.is_number and exponent.is_number and not exponent.is_integer and base.is_extended_negative:
+                raise ExpressionError(f"expression '{_short(text)}': a negative number to a fractional power "
+                                      "has no real value")
             return base**exponent
         return base
 
@@ -200,6 +215,10 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
     result = expr()
     if pos != len(tokens):
         raise ExpressionError(f"unexpected '{tokens[pos][1]}' in expression '{_short(text)}'")
-    if result.has(sp.zoo, sp.oo, -sp.oo, sp.nan, sp.I):
+    if result.has(sp.zoo, sp.oo, -sp.oo, sp.nan, sp.I) or (result.is_number and result.is_extended_real is not True):
         raise ExpressionError(f"expression '{_short(text)}' has no finite real value")
+    limit = 10 ** MAX_DIGITS
+    if any(abs(r.p) >= limit or r.q >= limit for r in result.atoms(sp.Rational)):
+        raise ExpressionError(f"expression '{_short(text)}' makes an exact number of more than {MAX_DIGITS} digits "
+                              "(parameters defined by repeated products of earlier ones?): write a decimal value")
     return result

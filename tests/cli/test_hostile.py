@@ -441,3 +441,46 @@ int main(void) {
     assert statuses[:3] == [1, 2, 1] and statuses[3] != 0 and statuses[4] == 0, rows
     assert all(np.isfinite(float(x)) and float(x) != 7.0 for x in rows[4][1:]), rows  # solved, written
     assert all(row[1:] == ["7", "7"] for row in rows if row[0] != "0"), rows  # not written on a status
+
+
+def test_round_two_internal_errors_are_one_line(workspace, capsys):
+    """Inputs that ended in internal errors: a non-real number, a platform printout at a twist
+    of 1e300, a negative seed, and a URDF that Pinocchio's parser refuses (an xmlns on
+    <robot>): each a one-line error, or for the URDF a one-line warning and symdyn's reading."""
+    link = "{joint: revolute, a: 0.4, alpha: 0, d: 0, theta: 0, mass: '(-8)**(1/3)', com: [0.2, 0, 0], inertia: 0}"
+    (workspace / "r.yaml").write_text(robot_text(links=[link]))
+    (line,), _ = run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out"], capsys, 1)
+    assert "field 'mass'" in line and "has no real value" in line
+    (line,), _ = run_cli(["derive", REPO / "robots" / "parallel" / "sru_platform.yaml", "--twist", "1e300,0,0,0,0,0"],
+                         capsys, 1)
+    assert "--twist" in line and "at most 1e+09" in line
+    text = (REPO / "tests" / "data" / "urdf" / "handmade.urdf").read_text().replace(
+        "<robot ", '<robot xmlns="http://www.ros.org" ', 1)
+    (workspace / "ns.urdf").write_text(text)
+    assert main(["verify", str(workspace / "ns.urdf"), "--states", "3"]) == 0
+    captured = capsys.readouterr()
+    err = captured.err.strip().splitlines()
+    assert len(err) == 1 and "Pinocchio's URDF parser cannot read it" in err[0], err
+    assert "against a Pinocchio model of symdyn's reading" in captured.out and "FAIL" not in captured.out
+
+
+def test_round_two_small_files_that_ran_for_minutes(workspace, capsys):
+    """A power of a sum that expands to 47,905 terms (287 bytes: 120 s and 1 GB before),
+    parameters defined by repeated products of earlier ones (exact numbers doubling their digits:
+    still running at 180 s before), and a closed-form printout of 12 joints: each refused in one
+    line within seconds."""
+    import time
+    runtime = "parameters: {a: {runtime: true}, b: {runtime: true}, c: {runtime: true}, d: {runtime: true}}\n"
+    link = "{joint: revolute, a: 0.4, alpha: '(a+b+c+d)**64', d: 0, theta: 0, mass: 1, com: [0.2, 0, 0], inertia: 0}"
+    (workspace / "power.yaml").write_text(robot_text(links=[link], extra=runtime))
+    chain = "parameters:\n  x0: 0.3\n" + "".join(f"  x{i}: x{i - 1}*x{i - 1}\n" for i in range(1, 41))
+    link = "{joint: revolute, a: x40, alpha: 0, d: 0, theta: 0, mass: 1, com: [0.2, 0, 0], inertia: 0}"
+    (workspace / "chain.yaml").write_text(robot_text(links=[link], extra=chain))
+    cases = [(["generate", workspace / "power.yaml", "--out", workspace / "out"], "expands to 47905 terms"),
+             (["generate", workspace / "chain.yaml", "--out", workspace / "out"], "more than 1000 digits"),
+             (["derive", REPO / "robots" / "chain12.yaml", "--form", "closed"], "--form closed")]
+    for argv, needle in cases:
+        start = time.perf_counter()
+        (line,), _ = run_cli(argv, capsys, 1)
+        assert needle in line and time.perf_counter() - start < 10, (argv, line)
+    assert not (workspace / "out").exists()

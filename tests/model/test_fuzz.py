@@ -34,7 +34,9 @@ ODD_VALUES = [None, True, False, "", " ", "abc", "1/0", "0**(-x)", "x**y", "9**9
               "sin(0.2)", "*/", "/*", "a\nb", "\u00e9", "pi/2", "-0.0", "1e-320", "2**0.5",
               "(" * 60 + "1" + ")" * 60, "q1", "tau", "nan", ".nan", "inf", [], {}, [1, 2], [[[]]],
               {"value": 1}, {"runtime": True}, 0, -1, 1e308, -1e308, 1e100, float("nan"),
-              float("inf"), 10**40, 3, 0.5, "m1", "l2 + 1", "x" * 40]
+              float("inf"), 10**40, 3, 0.5, "m1", "l2 + 1", "x" * 40,
+              # round two: reserved names, powers of sums, non-real numbers, huge fields
+              "qdot2", "cse0", "c1", "(m1+l1+l2+1)**64", "(l1+l2)**40", "(-8)**(1/3)", "1e100*1e100", -1e100]
 
 
 class CaseTimeout(BaseException):
