@@ -227,10 +227,11 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
     j = min(zero_pivot)
     link = robot.links[j]
     joint = f"joint {j + 1} ('{link.name}')"
+    where = f"{robot.source}: " if robot.source else ""
     if j in zero_diagonal:
-        raise SymdynError(f"forward dynamics: D[{j + 1},{j + 1}] is identically 0: {joint} has no inertia "
+        raise SymdynError(f"{where}forward dynamics: D[{j + 1},{j + 1}] is identically 0: {joint} has no inertia "
                           "about its axis; give the link inertia or an armature, or leave forward_dynamics out")
-    raise SymdynError(f"forward dynamics: the mass matrix is singular for every q: {joint} moves no "
+    raise SymdynError(f"{where}forward dynamics: the mass matrix is singular for every q: {joint} moves no "
                       "inertia that the joints before it do not already move; give the link inertia or "
                       "an armature, or leave forward_dynamics out")
 

@@ -76,7 +76,7 @@ def test_point_mass_ur5_refuses_forward_dynamics_only(tmp_path, capsys):
     assert main(["generate", str(robot), "--out", str(tmp_path / "all")]) == 1
     _, lines = stderr_lines(capsys)
     assert len(lines) == 1
-    assert lines[0].startswith("symdyn: error: forward dynamics: D[6,6] is identically 0: joint 6")
+    assert lines[0].startswith(f"symdyn: error: {robot}: forward dynamics: D[6,6] is identically 0: joint 6")
     assert "armature" in lines[0] and "leave forward_dynamics out" in lines[0]
     assert main(["generate", str(robot), "--out", str(tmp_path / "five"), "--functions", FIVE, "--quiet"]) == 0
     assert stderr_lines(capsys)[1] == []  # inertia: 0 says point masses: no warning
