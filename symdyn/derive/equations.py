@@ -192,6 +192,26 @@ def friction_terms(robot: Robot, qd, qdd) -> sp.Matrix:
 PIVOT_RTOL = TOLERANCES["double"]
 
 
+def _subtree_scales(robot: Robot, values) -> np.ndarray:
+    """For each joint j, an upper bound of the inertia about its axis that links j..n could
+    have (kg m^2 or kg): their masses times the square of their reach from joint j (link
+    offsets, origins and centres of mass added up), their rotational inertias' traces, and joint
+    j's armature; at the parameter ``values``."""
+    def number(e):
+        return abs(float(sp.sympify(e).xreplace(values)))
+    links = robot.links
+    reach = [sum(number(x) for x in (link.a, link.d, *(link.origin.xyz if link.origin is not None else ())))
+             for link in links]
+    out = np.zeros(len(links))
+    for j in range(len(links)):
+        total = number(links[j].armature)
+        for k in range(j, len(links)):
+            distance = sum(reach[j:k + 1]) + sum(number(c) for c in links[k].com)
+            total += number(links[k].mass) * distance ** 2 + sum(number(x) for x in links[k].inertia[:3])
+        out[j] = total
+    return out
+
+
 def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int = 2, seed: int = 0) -> None:
     """Refuse forward dynamics of a chain whose ``M = D + diag(armature)`` is singular for every
     q: M is evaluated at ``states`` random configurations (random positive values for the
@@ -203,25 +223,29 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
     rng = np.random.default_rng(seed)
     zero_pivot, zero_diagonal = set(range(n)), set(range(n))
     for _ in range(states):
+        values = rng.uniform(0.5, 1.5, len(robot.parameters))
         try:
-            Mv = evaluate(rng.uniform(-np.pi, np.pi, n), rng.uniform(0.5, 1.5, len(robot.parameters)))
-        except (ZeroDivisionError, OverflowError, ValueError):
+            Mv = evaluate(rng.uniform(-np.pi, np.pi, n), values)
+            subtree = _subtree_scales(robot, dict(zip(robot.parameters, values)))
+        except (ZeroDivisionError, OverflowError, ValueError, TypeError):
             return  # not evaluable here: leave it to the run-time check
-        if not np.all(np.isfinite(Mv)):
+        if not np.all(np.isfinite(Mv)) or not np.all(np.isfinite(subtree)):
             return
-        scale = max(float(np.max(np.abs(np.diag(Mv)))), 1e-300)
+        # each joint's entries are judged against the inertia that joint could move at most
+        # (a 0.01 kg m^2 wrist under a 1e9 kg m^2 first link is not zero)
+        scale = np.maximum(np.maximum(subtree, np.abs(np.diag(Mv))), 1e-300)
         diagonal = np.diag(Mv).astype(float).copy()
         L = np.eye(n)
         d = np.zeros(n)
         for j in range(n):
             d[j] = Mv[j, j] - np.sum(L[j, :j] ** 2 * d[:j])
-            if abs(d[j]) <= 1e-10 * scale:
+            if abs(d[j]) <= 1e-10 * scale[j]:
                 d[j] = 0.0
                 continue
             for i in range(j + 1, n):
                 L[i, j] = (Mv[i, j] - np.sum(L[i, :j] * L[j, :j] * d[:j])) / d[j]
         zero_pivot &= {j for j in range(n) if d[j] == 0.0}
-        zero_diagonal &= {j for j in range(n) if abs(diagonal[j]) <= 1e-10 * scale}
+        zero_diagonal &= {j for j in range(n) if abs(diagonal[j]) <= 1e-10 * scale[j]}
     if not zero_pivot:
         return
     j = min(zero_pivot)

@@ -484,3 +484,17 @@ def test_round_two_small_files_that_ran_for_minutes(workspace, capsys):
         (line,), _ = run_cli(argv, capsys, 1)
         assert needle in line and time.perf_counter() - start < 10, (argv, line)
     assert not (workspace / "out").exists()
+
+
+def test_coaxial_links_of_very_different_inertia_are_not_singular(workspace, capsys):
+    """Two coaxial links, 1e9 and 0.01 kg m^2 about the shared axis: D is regular (the second
+    joint moves 0.01 kg m^2), so forward dynamics is generated and agrees with Pinocchio; the
+    singularity check judges each joint against the inertia its own subtree could have, not
+    against the largest diagonal entry."""
+    links = ["{joint: revolute, a: 0, alpha: 0, d: 0, theta: 0, mass: 1, com: [0, 0, 0], inertia: [1e9, 1e9, 1e9, 0, 0, 0]}",
+             "{joint: revolute, a: 0, alpha: 0, d: 0.1, theta: 0, mass: 1, com: [0, 0, 0], inertia: [0.01, 0.01, 0.01, 0, 0, 0]}"]
+    (workspace / "coax.yaml").write_text(robot_text(links=links))
+    run_cli(["generate", workspace / "coax.yaml", "--out", workspace / "out", "--quiet", "--no-cache"], capsys, 0)
+    assert (workspace / "out" / "hostile_dynamics.c").is_file()
+    assert main(["verify", str(workspace / "coax.yaml"), "--functions", "forward_dynamics,mass_matrix",
+                 "--states", "5"]) == 0
