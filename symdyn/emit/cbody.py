@@ -9,6 +9,7 @@ checks gathered in the mask ``ok``).
 
 from __future__ import annotations
 
+import functools
 from collections import Counter
 from dataclasses import dataclass, field
 
@@ -51,7 +52,9 @@ class Body:
     vector_functions: set = field(default_factory=set)
 
 
+@functools.lru_cache(maxsize=1)
 def _loops():
+    """The macros of ``templates/c_loops.j2`` (loaded once per process)."""
     return template_environment().get_template("c_loops.j2").module
 
 

@@ -425,11 +425,11 @@ def _pending_steps(dfd: int, directory: str, signer: _Signer, names) -> list | N
     return steps
 
 
-def _recover(dfd: int, directory: str, protected, names=()) -> None:
+def _recover(dfd: int, directory: str, protected, names=()) -> _Signer:
     """Under the lock: finish a commit (or rollback) this user's symdyn left half done in the
     directory (when it only replaces files the current run writes, ``names``), then delete the
     leftover temporaries symdyn made there.  A journal or temporary it did not make is never
-    acted on."""
+    acted on.  Returns the directory's signer, for the run's own temporaries and journal."""
     signer = _Signer(dfd)
     try:
         steps = _pending_steps(dfd, directory, signer, names)
