@@ -165,7 +165,7 @@ void pendulum_leg_jacobian(const pendulum_leg_real *q, pendulum_leg_real *J);
 void pendulum_leg_jacobian_dot_qd(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *a);
 
 /*
- * Force-to-torque map (seed 004 of the design notes, eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).
+ * Force-to-torque map (the note 'Force to Torque - Articulated Body Mapping Analysis', eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   k0 (out): base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) and force (N) the base exerts on body 1 through joint 1, base-frame axes

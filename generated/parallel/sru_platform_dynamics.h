@@ -29,7 +29,7 @@ typedef double sru_platform_real;
  * State.  pose[7]: the position of the platform frame P's origin (m, world frame), then P's
  * orientation as a quaternion (x, y, z, w), Pinocchio's free-flyer order; any nonzero
  * quaternion (it is normalized).  twist[6]: t = [omega; c_dot], the platform's angular
- * velocity (rad/s) and the velocity of its mass centre (m/s), world axes (the seed's twist).
+ * velocity (rad/s) and the velocity of its mass centre (m/s), world axes (the twist of the natural orthogonal complement).
  * twist_rate[6]: t_dot = [omega_dot; c_ddot], the classical time derivative of t.
  *
  * Home pose (the robot file's home configuration): pose = {0, 0, 0.55, 0, 0, 0, 1}.

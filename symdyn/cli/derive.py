@@ -24,7 +24,7 @@ def add_parser(sub) -> None:
                        "passive joints).")
     p.add_argument("robot", metavar="ROBOT.yaml", help="robot file (format version 1), or a platform robot "
                    "(kind: parallel): its derivation by the natural orthogonal complement in the order of "
-                   "the seed (leg Jacobians, A_J, the scalar twist-shape relations, Y, Z, T, L_J, M, N, "
+                   "the parallel-manipulator notes (leg Jacobians, A_J, the scalar twist-shape relations, Y, Z, T, L_J, M, N, "
                    "Lambda, phi), each evaluated at one state")
     p.add_argument("--method", default="newton-euler",
                    choices=sorted(set(METHOD_ALIASES) | {"articulated-body", "aba"}),

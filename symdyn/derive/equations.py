@@ -425,7 +425,7 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
 
 
 def _reaction_map(d: _Derivation) -> sp.Matrix:
-    d.report("reaction_map (articulated-body recursion at tau = 0, eqs. 5-14 of seed 004)")
+    d.report("reaction_map (articulated-body recursion at tau = 0, eqs. 5-14 of the force-to-torque note)")
     return reaction_map(d.chain, d.static_friction).matrix
 
 

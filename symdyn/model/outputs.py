@@ -168,7 +168,7 @@ SPECS: tuple[OutputSpec, ...] = (
         kinematic=True),
     OutputSpec(
         "reaction_map", "k0_D", ("q", "qd"), lambda d: (6, 1 + d.na), "6 x (1 + NA)", "N m and N",
-        "Force-to-torque map (seed 004 of the design notes, eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).",
+        "Force-to-torque map (the note 'Force to Torque - Articulated Body Mapping Analysis', eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).",
         (OutputArgument("k0", "base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) "
                               "and force (N) the base exerts on body 1 through joint 1, base-frame axes", 0, 1),
          OutputArgument("D", "wrench per unit actuated torque, 6*NA row-major (column j: actuated joint j in the order "
@@ -203,7 +203,7 @@ COMBINED: dict[str, tuple[str, ...]] = {c.name: c.parts for c in COMBINED_SPECS}
 OUTPUTS = tuple(s.name for s in SPECS if s.default)
 
 #: outputs derived and generated only when asked for (``--functions``): the base reaction wrench
-#: as an affine map of the actuated torques (seed 004; by default for a robot with passive joints,
+#: as an affine map of the actuated torques (the force-to-torque note; by default for a robot with passive joints,
 #: ``actuated: false``), and the identification regressors (tau = Y pi, tau = Y_b beta)
 EXTRA_OUTPUTS = tuple(s.name for s in SPECS if not s.default)
 
