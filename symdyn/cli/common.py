@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import sys
 
 from ..derive.equations import METHOD_ALIASES
@@ -22,9 +23,12 @@ def add_method_option(parser) -> None:
                              "jacobian-newton-euler (world-frame link Jacobians, H = sum J_ci^T M_i J_ci)")
 
 
-#: default of --max-joints: derivation time grows quickly with the joint count (every function of
-#: a 30-joint chain takes about 2 minutes on the 2-core reference machine; docs/untrusted-input.md)
+#: default of --max-joints: derivation time grows quickly with the joint count (every default
+#: function of a generic 40-joint chain: 80-90 s and 430 MB, 150 s with its masses as run-time
+#: parameters, on the 2-core reference machine; docs/untrusted-input.md)
 DEFAULT_MAX_JOINTS = 40
+#: default of --max-memory (GB): the most memory a run may take before it stops with one line
+DEFAULT_MAX_MEMORY_GB = 8.0
 
 
 def add_urdf_options(parser) -> None:
@@ -48,7 +52,10 @@ def add_size_options(parser) -> None:
                              "look like degrees, a mass without inertia, ...) as an error")
     parser.add_argument("--max-joints", type=int, default=DEFAULT_MAX_JOINTS, metavar="N",
                         help=f"refuse robots with more than N joints before deriving (default "
-                             f"{DEFAULT_MAX_JOINTS}; 20 joints take about a minute, 30 about two)")
+                             f"{DEFAULT_MAX_JOINTS}; 40 joints take about a minute and a half)")
+    parser.add_argument("--max-memory", type=float, default=DEFAULT_MAX_MEMORY_GB, metavar="GB",
+                        help=f"stop with an error when the run needs more than GB gigabytes of memory "
+                             f"(default {DEFAULT_MAX_MEMORY_GB:g}; 0: no limit)")
 
 
 def load_robot(path, args, parallel: bool = False):
@@ -64,7 +71,7 @@ def check_size(robot, args, path) -> None:
     limit = getattr(args, "max_joints", DEFAULT_MAX_JOINTS)
     if robot.dof > limit:
         raise SymdynError(f"{path}: {robot.dof} joints, more than --max-joints {limit}: the derivation "
-                          "would take long (about 2 minutes for 30 joints); raise --max-joints to go on")
+                          "would take long (about 90 s for 40 joints); raise --max-joints to go on")
 
 
 def progress_printer(args):
@@ -76,3 +83,33 @@ def progress_printer(args):
     def show(text: str) -> None:
         print(f"symdyn: {text}", file=sys.stderr, flush=True)
     return show
+
+
+@contextlib.contextmanager
+def memory_budget(gigabytes: float | None):
+    """Limit this process's data segment (heap and private mappings: where SymPy's expressions
+    live) to ``gigabytes`` while the block runs, so that a derivation that outgrows it ends in a
+    MemoryError instead of the machine's swap; the previous soft limit is restored after.
+    Nothing where the platform has no such limit, or for 0/None."""
+    try:
+        import resource
+        kind = resource.RLIMIT_DATA
+    except (ImportError, AttributeError):
+        yield
+        return
+    if not gigabytes or gigabytes <= 0:
+        yield
+        return
+    soft, hard = resource.getrlimit(kind)
+    wanted = int(gigabytes * 2 ** 30)
+    if hard != resource.RLIM_INFINITY:
+        wanted = min(wanted, hard)
+    try:
+        resource.setrlimit(kind, (wanted, hard))
+    except (ValueError, OSError):
+        yield
+        return
+    try:
+        yield
+    finally:
+        resource.setrlimit(kind, (soft, hard))

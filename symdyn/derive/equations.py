@@ -35,10 +35,11 @@ from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Callable, Iterable, Mapping
 
+import mpmath
 import numpy as np
 import sympy as sp
 
-from ..model.errors import SymdynError
+from ..model.errors import SymdynError, warn
 from .articulated_body import forward_dynamics as articulated_body_fd
 from .articulated_body import reaction_map
 from .regressor import base_parameters as find_base_parameters
@@ -212,20 +213,53 @@ def _subtree_scales(robot: Robot, values) -> np.ndarray:
     return out
 
 
+def _zero_pivots(Mv, scale, rtol, zero) -> tuple[set[int], set[int]]:
+    """An LDL^T of the symmetric ``Mv`` (n x n rows of numbers, float or mpmath); returns the
+    joints whose pivot, and whose diagonal entry, is at most ``rtol`` times the joint's
+    ``scale`` (such pivots count as ``zero``, so that the factorization goes on)."""
+    n = len(Mv)
+    L = [[zero] * n for _ in range(n)]
+    d = [zero] * n
+    pivots, diagonals = set(), set()
+    for j in range(n):
+        d[j] = Mv[j][j] - sum((L[j][k] ** 2 * d[k] for k in range(j)), zero)
+        if abs(Mv[j][j]) <= rtol * scale[j]:
+            diagonals.add(j)
+        if abs(d[j]) <= rtol * scale[j]:
+            d[j] = zero
+            pivots.add(j)
+            continue
+        for i in range(j + 1, n):
+            L[i][j] = (Mv[i][j] - sum((L[i][k] * L[j][k] * d[k] for k in range(j)), zero)) / d[j]
+    return pivots, diagonals
+
+
+#: a pivot found zero in double is confirmed at this many digits, where "zero" means below
+#: 10**-PRECISE_ZERO_EXPONENT of the joint's scale (the robot's numbers are taken exactly)
+PRECISE_DIGITS, PRECISE_ZERO_EXPONENT = 120, 90
+
+
 def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int = 2, seed: int = 0) -> None:
     """Refuse forward dynamics of a chain whose ``M = D + diag(armature)`` is singular for every
-    q: M is evaluated at ``states`` random configurations (random positive values for the
-    parameters) and factorized numerically; a pivot that vanishes (relative to the largest
-    diagonal entry) at every state names its joint in the :class:`SymdynError`."""
+    q, warn where it only looks singular.
+
+    M is evaluated at ``states`` random configurations (random positive values for the
+    parameters) and factorized in double: a pivot that vanishes relative to the inertia its
+    joint could move (:func:`_subtree_scales`) at every state is then recomputed at
+    ``PRECISE_DIGITS`` digits from the robot's exact numbers. Still zero there (an exact zero
+    in the model, e.g. a point-mass wrist), it is refused with a :class:`SymdynError` naming
+    the file and joint; otherwise (a regular but extremely ill-conditioned M) a warning says the
+    generated code will report it singular at run time."""
     n = M.shape[0]
     q = joint_symbols(robot.dof)[0]
     evaluate = compile_function([q, robot.parameters], program, M, "mass_matrix_check")
     rng = np.random.default_rng(seed)
     zero_pivot, zero_diagonal = set(range(n)), set(range(n))
+    witness = None
     for _ in range(states):
-        values = rng.uniform(0.5, 1.5, len(robot.parameters))
+        values, pose = rng.uniform(0.5, 1.5, len(robot.parameters)), rng.uniform(-np.pi, np.pi, n)
         try:
-            Mv = evaluate(rng.uniform(-np.pi, np.pi, n), values)
+            Mv = evaluate(pose, values)
             subtree = _subtree_scales(robot, dict(zip(robot.parameters, values)))
         except (ZeroDivisionError, OverflowError, ValueError, TypeError):
             return  # not evaluable here: leave it to the run-time check
@@ -234,25 +268,28 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
         # each joint's entries are judged against the inertia that joint could move at most
         # (a 0.01 kg m^2 wrist under a 1e9 kg m^2 first link is not zero)
         scale = np.maximum(np.maximum(subtree, np.abs(np.diag(Mv))), 1e-300)
-        diagonal = np.diag(Mv).astype(float).copy()
-        L = np.eye(n)
-        d = np.zeros(n)
-        for j in range(n):
-            d[j] = Mv[j, j] - np.sum(L[j, :j] ** 2 * d[:j])
-            if abs(d[j]) <= 1e-10 * scale[j]:
-                d[j] = 0.0
-                continue
-            for i in range(j + 1, n):
-                L[i, j] = (Mv[i, j] - np.sum(L[i, :j] * L[j, :j] * d[:j])) / d[j]
-        zero_pivot &= {j for j in range(n) if d[j] == 0.0}
-        zero_diagonal &= {j for j in range(n) if abs(diagonal[j]) <= 1e-10 * scale[j]}
+        pivots, diagonals = _zero_pivots(Mv.tolist(), scale, 1e-10, 0.0)
+        zero_pivot &= pivots
+        zero_diagonal &= diagonals
+        witness = (pose, values, scale)
     if not zero_pivot:
         return
-    j = min(zero_pivot)
-    link = robot.links[j]
-    joint = f"joint {j + 1} ('{link.name}')"
+    pose, values, scale = witness
+    precise = compile_function([q, robot.parameters], program, M, "mass_matrix_exact", digits=PRECISE_DIGITS)
+    with mpmath.workdps(PRECISE_DIGITS):
+        exact_pivot, exact_diagonal = _zero_pivots(precise(pose, values), [mpmath.mpf(float(x)) for x in scale],
+                                                   mpmath.mpf(10) ** -PRECISE_ZERO_EXPONENT, mpmath.mpf(0))
     where = f"{robot.source}: " if robot.source else ""
-    if j in zero_diagonal:
+    exact = zero_pivot & exact_pivot
+    if not exact:
+        j = min(zero_pivot)
+        warn(f"{where}forward dynamics: the mass matrix is nearly singular at every sampled q (pivot of joint "
+             f"{j + 1} ('{robot.links[j].name}') below 1e-10 of the inertia it could move, but not zero); the "
+             "generated code returns status 1 (singular) wherever a pivot fails its run-time check")
+        return
+    j = min(exact)
+    joint = f"joint {j + 1} ('{robot.links[j].name}')"
+    if j in zero_diagonal and j in exact_diagonal:
         raise SymdynError(f"{where}forward dynamics: D[{j + 1},{j + 1}] is identically 0: {joint} has no inertia "
                           "about its axis; give the link inertia or an armature, or leave forward_dynamics out")
     raise SymdynError(f"{where}forward dynamics: the mass matrix is singular for every q: {joint} moves no "

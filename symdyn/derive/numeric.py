@@ -10,9 +10,10 @@ from __future__ import annotations
 import math
 from typing import Sequence
 
+import mpmath
 import numpy as np
 import sympy as sp
-from sympy.printing.pycode import PythonCodePrinter
+from sympy.printing.pycode import MpmathPrinter, PythonCodePrinter
 
 from ..model.outputs import OUTPUT_INPUTS, SPECS
 
@@ -23,8 +24,18 @@ class _Printer(PythonCodePrinter):
         return f"(({arg} > 0) - ({arg} < 0))"
 
 
-def compile_function(inputs: Sequence[Sequence[sp.Symbol]], program, outputs: sp.MatrixBase, name: str = "f"):
-    """A Python function ``f(*arrays) -> numpy array`` evaluating ``outputs`` (shape kept)."""
+class _PrecisePrinter(MpmathPrinter):
+    def _print_sign(self, expr):
+        arg = self._print(expr.args[0])
+        return f"(({arg} > 0) - ({arg} < 0))"
+
+
+def compile_function(inputs: Sequence[Sequence[sp.Symbol]], program, outputs: sp.MatrixBase, name: str = "f",
+                     digits: int | None = None):
+    """A Python function ``f(*arrays) -> numpy array`` evaluating ``outputs`` (shape kept).
+
+    With ``digits``, the function computes in mpmath at that many significant digits (the
+    robot's numbers taken exactly as written) and returns a list of rows of ``mpmath.mpf``."""
     rename: dict[sp.Symbol, sp.Symbol] = {}
     counter = 0
 
@@ -39,16 +50,21 @@ def compile_function(inputs: Sequence[Sequence[sp.Symbol]], program, outputs: sp
     for k, group in enumerate(inputs):
         for j, sym in enumerate(group):
             lines.append(f"    {fresh(sym)} = a{k}[{j}]")
-    printer = _Printer({"fully_qualified_modules": True})
+    printer = (_Printer if digits is None else _PrecisePrinter)({"fully_qualified_modules": True})
     for sym, rhs in program.needed_for(list(outputs)):
         expr = rhs.xreplace(rename)
         lines.append(f"    {fresh(sym)} = {printer.doprint(expr)}")
     rows, cols = outputs.shape
     cells = [[printer.doprint(sp.sympify(outputs[r, c]).xreplace(rename)) for c in range(cols)] for r in range(rows)]
     lines.append("    return [" + ", ".join("[" + ", ".join(row) + "]" for row in cells) + "]")
-    namespace = {"math": math}
+    namespace = {"math": math, "mpmath": mpmath}
     exec(compile("\n".join(lines), f"<symdyn {name}>", "exec"), namespace)  # our own arithmetic only
     raw = namespace[name]
+    if digits is not None:
+        def precise(*arrays):
+            with mpmath.workdps(digits):
+                return raw(*[[mpmath.mpf(float(x)) for x in np.asarray(a, dtype=float).ravel()] for a in arrays])
+        return precise
 
     def wrapped(*arrays):
         return np.array(raw(*[np.asarray(a, dtype=float).ravel().tolist() for a in arrays]), dtype=float)
