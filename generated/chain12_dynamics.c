@@ -18,7 +18,7 @@
  * read from the bits of the rounded x 2/pi, and selects and signs the polynomials by bit
  * operations), so the same statements run on GCC/Clang vector types: within 1 ulp
  * of glibc's sin and cos (or 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5
- * (symdyn's tests/test_batch.py), with identical results in every lane and in the scalar form.
+ * (symdyn's tests/emit/test_batch.py), with identical results in every lane and in the scalar form.
  * Any other angle (huge, infinite or NaN) goes to libm.  Define SYMDYN_LIBM_TRIG to use libm's
  * sin and cos for every angle, SYMDYN_NO_VECTOR for the scalar form only.
  */
@@ -5018,6 +5018,13 @@ void chain12_gravity(const chain12_real *q, chain12_real *c)
 
 int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd)
 {
+    for (int i = 0; i < 12; ++i) {
+        if (!(fabs(q[i]) <= DBL_MAX)
+            || !(fabs(qd[i]) <= DBL_MAX)
+            || !(fabs(tau[i]) <= DBL_MAX)) {
+            return 2; /* an input is NaN or infinite */
+        }
+    }
     chain12_real trig_sin[9], trig_cos[9];
     {
         const chain12_real trig_angle[9] = {q[0], q[1], q[3], q[4], q[6], q[7], q[8], q[10], q[11]};
@@ -6231,7 +6238,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real rhs12 = tau[11] - n12b_2;
     const chain12_real ldl_d1 = cse95;
     if (!(ldl_d1 > 1e-12*(cse95))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv1 = 1.0/ldl_d1;
     const chain12_real ldl_L21 = Ib2J_12*ldl_inv1;
@@ -6256,7 +6263,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L121 = F12b2n_2*ldl_inv1;
     const chain12_real ldl_d2 = Ic2J_22 - ldl_d1*ldl_L21*ldl_L21;
     if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv2 = 1.0/ldl_d2;
     const chain12_real ldl_L32 = -ldl_L31*ldl_inv2*cse96;
@@ -6279,7 +6286,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L122 = ldl_inv2*(F12b3n_2 - ldl_L121*cse96);
     const chain12_real ldl_d3 = 22.74 - ldl_d1*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
     if (!(ldl_d3 > 1e-12*(22.74))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv3 = 1.0/ldl_d3;
     const chain12_real ldl_L43 = ldl_inv3*(Iq4h_0 - ldl_L41*cse97 - ldl_L42*cse98);
@@ -6300,7 +6307,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L123 = ldl_inv3*(F12q4f_1 - ldl_L121*cse97 - ldl_L122*cse98);
     const chain12_real ldl_d4 = 0.148 + Ic4J_22 - ldl_d1*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
     if (!(ldl_d4 > 1e-12*(0.148 + Ic4J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv4 = 1.0/ldl_d4;
     const chain12_real ldl_L54 = ldl_inv4*(F5b5n_2 - ldl_L51*cse99 - ldl_L52*cse100 - ldl_L53*cse101);
@@ -6319,7 +6326,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L124 = ldl_inv4*(F12b5n_2 - ldl_L121*cse99 - ldl_L122*cse100 - ldl_L123*cse101);
     const chain12_real ldl_d5 = Ic5J_22 - ldl_d1*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
     if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv5 = 1.0/ldl_d5;
     const chain12_real ldl_L65 = ldl_inv5*(Ib6m_0 - ldl_L61*cse102 - ldl_L62*cse103 - ldl_L63*cse104 - ldl_L64*cse105);
@@ -6336,7 +6343,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L125 = ldl_inv5*(F12b6n_2 - ldl_L121*cse102 - ldl_L122*cse103 - ldl_L123*cse104 - ldl_L124*cse105);
     const chain12_real ldl_d6 = 16.31 - ldl_d1*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
     if (!(ldl_d6 > 1e-12*(16.31))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv6 = 1.0/ldl_d6;
     const chain12_real ldl_L76 = ldl_inv6*(Iq7h_0 - ldl_L71*cse106 - ldl_L72*cse107 - ldl_L73*cse108 - ldl_L74*cse109 - ldl_L75*cse110);
@@ -6351,7 +6358,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L126 = ldl_inv6*(F12q7f_1 - ldl_L121*cse106 - ldl_L122*cse107 - ldl_L123*cse108 - ldl_L124*cse109 - ldl_L125*cse110);
     const chain12_real ldl_d7 = 0.195 + Ic7J_22 - ldl_d1*ldl_L71*ldl_L71 - ldl_d2*ldl_L72*ldl_L72 - ldl_d3*ldl_L73*ldl_L73 - ldl_d4*ldl_L74*ldl_L74 - ldl_d5*ldl_L75*ldl_L75 - ldl_d6*ldl_L76*ldl_L76;
     if (!(ldl_d7 > 1e-12*(0.195 + Ic7J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv7 = 1.0/ldl_d7;
     const chain12_real ldl_L87 = ldl_inv7*(F8b8n_2 - ldl_L81*cse111 - ldl_L82*cse112 - ldl_L83*cse113 - ldl_L84*cse114 - ldl_L85*cse115 - ldl_L86*cse116);
@@ -6364,7 +6371,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L127 = ldl_inv7*(F12b8n_2 - ldl_L121*cse111 - ldl_L122*cse112 - ldl_L123*cse113 - ldl_L124*cse114 - ldl_L125*cse115 - ldl_L126*cse116);
     const chain12_real ldl_d8 = Ic8J_22 - ldl_d1*ldl_L81*ldl_L81 - ldl_d2*ldl_L82*ldl_L82 - ldl_d3*ldl_L83*ldl_L83 - ldl_d4*ldl_L84*ldl_L84 - ldl_d5*ldl_L85*ldl_L85 - ldl_d6*ldl_L86*ldl_L86 - ldl_d7*ldl_L87*ldl_L87;
     if (!(ldl_d8 > 1e-12*(Ic8J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv8 = 1.0/ldl_d8;
     const chain12_real ldl_L98 = ldl_inv8*(F9b9n_2 - ldl_L91*cse117 - ldl_L92*cse118 - ldl_L93*cse119 - ldl_L94*cse120 - ldl_L95*cse121 - ldl_L96*cse122 - ldl_L97*cse123);
@@ -6375,7 +6382,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L128 = ldl_inv8*(F12b9n_2 - ldl_L121*cse117 - ldl_L122*cse118 - ldl_L123*cse119 - ldl_L124*cse120 - ldl_L125*cse121 - ldl_L126*cse122 - ldl_L127*cse123);
     const chain12_real ldl_d9 = Ic9J_22 - ldl_d1*ldl_L91*ldl_L91 - ldl_d2*ldl_L92*ldl_L92 - ldl_d3*ldl_L93*ldl_L93 - ldl_d4*ldl_L94*ldl_L94 - ldl_d5*ldl_L95*ldl_L95 - ldl_d6*ldl_L96*ldl_L96 - ldl_d7*ldl_L97*ldl_L97 - ldl_d8*ldl_L98*ldl_L98;
     if (!(ldl_d9 > 1e-12*(Ic9J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv9 = 1.0/ldl_d9;
     const chain12_real ldl_L109 = ldl_inv9*(-1.066582 - ldl_L101*cse124 - ldl_L102*cse125 - ldl_L103*cse126 - ldl_L104*cse127 - ldl_L105*cse128 - ldl_L106*cse129 - ldl_L107*cse130 - ldl_L108*cse131);
@@ -6384,20 +6391,20 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real ldl_L129 = ldl_inv9*(F12b10n_2 - ldl_L121*cse124 - ldl_L122*cse125 - ldl_L123*cse126 - ldl_L124*cse127 - ldl_L125*cse128 - ldl_L126*cse129 - ldl_L127*cse130 - ldl_L128*cse131);
     const chain12_real ldl_d10 = 8.491 - ldl_d1*ldl_L101*ldl_L101 - ldl_d2*ldl_L102*ldl_L102 - ldl_d3*ldl_L103*ldl_L103 - ldl_d4*ldl_L104*ldl_L104 - ldl_d5*ldl_L105*ldl_L105 - ldl_d6*ldl_L106*ldl_L106 - ldl_d7*ldl_L107*ldl_L107 - ldl_d8*ldl_L108*ldl_L108 - ldl_d9*ldl_L109*ldl_L109;
     if (!(ldl_d10 > 1e-12*(8.491))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv10 = 1.0/ldl_d10;
     const chain12_real ldl_L1110 = ldl_inv10*(-Iq11h_0 - ldl_L111*cse132 - ldl_L112*cse133 - ldl_L113*cse134 - ldl_L114*cse135 - ldl_L115*cse136 - ldl_L116*cse137 - ldl_L117*cse138 - ldl_L118*cse139 - ldl_L119*cse140);
     const chain12_real ldl_L1210 = ldl_inv10*(-F12q11f_1 - ldl_L121*cse132 - ldl_L122*cse133 - ldl_L123*cse134 - ldl_L124*cse135 - ldl_L125*cse136 - ldl_L126*cse137 - ldl_L127*cse138 - ldl_L128*cse139 - ldl_L129*cse140);
     const chain12_real ldl_d11 = Ic11J_22 - ldl_d1*ldl_L111*ldl_L111 - ldl_d10*ldl_L1110*ldl_L1110 - ldl_d2*ldl_L112*ldl_L112 - ldl_d3*ldl_L113*ldl_L113 - ldl_d4*ldl_L114*ldl_L114 - ldl_d5*ldl_L115*ldl_L115 - ldl_d6*ldl_L116*ldl_L116 - ldl_d7*ldl_L117*ldl_L117 - ldl_d8*ldl_L118*ldl_L118 - ldl_d9*ldl_L119*ldl_L119;
     if (!(ldl_d11 > 1e-12*(Ic11J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv11 = 1.0/ldl_d11;
     const chain12_real ldl_L1211 = ldl_inv11*(F12b12n_2 - ldl_L111*ldl_L121*ldl_d1 - ldl_L1110*ldl_L1210*ldl_d10 - ldl_L112*ldl_L122*ldl_d2 - ldl_L113*ldl_L123*ldl_d3 - ldl_L114*ldl_L124*ldl_d4 - ldl_L115*ldl_L125*ldl_d5 - ldl_L116*ldl_L126*ldl_d6 - ldl_L117*ldl_L127*ldl_d7 - ldl_L118*ldl_L128*ldl_d8 - ldl_L119*ldl_L129*ldl_d9);
     const chain12_real ldl_d12 = 0.023920668 - ldl_d1*ldl_L121*ldl_L121 - ldl_d10*ldl_L1210*ldl_L1210 - ldl_d11*ldl_L1211*ldl_L1211 - ldl_d2*ldl_L122*ldl_L122 - ldl_d3*ldl_L123*ldl_L123 - ldl_d4*ldl_L124*ldl_L124 - ldl_d5*ldl_L125*ldl_L125 - ldl_d6*ldl_L126*ldl_L126 - ldl_d7*ldl_L127*ldl_L127 - ldl_d8*ldl_L128*ldl_L128 - ldl_d9*ldl_L129*ldl_L129;
     if (!(ldl_d12 > 1e-12*(0.023920668))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const chain12_real ldl_inv12 = 1.0/ldl_d12;
     const chain12_real ldl_y2 = rhs2 - ldl_L21*rhs1;

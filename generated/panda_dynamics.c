@@ -18,7 +18,7 @@
  * read from the bits of the rounded x 2/pi, and selects and signs the polynomials by bit
  * operations), so the same statements run on GCC/Clang vector types: within 1 ulp
  * of glibc's sin and cos (or 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5
- * (symdyn's tests/test_batch.py), with identical results in every lane and in the scalar form.
+ * (symdyn's tests/emit/test_batch.py), with identical results in every lane and in the scalar form.
  * Any other angle (huge, infinite or NaN) goes to libm.  Define SYMDYN_LIBM_TRIG to use libm's
  * sin and cos for every angle, SYMDYN_NO_VECTOR for the scalar form only.
  */
@@ -2281,6 +2281,13 @@ void panda_gravity(const panda_real *q, panda_real *c)
 
 int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, const panda_real *tau, panda_real *qdd)
 {
+    for (int i = 0; i < 7; ++i) {
+        if (!(fabs(q[i]) <= DBL_MAX)
+            || !(fabs(qd[i]) <= DBL_MAX)
+            || !(fabs(tau[i]) <= DBL_MAX)) {
+            return 2; /* an input is NaN or infinite */
+        }
+    }
     panda_real trig_sin[6], trig_cos[6];
     {
         const panda_real trig_angle[6] = {q[1], q[2], q[3], q[4], q[5], q[6]};
@@ -2632,7 +2639,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real Ib2R_22 = Ib2D + Ic2J_22;
     const panda_real Ic1J_22 = 0.009213163777211224 + Ib2R_22;
     if (!(Ic1J_22 > 0)) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const panda_real F3q2n_1 = -Ib3J_01*s2 - Ic3J_22*c2;
     const panda_real F4b4n_1 = -Ic4J_22 - (0.0825)*Iq4h_0;
@@ -2823,7 +2830,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real ldl_L71 = -F7q2n_1*ldl_inv1;
     const panda_real ldl_d2 = Ic2J_22 - Ic1J_22*ldl_L21*ldl_L21;
     if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const panda_real ldl_inv2 = 1.0/ldl_d2;
     const panda_real ldl_L32 = ldl_inv2*(-Ib3J_12 - ldl_L31*cse32);
@@ -2836,7 +2843,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real ldl_L72 = ldl_inv2*(F7b3n_2 - ldl_L71*cse32);
     const panda_real ldl_d3 = Ic3J_22 - Ic1J_22*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
     if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const panda_real ldl_inv3 = 1.0/ldl_d3;
     const panda_real ldl_L43 = ldl_inv3*(Iq4R_12 - ldl_L41*cse33 - ldl_L42*cse34);
@@ -2847,7 +2854,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real ldl_L73 = ldl_inv3*(F7b4n_2 - ldl_L71*cse33 - ldl_L72*cse34);
     const panda_real ldl_d4 = Ic4J_22 - Ic1J_22*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
     if (!(ldl_d4 > 1e-12*(Ic4J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const panda_real ldl_inv4 = 1.0/ldl_d4;
     const panda_real ldl_L54 = ldl_inv4*(Ib5J_12 - ldl_L51*cse35 - ldl_L52*cse36 - ldl_L53*cse37);
@@ -2856,20 +2863,20 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real ldl_L74 = ldl_inv4*(F7b5n_2 - ldl_L71*cse35 - ldl_L72*cse36 - ldl_L73*cse37);
     const panda_real ldl_d5 = Ic5J_22 - Ic1J_22*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
     if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const panda_real ldl_inv5 = 1.0/ldl_d5;
     const panda_real ldl_L65 = ldl_inv5*(-cse24 - ldl_L61*cse38 - ldl_L62*cse39 - ldl_L63*cse40 - ldl_L64*cse41);
     const panda_real ldl_L75 = ldl_inv5*(-cse26 - ldl_L71*cse38 - ldl_L72*cse39 - ldl_L73*cse40 - ldl_L74*cse41);
     const panda_real ldl_d6 = Ic6J_22 - Ic1J_22*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
     if (!(ldl_d6 > 1e-12*(Ic6J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const panda_real ldl_inv6 = 1.0/ldl_d6;
     const panda_real ldl_L76 = ldl_inv6*(Iq7R_12 - Ic1J_22*ldl_L61*ldl_L71 - ldl_L62*ldl_L72*ldl_d2 - ldl_L63*ldl_L73*ldl_d3 - ldl_L64*ldl_L74*ldl_d4 - ldl_L65*ldl_L75*ldl_d5);
     const panda_real ldl_d7 = 0.004909651967360946 - Ic1J_22*ldl_L71*ldl_L71 - ldl_d2*ldl_L72*ldl_L72 - ldl_d3*ldl_L73*ldl_L73 - ldl_d4*ldl_L74*ldl_L74 - ldl_d5*ldl_L75*ldl_L75 - ldl_d6*ldl_L76*ldl_L76;
     if (!(ldl_d7 > 1e-12*(0.004909651967360946))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const panda_real ldl_inv7 = 1.0/ldl_d7;
     const panda_real ldl_y2 = rhs2 - ldl_L21*rhs1;

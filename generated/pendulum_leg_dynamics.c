@@ -18,7 +18,7 @@
  * read from the bits of the rounded x 2/pi, and selects and signs the polynomials by bit
  * operations), so the same statements run on GCC/Clang vector types: within 1 ulp
  * of glibc's sin and cos (or 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5
- * (symdyn's tests/test_batch.py), with identical results in every lane and in the scalar form.
+ * (symdyn's tests/emit/test_batch.py), with identical results in every lane and in the scalar form.
  * Any other angle (huge, infinite or NaN) goes to libm.  Define SYMDYN_LIBM_TRIG to use libm's
  * sin and cos for every angle, SYMDYN_NO_VECTOR for the scalar form only.
  */
@@ -1166,6 +1166,13 @@ void pendulum_leg_gravity(const pendulum_leg_real *q, pendulum_leg_real *c)
 
 int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd)
 {
+    for (int i = 0; i < 6; ++i) {
+        if (!(fabs(q[i]) <= DBL_MAX)
+            || !(fabs(qd[i]) <= DBL_MAX)
+            || !(fabs(tau[i]) <= DBL_MAX)) {
+            return 2; /* an input is NaN or infinite */
+        }
+    }
     pendulum_leg_real trig_sin[6], trig_cos[6];
     {
         const pendulum_leg_real trig_angle[6] = {q[0], q[1], q[2], q[3], q[4], q[5]};
@@ -1341,7 +1348,7 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
     const pendulum_leg_real Iq2t2 = -2.0*Iq2cs*Iq3R_02;
     const pendulum_leg_real Iq2R_00 = -Iq2t1 - Iq2t2 - cse10;
     if (!(Iq2R_00 > 0)) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const pendulum_leg_real Iq2R_02 = Iq3R_01*c2 + Iq3R_12*s2;
     const pendulum_leg_real F3q2n_0 = Ic3J_22*s2 + Iq3R_02*c2;
@@ -1434,7 +1441,7 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
     const pendulum_leg_real ldl_L61 = F6q2n_0*ldl_inv1;
     const pendulum_leg_real ldl_d2 = Ib3R_22 - Iq2R_00*ldl_L21*ldl_L21;
     if (!(ldl_d2 > 1e-12*(Ib3R_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const pendulum_leg_real ldl_inv2 = 1.0/ldl_d2;
     const pendulum_leg_real ldl_L32 = ldl_inv2*(Iq3R_12 - ldl_L31*cse13);
@@ -1445,7 +1452,7 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
     const pendulum_leg_real ldl_L62 = ldl_inv2*(F6q3n_1 - ldl_L61*cse13);
     const pendulum_leg_real ldl_d3 = Ic3J_22 - Iq2R_00*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
     if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const pendulum_leg_real ldl_inv3 = 1.0/ldl_d3;
     const pendulum_leg_real ldl_L43 = ldl_inv3*(-Iq4R_02 - ldl_L41*cse14 - ldl_L42*cse15);
@@ -1454,20 +1461,20 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
     const pendulum_leg_real ldl_L63 = ldl_inv3*(-F6q4n_0 - ldl_L61*cse14 - ldl_L62*cse15);
     const pendulum_leg_real ldl_d4 = -cse5 - Iq2R_00*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
     if (!(ldl_d4 > 1e-12*(Iq5R_00))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const pendulum_leg_real ldl_inv4 = 1.0/ldl_d4;
     const pendulum_leg_real ldl_L54 = ldl_inv4*(-cse11 - ldl_L51*cse16 - ldl_L52*cse17 - ldl_L53*cse18);
     const pendulum_leg_real ldl_L64 = ldl_inv4*(-cse12 - ldl_L61*cse16 - ldl_L62*cse17 - ldl_L63*cse18);
     const pendulum_leg_real ldl_d5 = Ic5J_22 - Iq2R_00*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
     if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const pendulum_leg_real ldl_inv5 = 1.0/ldl_d5;
     const pendulum_leg_real ldl_L65 = ldl_inv5*(Iq6R_12 - Iq2R_00*ldl_L51*ldl_L61 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const pendulum_leg_real ldl_d6 = 0.43628 - Iq2R_00*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
     if (!(ldl_d6 > 1e-12*(0.43628))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const pendulum_leg_real ldl_inv6 = 1.0/ldl_d6;
     const pendulum_leg_real ldl_y2 = rhs2 - ldl_L21*rhs1;

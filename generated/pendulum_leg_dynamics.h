@@ -119,18 +119,18 @@ void pendulum_leg_coriolis_matrix(const pendulum_leg_real *q, const pendulum_leg
 void pendulum_leg_gravity(const pendulum_leg_real *q, pendulum_leg_real *c);
 
 /*
- * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 395 multiplications, 271 additions/subtractions, 6 divisions, 12 sin/cos.
  */
 int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd);
 
 /*
- * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions). Same as pendulum_leg_forward_dynamics_checked, without the status: where that returns nonzero, qdd is left unchanged.
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint). Same as pendulum_leg_forward_dynamics_checked, without the status: where that returns nonzero, qdd is left unchanged.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)

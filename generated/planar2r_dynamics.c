@@ -18,7 +18,7 @@
  * read from the bits of the rounded x 2/pi, and selects and signs the polynomials by bit
  * operations), so the same statements run on GCC/Clang vector types: within 1 ulp
  * of glibc's sin and cos (or 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5
- * (symdyn's tests/test_batch.py), with identical results in every lane and in the scalar form.
+ * (symdyn's tests/emit/test_batch.py), with identical results in every lane and in the scalar form.
  * Any other angle (huge, infinite or NaN) goes to libm.  Define SYMDYN_LIBM_TRIG to use libm's
  * sin and cos for every angle, SYMDYN_NO_VECTOR for the scalar form only.
  */
@@ -241,6 +241,13 @@ void planar2r_gravity(const planar2r_real *q, const planar2r_real *p, planar2r_r
 
 int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd)
 {
+    for (int i = 0; i < 2; ++i) {
+        if (!(fabs(q[i]) <= DBL_MAX)
+            || !(fabs(qd[i]) <= DBL_MAX)
+            || !(fabs(tau[i]) <= DBL_MAX)) {
+            return 2; /* an input is NaN or infinite */
+        }
+    }
     planar2r_real trig_sin[2], trig_cos[2];
     {
         const planar2r_real trig_angle[2] = {q[0], q[1]};
@@ -263,7 +270,7 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
     const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[5]*p[4]*p[4];
     const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[1]*p[2]*p[2];
     if (!(Ic1J_22 > 0)) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const planar2r_real F2b2n_2 = Ic2J_22 + cse0;
     const planar2r_real aJ2_0 = vd1g_0 - U1h_zz*p[4];
@@ -281,7 +288,7 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
     const planar2r_real ldl_L21 = F2b2n_2*ldl_inv1;
     const planar2r_real ldl_d2 = Ic2J_22 - Ic1J_22*ldl_L21*ldl_L21;
     if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const planar2r_real ldl_inv2 = 1.0/ldl_d2;
     const planar2r_real ldl_y2 = rhs2 - ldl_L21*rhs1;

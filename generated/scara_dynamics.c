@@ -18,7 +18,7 @@
  * read from the bits of the rounded x 2/pi, and selects and signs the polynomials by bit
  * operations), so the same statements run on GCC/Clang vector types: within 1 ulp
  * of glibc's sin and cos (or 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5
- * (symdyn's tests/test_batch.py), with identical results in every lane and in the scalar form.
+ * (symdyn's tests/emit/test_batch.py), with identical results in every lane and in the scalar form.
  * Any other angle (huge, infinite or NaN) goes to libm.  Define SYMDYN_LIBM_TRIG to use libm's
  * sin and cos for every angle, SYMDYN_NO_VECTOR for the scalar form only.
  */
@@ -314,13 +314,17 @@ void scara_gravity(const scara_real *q, scara_real *c)
 
 int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd)
 {
+    for (int i = 0; i < 4; ++i) {
+        if (!(fabs(q[i]) <= DBL_MAX)
+            || !(fabs(qd[i]) <= DBL_MAX)
+            || !(fabs(tau[i]) <= DBL_MAX)) {
+            return 2; /* an input is NaN or infinite */
+        }
+    }
     scara_real trig_sin[2], trig_cos[2];
     {
         const scara_real trig_angle[2] = {q[1], q[3]};
         scara_sincos(2, trig_angle, trig_sin, trig_cos);
-    }
-    if (!(2.1 > 0)) {
-        return 1; /* singular mass matrix at q (or q not finite) */
     }
     const scara_real c2 = trig_cos[0];
     const scara_real s2 = trig_sin[0];
@@ -363,20 +367,20 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
     const scara_real rhs4 = tau[3] - (0.2)*((double)((qd[3] > 0) - (qd[3] < 0))) - (0.1)*qd[3];
     const scara_real ldl_d1 = cse1;
     if (!(ldl_d1 > 1e-12*(cse1))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const scara_real ldl_inv1 = 1.0/ldl_d1;
     const scara_real ldl_L21 = F2b2n_2*ldl_inv1;
     const scara_real ldl_L41 = -(0.0003)*ldl_inv1;
     const scara_real ldl_d2 = 0.4756166666666667 - ldl_d1*ldl_L21*ldl_L21;
     if (!(ldl_d2 > 1e-12*(0.4756166666666667))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const scara_real ldl_inv2 = 1.0/ldl_d2;
     const scara_real ldl_L42 = ldl_inv2*(-0.0003 - ldl_L21*ldl_L41*ldl_d1);
     const scara_real ldl_d4 = 0.0503 - ldl_d1*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42;
     if (!(ldl_d4 > 1e-12*(0.0503))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const scara_real ldl_inv4 = 1.0/ldl_d4;
     const scara_real ldl_y2 = rhs2 - ldl_L21*rhs1;

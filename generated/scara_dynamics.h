@@ -105,18 +105,18 @@ void scara_coriolis_matrix(const scara_real *q, const scara_real *qd, scara_real
 void scara_gravity(const scara_real *q, scara_real *c);
 
 /*
- * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 58 multiplications, 39 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);
 
 /*
- * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions). Same as scara_forward_dynamics_checked, without the status: where that returns nonzero, qdd is left unchanged.
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint). Same as scara_forward_dynamics_checked, without the status: where that returns nonzero, qdd is left unchanged.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)

@@ -18,7 +18,7 @@
  * read from the bits of the rounded x 2/pi, and selects and signs the polynomials by bit
  * operations), so the same statements run on GCC/Clang vector types: within 1 ulp
  * of glibc's sin and cos (or 1e-29 absolute) for |x| <= 8, within 1.2e-16 absolute up to 1e5
- * (symdyn's tests/test_batch.py), with identical results in every lane and in the scalar form.
+ * (symdyn's tests/emit/test_batch.py), with identical results in every lane and in the scalar form.
  * Any other angle (huge, infinite or NaN) goes to libm.  Define SYMDYN_LIBM_TRIG to use libm's
  * sin and cos for every angle, SYMDYN_NO_VECTOR for the scalar form only.
  */
@@ -1431,6 +1431,13 @@ void ur5_gravity(const ur5_real *q, ur5_real *c)
 
 int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd)
 {
+    for (int i = 0; i < 6; ++i) {
+        if (!(fabs(q[i]) <= DBL_MAX)
+            || !(fabs(qd[i]) <= DBL_MAX)
+            || !(fabs(tau[i]) <= DBL_MAX)) {
+            return 2; /* an input is NaN or infinite */
+        }
+    }
     ur5_real trig_sin[5], trig_cos[5];
     {
         const ur5_real trig_angle[5] = {q[1], q[2], q[3], q[4], q[5]};
@@ -1650,7 +1657,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
     const ur5_real Ib2R_22 = Ib2D + Ic2J_22;
     const ur5_real Ic1J_22 = 0.00667378213 + Ib2R_22;
     if (!(Ic1J_22 > 0)) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const ur5_real F3b3n_2 = Ic3J_22 - (0.425)*Iq3h_0;
     const ur5_real F3q2n_1 = cse10 + Iq3R_02*s2;
@@ -1771,7 +1778,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
     const ur5_real ldl_L61 = F6q2n_1*ldl_inv1;
     const ur5_real ldl_d2 = Ic2J_22 - Ic1J_22*ldl_L21*ldl_L21;
     if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const ur5_real ldl_inv2 = 1.0/ldl_d2;
     const ur5_real ldl_L32 = ldl_inv2*(F3b3n_2 - ldl_L31*cse15);
@@ -1782,7 +1789,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
     const ur5_real ldl_L62 = ldl_inv2*(F6q5n_1 - ldl_L61*cse15);
     const ur5_real ldl_d3 = Ic3J_22 - Ic1J_22*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
     if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const ur5_real ldl_inv3 = 1.0/ldl_d3;
     const ur5_real ldl_L43 = ldl_inv3*(F4b4n_2 - ldl_L41*cse16 - ldl_L42*cse17);
@@ -1791,20 +1798,20 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
     const ur5_real ldl_L63 = ldl_inv3*(-cse18 - ldl_L61*cse16 - ldl_L62*cse17);
     const ur5_real ldl_d4 = Ic4J_22 - Ic1J_22*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
     if (!(ldl_d4 > 1e-12*(Ic4J_22))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const ur5_real ldl_inv4 = 1.0/ldl_d4;
     const ur5_real ldl_L54 = ldl_inv4*(-cse11 - ldl_L51*cse19 - ldl_L52*cse20 - ldl_L53*cse21);
     const ur5_real ldl_L64 = ldl_inv4*(-cse18 - ldl_L61*cse19 - ldl_L62*cse20 - ldl_L63*cse21);
     const ur5_real ldl_d5 = 0.004294592310173233 - Ic1J_22*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
     if (!(ldl_d5 > 1e-12*(0.004294592310173233))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const ur5_real ldl_inv5 = 1.0/ldl_d5;
     const ur5_real ldl_L65 = ldl_inv5*(-Ic1J_22*ldl_L51*ldl_L61 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const ur5_real ldl_d6 = 0.0001321171875 - Ic1J_22*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
     if (!(ldl_d6 > 1e-12*(0.0001321171875))) {
-        return 1; /* singular mass matrix at q (or q not finite) */
+        return 1; /* singular mass matrix at q */
     }
     const ur5_real ldl_inv6 = 1.0/ldl_d6;
     const ur5_real ldl_y2 = rhs2 - ldl_L21*rhs1;

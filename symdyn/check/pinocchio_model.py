@@ -158,8 +158,10 @@ def build_closed_loop_model(robot, armature: float = 0.0):
     ``platform``, its frame P), each leg a chain of Pinocchio joints from the world
     (``legN_joint1`` ...), and one 6D loop-closure constraint per leg between the leg's last link
     frame and its attachment frame on the platform (LOCAL).  Returns ``(model, constraint models,
-    info)``; info: each leg's joint ids, velocity indices and actuated velocity index.
-    ``armature`` (kg m^2 or kg) is put on every leg joint: Pinocchio's constraint solver factorizes
+    info)``; info: each leg's joint ids, velocity indices and actuated velocity index, and the
+    viscous and Coulomb friction coefficients of every velocity (``damping``, ``coulomb``: the
+    legs' links', zero for the platform; :func:`closed_loop_friction`).  The model's armature is
+    the legs' links' armature; ``armature`` (kg m^2 or kg) is added on every leg joint: Pinocchio's constraint solver factorizes
     the joint-space mass matrix, which massless links (a spherical pair's or a universal joint's
     crosses) leave singular; 1e-9 changes the flight simulator's accelerations by about 5e-12."""
     import pinocchio as pin
@@ -173,8 +175,12 @@ def build_closed_loop_model(robot, armature: float = 0.0):
                                                   np.array([_value(c, "platform com") for c in plat.com]),
                                                   np.array(plat.inertia_matrix, dtype=float)), pin.SE3.Identity())
     constraints, legs = [], []
+    armatures, damping, coulomb = [np.zeros(6)], [np.zeros(6)], [np.zeros(6)]
     for leg in robot.legs:
         links = numeric_links(leg.chain)
+        armatures.append([row["armature"] for row in links])
+        damping.append([row["damping"] for row in links])
+        coulomb.append([row["coulomb"] for row in links])
         first = model.njoints
         last, body = _add_chain(model, leg.chain, links, 0, f"{leg.name}_")
         attachment = np.array(leg.attachment.matrix(), dtype=float)
@@ -185,8 +191,9 @@ def build_closed_loop_model(robot, armature: float = 0.0):
         legs.append({"joints": ids, "v": [model.joints[j].idx_v for j in ids],
                      "q": [model.joints[j].idx_q for j in ids],
                      "actuated_v": model.joints[ids[leg.actuated]].idx_v, "last": last, "body": body})
-    model.armature = np.concatenate([np.zeros(6), np.full(model.nv - 6, float(armature))])
-    return model, constraints, {"platform": platform, "legs": legs}
+    model.armature = np.concatenate(armatures) + np.concatenate([np.zeros(6), np.full(model.nv - 6, float(armature))])
+    return model, constraints, {"platform": platform, "legs": legs, "damping": np.concatenate(damping),
+                                "coulomb": np.concatenate(coulomb)}
 
 
 # closed loops (platform robots) --------------------------------------------------------------
@@ -259,11 +266,17 @@ def actuation_matrix(model, info):
     return S
 
 
+def closed_loop_friction(info, v):
+    """The legs' joint friction at the tree's velocities v (viscous plus Coulomb, zero for the
+    platform): the torques it takes beyond rnea's."""
+    return info["damping"] * v + info["coulomb"] * np.sign(v)
+
+
 def pinocchio_inverse_dynamics(model, data, models, datas, info, q, v, a):
-    """Actuator forces from rnea of the open tree and the constraint Jacobian
-    (rnea = Jc^T lambda + S phi: 42 equations, 36 + 6 unknowns)."""
+    """Actuator forces from rnea of the open tree (plus the legs' joint friction) and the
+    constraint Jacobian (rnea = Jc^T lambda + S phi: 42 equations, 36 + 6 unknowns)."""
     import pinocchio as pin
-    tau_tree = pin.rnea(model, data, q, v, a)
+    tau_tree = pin.rnea(model, data, q, v, a) + closed_loop_friction(info, v)
     pin.computeJointJacobians(model, data, q)
     Jc = pin.getConstraintsJacobian(model, data, models, datas)
     return np.linalg.solve(np.hstack([Jc.T, actuation_matrix(model, info)]), tau_tree)[-6:]
@@ -271,15 +284,16 @@ def pinocchio_inverse_dynamics(model, data, models, datas, info, q, v, a):
 
 def pinocchio_forward_dynamics(model, data, models, info, q, v, phi):
     """The tree's accelerations a under actuator forces phi from the constrained equations
-    M a + nle = S phi + Jc^T lambda, Jc a + gamma = 0 (gamma: the closures' acceleration at
-    a = 0, Jc's columns from unit accelerations: exact)."""
+    M a + nle + friction = S phi + Jc^T lambda, Jc a + gamma = 0 (gamma: the closures'
+    acceleration at a = 0, Jc's columns from unit accelerations at v = 0: exact, and free of
+    the cancellation against gamma that large velocities would bring)."""
     import pinocchio as pin
     nv, nc = model.nv, 6 * len(models)
     M = pin.crba(model, data, q)
     M = np.triu(M) + np.triu(M, 1).T
-    nle = pin.nonLinearEffects(model, data, q, v)
+    nle = pin.nonLinearEffects(model, data, q, v) + closed_loop_friction(info, v)
     gamma = closure_accelerations(model, data, models, q, v, np.zeros(nv))
-    Jc = np.column_stack([closure_accelerations(model, data, models, q, v, unit) - gamma for unit in np.eye(nv)])
+    Jc = np.column_stack([closure_accelerations(model, data, models, q, np.zeros(nv), unit) for unit in np.eye(nv)])
     kkt = np.block([[M, -Jc.T], [Jc, np.zeros((nc, nc))]])
     return np.linalg.solve(kkt, np.concatenate([actuation_matrix(model, info) @ phi - nle, -gamma]))[:nv]
 
@@ -417,7 +431,7 @@ class PinocchioReference:
 
     @property
     def tool_frame(self) -> int:
-        return self.model.getFrameId("tool")
+        return self.model.getFrameId("tool", self.pin.FrameType.OP_FRAME)
 
     def forward_kinematics(self, q):
         self.pin.framesForwardKinematics(self.model, self.data, q)
@@ -452,15 +466,14 @@ class UrdfReference(PinocchioReference):
                  quarter_turns: float | None = None):
         import pinocchio as pin
         self.pin = pin
-        if quarter_turns:  # the file with near-quarter-turn rpy angles made exact, as symdyn reads it
-            full = pin.buildModelFromXML(_exact_quarter_turns(str(path), quarter_turns))
-        else:
-            full = pin.buildModelFromUrdf(str(path))
+        text, renamed = _pinocchio_urdf(str(path), quarter_turns)
+        full = pin.buildModelFromXML(text) if text is not None else pin.buildModelFromUrdf(str(path))
         if tip is None:  # the only leaf link (symdyn refuses a branching file without a tip)
             tip = _only_leaf(str(path))
-        if not full.existFrame(tip):
+        body = pin.FrameType.BODY  # links by name and type
+        if not full.existFrame(renamed.get(tip, tip), body):
             raise ValueError(f"no link {tip!r} in {path}")
-        joint = full.frames[full.getFrameId(tip)].parentJoint
+        joint = full.frames[full.getFrameId(renamed.get(tip, tip), body)].parentJoint
         chain = []
         while joint > 0:
             chain.append(joint)
@@ -476,7 +489,7 @@ class UrdfReference(PinocchioReference):
         self.damping = np.array(self.model.damping, dtype=float)
         self.coulomb = np.array(self.model.friction, dtype=float)
         self.armature = np.array(self.model.armature, dtype=float)
-        self._tool = self.model.getFrameId(tool or tip)
+        self._tool = self.model.getFrameId(renamed.get(tool or tip, tool or tip), body)
         self.actuated = list(range(self.model.nv))  # URDF joints are all actuated
         self.world_to_base = pin.SE3.Identity()  # symdyn's base frame is the root link's
 
@@ -492,12 +505,19 @@ class UrdfReference(PinocchioReference):
         return np.array(out)
 
 
-def _exact_quarter_turns(path: str, tolerance: float) -> str:
-    """The URDF text of ``path`` with every rpy angle within ``tolerance`` of a multiple of pi/2
-    written as that multiple to full double precision (how symdyn reads it by default)."""
+def _pinocchio_urdf(path: str, tolerance: float | None) -> tuple[str | None, dict[str, str]]:
+    """The URDF text of ``path`` as Pinocchio's parser should read it, and the links renamed;
+    ``(None, {})`` when the file can be read as it is.
+
+    With ``tolerance``, every rpy angle within it of a multiple of pi/2 is written as that
+    multiple to full double precision (how symdyn reads it by default).  A link named as a joint
+    (ANYmal's ``LF_HAA``) is renamed ``NAME__link``: Pinocchio's ``buildReducedModel`` looks
+    frames up by name alone and fails on the pair."""
     import xml.etree.ElementTree as ET  # a file symdyn has already read (and checked) itself
     tree = ET.parse(path)
-    for origin in tree.getroot().iter("origin"):
+    root = tree.getroot()
+    changed = False
+    for origin in root.iter("origin") if tolerance else ():
         rpy = origin.get("rpy")
         if rpy is None:
             continue
@@ -507,7 +527,26 @@ def _exact_quarter_turns(path: str, tolerance: float) -> str:
             k = round(value / (np.pi / 2))
             values.append(repr(k * np.pi / 2) if abs(value - k * np.pi / 2) <= tolerance else text)
         origin.set("rpy", " ".join(values))
-    return ET.tostring(tree.getroot(), encoding="unicode")
+        changed = True
+    joints = {joint.get("name") for joint in root.iter("joint")}
+    names = joints | {link.get("name") for link in root.iter("link")}
+    renamed: dict[str, str] = {}
+    for link in root.findall("link"):
+        name = link.get("name")
+        if name in joints:
+            new = name + "__link"
+            while new in names:
+                new += "_"
+            names.add(new)
+            renamed[name] = new
+            link.set("name", new)
+    for joint in root.findall("joint"):
+        for end in (joint.find("parent"), joint.find("child")):
+            if end is not None and end.get("link") in renamed:
+                end.set("link", renamed[end.get("link")])
+    if not changed and not renamed:
+        return None, {}
+    return ET.tostring(root, encoding="unicode"), renamed
 
 
 def _only_leaf(path: str) -> str:

@@ -9,10 +9,10 @@ import warnings
 
 from .._version import __version__
 from ..model.errors import SymdynError, SymdynWarning, one_line
-from . import bench, convert, derive, generate, identify, verify
+from . import bench, cache, convert, derive, generate, identify, verify
 
 SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive, "bench": bench,
-               "convert": convert, "identify": identify}
+               "convert": convert, "identify": identify, "cache": cache}
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -38,8 +38,9 @@ def main(argv=None) -> int:
     if not args.command:
         parser.print_help()
         return 2
+    from .common import memory_budget
     try:
-        with _warnings_as_lines(strict=getattr(args, "strict", False)):
+        with _warnings_as_lines(strict=getattr(args, "strict", False)), memory_budget(getattr(args, "max_memory", None)):
             return int(args.run(args) or 0)
     except SymdynError as exc:
         print(f"symdyn: error: {exc}", file=sys.stderr)
@@ -57,7 +58,10 @@ def main(argv=None) -> int:
         print("symdyn: error: the input is nested too deeply to process", file=sys.stderr)
         return 1
     except MemoryError:
-        print("symdyn: error: out of memory (is the robot very large?)", file=sys.stderr)
+        limit = getattr(args, "max_memory", None)
+        budget = f"more than --max-memory {limit:g} GB" if limit else "more memory than the machine has"
+        print(f"symdyn: error: out of memory: the run needed {budget} (a very large robot, or many "
+              "functions: raise --max-memory, or ask for fewer --functions)", file=sys.stderr)
         return 1
     except Exception as exc:  # a bug in symdyn, never a traceback for the user
         print(f"symdyn: internal error: {type(exc).__name__}: {one_line(exc, 300)} "
@@ -70,10 +74,14 @@ def _warnings_as_lines(strict: bool = False):
     """Show each :class:`SymdynWarning` as one ``symdyn: warning: ...`` line on stderr (``strict``:
     raise it instead, so that the command fails with it as its error)."""
     previous = warnings.showwarning
+    shown: set[str] = set()
 
     def show(message, category, filename, lineno, file=None, line=None):
         if issubclass(category, SymdynWarning):
-            print(f"symdyn: warning: {one_line(message)}", file=sys.stderr)
+            text = one_line(message)
+            if text not in shown:  # once per run, however often the input is read
+                shown.add(text)
+                print(_wrapped(f"symdyn: warning: {text}"), file=sys.stderr)
         else:
             previous(message, category, filename, lineno, file, line)
     warnings.showwarning = show
@@ -84,6 +92,21 @@ def _warnings_as_lines(strict: bool = False):
             yield
     finally:
         warnings.showwarning = previous
+
+
+def _wrapped(line: str) -> str:
+    """``line`` wrapped to the terminal's width (continuation lines indented) when standard error
+    is a terminal; one line otherwise (for logs and for programs reading it)."""
+    try:
+        terminal = sys.stderr.isatty()
+    except (AttributeError, ValueError):
+        terminal = False
+    if not terminal:
+        return line
+    import shutil
+    import textwrap
+    width = max(40, shutil.get_terminal_size((100, 24)).columns - 1)
+    return "\n".join(textwrap.wrap(line, width, subsequent_indent="    ", break_on_hyphens=False)) or line
 
 
 def _quiet_stdout() -> None:

@@ -39,6 +39,7 @@ import json
 import math
 import os
 import re
+import stat
 
 import sympy as sp
 
@@ -58,6 +59,9 @@ SUFFIX = ".json"
 
 #: limits on what is read back (an entry beyond them is damaged and rebuilt)
 MAX_ENTRY_BYTES = 64 * 2**20
+#: the whole cache's size limit: after each new entry, the least recently used entries beyond it
+#: are removed (``$SYMDYN_CACHE_MAX_MB`` overrides it; ``symdyn cache info`` shows it)
+DEFAULT_MAX_CACHE_BYTES = 256 * 2**20
 MAX_NODES = 4_000_000    # nodes of the whole payload tree
 MAX_DEPTH = 200          # nesting of nodes (derivations reach about 10; far below the JSON parser's limit)
 MAX_STRING = 256         # characters of a symbol name, output name or float text
@@ -448,14 +452,113 @@ def derive_cached(robot, method: str = "newton-euler", outputs=None, use_cache: 
             fields = unpack(blob, key, secret)
             eqs = _build(robot, method, wanted, fields) if fields is not None else None
             if eqs is not None:
+                try:
+                    os.utime(name, dir_fd=dir_fd, follow_symlinks=False)  # recently used: kept longest
+                except (OSError, NotImplementedError):
+                    pass
                 return eqs
         eqs = derive(robot, method, wanted, progress, fd_method, parameters)
         try:
             _write_file(dir_fd, name, pack(eqs, key, secret))
+            _trim(dir_fd, max_cache_bytes())
         except CacheFormatError as exc:
             _warn(directory, f"cannot store this derivation ({exc})")
         except OSError:
             pass  # an unwritable cache only costs time
         return eqs
+    finally:
+        os.close(dir_fd)
+
+
+# ---------------------------------------------------------------------------------------------
+# Size: what is there, the limit, trimming and clearing (``symdyn cache``)
+# ---------------------------------------------------------------------------------------------
+
+_ENTRY_NAME = re.compile(r"[0-9a-f]{16,128}" + re.escape(SUFFIX) + r"\Z")
+
+
+def max_cache_bytes() -> int:
+    """The cache's size limit in bytes: ``$SYMDYN_CACHE_MAX_MB`` (megabytes, at least 0) or
+    :data:`DEFAULT_MAX_CACHE_BYTES`."""
+    text = os.environ.get("SYMDYN_CACHE_MAX_MB", "").strip()
+    try:
+        value = float(text) if text else None
+    except ValueError:
+        value = None
+    if value is None or not math.isfinite(value) or value < 0:
+        return DEFAULT_MAX_CACHE_BYTES
+    return int(value * 2**20)
+
+
+def _entries(dir_fd: int) -> list[tuple[float, int, str]]:
+    """``(last use, bytes, name)`` of every entry file in the directory (regular files of this
+    user named as entries; anything else is not the cache's and is left alone)."""
+    out = []
+    for name in os.listdir(dir_fd):
+        if not _ENTRY_NAME.match(name):
+            continue
+        try:
+            st = os.stat(name, dir_fd=dir_fd, follow_symlinks=False)
+        except OSError:
+            continue
+        if stat.S_ISREG(st.st_mode) and st.st_uid == os.geteuid():
+            out.append((st.st_mtime, st.st_size, name))
+    return sorted(out)
+
+
+def _trim(dir_fd: int, limit: int) -> None:
+    """Remove the least recently used entries until the entries take at most ``limit`` bytes."""
+    entries = _entries(dir_fd)
+    total = sum(size for _, size, _ in entries)
+    for _, size, name in entries:
+        if total <= limit:
+            break
+        try:
+            os.unlink(name, dir_fd=dir_fd)
+            total -= size
+        except FileNotFoundError:
+            total -= size
+        except OSError:
+            pass
+
+
+@dataclasses.dataclass(frozen=True)
+class CacheInfo:
+    directory: str
+    entries: int
+    bytes: int
+    limit: int
+    usable: str | None  # None, or why the directory is not used
+
+
+def cache_info() -> CacheInfo:
+    """Where the cache is, how many entries and bytes it holds, its limit, and whether it is
+    used (nothing is created or changed, except the directory itself if missing)."""
+    directory = cache_dir()
+    try:
+        dir_fd = _open_dir(directory)
+    except Untrusted as exc:
+        return CacheInfo(directory, 0, 0, max_cache_bytes(), str(exc))
+    try:
+        entries = _entries(dir_fd)
+    finally:
+        os.close(dir_fd)
+    return CacheInfo(directory, len(entries), sum(size for _, size, _ in entries), max_cache_bytes(), None)
+
+
+def clear_cache() -> tuple[int, int]:
+    """Remove every entry (the key file stays); returns ``(entries, bytes)`` removed. Raises
+    :class:`Untrusted` if the directory is not one symdyn uses."""
+    dir_fd = _open_dir(cache_dir())
+    try:
+        entries = _entries(dir_fd)
+        removed = 0
+        for _, size, name in entries:
+            try:
+                os.unlink(name, dir_fd=dir_fd)
+                removed += 1
+            except FileNotFoundError:
+                pass
+        return removed, sum(size for _, size, _ in entries)
     finally:
         os.close(dir_fd)

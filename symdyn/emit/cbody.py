@@ -145,10 +145,15 @@ class BodyWriter:
 
     def write(self) -> Body:
         plan, ctx = self.plan, self.ctx
+        if plan.checked and not self.vector:
+            self._input_checks()
         self._trig_block()
         checks = self._pivot_checks()
         if plan.checked and self.vector:
             self.lines.append(f"{ctx.prefix}_vint all_ok = ({self.vreal}){{0.0}} == 0.0; /* every lane true */")
+            limit, _ = _limit(ctx.internal, ctx.scalar)  # a lane whose input is NaN or infinite: the scalar function's 2
+            self.lines.append("all_ok &= " + "\n        & ".join(
+                f"({name}[{i}] <= {limit}) & ({name}[{i}] >= -{limit})" for name in plan.inputs for i in range(ctx.n)) + ";")
         if plan.gram:
             size = 6 * (plan.gram[1] - 1)
             self.lines.append(f"{self.ltype} mass_s[{size}], mass_f[{size}];")
@@ -167,6 +172,17 @@ class BodyWriter:
         self._loops()
         self.lines.extend(f"{target} = {source};" for target, source in plan.aliases)
         return Body(self.lines, self.ops, self.used, self.printer.vector_functions)
+
+    def _input_checks(self) -> None:
+        """Forward dynamics first checks its inputs: a NaN or infinite q, qd or tau returns 2
+        (not finite) before anything is computed, rather than a NaN pivot's 1 (singular)."""
+        limit, fabs = ("FLT_MAX", "fabsf") if self.ctx.scalar == "float" else ("DBL_MAX", "fabs")
+        tests = "\n            || ".join(f"!({fabs}({name}[i]) <= {limit})" for name in self.plan.inputs)
+        self.lines += [f"for (int i = 0; i < {self.ctx.n}; ++i) {{",
+                       f"    if ({tests}) {{",
+                       "        return 2; /* an input is NaN or infinite */",
+                       "    }",
+                       "}"]
 
     def _count(self, expr) -> None:
         self.ops += count_operations(expr)
@@ -197,6 +213,9 @@ class BodyWriter:
         rtol = self.printer.literal(self.ctx.rtol)
         checks = self.reduced.checks
         for d, m in zip(checks[0::2], checks[1::2]):
+            if not sp.sympify(d).free_symbols and not sp.sympify(m).free_symbols and \
+                    float(d) > (0.0 if sp.sympify(d - m) == 0 else self.ctx.rtol * float(m)):
+                continue  # a constant pivot that passes: no test that is always false (clang's -Wunreachable-code)
             at = max(_position_of(d, self.position), _position_of(m, self.position))
             pd = self.printer.doprint(d)
             if sp.sympify(d - m) == 0:
@@ -214,7 +233,7 @@ class BodyWriter:
             self.lines.append("all_ok &= " + "\n        & ".join(checks[at]) + ";")
         else:
             self.lines += ["if (" + "\n        || ".join(checks[at]) + ") {",
-                           "    return 1; /* singular mass matrix at q (or q not finite) */",
+                           "    return 1; /* singular mass matrix at q */",
                            "}"]
 
     def _statements(self, checks) -> list:

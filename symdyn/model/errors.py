@@ -53,10 +53,19 @@ class SymdynWarning(UserWarning):
     one ``symdyn: warning:`` line)."""
 
 
+#: where Python's warning machinery records the warnings already shown (each text once per
+#: process under the default filter)
+_SHOWN: dict = {}
+
+
 def warn(message: str) -> None:
-    """Issue a :class:`SymdynWarning` (one line, bounded)."""
+    """Issue a :class:`SymdynWarning` (one line, bounded).
+
+    The warning is attributed to ``symdyn`` itself rather than to a line of its source, so that
+    Python users see ``symdyn:0: SymdynWarning: <message>`` without a line of symdyn's code under
+    it; under Python's default filter each text is shown once per process."""
     import warnings
-    warnings.warn(one_line(message), SymdynWarning, stacklevel=3)
+    warnings.warn_explicit(one_line(message), SymdynWarning, "symdyn", 0, module="symdyn", registry=_SHOWN)
 
 
 class SymdynError(Exception):

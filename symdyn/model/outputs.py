@@ -115,8 +115,9 @@ class CombinedSpec:
     summary: str
 
 
-_PIVOTS = ("Returns 0 on success; 1 when the mass matrix is singular at q ({why}); 2 when a result is not "
-           "finite (NaN or beyond the range of {{real}}). On a nonzero return qdd is not written.")
+_PIVOTS = ("Returns 0 on success; 1 when the mass matrix is singular at q ({why}); 2 when an input is NaN or "
+           "infinite, or a result is not finite (NaN or beyond the range of {{real}}). On a nonzero return qdd is "
+           "not written.")
 
 SPECS: tuple[OutputSpec, ...] = (
     OutputSpec(
@@ -142,13 +143,13 @@ SPECS: tuple[OutputSpec, ...] = (
         (OutputArgument("c", "gravity vector c(q), N (N m or N)"),)),
     OutputSpec(
         "forward_dynamics", "qdd", ("q", "qd", "tau"), lambda d: (d.dof, 1), "N", "rad/s^2 or m/s^2",
-        "Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, N divisions).",
+        "Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint).",
         (OutputArgument("qdd", "joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N"),),
         requires=("mass_matrix",),
         status=_PIVOTS.format(why="a pivot d_j of its LDL^T factorization is not above {rtol:g} times its "
                                   "diagonal entry, or is not a number"),
         fd_variants=(("aba", "Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
-                             "algorithm written out for this robot (three sweeps, N divisions, no mass matrix).",
+                             "algorithm written out for this robot (three sweeps, at most one division per joint, no mass matrix).",
                       _PIVOTS.format(why="an articulated inertia d_j about joint j's axis, by which the algorithm "
                                          "divides, is not positive, or is not a number")),)),
     OutputSpec(

@@ -544,8 +544,12 @@ class RobotFileReader:
 
     def angle(self, value: sp.Expr, label: str, fld: str) -> sp.Expr:
         """An angle field in rad: converted from degrees under ``angles: degrees``; a magnitude
-        above 2 pi under radians draws a warning."""
+        above 2 pi under radians, and pi in an angle under degrees, draw a warning."""
         if self.degrees:
+            if value.has(sp.pi):
+                self.warn(f"'{value}' contains pi but the file says 'angles: degrees', so it is read as "
+                          f"{float(value):g} degrees; write it in degrees ({value * 180 / sp.pi} if "
+                          f"'{value}' is in radians), or write 'angles: radians'", label, fld)
             return value * sp.pi / 180
         if value.is_number and abs(value) > 2 * sp.pi:
             self.warn(f"{float(value):g} rad looks like degrees (more than 2 pi); write 'angles: degrees' "

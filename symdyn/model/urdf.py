@@ -144,9 +144,12 @@ def _mp(value):
 
 
 def number_text(value) -> str:
-    """A number as robot-file text: an exact rational (int, Fraction, SymPy Rational) as a
-    terminating decimal or ``p/q``; a :class:`Quarter` or a multiple of pi/2 by
-    :func:`quarter_text`; anything else as ``repr(float)`` (0 below 1e-40)."""
+    """A number as robot-file text: a :class:`Quarter` or a multiple of pi/2 by
+    :func:`quarter_text`; an exact rational (int, Fraction, SymPy Rational) as its exact text (an
+    integer, a terminating decimal or ``p/q``) when that is no longer than the shortest decimal
+    that reads back to the same double, else as that decimal (``repr(float)``: a merged link's
+    mass ``94812479387383249/8067700000000000000`` is written ``0.011752...``); anything else as
+    ``repr(float)`` (0 below 1e-40)."""
     if isinstance(value, Quarter):
         return quarter_text(value.k)
     if isinstance(value, sp.Basic):
@@ -156,28 +159,34 @@ def number_text(value) -> str:
             return quarter_text(int(ratio))
         if value.is_Rational:
             value = Fraction(int(value.p), int(value.q))
-    if isinstance(value, (int, Fraction)):
-        p, q = value.numerator, value.denominator
-        if q == 1:
-            text = str(p)
-            if len(text) <= MAX_LITERAL:
-                return text
-        else:
-            rest, twos, fives = q, 0, 0
-            while rest % 2 == 0:
-                rest, twos = rest // 2, twos + 1
-            while rest % 5 == 0:
-                rest, fives = rest // 5, fives + 1
-            if rest == 1:
-                places = max(twos, fives)
-                digits = str(abs(p) * 10 ** places // q).rjust(places + 1, "0")
-                text = f"{'-' if p < 0 else ''}{digits[:-places]}.{digits[-places:]}"
-                if len(text) <= MAX_LITERAL:
-                    return text
-            if len(str(abs(p))) <= MAX_LITERAL and len(str(q)) <= MAX_LITERAL:
-                return f"{p}/{q}"
     number = float(_mp(value))
-    return "0" if abs(number) < 1e-40 else repr(number)
+    shortest = "0" if abs(number) < 1e-40 else repr(number)
+    if isinstance(value, (int, Fraction)):
+        exact = _exact_text(Fraction(value))
+        if exact is not None and len(exact) <= max(len(shortest), 3):
+            return exact
+    return shortest
+
+
+def _exact_text(value: Fraction) -> str | None:
+    """An integer, a terminating decimal or ``p/q``, exactly; None beyond MAX_LITERAL digits."""
+    p, q = value.numerator, value.denominator
+    if q == 1:
+        return str(p) if len(str(p)) <= MAX_LITERAL else None
+    rest, twos, fives = q, 0, 0
+    while rest % 2 == 0:
+        rest, twos = rest // 2, twos + 1
+    while rest % 5 == 0:
+        rest, fives = rest // 5, fives + 1
+    if rest == 1:
+        places = max(twos, fives)
+        digits = str(abs(p) * 10 ** places // q).rjust(places + 1, "0")
+        text = f"{'-' if p < 0 else ''}{digits[:-places]}.{digits[-places:]}"
+        if len(text) <= MAX_LITERAL:
+            return text
+    if len(str(abs(p))) <= MAX_LITERAL and len(str(q)) <= MAX_LITERAL:
+        return f"{p}/{q}"
+    return None
 
 
 _ZERO, _ONE = Fraction(0), Fraction(1)
@@ -644,8 +653,8 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
 
     name = _robot_name(urdf.robot_name)
     if name != urdf.robot_name:
-        urdf.warn(f"robot name {describe(urdf.robot_name)} is not a valid symdyn name (lower-case letters, "
-                  f"digits and '_', at most {MAX_NAME} characters): it is called '{name}'", None, "robot name")
+        urdf.warn(f"renamed '{name}' (robot names: a-z, 0-9 and '_', at most {MAX_NAME} characters)",
+                  None, "robot name")
 
     notes = [f"read from URDF {display_path(os.path.basename(path))}: chain {one_line(urdf.root, 60)} -> "
              f"{one_line(tip, 60)}, "
@@ -711,9 +720,8 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
         link_name = _link_name(joint.name, taken)
         taken.add(link_name)
         if link_name != joint.name:
-            urdf.warn(f"the joint name is not a valid symdyn link name (letters, digits and '_', not starting "
-                      f"with a digit, at most {MAX_NAME} characters, distinct): it is called '{link_name}'",
-                      where, "name")
+            urdf.warn(f"renamed '{link_name}' (link names: letters, digits and '_', at most {MAX_NAME} "
+                      "characters, distinct)", where, "name")
         entry = {"name": link_name, "joint": "prismatic" if joint.type == "prismatic" else "revolute",
                  "origin": origin, "axis": [t for _, t in axis]}
         extra = {}
@@ -771,10 +779,10 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
         if target >= 0:
             notes.append(f"off the chain, merged rigidly into {links[target][0]['name']}: links {_plain(names)}")
     for target, (names, mass) in sorted(locked.items()):
-        into = "left out with the ground (they never move)" if target < 0 else \
-            f"merged into link {target + 1} ('{links[target][0]['name']}')"
-        urdf.warn(f"joints {_names(names)} are not on the chain to {describe(tip)}: locked at position 0 and "
-                  f"their links ({_kg(mass)} kg) {into}")
+        into = "left out with the fixed base" if target < 0 else \
+            f"carried rigidly by link {target + 1} ('{links[target][0]['name']}')"
+        urdf.warn(f"joints {_names(names)} are off the chain to {describe(tip)}: locked at 0, their links "
+                  f"({_kg(mass)} kg) {into}")
         notes.append(f"off the chain, locked at 0 and {into}: joints {_plain(names)}")
     if dynamics:
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")

@@ -234,7 +234,7 @@ def test_forward_dynamics_status(massless_first_link, precision):
         assert np.array_equal(lib.forward_dynamics(q, [0.1, 0.2], [1.0, 2.0]), np.zeros(2))  # untouched
     for bad in (np.nan, np.inf):
         status, qdd = lib.forward_dynamics_checked([0.3, bad], [0.1, 0.2], [1.0, 2.0], qdd=sentinel)
-        assert status == 1 and np.array_equal(qdd, sentinel)
+        assert status == 2 and np.array_equal(qdd, sentinel)
         status, qdd = lib.forward_dynamics_checked([0.3, 1.0], [bad, 0.2], [1.0, 2.0], qdd=sentinel)
         assert status == 2 and np.array_equal(qdd, sentinel)
     q, qd, tau = np.array([0.3, 1.2]), np.array([0.1, 0.2]), np.array([1.0, 2.0])
@@ -437,8 +437,8 @@ int main(void) {
     rows = [line.split() for line in stdout.split("\n") if line.strip()]
     statuses = [int(row[0]) for row in rows]
     # singular pose: 1; regular pose, torques of 3e38 N m: the accelerations overflow float, 2;
-    # NaN in q: 1 (no pivot compares true); huge q and torques: nonzero; regular and ordinary: 0
-    assert statuses[:3] == [1, 2, 1] and statuses[3] != 0 and statuses[4] == 0, rows
+    # NaN in q: 2 (an input not finite, checked first); huge q and torques: nonzero; regular and ordinary: 0
+    assert statuses[:3] == [1, 2, 2] and statuses[3] != 0 and statuses[4] == 0, rows
     assert all(np.isfinite(float(x)) and float(x) != 7.0 for x in rows[4][1:]), rows  # solved, written
     assert all(row[1:] == ["7", "7"] for row in rows if row[0] != "0"), rows  # not written on a status
 
@@ -464,6 +464,57 @@ def test_round_two_internal_errors_are_one_line(workspace, capsys):
     assert "against a Pinocchio model of symdyn's reading" in captured.out and "FAIL" not in captured.out
 
 
+def test_urdf_that_urdfdom_chokes_on_is_verified_quietly(workspace, capsys):
+    """A URDF with 100,000 nested unknown elements and one with a mesh scale of 1e400 (urdfdom
+    printed errors, then an internal error): verify answers with at most one warning line and
+    compares every requested function."""
+    text = (REPO / "tests" / "data" / "urdf" / "handmade.urdf").read_text()
+    nested = text.replace('<link name="world"/>', '<link name="world"/>' + "<x>" * 100000 + "</x>" * 100000, 1)
+    mesh = text.replace('<link name="base_link">', '<link name="base_link"><visual><geometry><mesh '
+                        'filename="package://a/b.stl" scale="1e400 1 1"/></geometry></visual>', 1)
+    for name, body in (("nested", nested), ("mesh", mesh)):
+        (workspace / f"{name}.urdf").write_text(body)
+        assert main(["verify", str(workspace / f"{name}.urdf"), "--states", "3", "--functions", "gravity,jacobian"]) == 0
+        captured = capsys.readouterr()
+        err = captured.err.strip().splitlines()
+        assert len(err) <= 1 and all(line.startswith("symdyn: warning: ") for line in err), err
+        assert captured.out.count(" ok") == 2 and "FAIL" not in captured.out, captured.out
+
+
+def test_memory_budget_stops_a_derivation_in_one_line(workspace, capsys):
+    """--max-memory bounds the run's memory: chain12 needs about 110 MB, so at 0.1 GB the
+    derivation stops with one line naming the option, and nothing is written; in process, the
+    limit is lifted again after main returns."""
+    import resource
+    import subprocess
+    import sys
+    argv = [sys.executable, "-m", "symdyn", "generate", str(REPO / "robots" / "chain12.yaml"),
+            "--out", str(workspace / "out"), "--no-cache", "--quiet", "--max-memory", "0.1"]
+    result = subprocess.run(argv, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 1, result.stderr[-2000:]
+    assert result.stderr.strip() == ("symdyn: error: out of memory: the run needed more than --max-memory 0.1 GB "
+                                     "(a very large robot, or many functions: raise --max-memory, or ask for fewer "
+                                     "--functions)")
+    assert not (workspace / "out").exists()
+    before = resource.getrlimit(resource.RLIMIT_DATA)
+    run_cli(["generate", REPO / "robots" / "planar2r.yaml", "--out", workspace / "small", "--quiet",
+             "--functions", "gravity", "--max-memory", "64"], capsys, 0)
+    assert resource.getrlimit(resource.RLIMIT_DATA) == before
+
+
+def test_long_flat_expressions_are_read_deep_ones_refused(workspace, capsys):
+    """A sum of 100 terms is flat (read, no "nested too deeply"); 230 unary minus signs are
+    nested 230 deep: one line naming the file, link and field."""
+    extra = "parameters: {a: 0.001}\n"
+    flat = "{joint: revolute, a: '" + "+".join(["a"] * 100) + "', alpha: 0, d: 0, theta: 0, mass: 1, com: [0.2, 0, 0], inertia: 0}"
+    (workspace / "flat.yaml").write_text(robot_text(links=[flat], extra=extra))
+    run_cli(["generate", workspace / "flat.yaml", "--out", workspace / "flat", "--no-cache", "--quiet"], capsys, 0)
+    deep = "{joint: revolute, a: 0.4, alpha: '" + "-" * 230 + "1', d: 0, theta: 0, mass: 1, com: [0.2, 0, 0], inertia: 0}"
+    (workspace / "deep.yaml").write_text(robot_text(links=[deep]))
+    (line,), _ = run_cli(["generate", workspace / "deep.yaml", "--out", workspace / "deep"], capsys, 1)
+    assert "deep.yaml" in line and "field 'alpha'" in line and "nested more than" in line
+
+
 def test_round_two_small_files_that_ran_for_minutes(workspace, capsys):
     """A power of a sum that expands to 47,905 terms (287 bytes: 120 s and 1 GB before),
     parameters defined by repeated products of earlier ones (exact numbers doubling their digits:
@@ -486,6 +537,24 @@ def test_round_two_small_files_that_ran_for_minutes(workspace, capsys):
     assert not (workspace / "out").exists()
 
 
+def test_nearly_singular_mass_matrix_is_a_warning_exact_zero_an_error(workspace, capsys):
+    """A wrist whose point mass sits 1e-7 m off its axis, 1 m away along it (D[2,2] = 1e-14 of
+    the inertia joint 2 could move): numerically zero in double, not zero in the model, so a
+    warning and forward dynamics generated; the same mass exactly on the axis is refused."""
+    def links(offset):
+        return ["{joint: revolute, a: 0.4, alpha: 0, d: 0, theta: 0, mass: 1, com: [-0.2, 0, 0], inertia: 0}",
+                f"{{joint: revolute, a: {offset}, alpha: 0, d: 1, theta: 0, mass: 1, com: [0, 0, 0], inertia: 0}}"]
+    (workspace / "near.yaml").write_text(robot_text(links=links("1e-7")))
+    err, _ = run_cli(["generate", workspace / "near.yaml", "--out", workspace / "near", "--no-cache"], capsys, 0)
+    warning = [line for line in err if "nearly singular" in line]
+    assert len(warning) == 1 and "near.yaml" in warning[0] and "joint 2" in warning[0], err
+    assert "hostile_forward_dynamics" in (workspace / "near" / "hostile_dynamics.h").read_text()
+    (workspace / "exact.yaml").write_text(robot_text(links=links("0")))
+    (line,), _ = run_cli(["generate", workspace / "exact.yaml", "--out", workspace / "exact", "--no-cache"], capsys, 1)
+    assert "exact.yaml: forward dynamics: D[2,2] is identically 0: joint 2" in line
+    assert not (workspace / "exact").exists()
+
+
 def test_coaxial_links_of_very_different_inertia_are_not_singular(workspace, capsys):
     """Two coaxial links, 1e9 and 0.01 kg m^2 about the shared axis: D is regular (the second
     joint moves 0.01 kg m^2), so forward dynamics is generated and agrees with Pinocchio; the
@@ -498,3 +567,35 @@ def test_coaxial_links_of_very_different_inertia_are_not_singular(workspace, cap
     assert (workspace / "out" / "hostile_dynamics.c").is_file()
     assert main(["verify", str(workspace / "coax.yaml"), "--functions", "forward_dynamics,mass_matrix",
                  "--states", "5"]) == 0
+
+
+def test_warnings_are_concise_once_per_run_and_wrapped_on_a_terminal(workspace, capsys, monkeypatch):
+    """A URDF leg whose other leg is locked: verify reads the file more than once, the warning is
+    printed once, in one line when standard error is not a terminal; on a terminal of 60
+    columns it is wrapped (indented continuation lines, none wider); from Python the warning is
+    a SymdynWarning shown once, with no line of symdyn's source under it."""
+    import io
+    import subprocess
+    import sys
+    from symdyn.cli import _wrapped
+    urdf = REPO / "tests" / "data" / "urdf" / "shared_names.urdf"
+    assert main(["verify", str(urdf), "--tip", "FOOT", "--states", "2", "--functions", "gravity"]) == 0
+    err = [line for line in capsys.readouterr().err.splitlines() if line.startswith("symdyn: warning: ")]
+    assert len(err) == 1 and "'RHAA' are off the chain to 'FOOT': locked at 0" in err[0], err
+    assert "never move" not in err[0] and len(err[0]) < 200
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+    monkeypatch.setattr(sys, "stderr", Terminal())
+    monkeypatch.setenv("COLUMNS", "60")
+    text = _wrapped("symdyn: warning: " + err[0][len("symdyn: warning: "):])
+    lines = text.splitlines()
+    assert len(lines) >= 3 and all(len(line) <= 59 for line in lines), lines
+    assert all(line.startswith("    ") for line in lines[1:]) and " ".join(l.strip() for l in lines) == err[0]
+    monkeypatch.undo()
+    code = f"import symdyn\nfor _ in range(3):\n    symdyn.load({str(urdf)!r}, tip='FOOT')\n"
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0 and result.stderr.strip().splitlines() == [
+        f"symdyn:0: SymdynWarning: {urdf}: joints 'RHAA' are off the chain to 'FOOT': locked at 0, their links "
+        "(1 kg) left out with the fixed base"], result.stderr

@@ -465,3 +465,43 @@ def test_unwritable_cache_costs_only_time(tmp_path, monkeypatch, capsys, referen
     monkeypatch.setattr(cache, "_warned", False)
     assert generate(PLANAR, tmp_path / "out") == reference(PLANAR)
     assert len(warning_lines(capsys)) == 1
+
+
+def test_cache_info_limit_and_clear(cache_path, tmp_path, capsys, monkeypatch):
+    """``symdyn cache info`` shows the directory, entries, size and limit; beyond the limit the
+    least recently used entries go (a hit counts as a use), and $SYMDYN_CACHE_MAX_MB sets it;
+    ``symdyn cache clear`` removes every entry and nothing else (the key, a file not an entry)."""
+    import os
+    import time
+    generate(PLANAR, tmp_path / "a", "--functions", "gravity")
+    first = entry_path(cache_path, PLANAR, ("gravity",))
+    assert first.is_file()
+    capsys.readouterr()
+    assert main(["cache", "info"]) == 0
+    out = capsys.readouterr().out
+    assert f"directory: {cache_path}" in out and "entries:   1 (" in out and "limit:     256.0 MB" in out
+    generate(THREE, tmp_path / "b", "--functions", "gravity")
+    generate(THREE, tmp_path / "c", "--functions", "mass_matrix")
+    second, third = entry_path(cache_path, THREE, ("gravity",)), entry_path(cache_path, THREE, ("mass_matrix",))
+    for age, path in ((100, first), (50, second), (10, third)):
+        os.utime(path, (time.time() - age, time.time() - age))
+    generate(PLANAR, tmp_path / "d", "--functions", "gravity")  # a hit: planar2r's entry is now the newest
+    fd = os.open(cache_path, os.O_RDONLY)
+    try:
+        cache._trim(fd, first.stat().st_size + third.stat().st_size)
+    finally:
+        os.close(fd)
+    assert first.is_file() and not second.is_file() and third.is_file()
+    (cache_path / "notes.txt").write_text("mine")
+    capsys.readouterr()
+    assert main(["cache", "clear"]) == 0
+    assert capsys.readouterr().out.startswith("removed 2 entries (")
+    assert sorted(p.name for p in cache_path.iterdir()) == sorted([cache.KEY_FILE, "notes.txt"])
+    assert main(["cache", "info"]) == 0 and "entries:   0 (0.0 MB)" in capsys.readouterr().out
+    monkeypatch.setenv("SYMDYN_CACHE_MAX_MB", "0.5")
+    assert cache.max_cache_bytes() == 2**19
+    monkeypatch.setenv("SYMDYN_CACHE_MAX_MB", "0")  # no room: each entry goes as soon as it is written
+    generate(PLANAR, tmp_path / "e", "--functions", "gravity")
+    assert not first.exists() and (cache_path / "notes.txt").is_file()
+    monkeypatch.setenv("SYMDYN_CACHE_MAX_MB", "lots")
+    assert cache.max_cache_bytes() == cache.DEFAULT_MAX_CACHE_BYTES

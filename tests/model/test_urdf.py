@@ -12,6 +12,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
+import sympy as sp
 import yaml
 
 import symdyn
@@ -28,6 +29,7 @@ pin = pytest.importorskip("pinocchio")
 DATA = REPO / "tests" / "data" / "urdf"
 HANDMADE = DATA / "handmade.urdf"
 BRANCHING = DATA / "branching.urdf"
+SHARED_NAMES = DATA / "shared_names.urdf"  # links named as their joints, as ANYmal's LF_HAA
 SCENES = sorted(p.stem for p in (REPO / "robots" / "scenes").glob("*.yaml"))
 
 
@@ -133,6 +135,20 @@ def test_branches_are_locked_and_merged_as_pinocchio_reduces_them():
     agree(PinocchioReference(robot), UrdfReference(str(BRANCHING), "finger_l"), 3, 1e-12)
 
 
+def test_links_named_as_joints_are_found_by_name_and_type(capsys):
+    """A leg whose links carry their joints' names (ANYmal's LF_HAA: Pinocchio's frame lookup by
+    name alone raised 'Several frames match the filter'): Pinocchio's own parser is the reference
+    with the tip or the tool on such a link, and verify compares with it (no fallback warning)."""
+    for tip, dof in (("HAA", 1), ("FOOT", 3)):
+        doc, _, _ = read(SHARED_NAMES, tip=tip)
+        robot = from_document(doc, str(SHARED_NAMES))
+        agree(PinocchioReference(robot), UrdfReference(str(SHARED_NAMES), tip), dof, 1e-12)
+        assert main(["verify", str(SHARED_NAMES), "--tip", tip, "--states", "3", "--functions", "mass_matrix,jacobian"]) == 0
+        captured = capsys.readouterr()
+        assert "against Pinocchio's own URDF parser" in captured.out and captured.out.count(" ok") == 2
+        assert "cannot read it" not in captured.err and "Traceback" not in captured.err
+
+
 def test_rpy_of_composed_rotations():
     """matrix_rpy inverts rpy_rotation: quarter turns exactly, others to 30 digits, and at
     pitch = +-pi/2 (gimbal lock) it puts the whole turn about z into roll."""
@@ -152,6 +168,9 @@ def test_rpy_of_composed_rotations():
     assert abs(float(roll) - 0.5) < 1e-15  # roll + yaw
     assert number_text(Fraction(1, 3)) == "1/3" and number_text(Fraction(-1, 8)) == "-0.125"
     assert number_text(Quarter(-3)) == "-3*pi/2" and number_text(10 ** 70) == "1e+70"
+    merged = Fraction(94812479387383249, 8067700000000000000)  # a merged link's COM: the shortest double
+    assert number_text(merged) == repr(float(merged)) == "0.01175210771191086"
+    assert number_text(Fraction(3, 1000)) == "0.003" and number_text(Fraction(2, 3)) == "2/3"
 
 
 def test_quarter_turn_rule_and_names():
@@ -338,7 +357,7 @@ def test_convert_urdf_to_yaml_reads_back(tmp_path, capsys):
     assert list(loaded) == ["format", "name", "convention", "gravity", "tool", "links"]
     direct = from_document(read(HANDMADE)[0], "x")
     robot = symdyn.load(out)
-    assert robot.links == direct.links and robot.tool == direct.tool and robot.gravity == direct.gravity
+    assert_same_doubles(robot, direct)
     # stdout by default, the same text
     assert main(["convert", str(HANDMADE), "--to", "yaml"]) == 0
     assert capsys.readouterr().out == text
@@ -349,6 +368,34 @@ def test_convert_urdf_to_yaml_reads_back(tmp_path, capsys):
     a, b = (pin.buildModelFromUrdf(str(tmp_path / n)) for n in ("a.urdf", "b.urdf"))
     q = np.linspace(-1, 1, 6)
     assert np.allclose(pin.crba(a, a.createData(), q), pin.crba(b, b.createData(), q), atol=1e-14)
+
+
+def assert_same_doubles(robot, direct):
+    """Every number of ``robot`` (read back from YAML) is the double of ``direct``'s exact value."""
+    assert len(robot.links) == len(direct.links)
+    for mine, theirs in zip(robot.links, direct.links):
+        for name in ("mass", "com", "inertia", "a", "d", "alpha", "theta", "origin", "damping", "coulomb", "armature"):
+            a, b = getattr(mine, name), getattr(theirs, name)
+            flat_a = [float(x) for x in sp.flatten([a]) if x is not None] if not hasattr(a, "xyz") else \
+                [float(x) for x in (*a.xyz, *a.rpy)]
+            flat_b = [float(x) for x in sp.flatten([b]) if x is not None] if not hasattr(b, "xyz") else \
+                [float(x) for x in (*b.xyz, *b.rpy)]
+            assert flat_a == flat_b, (mine.name, name, a, b)
+    assert [float(x) for x in robot.gravity] == [float(x) for x in direct.gravity]
+
+
+def test_converted_merged_links_are_short_decimals(tmp_path, capsys):
+    """Merged links (masses and centres of mass weighted exactly) are written as the shortest
+    decimal of the same double, not as p/q of 17-digit integers; quarter turns stay exact."""
+    out = tmp_path / "branching.yaml"
+    assert main(["convert", str(BRANCHING), "--tip", "tcp", "--to", "yaml", "--out", str(out), "--quiet"]) == 0
+    capsys.readouterr()
+    body = "\n".join(line for line in out.read_text().splitlines() if not line.startswith("#"))
+    import re
+    assert not re.search(r"\d{12,}/", body) and not re.search(r"/\d{12,}", body), body
+    assert "pi/2" in body
+    direct = from_document(read(BRANCHING, tip="tcp")[0], "x")
+    assert_same_doubles(symdyn.load(out), direct)
 
 
 def test_convert_refusals(tmp_path, capsys):

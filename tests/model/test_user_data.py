@@ -108,6 +108,9 @@ def write(tmp_path, top="", alpha="pi/2", theta="0", inertia=", inertia: [0.02, 
 @pytest.mark.parametrize("change, words", [
     (dict(alpha="90"), ["link 1 ('j1'): field 'alpha'", "looks like degrees"]),
     (dict(theta="-180"), ["field 'theta'", "looks like degrees"]),
+    (dict(top="angles: degrees\n", alpha="-pi/2"), ["link 1 ('j1'): field 'alpha'", "contains pi", "-1.5708 degrees", "(-90 if '-pi/2'"]),
+    (dict(top="angles: degrees\nparameters: {quarter: pi/2}\n", alpha="90", theta="quarter"),
+     ["field 'theta'", "contains pi", "(90 if 'pi/2' is in radians)"]),
     (dict(inertia=""), ["link 1 ('j1'): field 'inertia'", "point mass is assumed", "inertia: 0"]),
     (dict(inertia=", inertia: [0.1, 0.01, 0.01, 0, 0, 0]"), ["field 'inertia'", "triangle inequality"]),
 ])
