@@ -10,7 +10,8 @@ import pathlib
 
 import pytest
 
-PACKAGE = pathlib.Path(__file__).resolve().parent.parent / "symdyn"
+REPO = pathlib.Path(__file__).resolve().parent.parent
+PACKAGE = REPO / "symdyn"
 ORDER = ("model", "derive", "emit", "check", "cli")
 FORBIDDEN_THIRD_PARTY = {"model": ("jinja2", "casadi", "pinocchio"),
                          "derive": ("jinja2", "casadi", "pinocchio"),
@@ -165,3 +166,32 @@ def test_layering_check_sees_whole_package_imports():
     assert "private names" in _package_import_problems("from .equations import _Derivation\n", probe, False, "p")[0]
     assert not _package_import_problems("from .equations import derive\nfrom .._version import __version__\n",
                                         probe, False, "p")
+
+
+def test_users_read_no_seeds():
+    """What users read cites its sources by what they are (the ECE 470 dynamics lecture, the
+    force-to-torque articulated-body note, ...), never as 'seeds' or 'design notes' they do not
+    have: README, docs, generated files, templates, the package's docstrings and messages, and
+    every command's --help."""
+    import io
+    import re
+    from contextlib import redirect_stdout
+    from symdyn.cli import SUBCOMMANDS, main
+    word = re.compile(r"\bseeds?\b(?! *[=:),<]| \d)|seed's|design notes?", re.IGNORECASE)
+    allowed = re.compile(r"random seed|--seed|args\.seed|seed=|rng|seeds the variable", re.IGNORECASE)
+    texts = {}
+    for pattern in ("README.md", "docs/**/*.md", "generated/**/*.[ch]", "templates/*", "symdyn/**/*.py"):
+        for path in REPO.glob(pattern):
+            if path.is_file():
+                texts[str(path.relative_to(REPO))] = path.read_text(errors="replace")
+    for name in [None, *SUBCOMMANDS]:
+        buffer = io.StringIO()
+        with redirect_stdout(buffer):
+            main([name, "--help"] if name else ["--help"])
+        texts[f"symdyn {name or ''} --help"] = buffer.getvalue()
+    found = []
+    for where, text in texts.items():
+        for number, line in enumerate(text.splitlines(), 1):
+            if word.search(line) and not allowed.search(line):
+                found.append(f"{where}:{number}: {line.strip()[:120]}")
+    assert not found, "\n".join(found)

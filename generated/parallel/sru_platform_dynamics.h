@@ -97,7 +97,7 @@ int sru_platform_mass_matrix(const sru_platform_real pose[7], sru_platform_real 
 /*
  * The twist map T (6x6, row-major): the platform's twist t = T qd for actuated joint rates qd (T = K^-1).
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
- *   T[36] (out): the seed's T, 6x6 row-major: t = T qd
+ *   T[36] (out): the notes' T, 6x6 row-major: t = T qd
  * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 2367 multiplications, 1759 additions/subtractions, 32 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
@@ -106,7 +106,7 @@ int sru_platform_twist_map(const sru_platform_real pose[7], sru_platform_real T[
 /*
  * The leg rate maps L_J for the six legs (6 blocks of 6x6, row-major, leg by leg): leg J's joint rates are L_J qd.
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
- *   L[216] (out): the seed's L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)
+ *   L[216] (out): the notes' L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)
  * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 5301 multiplications, 3805 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */

@@ -1,12 +1,12 @@
-"""The dynamics of a platform robot by the natural orthogonal complement, numerically (seed 002).
+"""The dynamics of a platform robot by the natural orthogonal complement, numerically (natural orthogonal complement notes).
 
 A numeric reference for the parallel-robot derivation (issue: parallel platforms): each leg's
 serial quantities come from symdyn's serial equations evaluated with numpy (the leg's Jacobian,
 its J-dot qd, its inverse dynamics and mass matrix); the platform and the loop closure are the
-seed's formulas, written here with 6x6 linear solves.
+notes' formulas, written here with 6x6 linear solves.
 
 State.  The platform pose is the position ``p`` (m, world frame W) of the platform frame P's
-origin and the rotation ``R`` (3x3, P's axes in W); its twist is the seed's
+origin and the rotation ``R`` (3x3, P's axes in W); its twist is the notes'
 ``t_M = [omega; c_dot]`` (rad/s, m/s, W axes): the angular velocity and the velocity of the
 platform's mass centre C_M; ``t_dot = [omega_dot; c_ddot]`` (classical derivatives, W axes).
 
@@ -18,11 +18,11 @@ Per leg J (k its actuated joint):
   ``S_J = [[-[r]x ... ]]`` the shift from C_M to U_J (r = U_J - C_M), so the leg's rates are
   ``theta_dot_J = J_J^-1 S_J t_M`` (J_J: the leg's 6x6 Jacobian at U_J in W axes) and
   ``q_dot_J = e_k^T J_J^-1 S_J t_M``: the rows ``e_k^T J_J^-1 S_J`` make the 6x6 matrix
-  ``K`` with ``q_dot = K t_M``, i.e. ``T = K^-1`` of the seed (``t_M = T q_dot``) and
+  ``K`` with ``q_dot = K t_M``, i.e. ``T = K^-1`` of the notes (``t_M = T q_dot``) and
   ``L_J = J_J^-1 S_J T``;
 - the leg's own inverse dynamics tau_J^leg (gravity included, no load at its end).
 
-Inverse dynamics (power balance, equivalent to the seed's ``phi = Lambda^-1 [M q_ddot + N q_dot
+Inverse dynamics (power balance, equivalent to the notes' ``phi = Lambda^-1 [M q_ddot + N q_dot
 - tau^W]``): ``phi = K^-T (w_M + sum_J S_J^T J_J^-T tau_J^leg)`` with
 ``w_M = M_M t_dot + W_M M_M t_M - w_gravity`` the wrench the platform's motion needs.
 Forward dynamics: the same relation is linear in ``t_dot``: ``A t_dot + b = K^T phi``.
@@ -130,7 +130,7 @@ class ParallelReference:
         return states
 
     def twist_map(self, states) -> np.ndarray:
-        """K (6x6): ``q_dot = K t_M``; the seed's T is its inverse."""
+        """K (6x6): ``q_dot = K t_M``; the notes' T is its inverse."""
         return np.array([st.rates[self.actuated[k]] for k, st in enumerate(states)])
 
     # dynamics -----------------------------------------------------------------------------------
@@ -180,7 +180,7 @@ class ParallelReference:
         return np.linalg.solve(A, K.T @ np.asarray(phi, float) - b)
 
     def seed_matrices(self, p, R, twist=None) -> dict:
-        """The seed's matrices at platform pose (p, R): ``T`` (6x6, ``t_M = T q_dot``), ``L``
+        """The notes' matrices at platform pose (p, R): ``T`` (6x6, ``t_M = T q_dot``), ``L``
         (each leg's 6x6 ``L_J = J_J^-1 T``, with J_J taken at the platform's mass centre),
         ``Lambda`` (6x6: column J is ``L_J^T e_k``, k leg J's actuated joint; the identity, since
         ``q_J`` is itself joint k of leg J) and ``M`` (6x6, the mass matrix in actuated coordinates:

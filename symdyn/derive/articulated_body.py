@@ -1,4 +1,4 @@
-"""Forward dynamics by the articulated-body algorithm (seed 004, Algorithm 1), symbolic.
+"""Forward dynamics by the articulated-body algorithm (the force-to-torque articulated-body note, Algorithm 1), symbolic.
 
 Spatial vectors are 6 x 1 with the angular part first: motion ``[omega; v]`` (v: velocity of the
 frame origin) and force ``[n; f]`` (n: moment about the origin).  Every quantity of joint j is
@@ -7,7 +7,7 @@ its z axis through its origin, so the motion subspace is ``S_j = [e_z; 0]`` (rev
 ``[0; e_z]`` (prismatic) and ``U_j = I^A_j S_j`` is a column of ``I^A_j``.  ``X_j`` maps motion
 vectors from ``J_{j-1}`` (the base frame for j = 1) to ``J_j``; forces go back with ``X_j^T``.
 
-Three sweeps, the seed's notation::
+Three sweeps, the notes' notation::
 
     v_j = X_j v_{j-1} + S_j qd_j,    c_j = v_j x S_j qd_j,
     I^A_j = I_j,                     p^A_j = v_j x* I_j v_j                      (j = 1..n)
@@ -162,10 +162,10 @@ def forward_dynamics(chain: Chain, tau, friction) -> tuple[sp.Matrix, tuple[tupl
 
 @dataclass(frozen=True)
 class ReactionMap:
-    """The force-to-torque map of seed 004 (sections 2-4) for one robot, 0-based lists.
+    """The force-to-torque map of the force-to-torque articulated-body note (sections 2-4) for one robot, 0-based lists.
 
     ``b[j] = U_j / d_j`` (eq. 3), ``A[j] = 1 - b_j S_j^T`` (eq. 4), :attr:`k_force` ``[j]`` the bias force
-    ``p^A_j`` at tau = 0 (the seed's ``k_{j+1}``, eq. 5), ``k1`` the acceleration of body 1 at
+    ``p^A_j`` at tau = 0 (the notes' ``k_{j+1}``, eq. 5), ``k1`` the acceleration of body 1 at
     tau = 0 without its bias force (eq. 7), ``k0`` the base wrench at tau = 0 (eqs. 9-10),
     ``columns`` the base wrench per unit torque of each actuated joint (eq. 14:
     ``X_1^T A_1 ... X_{j-1}^T A_{j-1} X_j^T b_j``), ``actuated`` their joint indices."""
@@ -182,7 +182,7 @@ class ReactionMap:
 
     @property
     def k_force(self) -> tuple:
-        """The bias forces ``p^A_j`` at tau = 0 (the seed's ``k_{j+1}``): the sweeps' own."""
+        """The bias forces ``p^A_j`` at tau = 0 (the notes' ``k_{j+1}``): the sweeps' own."""
         return self.sweeps.pA
 
     @property
@@ -194,9 +194,9 @@ class ReactionMap:
 def reaction_map(chain: Chain, friction) -> ReactionMap:
     """The wrench ``[n; f]`` that the base exerts on body 1 through joint 1, in the base frame
     (moment about the base origin first), as ``k0 + D tau_H`` with ``tau_H`` the actuated joints'
-    forces and the passive joints' forces zero (seed 004, eqs. 5-14), derived from the
+    forces and the passive joints' forces zero (the force-to-torque articulated-body note, eqs. 5-14), derived from the
     articulated-body recursion: ``k0`` from Algorithm 1 at tau = 0, each column of D as the
-    seed's product ``X_1^T A_1 X_2^T A_2 ... X_j^T b_j``.  ``friction``: damping and Coulomb
+    notes' product ``X_1^T A_1 X_2^T A_2 ... X_j^T b_j``.  ``friction``: damping and Coulomb
     terms (n, no qdd); they stay in k0."""
     b = chain.builder
     n = chain.n

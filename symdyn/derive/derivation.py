@@ -1,7 +1,7 @@
 """Textbook derivations: the steps of Lagrange-Euler and Newton-Euler for one robot, as data.
 
 This module derives and simplifies; it prints nothing (see :mod:`symdyn.emit.printout`).  The steps
-follow the notes in the seeds: the trace form (``^{i-1}A_i``, ``^0A_i``, ``Q_j``, ``U_ij``,
+follow the source notes: the trace form (``^{i-1}A_i``, ``^0A_i``, ``Q_j``, ``U_ij``,
 ``U_ijk``, pseudo-inertias ``J_i``, then ``D_ik``, ``h_ikm``, ``h_i``, ``c_i``) and the recursive
 Newton-Euler equations of Table 3.2 (forward: omega_i, omegadot_i, vdot_i, abar_i; backward:
 F_i, N_i, f_i, n_i, tau_i), every vector in the frame of its own link.
@@ -617,7 +617,7 @@ _SPATIAL = ("wx", "wy", "wz", "x", "y", "z")  # entry labels of spatial vectors 
 
 
 def _articulated_body_steps(robot: Robot, steps: str) -> Derivation:
-    """The articulated-body algorithm (seed 004, Algorithm 1) written out for ``robot`` in the
+    """The articulated-body algorithm (the force-to-torque articulated-body note, Algorithm 1) written out for ``robot`` in the
     named form, and for a robot with passive joints the force-to-torque map (eqs. 3-14)."""
     chain = make_chain(robot)
     notation = _Notation(chain)

@@ -1,4 +1,4 @@
-"""Jacobian-projected Newton-Euler equations (the seed lecture "MB Dynamics NE"), symbolic.
+"""Jacobian-projected Newton-Euler equations (the lecture "MB Dynamics NE"), symbolic.
 
 Every vector is in the base frame ("world" of the notes).  For link i: ``k_i`` the joint axis,
 ``r_i`` the centre of mass, ``d_i = r_i - p_i`` from the joint point p_i to the centre of mass,

@@ -1,4 +1,4 @@
-"""Lagrange-Euler equations of motion in the trace form of the notes (000 in the seeds).
+"""Lagrange-Euler equations of motion in the trace form of the notes (the Lagrange-Euler/Newton-Euler tables).
 
 Notation (4x4 homogeneous matrices, base frame 0):
 

@@ -1,7 +1,7 @@
-"""Closed-form inverse kinematics of a platform robot's leg (seed 002's legs: S-X-U).
+"""Closed-form inverse kinematics of a platform robot's leg (the parallel-manipulator notes' legs: S-X-U).
 
 A leg whose first three joints are revolute with axes meeting at one point (a spherical pair S
-at the base), whose fourth joint is revolute or prismatic (X, the actuated one in seed 002), and
+at the base), whose fourth joint is revolute or prismatic (X, the actuated one in the parallel-manipulator notes), and
 whose last two joints are revolute with axes meeting at one point (a universal joint U at the
 platform) has its joint values in closed form from the pose of its frame 6 (fixed to the
 platform), in the manner of a wrist-partitioned arm:

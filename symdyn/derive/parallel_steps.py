@@ -1,13 +1,13 @@
 """The natural-orthogonal-complement derivation of a platform robot, step by step, in the
-notation and order of seed 002, evaluated at one platform state (for ``symdyn derive``).
+notation and order of the parallel-manipulator notes, evaluated at one platform state (for ``symdyn derive``).
 
-The quantities of the seed are 6x6 matrices whose closed forms in the pose are far too long to
+The quantities of the notes are 6x6 matrices whose closed forms in the pose are far too long to
 print; a derivation shows each one's definition and its value at a given state (default: the
-robot file's home pose at rest), so that a reader can follow the seed with numbers, or check a
+robot file's home pose at rest), so that a reader can follow the notes with numbers, or check a
 paper's.  Everything is computed here from the legs' serial equations (numerically) and the
 closed-form leg inverse kinematics, independently of the generated functions' programs.
 
-Notation (seed 002): the twist of the platform M at its mass centre C_M is
+Notation (natural orthogonal complement notes): the twist of the platform M at its mass centre C_M is
 ``t_M = [omega_M; c_dot_M]``; leg J's Jacobian ``J_J`` maps its joint rates to t_M
 (``J_J theta_dot_J = t_M``), its columns ``[e_i; e_i x r_i]`` with ``e_i`` the unit axis of joint
 i (a prismatic joint: ``[0; e_i]``) and ``r_i`` the vector from a point O_i of that axis to C_M
@@ -32,8 +32,8 @@ ROMAN = ("I", "II", "III", "IV", "V", "VI")
 
 @dataclass(frozen=True)
 class Step:
-    """One step of the seed: a title, its defining formula (``formula``: plain text in the
-    seed's notation), and the values it takes: ``(label, numpy array or number)`` pairs."""
+    """One step of the notes: a title, its defining formula (``formula``: plain text in the
+    notes' notation), and the values it takes: ``(label, numpy array or number)`` pairs."""
 
     title: str
     formula: str
@@ -42,7 +42,7 @@ class Step:
 
 @dataclass(frozen=True)
 class ParallelDerivation:
-    """The steps in the seed's order, and the state they are evaluated at."""
+    """The steps in the notes' order, and the state they are evaluated at."""
 
     robot: ParallelRobot
     pose: np.ndarray  # p (3) and quaternion (x, y, z, w)
@@ -99,7 +99,7 @@ class _Leg:
 
 
 def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=None) -> ParallelDerivation:
-    """The seed's quantities at platform state (``pose``: p and quaternion (x, y, z, w), default
+    """The notes' quantities at platform state (``pose``: p and quaternion (x, y, z, w), default
     the home pose; ``twist`` t_M, default 0; ``accelerations`` q_ddot, default 0)."""
     where = robot.source or robot.name
     if robot.parameters:

@@ -40,8 +40,8 @@ OUTPUT_DOCS = {
     "twist_rate": "t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)",
     "qdd": "actuated joint accelerations (rad/s^2 or m/s^2), leg by leg",
     "M": "mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)",
-    "T": "the seed's T, 6x6 row-major: t = T qd",
-    "L": "the seed's L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)",
+    "T": "the notes' T, 6x6 row-major: t = T qd",
+    "L": "the notes' L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)",
     "q": "actuated joint positions (rad or m), leg by leg",
     "qd": "actuated joint rates (rad/s or m/s), leg by leg",
 }

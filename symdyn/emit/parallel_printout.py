@@ -1,5 +1,5 @@
 """Printing a platform robot's derivation (:mod:`symdyn.derive.parallel_steps`) as text,
-LaTeX or Markdown: each step of seed 002 with its formula and its values at the state.  Numbers
+LaTeX or Markdown: each step of the parallel-manipulator notes with its formula and its values at the state.  Numbers
 are shown with 6 significant digits (entries below 1e-9, relative to the larger of 1 and their
 array's largest entry, as 0).  No derivation happens here."""
 

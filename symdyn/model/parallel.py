@@ -1,6 +1,6 @@
 """Parallel (platform) robots: a moving platform coupled to a fixed base by six serial legs.
 
-The model of seed 002 (dynamics of parallel manipulators, after Angeles): a moving platform M
+The model of the notes on the dynamics of parallel manipulators (after Angeles): a moving platform M
 and six legs, each a six-joint serial chain from the base to the platform with exactly one
 actuated joint, so that the six actuated joint variables ``q`` are as many as the platform's
 degrees of freedom.  The file format (``kind: parallel``) is specified in
@@ -38,8 +38,8 @@ LEG_KEYS = ("name", "base", "platform", *SHARED_LEG_KEYS)
 #: how far (m, and rad times 1 m) the platform poses the legs' home configurations give may be
 #: apart (the files' numbers have about ten digits)
 HOME_TOLERANCE = 1e-6
-#: legs of a platform robot, and joints of each leg (the natural orthogonal complement of seed
-#: 002 needs one actuated joint per leg and as many legs as the platform's degrees of freedom)
+#: legs of a platform robot, and joints of each leg (the natural orthogonal complement of the
+#: parallel-manipulator notes needs one actuated joint per leg and as many legs as the platform's degrees of freedom)
 LEG_COUNT = 6
 LEG_JOINTS = 6
 
