@@ -9,9 +9,9 @@ closed-loop model (symdyn.check.pinocchio_model.build_closed_loop_model: a free-
 six leg chains, a 6D loop closure per leg; for forward dynamics with a 1e-9 armature on the legs'
 joints, which Pinocchio's constraint solvers need, and which moves the accelerations by about
 1e-9 of themselves: the accuracy column shows it), draws N distinct random platform states about the home pose, and gets
-each leg's joint positions, rates and accelerations from symdyn's numeric reference (Newton
-inverse kinematics: Pinocchio's side is handed them, it has no leg inverse kinematics of its
-own).  benchmarks/pinocchio_platform_bench.cpp, compiled with g++ -O3 -march=native against the
+each leg's joint positions, rates and accelerations from Pinocchio's closed-loop model
+(symdyn.check.closed_loop, the reference of symdyn verify and bench: Pinocchio's side is handed
+them, it has no inverse kinematics of closed loops).  benchmarks/pinocchio_platform_bench.cpp, compiled with g++ -O3 -march=native against the
 pin wheel's Pinocchio and linked with the generated C (gcc, same flags), times
 
 - inverse dynamics: symdyn's NAME_inverse_dynamics(pose, twist, twist_rate) against Pinocchio's
@@ -52,31 +52,26 @@ def _robot(name):
 
 
 def _leg_chunk(args):
-    """Pinocchio's q, v, a for a chunk of platform states (worker process)."""
-    import pinocchio as pin
-
-    from symdyn.check.parallel_reference import ParallelReference
-    from symdyn.check.pinocchio_model import build_closed_loop_model, pinocchio_state
+    """Pinocchio's q, v, a for a chunk of platform states (worker process): the legs solved on
+    Pinocchio's closed-loop model (symdyn.check.closed_loop, as symdyn verify and bench do), each
+    state's from the previous one's."""
+    from symdyn.check.closed_loop import ClosedLoopReference, pose_vector
     name, chunk = args
-    robot = _robot(name)
-    ref = ParallelReference(robot)
-    model, _, info = build_closed_loop_model(robot, ARMATURE)
+    ref = ClosedLoopReference(_robot(name))
     out = []
     guess = None
     for p, R, twist, rate in chunk:
-        legs = ref.leg_states(p, R, twist, rate, guess)
-        guess = [leg.theta for leg in legs]
-        q, v, a = pinocchio_state(model, info, ref, p, R, twist, rate, legs)
-        out.append(np.concatenate([p, pin.Quaternion(R).coeffs(), twist, rate, q, v, a]))
+        pose = pose_vector(p, R)
+        guess = ref.kinematics(pose, guess).q
+        q, v, a = ref.tree_state(pose, twist, rate)
+        out.append(np.concatenate([pose, twist, rate, q, v, a]))
     return out
 
 
 def _states(name, count, seed=2026):
-    import pinocchio as pin
+    from symdyn.check.closed_loop import platform_states
     height, reach, tilt = PLATFORMS[name]
-    rng = np.random.default_rng(seed)
-    return [(np.array([0.0, 0.0, height]) + rng.uniform(-reach, reach, 3), pin.rpy.rpyToMatrix(*rng.uniform(-tilt, tilt, 3)),
-             rng.uniform(-0.5, 0.5, 6), rng.uniform(-1.0, 1.0, 6)) for _ in range(count)]
+    return list(platform_states(np.array([0.0, 0.0, height]), reach, tilt, count, seed))
 
 
 def run(name, count, workdir):
@@ -101,7 +96,7 @@ def run(name, count, workdir):
                 numbers += list(placement.rotation.ravel()) + list(placement.translation)
             handle.write(" ".join(repr(float(x)) if isinstance(x, float) else str(x) for x in numbers) + "\n")
         handle.write(" ".join(str(leg["actuated_v"]) for leg in info["legs"]) + "\n")
-    print(f"{name}: leg states of {count} platform states (numeric reference)...", file=sys.stderr)
+    print(f"{name}: leg states of {count} platform states (Pinocchio's closed loop)...", file=sys.stderr)
     sampled = _states(name, count)
     chunks = [(name, sampled[k::2]) for k in range(2)]
     with multiprocessing.Pool(2) as pool:

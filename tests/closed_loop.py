@@ -4,6 +4,7 @@
 import numpy as np
 import pinocchio as pin
 
+from symdyn.check.closed_loop import platform_states
 from symdyn.check.pinocchio_model import (actuation_matrix, closure_accelerations, closure_mismatch,  # noqa: F401
                                           free_flyer_twist_rate, pinocchio_forward_dynamics,
                                           pinocchio_inverse_dynamics, pinocchio_state)
@@ -15,13 +16,9 @@ PLATFORMS = {"flight_simulator": (2.0, 0.2, 0.17), "sru_platform": (0.55, 0.03, 
 
 def states(name, count, seed):
     """Platform states about the home pose (level, P at the home height), twists and twist rates
-    of order 1."""
+    of order 1 (symdyn.check.closed_loop.platform_states, which symdyn verify and bench draw from)."""
     height, reach, tilt = PLATFORMS[name]
-    rng = np.random.default_rng(seed)
-    for _ in range(count):
-        p = np.array([0.0, 0.0, height]) + rng.uniform(-reach, reach, 3)
-        R = pin.rpy.rpyToMatrix(*rng.uniform(-tilt, tilt, 3))
-        yield p, R, rng.uniform(-0.5, 0.5, 6), rng.uniform(-1.0, 1.0, 6)
+    yield from platform_states(np.array([0.0, 0.0, height]), reach, tilt, count, seed)
 
 
 def _skew(w):

@@ -46,6 +46,11 @@ from ..model.robot import Robot
 from .timing import parse, time_generated
 
 VARIANTS = ("ne-double", "ne-float", "le-double", "jne-double", "closed-double", "casadi-sx", "casadi-c", "pinocchio")
+#: every variant of serial and platform robots (symdyn.check.platform_bench), in the order of the
+#: table, and the plot's marker of each
+ORDER = ("ne-double", "ne-float", "noc-double", "noc-float", "le-double", "jne-double", "closed-double",
+         "casadi-sx", "casadi-c", "pinocchio")
+MARKERS = dict(zip(ORDER, "os<>^vDPXd"))
 #: the derivation method of each symdyn C variant
 VARIANT_METHODS = {"ne-double": "newton-euler", "ne-float": "newton-euler", "le-double": "lagrange-euler",
                    "jne-double": "jacobian-newton-euler", "closed-double": "newton-euler"}
@@ -62,7 +67,8 @@ class Result:
     function: str
     ns: float | None  # time per call
     ops: int | None  # arithmetic operations (C: mul + add + div + trig; CasADi: instructions)
-    error: float  # normalized error against the reference
+    error: float  # normalized error against the reference (NaN: not measured)
+    label: str = ""  # shown instead of the variant's name (e.g. which Pinocchio algorithm)
 
 
 def _states(n: int, count: int, seed: int = 0):
@@ -170,11 +176,12 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
             for f in functions:
                 call = getattr(pin, f)
                 args = [states[0][k] for k in INPUTS[f]]
-                results.append(Result(name, variant, f, _python_time(lambda: call(*args)), None, error_of(call, f)))
+                results.append(Result(name, variant, f, python_time(lambda: call(*args)), None, error_of(call, f)))
     return results
 
 
-def _python_time(call, repeats=5, calls=2000):
+def python_time(call, repeats=5, calls=2000):
+    """ns per call of ``call()`` from Python: the median of ``repeats`` runs of ``calls`` calls."""
     runs = []
     for _ in range(repeats):
         start = time.perf_counter()
@@ -248,37 +255,57 @@ def _casadi_c_time(n, folder, name, source):
 def markdown_table(results: list[Result]) -> str:
     lines = ["| robot | function | variant | time (ns) | operations | normalized error |",
              "|---|---|---|---:|---:|---:|"]
-    for r in sorted(results, key=lambda r: (r.robot, r.function, VARIANTS.index(r.variant))):
+    for r in sorted(results, key=lambda r: (r.robot, r.function, ORDER.index(r.variant))):
         ns = f"{r.ns:.0f}" if r.ns is not None else "-"
         ops = str(r.ops) if r.ops is not None else "-"
-        variant = "pinocchio (Python bindings)" if r.variant == "pinocchio" else r.variant
-        lines.append(f"| {r.robot} | {r.function} | {variant} | {ns} | {ops} | {r.error:.1e} |")
+        variant = r.label or ("pinocchio (Python bindings)" if r.variant == "pinocchio" else r.variant)
+        error = "-" if np.isnan(r.error) else f"{r.error:.1e}"
+        lines.append(f"| {r.robot} | {r.function} | {variant} | {ns} | {ops} | {error} |")
     return "\n".join(lines) + "\n"
 
 
-def plot(results: list[Result], path: str) -> None:
-    """Time against error, one panel per robot (log-log), PNG."""
+def csv_table(results: list[Result]) -> str:
+    """The results as CSV (one row per robot, function and variant; empty cells where a
+    variant has no time or no operation count), in the Markdown table's order."""
+    lines = ["robot,function,variant,ns_per_call,operations,normalized_error"]
+    for r in sorted(results, key=lambda r: (r.robot, r.function, ORDER.index(r.variant))):
+        ns = f"{r.ns:.1f}" if r.ns is not None else ""
+        ops = str(r.ops) if r.ops is not None else ""
+        error = "" if np.isnan(r.error) else f"{r.error:.3e}"  # NaN: not measured (no equivalent)
+        lines.append(f"{r.robot},{r.function},{r.label or r.variant},{ns},{ops},{error}")
+    return "\n".join(lines) + "\n"
+
+
+def can_plot() -> bool:
+    """Whether matplotlib can be imported (the plot is optional; the table and data are not)."""
+    import importlib.util
+    return importlib.util.find_spec("matplotlib") is not None
+
+
+def plot(results: list[Result], path: str, platforms=()) -> None:
+    """Time against error, one panel per robot (log-log), PNG (``platforms``: the names of the
+    platform robots, whose errors are against Pinocchio's closed loop)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     robots = sorted({r.robot for r in results})
     functions = sorted({r.function for r in results})
-    markers = dict(zip(VARIANTS, "os^vDPX"))
-    colors = dict(zip(functions, ["C0", "C1", "C2", "C3", "C4", "C5"]))
+    markers = MARKERS
+    colors = {f: f"C{k % 10}" for k, f in enumerate(functions)}
     fig, axes = plt.subplots(1, len(robots), figsize=(5.5 * len(robots), 4.6), squeeze=False)
     for ax, robot in zip(axes[0], robots):
         for r in results:
-            if r.robot != robot or r.ns is None:
+            if r.robot != robot or r.ns is None or np.isnan(r.error):
                 continue
             ax.scatter(r.ns, max(r.error, 1e-17), marker=markers[r.variant], color=colors[r.function], s=40)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_title(robot)
         ax.set_xlabel("time per call (ns)")
-        ax.set_ylabel("normalized error vs 50-digit reference")
+        ax.set_ylabel("normalized error vs " + ("Pinocchio's closed loop" if robot in platforms else "50-digit reference"))
         ax.grid(True, which="both", alpha=0.3)
-    handles = [plt.Line2D([], [], marker=markers[v], linestyle="", color="gray", label=v) for v in VARIANTS
+    handles = [plt.Line2D([], [], marker=markers[v], linestyle="", color="gray", label=v) for v in ORDER
                if any(r.variant == v for r in results)]
     handles += [plt.Line2D([], [], marker="s", linestyle="", color=colors[f], label=f) for f in functions]
     # a legend that fits the figure's width: about three entries per 5.5-inch panel per row

@@ -8,7 +8,8 @@ import tempfile
 
 from ..model.files import output_directory, write_files
 from ..model.errors import SymdynError
-from ..emit.pipeline import scene_choices
+from ..emit.pipeline import parse_platform_functions, scene_choices
+from ..model.parallel import ParallelRobot
 from .common import add_fd_method_option, add_size_options, check_size, load_robot, parse_functions
 
 HELP = "time each generation variant and measure its error against a 50-digit reference"
@@ -16,16 +17,22 @@ HELP = "time each generation variant and measure its error against a 50-digit re
 
 def add_parser(sub) -> None:
     from ..check.bench import DEFAULT_FUNCTIONS, VARIANTS
+    from ..check.platform_bench import PLATFORM_VARIANTS
+    from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
     p = sub.add_parser("bench", help=HELP, description=HELP + ": symdyn C (Newton-Euler double and "
                        "float, Lagrange-Euler, expanded closed form), CasADi SX and CasADi C, and "
-                       "Pinocchio. Writes a Markdown table and a PNG plot of time against error.")
+                       "Pinocchio. Writes a Markdown table, the data as CSV and (with matplotlib) a PNG plot of time against error. "
+                       "A platform robot (kind: parallel): symdyn C (natural orthogonal complement, noc-double and "
+                       "noc-float), CasADi SX and C, and Pinocchio's closed-loop equivalents, the error against "
+                       "Pinocchio's closed-loop model.")
     p.add_argument("robots", nargs="+", metavar="ROBOT.yaml", help="robot file(s) without free parameters")
-    p.add_argument("--out", metavar="DIR", help="write bench.md and bench.png to DIR (default: print the table only)")
+    p.add_argument("--out", metavar="DIR", help="write bench.md, bench.csv and bench.png to DIR (default: print the table only)")
     p.add_argument("--functions", metavar="LIST", default=None,
                    help=f"comma-separated functions to measure (default: a scene's functions, else "
-                        f"{','.join(DEFAULT_FUNCTIONS)})")
+                        f"{','.join(DEFAULT_FUNCTIONS)}; a platform robot's from: {', '.join(PLATFORM_FUNCTIONS)})")
     p.add_argument("--variants", metavar="LIST", default=None,
-                   help=f"comma-separated subset of: {', '.join(VARIANTS)} (default: all; for a scene with "
+                   help=f"comma-separated subset of: {', '.join(VARIANTS)}; for platform robots: "
+                        f"{', '.join(PLATFORM_VARIANTS)} (default: all that apply; for a scene with "
                         "a precision, the symdyn C variants of that precision and the others)")
     p.add_argument("--states", type=int, default=20, metavar="N", help="states for the error (default 20)")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
@@ -36,47 +43,73 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     from ..check import bench
-    functions = parse_functions(args.functions) if args.functions else None
+    from ..check.platform_bench import PLATFORM_VARIANTS
+    functions = args.functions or None  # parsed for each robot (serial and platform robots have their own)
     variants = None
     if args.variants is not None:
+        known = bench.VARIANTS + tuple(v for v in PLATFORM_VARIANTS if v not in bench.VARIANTS)
         variants = [v.strip() for v in args.variants.split(",") if v.strip()]
-        unknown = [v for v in variants if v not in bench.VARIANTS]
+        unknown = [v for v in variants if v not in known]
         if unknown or not variants:
-            raise SymdynError(f"unknown variant '{unknown[0] if unknown else ''}' in --variants (known: {', '.join(bench.VARIANTS)})")
+            raise SymdynError(f"unknown variant '{unknown[0] if unknown else ''}' in --variants (known: {', '.join(known)})")
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
-    loaded = [load_robot(path, args) for path in args.robots]  # every file is checked before any work
+    loaded = [load_robot(path, args, parallel=True) for path in args.robots]  # every file is checked before any work
     robots = []
     for path, (robot, scene) in zip(args.robots, loaded):
         check_size(robot, args, path)
-        robots.append((robot, _plan(bench, scene, functions, variants)))
+        robots.append((robot, _plan(bench, scene, functions, variants, robot, path, args)))
     if not args.out:
         _bench(args, robots, functions, variants)
         return 0
     from ..model.scene import input_files
     protect = [p for path in args.robots for p in input_files(path)]
+    plotting = bench.can_plot()  # known before the long measurements, said once
+    if not plotting:
+        print("symdyn bench: warning: matplotlib is not installed: bench.md and bench.csv are written without "
+              "bench.png (pip install 'symdyn[plot]' for the plot)", file=sys.stderr, flush=True)
     with output_directory(args.out):  # checked (and created) before the long measurements
         results = _bench(args, robots, functions, variants)
-        table = bench.markdown_table(results)
-        options = "".join(f" --{name} {value}" for name, value in (("functions", args.functions), ("variants", args.variants))
-                          if value) + f" --states {args.states}"
-        header = (f"# symdyn bench\n\nMachine: {bench.machine()}.\n\nReproduce: `symdyn bench "
-                  f"{' '.join(os.path.basename(p) for p in args.robots)}{options}`\n\n"
-                  "Pinocchio is timed through its Python bindings (each call pays the binding "
-                  "overhead); its C++ timings are in benchmarks/c_speed.py.\n\n"
-                  "![time against error](bench.png)\n\n")
+        files = _report_files(args, bench, results, plotting,
+                              [robot.name for robot, _ in robots if isinstance(robot, ParallelRobot)])
+        write_files(args.out, files, protect=protect)  # every file of the report lands together
+    _progress(args, "wrote " + ", ".join(os.path.join(args.out, name) for name in files))
+    return 0
+
+
+def _report_files(args, bench, results, plotting: bool, platforms=()) -> dict[str, bytes]:
+    """bench.md, bench.csv and (with matplotlib) bench.png; a plot that fails costs only the
+    plot, with a one-line warning (``platforms``: the names of the platform robots, whose
+    measurement the report describes)."""
+    options = "".join(f" --{name} {value}" for name, value in (("functions", args.functions), ("variants", args.variants))
+                      if value) + f" --states {args.states}"
+    header = (f"# symdyn bench\n\nMachine: {bench.machine()}.\n\nReproduce: `symdyn bench "
+              f"{' '.join(os.path.basename(p) for p in args.robots)}{options}`\n\n"
+              "Pinocchio is timed through its Python bindings (each call pays the binding "
+              "overhead); its C++ timings are in benchmarks/c_speed.py. The numbers are also in bench.csv.\n\n")
+    if platforms:
+        from ..check.platform_bench import REPORT_NOTE
+        header += REPORT_NOTE + "\n\n"
+    image = None
+    if plotting:
         with tempfile.TemporaryDirectory() as tmp:
             png = os.path.join(tmp, "bench.png")
             try:
-                bench.plot(results, png)
-            except ImportError:
-                raise SymdynError("the plot needs matplotlib: pip install 'symdyn[plot]'") from None
-            with open(png, "rb") as handle:
-                image = handle.read()
-        # bench.md and bench.png land together (one transaction)
-        write_files(args.out, {"bench.md": (header + table).encode(), "bench.png": image}, protect=protect)
-    _progress(args, f"wrote {os.path.join(args.out, 'bench.md')} and {os.path.join(args.out, 'bench.png')}")
-    return 0
+                if platforms:  # their panels say what the errors are measured against
+                    bench.plot(results, png, platforms)
+                else:
+                    bench.plot(results, png)
+                with open(png, "rb") as handle:
+                    image = handle.read()
+            except Exception as exc:  # noqa: BLE001 - a broken plotting setup must not lose the measurements
+                print(f"symdyn bench: warning: the plot failed ({type(exc).__name__}: {exc}); writing the "
+                      "table and data without it", file=sys.stderr, flush=True)
+    if image is not None:
+        header += "![time against error](bench.png)\n\n"
+    files = {"bench.md": (header + bench.markdown_table(results)).encode(), "bench.csv": bench.csv_table(results).encode()}
+    if image is not None:
+        files["bench.png"] = image
+    return files
 
 
 def _progress(args, text: str) -> None:
@@ -84,9 +117,27 @@ def _progress(args, text: str) -> None:
         print(f"symdyn bench: {text}", file=sys.stderr, flush=True)
 
 
-def _plan(bench, scene, functions, variants):
-    """(functions, variants) for one input: the options when given, else what a scene asks
-    for (its functions; its precision picks the symdyn C variants), else the defaults."""
+def _plan(bench, scene, functions, variants, robot=None, path="", args=None):
+    """(functions, variants) for one input: the options when given (``functions`` the text of
+    --functions), else what a scene asks for (its functions; its precision picks the symdyn C
+    variants), else the defaults; only the variants that apply to the robot's kind."""
+    if isinstance(robot, ParallelRobot):
+        from ..check.platform_bench import PLATFORM_VARIANTS
+        from ..derive.parallel import check_derivable
+        if args is not None and args.fd_method:
+            raise SymdynError(f"{path}: --fd-method does not apply to a platform robot (kind: parallel)")
+        check_derivable(robot)  # before any work
+        chosen = [v for v in (variants or PLATFORM_VARIANTS) if v in PLATFORM_VARIANTS]
+        if not chosen:
+            raise SymdynError(f"{path}: no variant in --variants applies to a platform robot (its variants: "
+                              f"{', '.join(PLATFORM_VARIANTS)})")
+        return tuple(parse_platform_functions(functions) or bench.DEFAULT_FUNCTIONS), tuple(chosen)
+    functions = parse_functions(functions) if functions else None
+    if variants is not None:
+        variants = [v for v in variants if v in bench.VARIANTS]
+        if not variants:
+            raise SymdynError(f"{path}: no variant in --variants applies to a serial robot (its variants: "
+                              f"{', '.join(bench.VARIANTS)})")
     if functions is None:
         functions, _, _ = scene_choices(None, scene, None, None, bench.DEFAULT_FUNCTIONS)
     if variants is None:
@@ -106,6 +157,10 @@ def _bench(args, robots, functions, variants) -> list:
     for k, robot in enumerate(robots):
         robot, (functions, variants) = robot
         _progress(args, f"[{k + 1}/{len(robots)}] {robot.name}")
+        if isinstance(robot, ParallelRobot):
+            from ..check.platform_bench import bench_platform
+            results.extend(bench_platform(robot, functions, variants, args.states, lambda text: _progress(args, text)))
+            continue
         results.extend(bench.bench_robot(robot, functions, variants, args.states,
                                          lambda text: _progress(args, text), fd_method=args.fd_method or "ldlt"))
     sys.stdout.write(bench.markdown_table(results))

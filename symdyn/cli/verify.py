@@ -7,12 +7,15 @@ import tempfile
 import numpy as np
 
 from ..derive.cache import derive_cached
+from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
 from ..check.cbuild import build_and_load
 from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
+from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import scene_choices
 from ..model.outputs import ALL_OUTPUTS, with_requirements
 from ..model.errors import SymdynError
+from ..model.parallel import ParallelRobot
 from ..model.tolerances import VERIFY_TOLERANCE
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
@@ -25,13 +28,16 @@ def add_parser(sub) -> None:
                        "by the RMS of Pinocchio's values over the states. Exit status 1 when any "
                        "error is over the tolerance. Free symbols get seeded random values in "
                        "[0.3, 1.5] (g gets 9.81); runtime parameters their nominal values. "
-                       "Needs the pin package (pip install 'symdyn[test]').")
+                       "A platform robot (kind: parallel) is compared with Pinocchio's closed-loop model "
+                       "at random states about its home pose, and its statuses at states out of reach, "
+                       "singular or overflowing. Needs the pin package (pip install 'symdyn[test]').")
     p.add_argument("robot", metavar="ROBOT.yaml")
     p.add_argument("--states", type=int, default=50, help="number of random states (default 50)")
     p.add_argument("--precision", default=None, choices=PRECISION_CHOICES,
                    help="default: the scene's precision, else double")
     p.add_argument("--functions", metavar="LIST",
-                   help="comma-separated functions to check, from: " + ", ".join(ALL_OUTPUTS) + " (default: the scene's functions, else all that generate writes by default)")
+                   help="comma-separated functions to check, from: " + ", ".join(ALL_OUTPUTS) + " (default: the scene's functions, else all that generate writes by default); "
+                        "for a platform robot, from: " + ", ".join(PLATFORM_FUNCTIONS) + " (default: all)")
     p.add_argument("--tolerance", type=float, help="normalized error bound (default 1e-10 double, 1e-4 float)")
     p.add_argument("--seed", type=int, default=0, help="random seed for the states (default 0)")
     add_method_option(p)
@@ -53,8 +59,10 @@ def run(args) -> int:
         raise SymdynError("--states must be at least 1")
     if args.seed < 0:
         raise SymdynError(f"--seed must be a non-negative integer, not {args.seed}")
-    robot, scene = load_robot(args.robot, args)
+    robot, scene = load_robot(args.robot, args, parallel=True)
     check_size(robot, args, args.robot)
+    if isinstance(robot, ParallelRobot):
+        return _run_platform(args, robot)
     asked = parse_functions(args.functions) if args.functions else None
     functions, precision, _ = scene_choices(robot, scene, asked, args.precision)
     rng = np.random.default_rng(args.seed)
@@ -114,6 +122,49 @@ def run(args) -> int:
         failed |= not ok
         print(f"{name:<18} {err:>16.3e}  {'ok' if ok else 'FAIL'}")
     return 1 if failed else 0
+
+
+def _run_platform(args, robot) -> int:
+    """verify of a platform robot: every generated function against Pinocchio's closed loop
+    (symdyn.check.platform_verify), one table of errors and one of statuses."""
+    from ..check.cbuild import build_platform
+    from ..check.closed_loop import ClosedLoopReference
+    from ..check.platform_verify import STATUS_NAMES, check_platform, random_states, special_states
+    from ..derive.parallel import derive_parallel
+    from ..emit.pipeline import PLATFORM, GenerateOptions, check_kind_options, parse_platform_functions
+    check_kind_options(PLATFORM, GenerateOptions(precision=args.precision, method=args.method, fd_method=args.fd_method,
+                                                 parameters=args.parameters), args.robot)
+    functions = parse_platform_functions(args.functions) or tuple(PLATFORM_FUNCTIONS)
+    precision = args.precision or "double"
+    eqs = derive_parallel(robot, functions, progress=progress_printer(args))
+    files = generate_parallel_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
+    reference = ClosedLoopReference(robot, precision)
+    states = [state.rounded(precision) for state in random_states(reference, args.states, args.seed)]
+    cases, notes = special_states(reference, precision)
+    with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
+        lib = build_platform(files, robot.name, precision, workdir)
+        result = check_platform(lib, reference, functions, states, cases)
+    tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
+    print(f"symdyn verify {args.robot}: platform robot, {robot.dof} legs, natural orthogonal complement, {precision}, "
+          f"{args.states} random states about the home pose, tolerance {tolerance:g}, against Pinocchio's closed-loop "
+          "model (a free-flying platform, a 6D loop closure per leg)")
+    print(f"{'function':<18} {'normalized error':>16}  status")
+    for name in functions:
+        print(f"{name:<18} {result.errors[name]:>16.3e}  {'ok' if result.function_ok(name, tolerance) else 'FAIL'}")
+    codes = ", ".join(f"{code} {label}" for code, label in sorted(STATUS_NAMES.items()))
+    print(f"statuses (0 success, {codes}); the reference returns 0 at {result.regular} of the {len(states)} random "
+          f"states; at special states, in the order {', '.join(functions)}:")
+    width, column = max([len(label) for label, *_ in result.cases] + [5]), max(9, 2 * len(functions) - 1)
+    print(f"{'state':<{width}}  {'reference':<{column}}  {'C':<{column}}  status")
+    for label, ref, ours, ok in result.cases:
+        print(f"{label:<{width}}  {' '.join(map(str, ref)):<{column}}  {' '.join(map(str, ours)):<{column}}  "
+              f"{'ok' if ok else 'FAIL'}")
+    for note in notes:
+        print(f"note: {note}")
+    for name in functions:
+        for problem in result.mismatches[name][:3]:
+            print(f"{name}: {problem}")
+    return 0 if result.ok(tolerance) else 1
 
 
 def _parameter_values(robot, eqs, values):

@@ -1,4 +1,4 @@
-"""Platform robots: the dynamics of seed 002 (natural orthogonal complement) as programs of
+"""Platform robots: the dynamics of the natural orthogonal complement (parallel-manipulator notes) as programs of
 straight-line statements and 6x6 linear solves.
 
 The platform's closed loops make some quantities the solutions of linear systems whose
@@ -14,7 +14,7 @@ State (every function): the platform pose ``pose`` = ``[p; quat]`` (7): the posi
 the platform frame P's origin (m, world frame W) and P's orientation as a quaternion
 ``(x, y, z, w)`` (Pinocchio's free-flyer order; any nonzero quaternion, it is normalized);
 the twist ``t = [omega; c_dot]`` (6: rad/s and m/s, W axes): the platform's angular velocity and
-the velocity of its mass centre C_M, as in the seed; ``t_dot = [omega_dot; c_ddot]`` its
+the velocity of its mass centre C_M, as in the notes; ``t_dot = [omega_dot; c_ddot]`` its
 (classical) time derivative.  ``q`` are the six actuated joint variables, leg by leg.
 
 Per leg J (actuated joint k, frame 6 fixed to the platform at U_J, r_J = U_J - C_M):
@@ -24,7 +24,7 @@ Per leg J (actuated joint k, frame 6 fixed to the platform at U_J, r_J = U_J - C
 - ``J_J theta_dot_J = S_J t`` with ``S_J = [[-[r_J]x, 1], [1, 0]]`` (the twist of U_J, linear
   part first, as the serial Jacobian);
 - ``J_J theta_ddot_J = S_J t_dot + [omega x (omega x r_J); 0] - J_J-dot theta_dot_J``;
-- the rows ``e_k^T J_J^-1 S_J`` make ``K`` (``q_dot = K t``); the seed's ``T = K^-1`` and
+- the rows ``e_k^T J_J^-1 S_J`` make ``K`` (``q_dot = K t``); the notes' ``T = K^-1`` and
   ``L_J = J_J^-1 S_J T``;
 - inverse dynamics by power balance: ``K^T phi = w_M + sum_J S_J^T J_J^-T tau_J`` (tau_J the
   leg's own inverse dynamics, gravity, armature and friction included; w_M the wrench the
@@ -32,7 +32,7 @@ Per leg J (actuated joint k, frame 6 fixed to the platform at U_J, r_J = U_J - C
 - forward dynamics: the same relation is ``A t_dot + b = K^T phi`` with
   ``A = M_M + sum_J R_J^T (D_J + armature_J) R_J`` (R_J = J_J^-1 S_J) and ``b`` its value at
   t_dot = 0;
-- the mass matrix in actuated coordinates ``M = T^T A T`` (= the seed's
+- the mass matrix in actuated coordinates ``M = T^T A T`` (= the notes'
   ``T^T M_M T + sum L_J^T I_J L_J``).
 """
 
@@ -347,6 +347,18 @@ def leg_inverse(st: _Steps, tag: str, d: sp.Matrix, fourth: sp.Matrix, axes, rev
     return sp.Matrix.vstack(first, row4, rest[1:, :])
 
 
+def check_derivable(robot: ParallelRobot) -> None:
+    """Refuse (SymdynError naming the file) a platform robot :func:`derive_parallel` cannot
+    derive: one with runtime parameters or without a home configuration."""
+    where = robot.source or robot.name
+    if robot.parameters:
+        raise SymdynError(f"{where}: runtime parameters ({', '.join(s.name for s in robot.parameters)}) are not "
+                          "supported for platform robots yet: give numbers")
+    if any(leg.home is None for leg in robot.legs):
+        raise SymdynError(f"{where}: platform robots need 'home' (it picks the branch of each leg's inverse "
+                          "kinematics)")
+
+
 def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> ParallelEquations:
     """Derive the functions of :data:`FUNCTIONS` (default: all) for ``robot``.
 
@@ -360,12 +372,7 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
         if name not in FUNCTIONS:
             raise SymdynError(f"unknown function {name!r} for a platform robot; known: {', '.join(FUNCTIONS)}")
     where = robot.source or robot.name
-    if robot.parameters:
-        raise SymdynError(f"{where}: runtime parameters ({', '.join(s.name for s in robot.parameters)}) are not "
-                          "supported for platform robots yet: give numbers")
-    if any(leg.home is None for leg in robot.legs):
-        raise SymdynError(f"{where}: platform robots need 'home' (it picks the branch of each leg's inverse "
-                          "kinematics)")
+    check_derivable(robot)
 
     def report(part):
         if progress is not None:

@@ -33,6 +33,13 @@ IDENTIFICATION_MAX_CONDITION = 1e12
 #: the normalized error ``symdyn verify`` accepts by default, per precision of the generated code
 VERIFY_TOLERANCE = {"double": 1e-10, "float": 1e-4, "mixed": 1e-4}
 
+#: the closed-loop reference of platform robots (symdyn.check.closed_loop) solves each leg's loop
+#: closure to this (m per m of leg, and rad); a closure it cannot bring below
+#: ``CLOSED_LOOP_UNREACHABLE`` is out of reach.  It treats a matrix as singular where the
+#: reciprocal of its condition number is below the generated code's pivot tolerance (PIVOT_RTOL)
+CLOSED_LOOP_CLOSURE = 1e-13
+CLOSED_LOOP_UNREACHABLE = 1e-8
+
 
 def pivot_rtol(arithmetic: str) -> float:
     """The relative pivot tolerance of code computing in ``arithmetic`` (``double`` or ``float``)."""

@@ -172,6 +172,34 @@ def test_bench_measures_every_variant(tmp_path, capsys):
     assert "| scara | gravity | ne-double |" in capsys.readouterr().out
     assert (out / "bench.png").read_bytes()[:4] == b"\x89PNG"
     assert "symdyn bench" in (out / "bench.md").read_text()
+    rows = (out / "bench.csv").read_text().splitlines()
+    assert rows[0].startswith("robot,function,variant,") and len(rows) == 3 and rows[1].startswith("scara,gravity,")
+    assert float(rows[1].split(",")[3]) > 0
     assert main(["bench", robot_path("planar2r"), "--quiet"]) == 1
     assert "no value" in capsys.readouterr().err
+
+
+def test_bench_without_matplotlib_keeps_the_table_and_data(tmp_path, capsys, monkeypatch):
+    """No matplotlib: said once before the measurements, with how to get the plot; bench.md and
+    bench.csv written, exit 0. A plot that fails otherwise costs only the plot."""
+    from symdyn.check import bench
+    from symdyn.cli import main
+    monkeypatch.setattr(bench, "can_plot", lambda: False)
+    out = tmp_path / "out"
+    argv = ["bench", robot_path("scara"), "--variants", "ne-double", "--functions", "gravity", "--states", "2", "--quiet"]
+    assert main([*argv, "--out", str(out)]) == 0
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "matplotlib is not installed" in err[0] and "symdyn[plot]" in err[0], err
+    assert sorted(p.name for p in out.iterdir()) == ["bench.csv", "bench.md"]
+    assert "| scara | gravity | ne-double |" in (out / "bench.md").read_text()
+    assert "bench.png" not in (out / "bench.md").read_text()
+    monkeypatch.setattr(bench, "can_plot", lambda: True)
+
+    def broken(results, path):
+        raise RuntimeError("no display")
+    monkeypatch.setattr(bench, "plot", broken)
+    assert main([*argv, "--out", str(tmp_path / "again")]) == 0
+    err = capsys.readouterr().err
+    assert "the plot failed (RuntimeError: no display)" in err
+    assert sorted(p.name for p in (tmp_path / "again").iterdir()) == ["bench.csv", "bench.md"]
     assert main(["bench", robot_path("scara"), "--variants", "fastest"]) == 1
