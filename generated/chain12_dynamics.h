@@ -23,20 +23,82 @@ typedef double chain12_real;
 #define chain12_NP 0
 
 /*
- * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2 (world frame)
- *   link 1 (j1): mass 2.832 kg, com [-0.071, -0.098, -0.025] m, inertia [xx yy zz xy xz yz] [0.021, 0.0424, 0.0418, 0.0004, 0, 0] kg m^2
- *   link 2 (j2): mass 1.068 kg, com [0.081, -0.088, 0.064] m, inertia [xx yy zz xy xz yz] [0.013, 0.0375, 0.0344, -0.0004, 0, 0] kg m^2
- *   link 3 (j3): mass 0.713 kg, com [0.083, 0.002, -0.082] m, inertia [xx yy zz xy xz yz] [0.0495, 0.0479, 0.0088, -0.0003, 0, 0] kg m^2
- *   link 4 (j4): mass 2.675 kg, com [-0.067, 0.039, -0.09] m, inertia [xx yy zz xy xz yz] [0.0168, 0.0426, 0.0367, -0.0003, 0, 0] kg m^2
- *   link 5 (j5): mass 3.042 kg, com [0.093, 0.095, 0.033] m, inertia [xx yy zz xy xz yz] [0.0243, 0.0245, 0.0352, 0.0007, 0, 0] kg m^2
- *   link 6 (j6): mass 1.772 kg, com [0.002, 0.062, 0] m, inertia [xx yy zz xy xz yz] [0.0111, 0.0429, 0.0408, 0.0001, 0, 0] kg m^2
- *   link 7 (j7): mass 1.859 kg, com [0.054, -0.079, 0.01] m, inertia [xx yy zz xy xz yz] [0.0171, 0.0378, 0.0237, -0.0009, 0, 0] kg m^2
- *   link 8 (j8): mass 1.231 kg, com [-0.044, -0.005, 0.092] m, inertia [xx yy zz xy xz yz] [0.0292, 0.0482, 0.0259, 0.0017, 0, 0] kg m^2
- *   link 9 (j9): mass 3.12 kg, com [0.082, -0.099, -0.046] m, inertia [xx yy zz xy xz yz] [0.0408, 0.0237, 0.0266, -0.002, 0, 0] kg m^2
- *   link 10 (j10): mass 3.943 kg, com [0.1, 0.001, -0.095] m, inertia [xx yy zz xy xz yz] [0.0229, 0.0415, 0.0451, 0.0006, 0, 0] kg m^2
- *   link 11 (j11): mass 1.419 kg, com [0.089, 0.079, -0.068] m, inertia [xx yy zz xy xz yz] [0.0217, 0.0449, 0.0321, 0.0018, 0, 0] kg m^2
- *   link 12 (j12): mass 2.966 kg, com [-0.057, -0.043, -0.049] m, inertia [xx yy zz xy xz yz] [0.0373, 0.0378, 0.0088, 0.0015, 0, 0] kg m^2
+ * Model constants folded into the code, as symdyn read them from chain12.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * Modified Denavit-Hartenberg parameters; theta of a revolute joint and d of a
+ * prismatic one are offsets added to q.
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   link 1 (j1): revolute joint, modified DH
+ *     a = 0.142; alpha = pi/2 = 1.5707963267948966; d = 0.164; theta = 0.0
+ *     mass = 2.832; com = [-0.071, -0.098, -0.025]
+ *     inertia = [0.021, 0.0424, 0.0418, 0.0004, 0.0, 0.0]
+ *     armature = 0.202; damping = 1.16; coulomb = 0.0
+ *   link 2 (j2): revolute joint, modified DH
+ *     a = 0.044; alpha = -pi/2 = -1.5707963267948966; d = 0.11; theta = 0.0
+ *     mass = 1.068; com = [0.081, -0.088, 0.064]
+ *     inertia = [0.013, 0.0375, 0.0344, -0.0004, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 3 (j3): prismatic joint, modified DH
+ *     a = 0.253; alpha = 0.0; d = 0.005; theta = -pi/2 = -1.5707963267948966
+ *     mass = 0.713; com = [0.083, 0.002, -0.082]
+ *     inertia = [0.0495, 0.0479, 0.0088, -0.0003, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 4 (j4): revolute joint, modified DH
+ *     a = 0.041; alpha = pi/2 = 1.5707963267948966; d = 0.078; theta = 0.0
+ *     mass = 2.675; com = [-0.067, 0.039, -0.09]
+ *     inertia = [0.0168, 0.0426, 0.0367, -0.0003, 0.0, 0.0]
+ *     armature = 0.148; damping = 1.23; coulomb = 0.0
+ *   link 5 (j5): revolute joint, modified DH
+ *     a = 0.115; alpha = pi/3 = 1.0471975511965979; d = 0.008; theta = pi/6 = 0.5235987755982989
+ *     mass = 3.042; com = [0.093, 0.095, 0.033]
+ *     inertia = [0.0243, 0.0245, 0.0352, 0.0007, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 6 (j6): prismatic joint, modified DH
+ *     a = 0.034; alpha = -pi/2 = -1.5707963267948966; d = 0.059; theta = -pi/2 = -1.5707963267948966
+ *     mass = 1.772; com = [0.002, 0.062, 0.0]
+ *     inertia = [0.0111, 0.0429, 0.0408, 0.0001, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 7 (j7): revolute joint, modified DH
+ *     a = 0.067; alpha = pi/2 = 1.5707963267948966; d = 0.107; theta = 0.0
+ *     mass = 1.859; com = [0.054, -0.079, 0.01]
+ *     inertia = [0.0171, 0.0378, 0.0237, -0.0009, 0.0, 0.0]
+ *     armature = 0.195; damping = 0.75; coulomb = 0.0
+ *   link 8 (j8): revolute joint, modified DH
+ *     a = 0.016; alpha = 0.0; d = 0.115; theta = 0.0
+ *     mass = 1.231; com = [-0.044, -0.005, 0.092]
+ *     inertia = [0.0292, 0.0482, 0.0259, 0.0017, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 9 (j9): revolute joint, modified DH
+ *     a = 0.109; alpha = -pi/4 = -0.7853981633974483; d = 0.047; theta = 0.0
+ *     mass = 3.12; com = [0.082, -0.099, -0.046]
+ *     inertia = [0.0408, 0.0237, 0.0266, -0.002, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 10 (j10): prismatic joint, modified DH
+ *     a = 0.012; alpha = pi/2 = 1.5707963267948966; d = 0.155; theta = -pi/2 = -1.5707963267948966
+ *     mass = 3.943; com = [0.1, 0.001, -0.095]
+ *     inertia = [0.0229, 0.0415, 0.0451, 0.0006, 0.0, 0.0]
+ *     armature = 0.163; damping = 0.54; coulomb = 0.0
+ *   link 11 (j11): revolute joint, modified DH
+ *     a = 0.143; alpha = -pi/2 = -1.5707963267948966; d = 0.157; theta = 0.0
+ *     mass = 1.419; com = [0.089, 0.079, -0.068]
+ *     inertia = [0.0217, 0.0449, 0.0321, 0.0018, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 12 (j12): revolute joint, modified DH
+ *     a = 0.155; alpha = 0.0; d = 0.174; theta = 0.0
+ *     mass = 2.966; com = [-0.057, -0.043, -0.049]
+ *     inertia = [0.0373, 0.0378, 0.0088, 0.0015, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
  */
 
 /*
@@ -56,6 +118,10 @@ typedef double chain12_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile chain12_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except chain12_forward_dynamics_checked, which then returns a

@@ -23,15 +23,57 @@ typedef double iiwa14_real;
 #define iiwa14_NP 0
 
 /*
- * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2 (world frame)
- *   link 1 (j1): mass 4 kg, com [0, 0.08, -0.03] m, inertia [xx yy zz xy xz yz] [0.1, 0.02, 0.09, 0, 0, 0] kg m^2
- *   link 2 (j2): mass 4 kg, com [0.0003, 0.042, 0.059] m, inertia [xx yy zz xy xz yz] [0.05, 0.044, 0.018, 0, 0, 0] kg m^2
- *   link 3 (j3): mass 3 kg, com [0, -0.03, -0.07] m, inertia [xx yy zz xy xz yz] [0.08, 0.075, 0.01, 0, 0, 0] kg m^2
- *   link 4 (j4): mass 2.7 kg, com [0, 0.034, 0.067] m, inertia [xx yy zz xy xz yz] [0.03, 0.029, 0.01, 0, 0, 0] kg m^2
- *   link 5 (j5): mass 1.7 kg, com [0.0001, -0.021, -0.124] m, inertia [xx yy zz xy xz yz] [0.02, 0.018, 0.005, 0, 0, 0] kg m^2
- *   link 6 (j6): mass 1.8 kg, com [0, 0.0004, 0.0006] m, inertia [xx yy zz xy xz yz] [0.005, 0.0047, 0.0036, 0, 0, 0] kg m^2
- *   link 7 (j7): mass 0.3 kg, com [0, 0, -0.106] m, inertia [xx yy zz xy xz yz] [0.001, 0.001, 0.001, 0, 0, 0] kg m^2
+ * Model constants folded into the code, as symdyn read them from iiwa14.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * Standard Denavit-Hartenberg parameters; theta of a revolute joint and d of a
+ * prismatic one are offsets added to q.
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   link 1 (j1): revolute joint, standard DH
+ *     a = 0.0; alpha = -pi/2 = -1.5707963267948966; d = 0.36; theta = 0.0
+ *     mass = 4.0; com = [0.0, 0.08, -0.03]
+ *     inertia = [0.1, 0.02, 0.09, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 2 (j2): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 4.0; com = [0.0003, 0.042, 0.059]
+ *     inertia = [0.05, 0.044, 0.018, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 3 (j3): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.42; theta = 0.0
+ *     mass = 3.0; com = [0.0, -0.03, -0.07]
+ *     inertia = [0.08, 0.075, 0.01, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 4 (j4): revolute joint, standard DH
+ *     a = 0.0; alpha = -pi/2 = -1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 2.7; com = [0.0, 0.034, 0.067]
+ *     inertia = [0.03, 0.029, 0.01, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 5 (j5): revolute joint, standard DH
+ *     a = 0.0; alpha = -pi/2 = -1.5707963267948966; d = 0.4; theta = 0.0
+ *     mass = 1.7; com = [0.0001, -0.021, -0.124]
+ *     inertia = [0.02, 0.018, 0.005, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 6 (j6): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 1.8; com = [0.0, 0.0004, 0.0006]
+ *     inertia = [0.005, 0.0047, 0.0036, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 7 (j7): revolute joint, standard DH
+ *     a = 0.0; alpha = 0.0; d = 0.126; theta = 0.0
+ *     mass = 0.3; com = [0.0, 0.0, -0.106]
+ *     inertia = [0.001, 0.001, 0.001, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
  */
 
 /*
@@ -46,6 +88,10 @@ typedef double iiwa14_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile iiwa14_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except iiwa14_forward_dynamics_checked, which then returns a

@@ -23,15 +23,57 @@ typedef double panda_real;
 #define panda_NP 0
 
 /*
- * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2 (world frame)
- *   link 1 (j1): mass 4.97068 kg, com [0.003875, 0.002081, -0.04762] m, inertia [xx yy zz xy xz yz] [0.70337, 0.70661, 0.009117, -0.000139, 0.006772, 0.019169] kg m^2
- *   link 2 (j2): mass 0.646926 kg, com [-0.003141, -0.02872, 0.003495] m, inertia [xx yy zz xy xz yz] [0.007962, 0.02811, 0.025995, -0.003925, 0.010254, 0.000704] kg m^2
- *   link 3 (j3): mass 3.2286 kg, com [0.027518, 0.039252, -0.066502] m, inertia [xx yy zz xy xz yz] [0.037242, 0.036155, 0.01083, -0.004761, -0.011396, -0.012805] kg m^2
- *   link 4 (j4): mass 3.5879 kg, com [-0.05317, 0.104419, 0.027454] m, inertia [xx yy zz xy xz yz] [0.025853, 0.019552, 0.028323, 0.007796, -0.001332, 0.008641] kg m^2
- *   link 5 (j5): mass 1.22595 kg, com [-0.011953, 0.041065, -0.038437] m, inertia [xx yy zz xy xz yz] [0.035549, 0.029474, 0.008627, -0.002117, -0.004037, 0.000229] kg m^2
- *   link 6 (j6): mass 1.66656 kg, com [0.060149, -0.014117, -0.010517] m, inertia [xx yy zz xy xz yz] [0.001964, 0.004354, 0.005433, 0.000109, -0.001158, 0.000341] kg m^2
- *   link 7 (j7): mass 0.735522 kg, com [0.010517, -0.004252, 0.061597] m, inertia [xx yy zz xy xz yz] [0.012516, 0.010027, 0.004815, -0.000428, -0.001196, -0.000741] kg m^2
+ * Model constants folded into the code, as symdyn read them from panda.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * Modified Denavit-Hartenberg parameters; theta of a revolute joint and d of a
+ * prismatic one are offsets added to q.
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   link 1 (j1): revolute joint, modified DH
+ *     a = 0.0; alpha = 0.0; d = 0.333; theta = 0.0
+ *     mass = 4.970684; com = [0.003875, 0.002081, -0.04762]
+ *     inertia = [0.70337, 0.70661, 0.009117, -0.000139, 0.006772, 0.019169]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 2 (j2): revolute joint, modified DH
+ *     a = 0.0; alpha = -pi/2 = -1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 0.646926; com = [-0.003141, -0.02872, 0.003495]
+ *     inertia = [0.007962, 0.02811, 0.025995, -0.003925, 0.010254, 0.000704]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 3 (j3): revolute joint, modified DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.316; theta = 0.0
+ *     mass = 3.228604; com = [0.027518, 0.039252, -0.066502]
+ *     inertia = [0.037242, 0.036155, 0.01083, -0.004761, -0.011396, -0.012805]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 4 (j4): revolute joint, modified DH
+ *     a = 0.0825; alpha = pi/2 = 1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 3.587895; com = [-0.05317, 0.104419, 0.027454]
+ *     inertia = [0.025853, 0.019552, 0.028323, 0.007796, -0.001332, 0.008641]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 5 (j5): revolute joint, modified DH
+ *     a = -0.0825; alpha = -pi/2 = -1.5707963267948966; d = 0.384; theta = 0.0
+ *     mass = 1.225946; com = [-0.011953, 0.041065, -0.038437]
+ *     inertia = [0.035549, 0.029474, 0.008627, -0.002117, -0.004037, 0.000229]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 6 (j6): revolute joint, modified DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 1.666555; com = [0.060149, -0.014117, -0.010517]
+ *     inertia = [0.001964, 0.004354, 0.005433, 0.000109, -0.001158, 0.000341]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 7 (j7): revolute joint, modified DH
+ *     a = 0.088; alpha = pi/2 = 1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 0.735522; com = [0.010517, -0.004252, 0.061597]
+ *     inertia = [0.012516, 0.010027, 0.004815, -0.000428, -0.001196, -0.000741]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
  */
 
 /*
@@ -46,6 +88,10 @@ typedef double panda_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile panda_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except panda_forward_dynamics_checked, which then returns a

@@ -23,20 +23,53 @@ typedef double pendulum_leg_real;
 #define pendulum_leg_NP 0
 
 /*
- * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2 (world frame)
- *   joint 1 (foot_roll): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [1, 0, 0]
- *   link 1 (foot_roll): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, 0, 0, 0, 0] kg m^2
- *   joint 2 (foot_pitch): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [0, 1, 0]
- *   link 2 (foot_pitch): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, 0, 0, 0, 0] kg m^2
- *   joint 3 (foot_yaw): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [0, 0, 1]
- *   link 3 (foot_yaw): mass 8.8 kg, com [0, 0, 0.5] m, inertia [xx yy zz xy xz yz] [0.62, 0.6, 0.035, 0, 0.004, 0] kg m^2
- *   joint 4 (hip_roll): origin xyz [0, 0, 0.88] m, rpy [0, 0, 0] rad, axis [1, 0, 0]
- *   link 4 (hip_roll): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, 0, 0, 0, 0] kg m^2
- *   joint 5 (hip_pitch): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [0, 1, 0]
- *   link 5 (hip_pitch): mass 1.2 kg, com [0, 0.02, 0] m, inertia [xx yy zz xy xz yz] [0.0015, 0.0012, 0.0015, 0, 0, 0] kg m^2
- *   joint 6 (hip_yaw): origin xyz [0, 0, 0] m, rpy [0, 0, 0] rad, axis [0, 0, 1]
- *   link 6 (hip_yaw): mass 40.7 kg, com [0.02, 0, 0.3] m, inertia [xx yy zz xy xz yz] [1.65, 1.38, 0.42, 0, -0.05, 0] kg m^2
+ * Model constants folded into the code, as symdyn read them from pendulum_leg.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * origin: the joint frame in the previous link's frame (xyz, then rpy: roll, pitch, yaw about the
+ * fixed x, y, z axes); axis: the joint axis in the joint frame (unit).
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   passive joints (tau 0, not actuated): 1 (foot_roll), 2 (foot_pitch), 3 (foot_yaw)
+ *   link 1 (foot_roll): revolute joint, general placement, passive (not actuated)
+ *     origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [1.0, 0.0, 0.0]
+ *     mass = 0.0; com = [0.0, 0.0, 0.0]
+ *     inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 2 (foot_pitch): revolute joint, general placement, passive (not actuated)
+ *     origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 1.0, 0.0]
+ *     mass = 0.0; com = [0.0, 0.0, 0.0]
+ *     inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 3 (foot_yaw): revolute joint, general placement, passive (not actuated)
+ *     origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 0.0, 1.0]
+ *     mass = 8.8; com = [0.0, 0.0, 0.5]
+ *     inertia = [0.62, 0.6, 0.035, 0.0, 0.004, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 4 (hip_roll): revolute joint, general placement
+ *     origin.xyz = [0.0, 0.0, 0.88]; origin.rpy = [0.0, 0.0, 0.0]; axis = [1.0, 0.0, 0.0]
+ *     mass = 0.0; com = [0.0, 0.0, 0.0]
+ *     inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.4; coulomb = 0.0
+ *   link 5 (hip_pitch): revolute joint, general placement
+ *     origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 1.0, 0.0]
+ *     mass = 1.2; com = [0.0, 0.02, 0.0]
+ *     inertia = [0.0015, 0.0012, 0.0015, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.4; coulomb = 0.0
+ *   link 6 (hip_yaw): revolute joint, general placement
+ *     origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 0.0, 1.0]
+ *     mass = 40.7; com = [0.02, 0.0, 0.3]
+ *     inertia = [1.65, 1.38, 0.42, 0.0, -0.05, 0.0]
+ *     armature = 0.0; damping = 0.4; coulomb = 0.0
  */
 
 /* Number of actuated joints NA (columns of the reaction map's D; the others are passive, tau = 0). */
@@ -54,6 +87,10 @@ typedef double pendulum_leg_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile pendulum_leg_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except pendulum_leg_forward_dynamics_checked, which then returns a

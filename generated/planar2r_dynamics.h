@@ -42,10 +42,33 @@ typedef double planar2r_real;
  */
 
 /*
- * Model constants folded into the code:
- *   gravity [0, (runtime), 0] m/s^2 (world frame)
- *   link 1 (shoulder): mass (runtime) kg, com [(runtime), 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, (runtime), 0, 0, 0] kg m^2
- *   link 2 (elbow): mass (runtime) kg, com [(runtime), 0, 0] m, inertia [xx yy zz xy xz yz] [0, 0, (runtime), 0, 0, 0] kg m^2
+ * Model constants folded into the code, as symdyn read them from planar2r.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * Modified Denavit-Hartenberg parameters; theta of a revolute joint and d of a
+ * prismatic one are offsets added to q.
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, -g, 0.0]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   runtime parameters (inputs in p, not folded): p[0] = g; p[1] = m1; p[2] = lc1; p[3] = I1; p[4] = l1; p[5] = m2; p[6] = lc2; p[7] = I2
+ *   link 1 (shoulder): revolute joint, modified DH
+ *     a = 0.0; alpha = 0.0; d = 0.0; theta = 0.0
+ *     mass = m1; com = [lc1, 0.0, 0.0]
+ *     inertia = [0.0, 0.0, I1, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 2 (elbow): revolute joint, modified DH
+ *     a = l1; alpha = 0.0; d = 0.0; theta = 0.0
+ *     mass = m2; com = [lc2, 0.0, 0.0]
+ *     inertia = [0.0, 0.0, I2, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
  */
 
 /*
@@ -55,6 +78,10 @@ typedef double planar2r_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile planar2r_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except planar2r_forward_dynamics_checked, which then returns a

@@ -23,14 +23,52 @@ typedef double puma560_real;
 #define puma560_NP 0
 
 /*
- * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2 (world frame)
- *   link 1 (waist): mass 0 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0.175, 0.35, 0.175, 0, 0, 0] kg m^2
- *   link 2 (shoulder): mass 17.4 kg, com [-0.3638, 0.006, 0.2275] m, inertia [xx yy zz xy xz yz] [0.13, 0.524, 0.539, 0, 0, 0] kg m^2
- *   link 3 (elbow): mass 4.8 kg, com [-0.0203, -0.0141, 0.07] m, inertia [xx yy zz xy xz yz] [0.066, 0.086, 0.02, 0, 0, 0] kg m^2
- *   link 4 (wrist_roll): mass 0.82 kg, com [0, 0.019, 0] m, inertia [xx yy zz xy xz yz] [0.0018, 0.0013, 0.0018, 0, 0, 0] kg m^2
- *   link 5 (wrist_bend): mass 0.34 kg, com [0, 0, 0] m, inertia [xx yy zz xy xz yz] [0.0003, 0.0004, 0.0003, 0, 0, 0] kg m^2
- *   link 6 (flange): mass 0.09 kg, com [0, 0, 0.032] m, inertia [xx yy zz xy xz yz] [0.00015, 0.00015, 4e-05, 0, 0, 0] kg m^2
+ * Model constants folded into the code, as symdyn read them from puma560.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * Standard Denavit-Hartenberg parameters; theta of a revolute joint and d of a
+ * prismatic one are offsets added to q.
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   link 1 (waist): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 0.0; com = [0.0, 0.0, 0.0]
+ *     inertia = [0.175, 0.35, 0.175, 0.0, 0.0, 0.0]
+ *     armature = 0.784029968642; damping = 5.8018217679508; coulomb = 25.9836065
+ *   link 2 (shoulder): revolute joint, standard DH
+ *     a = 0.4318; alpha = 0.0; d = 0.0; theta = 0.0
+ *     mass = 17.4; com = [-0.3638, 0.006, 0.2275]
+ *     inertia = [0.13, 0.524, 0.539, 0.0, 0.0, 0.0]
+ *     armature = 2.324814845; damping = 9.496868641825; coulomb = 10.6197775
+ *   link 3 (elbow): revolute joint, standard DH
+ *     a = 0.0203; alpha = -pi/2 = -1.5707963267948966; d = 0.15005; theta = 0.0
+ *     mass = 4.8; com = [-0.0203, -0.0141, 0.07]
+ *     inertia = [0.066, 0.086, 0.02, 0.0, 0.0, 0.0]
+ *     armature = 0.576873331938; damping = 3.9804259903722; coulomb = 6.36419655
+ *   link 4 (wrist_roll): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.4318; theta = 0.0
+ *     mass = 0.82; com = [0.0, 0.019, 0.0]
+ *     inertia = [0.0018, 0.0013, 0.0018, 0.0, 0.0, 0.0]
+ *     armature = 0.19079062612368; damping = 0.411645229697152; coulomb = 1.06831142
+ *   link 5 (wrist_bend): revolute joint, standard DH
+ *     a = 0.0; alpha = -pi/2 = -1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 0.34; com = [0.0, 0.0, 0.0]
+ *     inertia = [0.0003, 0.0004, 0.0003, 0.0, 0.0, 0.0]
+ *     armature = 0.170706291657; damping = 0.4272830209354; coulomb = 0.85444524
+ *   link 6 (flange): revolute joint, standard DH
+ *     a = 0.0; alpha = 0.0; d = 0.0; theta = 0.0
+ *     mass = 0.09; com = [0.0, 0.0, 0.032]
+ *     inertia = [0.00015, 0.00015, 4e-05, 0.0, 0.0, 0.0]
+ *     armature = 0.194064505668; damping = 0.2158232532732; coulomb = 0.55443978
  */
 
 /*
@@ -44,6 +82,10 @@ typedef double puma560_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile puma560_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except puma560_forward_dynamics_checked, which then returns a

@@ -23,12 +23,42 @@ typedef double scara_real;
 #define scara_NP 0
 
 /*
- * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2 (world frame)
- *   link 1 (base_rotation): mass 6 kg, com [-0.2, 0, 0] m, inertia [xx yy zz xy xz yz] [0.01, 0.08, 0.085, 0, 0, 0] kg m^2
- *   link 2 (elbow): mass 3.5 kg, com [-0.125, 0, 0] m, inertia [xx yy zz xy xz yz] [0.005, 0.0182292, 0.0202292, 0, 0, 0] kg m^2
- *   link 3 (quill): mass 1.2 kg, com [0, 0, 0.1] m, inertia [xx yy zz xy xz yz] [0.004, 0.004, 0.0004, 0, 0, 0] kg m^2
- *   link 4 (tool_roll): mass 0.4 kg, com [0, 0, 0.02] m, inertia [xx yy zz xy xz yz] [0.0004, 0.0004, 0.0003, 0, 0, 0] kg m^2
+ * Model constants folded into the code, as symdyn read them from scara.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * Standard Denavit-Hartenberg parameters; theta of a revolute joint and d of a
+ * prismatic one are offsets added to q.
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   link 1 (base_rotation): revolute joint, standard DH
+ *     a = 0.4; alpha = 0.0; d = 0.35; theta = 0.0
+ *     mass = 6.0; com = [-0.2, 0.0, 0.0]
+ *     inertia = [0.01, 0.08, 0.085, 0.0, 0.0, 0.0]
+ *     armature = 0.8; damping = 2.5; coulomb = 3.0
+ *   link 2 (elbow): revolute joint, standard DH
+ *     a = 0.25; alpha = pi = 3.141592653589793; d = 0.0; theta = 0.0
+ *     mass = 3.5; com = [-0.125, 0.0, 0.0]
+ *     inertia = [0.005, 7/384 = 0.018229166666666668, 971/48000 = 0.020229166666666666, 0.0, 0.0, 0.0]
+ *     armature = 0.3; damping = 1.2; coulomb = 1.5
+ *   link 3 (quill): prismatic joint, standard DH
+ *     a = 0.0; alpha = 0.0; d = 0.05; theta = 0.0
+ *     mass = 1.2; com = [0.0, 0.0, 0.1]
+ *     inertia = [0.004, 0.004, 0.0004, 0.0, 0.0, 0.0]
+ *     armature = 0.5; damping = 10.0; coulomb = 4.0
+ *   link 4 (tool_roll): revolute joint, standard DH
+ *     a = 0.0; alpha = 0.0; d = 0.1; theta = 0.0
+ *     mass = 0.4; com = [0.0, 0.0, 0.02]
+ *     inertia = [0.0004, 0.0004, 0.0003, 0.0, 0.0, 0.0]
+ *     armature = 0.05; damping = 0.1; coulomb = 0.2
  */
 
 /*
@@ -40,6 +70,10 @@ typedef double scara_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile scara_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except scara_forward_dynamics_checked, which then returns a

@@ -23,14 +23,52 @@ typedef double stanford_real;
 #define stanford_NP 0
 
 /*
- * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2 (world frame)
- *   link 1 (j1): mass 9.29 kg, com [0, 0.0175, -0.1105] m, inertia [xx yy zz xy xz yz] [0.276, 0.255, 0.071, 0, 0, 0] kg m^2
- *   link 2 (j2): mass 5.01 kg, com [0, -0.01054, 0] m, inertia [xx yy zz xy xz yz] [0.108, 0.018, 0.1, 0, 0, 0] kg m^2
- *   link 3 (j3): mass 4.25 kg, com [0, 0, -0.06447] m, inertia [xx yy zz xy xz yz] [2.51, 2.51, 0.006, 0, 0, 0] kg m^2
- *   link 4 (j4): mass 1.08 kg, com [0, 0.00092, -0.00054] m, inertia [xx yy zz xy xz yz] [0.002, 0.001, 0.001, 0, 0, 0] kg m^2
- *   link 5 (j5): mass 0.63 kg, com [0, 0.00566, 3e-05] m, inertia [xx yy zz xy xz yz] [0.003, 0.003, 0.0004, 0, 0, 0] kg m^2
- *   link 6 (j6): mass 0.51 kg, com [0, 0, 0.01554] m, inertia [xx yy zz xy xz yz] [0.013, 0.013, 0.0003, 0, 0, 0] kg m^2
+ * Model constants folded into the code, as symdyn read them from stanford.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * Standard Denavit-Hartenberg parameters; theta of a revolute joint and d of a
+ * prismatic one are offsets added to q.
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   link 1 (j1): revolute joint, standard DH
+ *     a = 0.0; alpha = -pi/2 = -1.5707963267948966; d = 0.412; theta = 0.0
+ *     mass = 9.29; com = [0.0, 0.0175, -0.1105]
+ *     inertia = [0.276, 0.255, 0.071, 0.0, 0.0, 0.0]
+ *     armature = 0.953; damping = 0.0; coulomb = 0.0
+ *   link 2 (j2): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.154; theta = 0.0
+ *     mass = 5.01; com = [0.0, -0.01054, 0.0]
+ *     inertia = [0.108, 0.018, 0.1, 0.0, 0.0, 0.0]
+ *     armature = 2.193; damping = 0.0; coulomb = 0.0
+ *   link 3 (j3): prismatic joint, standard DH
+ *     a = 0.0; alpha = 0.0; d = 0.0; theta = -pi/2 = -1.5707963267948966
+ *     mass = 4.25; com = [0.0, 0.0, -0.06447]
+ *     inertia = [2.51, 2.51, 0.006, 0.0, 0.0, 0.0]
+ *     armature = 0.782; damping = 0.0; coulomb = 0.0
+ *   link 4 (j4): revolute joint, standard DH
+ *     a = 0.0; alpha = -pi/2 = -1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 1.08; com = [0.0, 0.00092, -0.00054]
+ *     inertia = [0.002, 0.001, 0.001, 0.0, 0.0, 0.0]
+ *     armature = 0.106; damping = 0.0; coulomb = 0.0
+ *   link 5 (j5): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.0; theta = 0.0
+ *     mass = 0.63; com = [0.0, 0.00566, 3e-05]
+ *     inertia = [0.003, 0.003, 0.0004, 0.0, 0.0, 0.0]
+ *     armature = 0.097; damping = 0.0; coulomb = 0.0
+ *   link 6 (j6): revolute joint, standard DH
+ *     a = 0.0; alpha = 0.0; d = 0.263; theta = 0.0
+ *     mass = 0.51; com = [0.0, 0.0, 0.01554]
+ *     inertia = [0.013, 0.013, 0.0003, 0.0, 0.0, 0.0]
+ *     armature = 0.02; damping = 0.0; coulomb = 0.0
  */
 
 /*
@@ -44,6 +82,10 @@ typedef double stanford_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile stanford_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except stanford_forward_dynamics_checked, which then returns a

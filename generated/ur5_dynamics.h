@@ -23,14 +23,52 @@ typedef double ur5_real;
 #define ur5_NP 0
 
 /*
- * Model constants folded into the code:
- *   gravity [0, 0, -9.81] m/s^2 (world frame)
- *   link 1 (shoulder_pan): mass 3.7 kg, com [0, -0.02561, 0.00193] m, inertia [xx yy zz xy xz yz] [0.0102675, 0.00666, 0.0102675, 0, 0, 0] kg m^2
- *   link 2 (shoulder_lift): mass 8.393 kg, com [0.2125, 0, 0.11336] m, inertia [xx yy zz xy xz yz] [0.0151074, 0.133886, 0.133886, 0, 0, 0] kg m^2
- *   link 3 (elbow): mass 2.33 kg, com [0.15, 0, 0.0265] m, inertia [xx yy zz xy xz yz] [0.004194, 0.0319715, 0.0319715, 0, 0, 0] kg m^2
- *   link 4 (wrist_1): mass 1.219 kg, com [0, -0.0018, 0.01634] m, inertia [xx yy zz xy xz yz] [0.0025599, 0.0025599, 0.0021942, 0, 0, 0] kg m^2
- *   link 5 (wrist_2): mass 1.219 kg, com [0, 0.0018, 0.01634] m, inertia [xx yy zz xy xz yz] [0.0025599, 0.0025599, 0.0021942, 0, 0, 0] kg m^2
- *   link 6 (wrist_3): mass 0.1879 kg, com [0, 0, -0.001159] m, inertia [xx yy zz xy xz yz] [0.000172117, 0.000172117, 0.000132117, 0, 0, 0] kg m^2
+ * Model constants folded into the code, as symdyn read them from ur5.yaml, under the
+ * robot file's field names (docs/robot-format.md), so that they can be checked without it. Each
+ * number is the shortest decimal that reads back as the double it stands for; an exact value that
+ * is not such a decimal (pi/2, 1/3) is followed by " = " and that double. A name is a runtime
+ * parameter (an input in p, not folded). Units: lengths m, angles rad, masses kg; gravity m/s^2
+ * in the world frame; com in the link frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of
+ * mass, link-frame axes, kg m^2; armature kg m^2, damping (viscous friction) N m s/rad and coulomb
+ * (Coulomb friction) N m of a revolute joint, kg, N s/m and N of a prismatic one; limits rad or m,
+ * rad/s or m/s, N m or N (listed only: no function checks them).
+ * Standard Denavit-Hartenberg parameters; theta of a revolute joint and d of a
+ * prismatic one are offsets added to q.
+ * base: frame 0 of the chain in the world; tool: the tool frame in the last link's frame.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   base.xyz = [0.0, 0.0, 0.0]; base.rpy = [0.0, 0.0, 0.0]
+ *   tool.xyz = [0.0, 0.0, 0.0]; tool.rpy = [0.0, 0.0, 0.0]
+ *   link 1 (shoulder_pan): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.089159; theta = 0.0
+ *     mass = 3.7; com = [0.0, -0.02561, 0.00193]
+ *     inertia = [0.0102675, 0.00666, 0.0102675, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 2 (shoulder_lift): revolute joint, standard DH
+ *     a = -0.425; alpha = 0.0; d = 0.0; theta = 0.0
+ *     mass = 8.393; com = [0.2125, 0.0, 0.11336]
+ *     inertia = [0.0151074, 64265201/480000000 = 0.13388583541666665, 64265201/480000000 = 0.13388583541666665, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 3 (elbow): revolute joint, standard DH
+ *     a = -0.39225; alpha = 0.0; d = 0.0; theta = 0.0
+ *     mass = 2.33; com = [0.15, 0.0, 0.0265]
+ *     inertia = [0.004194, 0.03197149546875, 0.03197149546875, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 4 (wrist_1): revolute joint, standard DH
+ *     a = 0.0; alpha = pi/2 = 1.5707963267948966; d = 0.10915; theta = 0.0
+ *     mass = 1.219; com = [0.0, -0.0018, 0.01634]
+ *     inertia = [0.0025599, 0.0025599, 0.0021942, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 5 (wrist_2): revolute joint, standard DH
+ *     a = 0.0; alpha = -pi/2 = -1.5707963267948966; d = 0.09465; theta = 0.0
+ *     mass = 1.219; com = [0.0, 0.0018, 0.01634]
+ *     inertia = [0.0025599, 0.0025599, 0.0021942, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
+ *   link 6 (wrist_3): revolute joint, standard DH
+ *     a = 0.0; alpha = 0.0; d = 0.0823; theta = 0.0
+ *     mass = 0.1879; com = [0.0, 0.0, -0.001159]
+ *     inertia = [516351079/3000000000000 = 0.00017211702633333333, 516351079/3000000000000 = 0.00017211702633333333, 0.0001321171875, 0.0, 0.0, 0.0]
+ *     armature = 0.0; damping = 0.0; coulomb = 0.0
  */
 
 /*
@@ -44,6 +82,10 @@ typedef double ur5_real;
  *
  * All functions are reentrant: no allocation, no global or static state, no recursion.
  * Output arrays must not overlap the inputs.
+ *
+ * To keep only the functions a program calls: compile ur5_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  *
  * Inputs are taken as given: a NaN or infinite input gives NaN or infinite outputs in every
  * function except ur5_forward_dynamics_checked, which then returns a

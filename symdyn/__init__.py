@@ -30,7 +30,8 @@ def generate(path, **options) -> dict:
     """The files ``symdyn generate`` writes for one input (robot file, URDF, scene or platform
     robot), ``{file name: bytes}``, written nowhere; ``options`` are the fields of
     :class:`symdyn.emit.pipeline.GenerateOptions` (functions, precision, target, method,
-    fd_method, parameters, header_only, batch, size_report, use_cache)."""
+    fd_method, parameters, header_only, batch, size_report, use_cache, and ``name``: the C
+    prefix and file names instead of the robot's name)."""
     from .emit.pipeline import GenerateOptions, configure
     from .emit.pipeline import generate as emit
     return emit(configure(path, GenerateOptions(**options)))

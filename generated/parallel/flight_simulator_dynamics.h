@@ -44,9 +44,77 @@ typedef double flight_simulator_real;
  *   leg5: actuated joint 4 (rod, prismatic); inverse-kinematics branches (joint 4, universal, spherical) (1, 1, 1)
  *   leg6: actuated joint 4 (rod, prismatic); inverse-kinematics branches (joint 4, universal, spherical) (1, 1, 1)
  *
- * Model constants folded into the code:
- *   platform mass 1216.926818 kg, centre of mass [0.0, 0.0, 0.0] m (platform frame), inertia about it (xx, yy, zz, xy, xz, yz) [304.4852309, 304.4852309, 608.463409, 0.0, 0.0, 0.0] kg m^2
- *   gravity [0.0, 0.0, -9.81] m/s^2 (world frame)
+ * Model constants folded into the code, as symdyn read them from flight_simulator.yaml, under the
+ * robot file's field names (docs/parallel-format.md), so that they can be checked without it.
+ * Each number is the shortest decimal that reads back as the double it stands for; an exact value
+ * that is not such a decimal (pi/2, 1/3) is followed by " = " and that double. Units: lengths m,
+ * angles rad (home: rad or m per joint), masses kg; gravity m/s^2 in the world frame; com in the
+ * platform's or the link's frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of mass in
+ * that frame's axes, kg m^2; armature kg m^2 or kg, damping (viscous friction) N m s/rad or N s/m,
+ * coulomb (Coulomb friction) N m or N (revolute or prismatic joint); limits are listed only.
+ * base: a leg's frame 0 in the world; platform: its last link frame in the platform frame;
+ * origin: a joint frame in the previous link's frame (xyz, then rpy: roll, pitch, yaw about the
+ * fixed x, y, z axes), axis: the joint axis in it; Denavit-Hartenberg theta (revolute) and d
+ * (prismatic) are offsets added to the joint variable.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   platform.mass = 1216.926818; platform.com = [0.0, 0.0, 0.0]
+ *   platform.inertia = [304.4852309, 304.4852309, 608.463409, 0.0, 0.0, 0.0]
+ *   leg leg1: actuated joint 4 (rod)
+ *     base.xyz = [2.997144665, -0.1308581621, 0.0]; base.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, 105.0984573*pi/180 = 1.8343141186516698]
+ *     platform.xyz = [0.6427876097, -0.7660444431, 0.0]; platform.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, 105.0984573*pi/180 = 1.8343141186516698]
+ *     home = [0.0, 0.0, 0.0, 3.153800684, 0.0, 0.0]
+ *   leg leg2: actuated joint 4 (rod)
+ *     base.xyz = [2.997144665, 0.1308581621, 0.0]; base.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, 74.9015427*pi/180 = 1.3072785349381233]
+ *     platform.xyz = [0.6427876097, 0.7660444431, 0.0]; platform.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, 74.9015427*pi/180 = 1.3072785349381233]
+ *     home = [0.0, 0.0, 0.0, 3.153800684, 0.0, 0.0]
+ *   leg leg3: actuated joint 4 (rod)
+ *     base.xyz = [-1.38524584, 2.6610325, 0.0]; base.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, -134.9015427*pi/180 = -2.354476086134721]
+ *     platform.xyz = [0.3420201433, 0.9396926208, 0.0]; platform.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, -134.9015427*pi/180 = -2.354476086134721]
+ *     home = [0.0, 0.0, 0.0, 3.153800684, 0.0, 0.0]
+ *   leg leg4: actuated joint 4 (rod)
+ *     base.xyz = [-1.611898825, 2.530174337, 0.0]; base.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, -165.0984573*pi/180 = -2.8815116698482677]
+ *     platform.xyz = [-0.984807753, 0.1736481777, 0.0]; platform.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, -165.0984573*pi/180 = -2.8815116698482677]
+ *     home = [0.0, 0.0, 0.0, 3.153800684, 0.0, 0.0]
+ *   leg leg5: actuated joint 4 (rod)
+ *     base.xyz = [-1.611898825, -2.530174337, 0.0]; base.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, -14.9015427*pi/180 = -0.2600809837415256]
+ *     platform.xyz = [-0.984807753, -0.1736481777, 0.0]; platform.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, -14.9015427*pi/180 = -0.2600809837415256]
+ *     home = [0.0, 0.0, 0.0, 3.153800684, 0.0, 0.0]
+ *   leg leg6: actuated joint 4 (rod)
+ *     base.xyz = [-1.38524584, -2.6610325, 0.0]; base.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, -45.0984573*pi/180 = -0.7871165674550721]
+ *     platform.xyz = [0.3420201433, -0.9396926208, 0.0]; platform.rpy = [-50.64262358*pi/180 = -0.8838805233191179, 0.0, -45.0984573*pi/180 = -0.7871165674550721]
+ *     home = [0.0, 0.0, 0.0, 3.153800684, 0.0, 0.0]
+ *   links of every leg (one table for all 6):
+ *     link 1 (s1): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [1.0, 0.0, 0.0]
+ *       mass = 0.0; com = [0.0, 0.0, 0.0]
+ *       inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 2 (s2): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 1.0, 0.0]
+ *       mass = 0.0; com = [0.0, 0.0, 0.0]
+ *       inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 3 (tube): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 0.0, 1.0]
+ *       mass = 92.11067114; com = [0.0, 0.0, 1.182675256]
+ *       inertia = [43.02399679, 43.02399679, 0.1565881409, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 4 (rod): prismatic joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 0.0, 1.0]
+ *       mass = 143.9229236; com = [0.0, 0.0, -1.182675256]
+ *       inertia = [67.19261232, 67.19261232, 0.1799036546, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 5 (u1): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [1.0, 0.0, 0.0]
+ *       mass = 0.0; com = [0.0, 0.0, 0.0]
+ *       inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 6 (u2): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 1.0, 0.0]
+ *       mass = 0.0; com = [0.0, 0.0, 0.0]
+ *       inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
  *
  * Every function returns a status: 0, or one of the codes above, and then writes no output.
  * Near a singular configuration the 6x6 LU factorizations (partial pivoting) report it where a
@@ -60,6 +128,10 @@ typedef double flight_simulator_real;
  * Output arrays must not overlap the inputs.  Costs count the LU factorizations (70
  * multiplications, 55 additions, 6 divisions each) and solves (36 multiplications, 30
  * additions per column) with the straight-line code.
+ *
+ * To keep only the functions a program calls: compile flight_simulator_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  */
 
 /*

@@ -44,9 +44,77 @@ typedef double sru_platform_real;
  *   leg5: actuated joint 4 (knee, revolute); inverse-kinematics branches (joint 4, universal, spherical) (1, 1, 1)
  *   leg6: actuated joint 4 (knee, revolute); inverse-kinematics branches (joint 4, universal, spherical) (1, 1, 1)
  *
- * Model constants folded into the code:
- *   platform mass 7.634070148 kg, centre of mass [0.0, 0.0, 0.0] m (platform frame), inertia about it (xx, yy, zz, xy, xz, yz) [0.1718301956, 0.1718301956, 0.3435331567, 0.0, 0.0, 0.0] kg m^2
- *   gravity [0.0, 0.0, -9.81] m/s^2 (world frame)
+ * Model constants folded into the code, as symdyn read them from sru_platform.yaml, under the
+ * robot file's field names (docs/parallel-format.md), so that they can be checked without it.
+ * Each number is the shortest decimal that reads back as the double it stands for; an exact value
+ * that is not such a decimal (pi/2, 1/3) is followed by " = " and that double. Units: lengths m,
+ * angles rad (home: rad or m per joint), masses kg; gravity m/s^2 in the world frame; com in the
+ * platform's or the link's frame; inertia (xx, yy, zz, xy, xz, yz) about the centre of mass in
+ * that frame's axes, kg m^2; armature kg m^2 or kg, damping (viscous friction) N m s/rad or N s/m,
+ * coulomb (Coulomb friction) N m or N (revolute or prismatic joint); limits are listed only.
+ * base: a leg's frame 0 in the world; platform: its last link frame in the platform frame;
+ * origin: a joint frame in the previous link's frame (xyz, then rpy: roll, pitch, yaw about the
+ * fixed x, y, z axes), axis: the joint axis in it; Denavit-Hartenberg theta (revolute) and d
+ * (prismatic) are offsets added to the joint variable.
+ *
+ *   gravity = [0.0, 0.0, -9.81]
+ *   platform.mass = 7.634070148; platform.com = [0.0, 0.0, 0.0]
+ *   platform.inertia = [0.1718301956, 0.1718301956, 0.3435331567, 0.0, 0.0, 0.0]
+ *   leg leg1: actuated joint 4 (knee)
+ *     base.xyz = [0.4829629131, -0.1294095226, 0.0]; base.rpy = [-26.14393763*pi/180 = -0.45629779107954305, 19.39950371*pi/180 = 0.3385852129923552, -116.167636*pi/180 = -2.0275077324582957]
+ *     platform.xyz = [0.2121320344, -0.2121320344, 0.0]; platform.rpy = [-26.14393763*pi/180 = -0.45629779107954305, 19.39950371*pi/180 = 0.3385852129923552, -116.167636*pi/180 = -2.0275077324582957]
+ *     home = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *   leg leg2: actuated joint 4 (knee)
+ *     base.xyz = [0.4829629131, 0.1294095226, 0.0]; base.rpy = [-26.14393763*pi/180 = -0.45629779107954305, -19.39950371*pi/180 = -0.3385852129923552, -63.83236399*pi/180 = -1.1140849209569648]
+ *     platform.xyz = [0.2121320344, 0.2121320344, 0.0]; platform.rpy = [-26.14393763*pi/180 = -0.45629779107954305, -19.39950371*pi/180 = -0.3385852129923552, -63.83236399*pi/180 = -1.1140849209569648]
+ *     home = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *   leg leg3: actuated joint 4 (knee)
+ *     base.xyz = [-0.1294095226, 0.4829629131, 0.0]; base.rpy = [-26.14393763*pi/180 = -0.45629779107954305, 19.39950371*pi/180 = 0.3385852129923552, 3.832363986*pi/180 = 0.06688736969055388]
+ *     platform.xyz = [0.07764571353, 0.2897777479, 0.0]; platform.rpy = [-26.14393763*pi/180 = -0.45629779107954305, 19.39950371*pi/180 = 0.3385852129923552, 3.832363986*pi/180 = 0.06688736969055388]
+ *     home = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *   leg leg4: actuated joint 4 (knee)
+ *     base.xyz = [-0.3535533906, 0.3535533906, 0.0]; base.rpy = [-26.14393763*pi/180 = -0.45629779107954305, -19.39950371*pi/180 = -0.3385852129923552, 56.16763601*pi/180 = 0.9803101814362307]
+ *     platform.xyz = [-0.2897777479, 0.07764571353, 0.0]; platform.rpy = [-26.14393763*pi/180 = -0.45629779107954305, -19.39950371*pi/180 = -0.3385852129923552, 56.16763601*pi/180 = 0.9803101814362307]
+ *     home = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *   leg leg5: actuated joint 4 (knee)
+ *     base.xyz = [-0.3535533906, -0.3535533906, 0.0]; base.rpy = [-26.14393763*pi/180 = -0.45629779107954305, 19.39950371*pi/180 = 0.3385852129923552, 123.832364*pi/180 = 2.1612824723280957]
+ *     platform.xyz = [-0.2897777479, -0.07764571353, 0.0]; platform.rpy = [-26.14393763*pi/180 = -0.45629779107954305, 19.39950371*pi/180 = 0.3385852129923552, 123.832364*pi/180 = 2.1612824723280957]
+ *     home = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *   leg leg6: actuated joint 4 (knee)
+ *     base.xyz = [-0.1294095226, -0.4829629131, 0.0]; base.rpy = [-26.14393763*pi/180 = -0.45629779107954305, -19.39950371*pi/180 = -0.3385852129923552, 176.167636*pi/180 = 3.074705283654893]
+ *     platform.xyz = [0.07764571353, -0.2897777479, 0.0]; platform.rpy = [-26.14393763*pi/180 = -0.45629779107954305, -19.39950371*pi/180 = -0.3385852129923552, 176.167636*pi/180 = 3.074705283654893]
+ *     home = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *   links of every leg (one table for all 6):
+ *     link 1 (s1): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [1.0, 0.0, 0.0]
+ *       mass = 0.0; com = [0.0, 0.0, 0.0]
+ *       inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 2 (s2): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 1.0, 0.0]
+ *       mass = 0.0; com = [0.0, 0.0, 0.0]
+ *       inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 3 (thigh): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 0.0, 1.0]
+ *       mass = 0.6; com = [0.0, 0.0, 0.175]
+ *       inertia = [0.006125, 0.006125, 0.0003, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 4 (knee): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.35]; origin.rpy = [0.0, 0.0, 0.0]; axis = [1.0, 0.0, 0.0]
+ *       mass = 0.5; com = [0.0, -0.2211941033, 0.04120884205]
+ *       inertia = [0.0084375, 0.000476319296, 0.008161180704, 0.0, 0.0, 0.001483181664]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 5 (u1): revolute joint, general placement
+ *       origin.xyz = [0.0, -0.4423882066, 0.08241768409]; origin.rpy = [0.0, 0.0, 0.0]; axis = [1.0, 0.0, 0.0]
+ *       mass = 0.0; com = [0.0, 0.0, 0.0]
+ *       inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
+ *     link 6 (u2): revolute joint, general placement
+ *       origin.xyz = [0.0, 0.0, 0.0]; origin.rpy = [0.0, 0.0, 0.0]; axis = [0.0, 0.18315040909636277, 0.9830849035804766]
+ *       mass = 0.0; com = [0.0, 0.0, 0.0]
+ *       inertia = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
+ *       armature = 0.0; damping = 0.0; coulomb = 0.0
  *
  * Every function returns a status: 0, or one of the codes above, and then writes no output.
  * Near a singular configuration the 6x6 LU factorizations (partial pivoting) report it where a
@@ -60,6 +128,10 @@ typedef double sru_platform_real;
  * Output arrays must not overlap the inputs.  Costs count the LU factorizations (70
  * multiplications, 55 additions, 6 divisions each) and solves (36 multiplications, 30
  * additions per column) with the straight-line code.
+ *
+ * To keep only the functions a program calls: compile sru_platform_dynamics.c with
+ * -ffunction-sections -fdata-sections and link with -Wl,--gc-sections (GCC, Clang), or generate
+ * only those functions (symdyn generate --functions LIST).
  */
 
 /*

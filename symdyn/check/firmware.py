@@ -26,11 +26,13 @@ DOUBLE_LIBM = ("sin", "cos", "sqrt", "fabs", "sincos", "pow")
 @dataclass(frozen=True)
 class FirmwareReport:
     """``sizes``: function name -> (text bytes, stack bytes); ``doubles``: double-precision
-    routines referenced; ``toolchain``: the compiler's version line and flags."""
+    routines referenced; ``toolchain``: the compiler's version line; ``command``: the
+    exact compile command that was measured (:data:`FLAGS`, ``-fstack-usage``, the source)."""
 
     sizes: dict
     doubles: tuple
     toolchain: str
+    command: str = ""
 
 
 def available() -> bool:
@@ -50,8 +52,8 @@ def measure(files: dict, prefix: str) -> FirmwareReport:
                 handle.write(text)
         source = f"{prefix}_dynamics.c"
         obj = f"{prefix}_dynamics.o"
-        result = subprocess.run([COMPILER, *FLAGS, "-fstack-usage", "-c", source, "-o", obj],
-                                cwd=work, capture_output=True, text=True)
+        command = [COMPILER, *FLAGS, "-fstack-usage", "-c", source]
+        result = subprocess.run([*command, "-o", obj], cwd=work, capture_output=True, text=True)
         if result.returncode != 0:
             raise SymdynError(f"{COMPILER} failed on {source}: {result.stderr.strip()[:2000]}")
         sizes: dict[str, list[int]] = {}
@@ -68,8 +70,8 @@ def measure(files: dict, prefix: str) -> FirmwareReport:
         undefined = subprocess.run([NM, "-u", obj], cwd=work, capture_output=True, text=True, check=True).stdout.split()
         doubles = tuple(sorted(u for u in undefined if u.startswith("__aeabi_d") or u in DOUBLE_LIBM))
         version = subprocess.run([COMPILER, "--version"], capture_output=True, text=True).stdout.splitlines()
-    toolchain = f"{version[0].strip() if version else COMPILER} {' '.join(FLAGS)}"
-    return FirmwareReport({k: tuple(v) for k, v in sizes.items()}, doubles, toolchain)
+    toolchain = version[0].strip() if version else COMPILER
+    return FirmwareReport({k: tuple(v) for k, v in sizes.items()}, doubles, toolchain, " ".join(command))
 
 
 __all__ = ["FirmwareReport", "measure", "available", "FLAGS"]

@@ -6,8 +6,10 @@ files of all inputs are written in one transaction."""
 
 from __future__ import annotations
 
+from ..check.firmware import FLAGS as FIRMWARE_FLAGS
 from ..emit.cgen import PRECISION_CHOICES
-from ..emit.pipeline import PLATFORM, SERIAL, TARGETS, GenerateOptions, check_options, configure, generate
+from ..emit.pipeline import (PLATFORM, SERIAL, TARGETS, GenerateOptions, check_inputs, check_options, configure,
+                              generate, provenance)
 from ..model.errors import SymdynError
 from ..model.files import output_directory, write_files
 from ..model.outputs import functions_help
@@ -21,10 +23,19 @@ def add_parser(sub) -> None:
     p = sub.add_parser("generate", help=HELP, description=HELP + ". The files of a run are written "
                        "as one unit (temporaries, then renames, under a lock on the output directory); "
                        "on any error existing files are left untouched. Only regular files are "
-                       "replaced, never an input file.")
-    p.add_argument("robots", nargs="+", metavar="ROBOT.yaml", help="robot file(s) (format version 1) or "
-                   "scene file(s) (docs/scene-format.md: locked joints, payload, runtime parameters)")
+                       "replaced, never an input file, nor (without --force) a file generated from "
+                       "another input or not by symdyn.")
+    p.add_argument("robots", nargs="+", metavar="ROBOT", help="robot file(s) (.yaml: an arm, docs/robot-format.md, "
+                   "or a platform, docs/parallel-format.md), URDF file(s) (.urdf) or scene file(s) "
+                   "(docs/scene-format.md: locked joints, payload, runtime parameters)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
+    p.add_argument("--name", metavar="NAME", default=None,
+                   help="the C prefix and file names (NAME_dynamics.h/.c, NAME_forward_dynamics, ...; "
+                        "CasADi: NAME_*.casadi) instead of the robot's name, e.g. one per leg of a URDF "
+                        "(--tip LF_FOOT --name lf_leg); lower-case letters, digits and '_', one input only")
+    p.add_argument("--force", action="store_true",
+                   help="replace files in --out that were generated from another input (or not by "
+                        "symdyn); without it such a file stops the run before anything is written")
     p.add_argument("--target", default="c", choices=TARGETS,
                    help="c (default): NAME_dynamics.h/.c; casadi: NAME_dynamics.casadi and one "
                         "NAME_<function>.casadi per function (casadi.Function.save format) with "
@@ -43,9 +54,9 @@ def add_parser(sub) -> None:
                         "inertial parameters zero and folded away; fewer operations on some arms, "
                         "docs/benchmarks.md); needs a numeric link geometry. Default standard")
     p.add_argument("--size-report", action="store_true",
-                   help="compile the C for a Cortex-M4 with arm-none-eabi-gcc (-mcpu=cortex-m4 -mthumb "
-                        "-mfloat-abi=hard -mfpu=fpv4-sp-d16 -O2) and document each function's code size and "
-                        "stack use in the header; c target, .h + .c only")
+                   help=f"compile the C for a Cortex-M4 with arm-none-eabi-gcc ({' '.join(FIRMWARE_FLAGS)} "
+                        "-fstack-usage) and document each function's code size and stack use, and those "
+                        "flags, in the header; c target, .h + .c only")
     p.add_argument("--batch", action="store_true",
                    help="also write NAME_<function>_batch(count, ...) over arrays of states: several "
                         "states at once in GCC/Clang vector types in double precision (identical results), "
@@ -68,15 +79,17 @@ def options_of(args) -> GenerateOptions:
     return GenerateOptions(functions=args.functions, precision=args.precision, target=args.target,
                            method=args.method, fd_method=args.fd_method, parameters=args.parameters,
                            header_only=args.header_only, batch=args.batch, size_report=size_report,
-                           use_cache=not args.no_cache)
+                           use_cache=not args.no_cache, name=args.name)
 
 
 def run(args) -> int:
     """Check the options, load and resolve every input, check the output directory, then derive
     and emit everything, and write all files of all robots in one transaction
-    (:func:`symdyn.model.files.write_files`)."""
+    (:func:`symdyn.model.files.write_files`; unless ``--force``, a file there that another input
+    generated, or that symdyn did not write, stops it before anything is written)."""
     options = options_of(args)
     check_options(options)
+    check_inputs(args.robots, options)
     if args.size_report:
         from ..check.firmware import COMPILER, available
         if not available():
@@ -91,13 +104,15 @@ def run(args) -> int:
     protect = [p for path in args.robots for p in input_files(path)]
     # the directory is checked (and created) before deriving, and removed again if the run fails
     with output_directory(args.out):
-        rendered = {}
+        rendered, owners = {}, {}
         for config in configs:
-            for name, text in generate(config, progress=progress_printer(args)).items():
+            files = generate(config, progress=progress_printer(args))
+            for name, text in files.items():
                 if name in rendered:
                     raise SymdynError(f"two robot files produce {name}: give each robot a distinct name")
                 rendered[name] = text
-        written = write_files(args.out, rendered, protect=protect)
+            owners.update(provenance(config, files))
+        written = write_files(args.out, rendered, protect=protect, owners=None if args.force else owners)
     if not args.quiet:
         for target in written:
             print(f"wrote {target}")

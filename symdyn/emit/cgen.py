@@ -18,7 +18,7 @@ from ..model.errors import warn
 from .cbody import BodyContext, write_body
 from .cplan import collect_targets, dimensions, reduce_targets
 from .cprinter import VectorUnsupported
-from .emission import banner_fields, comment_text, source_label, template_environment
+from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
 from ..derive.equations import Equations
 from ..model.tolerances import pivot_rtol
 from ..model.outputs import ALL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY
@@ -119,30 +119,6 @@ def parameter_uses(robot, symbol) -> str:
         if fields:
             uses.append(f"link {k + 1} ({link.name}): " + ", ".join(fields))
     return "; ".join(uses) if uses else "unused"
-
-
-def model_constants(robot) -> list[str]:
-    """The numbers folded into the code, one line each: gravity and every link's mass, COM and
-    inertia about the COM (entries that depend on runtime parameters are marked)."""
-    def show(values):
-        return ", ".join(f"{float(v):.6g}" if sp.sympify(v).is_number else "(runtime)" for v in values)
-    lines = [f"gravity [{show(robot.gravity)}] m/s^2 (world frame)"]
-    for label, placement, frame in (("base", robot.base, "in the world"),
-                                    ("tool", robot.tool, "in the last link's frame")):
-        if placement is not None:
-            lines.append(f"{label} {frame}: xyz [{show(placement.xyz)}] m, rpy [{show(placement.rpy)}] rad")
-    for k, link in enumerate(robot.links):
-        if link.origin is not None:
-            lines.append(f"joint {k + 1} ({link.name}): origin xyz [{show(link.origin.xyz)}] m, rpy "
-                         f"[{show(link.origin.rpy)}] rad, axis [{show(link.axis)}]")
-        lines.append(f"link {k + 1} ({link.name}): mass {show((link.mass,))} kg, com [{show(link.com)}] m, "
-                     f"inertia [xx yy zz xy xz yz] [{show(link.inertia)}] kg m^2")
-        if link.limits is not None:
-            limits = link.limits
-            parts = [f"{name} {show((value,))}" for name, value in (("lower", limits.lower), ("upper", limits.upper),
-                     ("velocity", limits.velocity), ("effort", limits.effort)) if value is not None]
-            lines.append(f"joint {k + 1} ({link.name}) limits (not used by these functions): {', '.join(parts)}")
-    return lines
 
 
 def _hoisted_angles(statements, results, computed) -> list[sp.Expr]:
@@ -287,13 +263,16 @@ def _base_parameters(eqs: Equations):
 
 def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
                source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = (),
-               progress=None, size_report=None, batch: bool = False) -> dict[str, str]:
+               progress=None, size_report=None, batch: bool = False, locked=()) -> dict[str, str]:
     """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` (or one header of static inline
-    functions when ``header_only``).  Returns ``{file name: text}``.  ``progress`` (optional) is
+    functions when ``header_only``).  Returns ``{file name: text}``.  The header lists every
+    model constant folded into the code (:func:`~symdyn.emit.emission.constant_rows`; ``locked``:
+    the joints a scene locked, :attr:`symdyn.model.scene.Scene.locked`).  ``progress`` (optional) is
     called with a short text as each function's C is built.  ``size_report`` (optional): called
     with the rendered files, returns an object with ``sizes`` ({C function name: (text bytes,
-    stack bytes)}), ``doubles`` (double-precision routines referenced) and ``toolchain`` (what
-    measured them); the header then documents each function's size and stack use.  ``batch``:
+    stack bytes)}), ``doubles`` (double-precision routines referenced), ``toolchain`` (what
+    measured them) and ``command`` (the exact compile command); the header then documents each
+    function's size and stack use.  ``batch``:
     also emit ``NAME_<function>_batch(count, ...)`` over arrays of states (vectorized in double
     precision with GCC/Clang vector types, a loop over the scalar function otherwise)."""
     functions = [f for f in ALL_OUTPUTS if f in (functions or eqs.output_names)]
@@ -329,7 +308,8 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "parameters": [(k, s.name, "runtime parameter" if v is not None else "runtime parameter, no nominal value",
                         (repr(float(v)) if v is not None else None), parameter_uses(robot, s))
                        for k, (s, v) in enumerate(zip(robot.parameters, robot.nominal))],
-        "constants": model_constants(robot),
+        "constants": constant_rows(robot, locked),
+        "fixed_transforms": robot.tool_fixed is not None or any(link.fixed is not None for link in robot.links),
         "joints": [(k + 1, link.name, link.joint, link.actuated) for k, link in enumerate(robot.links)],
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
@@ -339,6 +319,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "math_header": True,
         "float_header": any(f.returns == "int" for f in built),
         "size_target": "",
+        "size_command": "",
         "size_doubles": "",
         "regressor_parameters": _regressor_parameters(eqs) if "regressor" in functions else [],
         "base_parameters": _base_parameters(eqs) if "base_regressor" in functions else [],
@@ -363,7 +344,8 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
             text, stack = report.sizes.get(f"{prefix}_{f.name}", (None, None))
             if text is not None:
                 f.size_text = f"Cortex-M4: {text} bytes of code, {stack} bytes of stack (measured as stated at the top)."
-        context["size_target"] = report.toolchain
+        context["size_target"] = comment_text(report.toolchain)
+        context["size_command"] = comment_text(getattr(report, "command", ""))
         context["size_doubles"] = ", ".join(report.doubles) or "none"
         files[f"{prefix}_dynamics.h"] = env.get_template("dynamics.h.j2").render(**context)
     return files

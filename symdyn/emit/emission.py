@@ -12,6 +12,7 @@ import re
 
 import jinja2
 import sympy as sp
+from sympy.printing.str import StrPrinter
 
 from ..model.errors import display_path
 
@@ -67,6 +68,158 @@ def banner_fields(prefix: str, precision: str, method: str = "", dof: int = 0, c
     placements = "general joint placements" if convention == "general" else f"{convention} DH"
     return {"banner_title": f"equations of motion of robot '{prefix}' ({dof} joints, {placements})",
             "banner_generator": f"{method}, {precision} precision"}
+
+
+# ---------------------------------------------------------------------------------------------
+# The header's list of the model constants folded into the code
+
+#: the longest exact expression shown before a constant's value (longer ones: the value only)
+MAX_EXACT_TEXT = 40
+
+
+def _decimal(value: sp.Rational) -> str | None:
+    """``repr(float(value))`` (the shortest decimal that reads back as the same double) when
+    that decimal is exactly ``value``, else None."""
+    text = repr(float(value))
+    return text if sp.Rational(text) == value else None
+
+
+class _ConstantPrinter(StrPrinter):
+    """SymPy's str printer, with every rational that is a short decimal printed as that decimal
+    (0.4318, not 2159/5000); other rationals stay exact (1/3)."""
+
+    def _print_Rational(self, expr):
+        text = _decimal(expr)
+        return text if text is not None else super()._print_Rational(expr)
+
+
+_PRINTER = _ConstantPrinter({"full_prec": False})
+
+
+def constant_text(value) -> str:
+    """A model constant as the header lists it: a number as the shortest decimal that reads back
+    as the double the code uses (Python's ``repr``: ``0.4318``, ``-9.81``, ``0.0``); an exact value
+    that is not such a decimal as its expression, `` = ``, then that double (``pi/2 =
+    1.5707963267948966``, ``1/3 = 0.3333333333333333``; only the double when the expression is
+    long); an expression of runtime parameters as the expression (``m_p + 0.1879``)."""
+    value = sp.sympify(value)
+    if value.free_symbols:
+        return _PRINTER.doprint(value)
+    if value.is_Rational:
+        text = _decimal(value)
+        if text is not None:
+            return text
+    double = repr(float(sp.N(value, 30)))
+    exact = _PRINTER.doprint(value)
+    turns = value / sp.pi
+    if turns.is_Rational and _decimal(turns * 180) is not None:  # an angle read in degrees
+        in_degrees = f"{_decimal(turns * 180)}*pi/180"
+        exact = in_degrees if len(in_degrees) < len(exact) else exact
+    return f"{exact} = {double}" if len(exact) <= MAX_EXACT_TEXT and exact != double else double
+
+
+def _vector(values) -> str:
+    return "[" + ", ".join(constant_text(v) for v in values) + "]"
+
+
+def _matrix_rows(key: str, entries) -> list[str]:
+    """A constant 4x4 transform (16 entries, row-major) as four rows ``key.row1 = [...]``."""
+    entries = list(entries)
+    return [f"{key}.row{r + 1} = {_vector(entries[4 * r:4 * r + 4])}" for r in range(4)]
+
+
+def _placement(key: str, placement) -> str:
+    xyz, rpy = (placement.xyz, placement.rpy) if placement is not None else ((0, 0, 0), (0, 0, 0))
+    return f"{key}.xyz = {_vector(xyz)}; {key}.rpy = {_vector(rpy)}"
+
+
+def link_constant_rows(link, index: int, convention: str, indent: str = "") -> list[str]:
+    """The rows of one link (``index`` from 1): a title (joint type, placement convention,
+    passive), then its fields under the robot file's names (``a``, ``alpha``, ``d``, ``theta``
+    or ``origin.xyz``, ``origin.rpy``, ``axis``; ``mass``, ``com``, ``inertia``, ``armature``,
+    ``damping``, ``coulomb``, ``limits.*``; ``fixed.row1..4``: the constant transform a scene's
+    locked joints put before the joint)."""
+    general = convention == "general"
+    title = f"link {index} ({link.name}): {link.joint} joint, " + ("general placement" if general
+                                                                    else f"{convention} DH")
+    rows = [title + ("" if link.actuated else ", passive (not actuated)")]
+    inner = indent + "  "
+    if link.fixed is not None:
+        rows += [inner + row for row in _matrix_rows("fixed", link.fixed)]
+    dh = "; ".join(f"{key} = {constant_text(getattr(link, key))}" for key in ("a", "alpha", "d", "theta"))
+    if general:
+        origin = link.origin
+        rows.append(inner + _placement("origin", origin) + f"; axis = {_vector(link.axis or (0, 0, 1))}")
+        if any(sp.sympify(getattr(link, key)) != 0 for key in ("a", "alpha", "d", "theta")):
+            rows.append(inner + dh)
+    else:
+        rows.append(inner + dh)
+    rows.append(inner + f"mass = {constant_text(link.mass)}; com = {_vector(link.com)}")
+    rows.append(inner + f"inertia = {_vector(link.inertia)}")
+    rows.append(inner + "; ".join(f"{key} = {constant_text(getattr(link, key))}"
+                                  for key in ("armature", "damping", "coulomb")))
+    if link.limits is not None:
+        limits = [(key, getattr(link.limits, key)) for key in ("lower", "upper", "velocity", "effort")]
+        present = [f"limits.{key} = {constant_text(value)}" for key, value in limits if value is not None]
+        if present:
+            rows.append(inner + "; ".join(present))
+    return [indent + rows[0]] + rows[1:]
+
+
+def constant_rows(robot, locked=()) -> list[str]:
+    """Every constant folded into the code of a serial robot, one row each (the header's model
+    constants; units and conventions are the template's legend): gravity, the base and tool
+    frames, the joints a scene locked (``locked``: ``(joint from 1, link name, value)`` of the
+    robot the scene read) and where they went, the passive joints, the runtime parameters (names,
+    not folded) and every link's fields (:func:`link_constant_rows`)."""
+    rows = [f"gravity = {_vector(robot.gravity)}", _placement("base", robot.base), _placement("tool", robot.tool)]
+    if robot.tool_fixed is not None:
+        rows += _matrix_rows("tool.fixed", robot.tool_fixed)
+    if locked:
+        rows.append("locked by the scene (not in q; their links merged into the link before, their "
+                    "placements into fixed): " + "; ".join(f"joint {k} ({comment_text(name, 60)}) = "
+                                                         f"{constant_text(value)}" for k, name, value in locked))
+    passive = [f"{k + 1} ({robot.links[k].name})" for k in robot.passive_joints]
+    if passive:
+        rows.append(f"passive joints (tau 0, not actuated): {', '.join(passive)}")
+    if robot.parameters:
+        rows.append("runtime parameters (inputs in p, not folded): "
+                    + "; ".join(f"p[{k}] = {s.name}" for k, s in enumerate(robot.parameters)))
+    for k, link in enumerate(robot.links):
+        rows += link_constant_rows(link, k + 1, robot.convention)
+    return rows
+
+
+def platform_constant_rows(robot) -> list[str]:
+    """Every constant folded into the code of a platform robot
+    (:class:`symdyn.model.parallel.ParallelRobot`): gravity, the platform's inertial data, each
+    leg's placements (``base``: its frame 0 in the world; ``platform``: its last link frame in
+    the platform frame), actuated joint and home configuration, and the legs' link tables (once
+    when every leg has the same table)."""
+    plat = robot.platform
+    rows = [f"gravity = {_vector(robot.gravity)}",
+            f"platform.mass = {constant_text(plat.mass)}; platform.com = {_vector(plat.com)}",
+            f"platform.inertia = {_vector(plat.inertia)}"]
+    if robot.parameters:
+        rows.append("runtime parameters (inputs in p, not folded): "
+                    + "; ".join(f"p[{k}] = {s.name}" for k, s in enumerate(robot.parameters)))
+    tables = {(leg.chain.convention, leg.chain.links) for leg in robot.legs}
+    for leg in robot.legs:
+        link = leg.actuated_link
+        rows.append(f"leg {leg.name}: actuated joint {leg.actuated + 1} ({link.name})")
+        rows.append("  " + _placement("base", leg.chain.base))
+        rows.append("  " + _placement("platform", leg.attachment))
+        if leg.home is not None:
+            rows.append(f"  home = {_vector(leg.home)}")
+        if len(tables) > 1:
+            for k, chain_link in enumerate(leg.chain.links):
+                rows += link_constant_rows(chain_link, k + 1, leg.chain.convention, "  ")
+    if len(tables) == 1:
+        rows.append(f"links of every leg (one table for all {len(robot.legs)}):")
+        chain = robot.legs[0].chain
+        for k, chain_link in enumerate(chain.links):
+            rows += link_constant_rows(chain_link, k + 1, chain.convention, "  ")
+    return rows
 
 
 def template_environment() -> jinja2.Environment:

@@ -24,7 +24,8 @@ from ..derive.parallel import (FORWARD_SINGULAR_DOC, FUNCTIONS, INPUT_SIZES, STA
 from .cgen import CFunction, scalar_type
 from .cplan import merge_cse
 from .cprinter import CPrinter, count_operations
-from .emission import fresh_symbols, banner_fields, comment_text, factor_coefficients, fold_constants, pair_cse, source_label, template_environment
+from .emission import (banner_fields, comment_text, factor_coefficients, fold_constants, fresh_symbols, pair_cse,
+                       platform_constant_rows, source_label, template_environment)
 
 
 INPUT_DOCS = {
@@ -172,7 +173,6 @@ def generate_parallel_c(eqs: ParallelEquations, functions=None, precision: str =
         if progress is not None:
             progress(f"{prefix}: C for {f}")
         built.append(_emit_function(eqs, f, precision, prefix))
-    plat = robot.platform
     legs = []
     for leg, branch in zip(robot.legs, eqs.branches):
         link = leg.actuated_link
@@ -196,10 +196,7 @@ def generate_parallel_c(eqs: ParallelEquations, functions=None, precision: str =
         "legs": legs,
         # rounded to 1e-9: the file's home configuration holds the pose to about 1e-10
         "home": ", ".join(f"{(round(x, 9) or 0.0):.10g}" for x in eqs.home_pose),
-        "constants": [f"platform mass {float(plat.mass)!r} kg, centre of mass {[float(c) for c in plat.com]} m "
-                      f"(platform frame), inertia about it (xx, yy, zz, xy, xz, yz) "
-                      f"{[float(c) for c in plat.inertia]} kg m^2",
-                      f"gravity {[float(g) for g in robot.gravity]} m/s^2 (world frame)"],
+        "constants": platform_constant_rows(robot),
         "functions": built,
         "notes": [comment_text(note) for note in notes],
         # the LU helpers the functions call (an unused static function is a warning)

@@ -4,6 +4,7 @@ that derives and emits it, for every kind of robot.
 >>> from symdyn.emit.pipeline import GenerateOptions, configure, generate
 >>> config = configure("robots/puma560.yaml", GenerateOptions(precision="float"))
 >>> files = generate(config)          # {"puma560_dynamics.h": b"...", "puma560_dynamics.c": b"..."}
+>>> owners = provenance(config, files)  # what write_files checks before replacing a file
 
 :class:`GenerateOptions` is what a user asks for (``None``: the scene's choice, else the
 default); :func:`configure` loads the input (robot file, URDF, scene or platform robot), looks up
@@ -17,16 +18,18 @@ from __future__ import annotations
 
 import functools
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 from ..derive.cache import derive_cached
 from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
-from ..model.errors import SymdynError
+from ..model.errors import SymdynError, describe
+from ..model.files import Provenance
 from ..model.outputs import ALL_OUTPUTS, OUTPUTS, default_outputs, with_requirements
 from ..model.parallel import ParallelRobot
-from ..model.robot import Robot
+from ..model.robot import MAX_NAME, ROBOT_NAME_PATTERN, Robot
 from .cgen import PRECISION_CHOICES
+from .emission import source_label
 
 TARGETS = ("c", "casadi", "casadi-c")
 
@@ -36,7 +39,9 @@ class GenerateOptions:
     """What to generate.  ``functions``: names or a comma-separated text (None: the scene's, else
     the kind's default); ``precision`` (None: the scene's, else double); ``fd_method`` (None:
     ``ldlt`` in double, ``aba`` in float); ``size_report``: a function ``(files, prefix=...)``
-    measuring code size and stack use (:func:`symdyn.check.firmware.measure`), or None."""
+    measuring code size and stack use (:func:`symdyn.check.firmware.measure`), or None;
+    ``name``: the C prefix and file names (``NAME_dynamics.h``, ``NAME_forward_dynamics``, ...)
+    instead of the robot's or scene's own name, for one input (None: the input's name)."""
 
     functions: tuple[str, ...] | str | None = None
     precision: str | None = None
@@ -48,6 +53,7 @@ class GenerateOptions:
     batch: bool = False
     size_report: Callable | None = None
     use_cache: bool = True
+    name: str | None = None
 
 
 @dataclass(frozen=True)
@@ -145,7 +151,8 @@ def _emit_serial(config: GenerateConfig, progress=None) -> dict[str, bytes]:
         report = None if options.size_report is None else functools.partial(options.size_report, prefix=robot.name)
         files = generate_c(eqs, config.functions, config.precision, options.header_only,
                            source_name=config.source_name, source_hash=robot.source_hash, notes=config.notes,
-                           progress=progress, size_report=report, batch=options.batch)
+                           progress=progress, size_report=report, batch=options.batch,
+                           locked=config.scene.locked if config.scene is not None else ())
         return {name: text.encode("utf-8") for name, text in files.items()}
     from .casadi_backend import casadi_files
     return casadi_files(eqs, config.functions, casadi_c=options.target == "casadi-c", source_name=config.source_name,
@@ -204,6 +211,25 @@ def check_options(options: GenerateOptions) -> None:
         raise SymdynError(f"--batch applies to the c target only, not {options.target}")
     if options.size_report is not None and (options.target != "c" or options.header_only):
         raise SymdynError("--size-report applies to the c target with .h + .c files (not --header-only)")
+    check_name(options.name)
+
+
+def check_name(name) -> None:
+    """Refuse a ``--name`` that is not a valid robot name (as a robot file's ``name``: lower-case
+    letters, digits and '_', starting with a letter, at most :data:`~symdyn.model.robot.MAX_NAME`
+    characters), in one line."""
+    if name is not None and (not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name)
+                             or len(name) > MAX_NAME):
+        raise SymdynError(f"--name {describe(name)} is not a valid name: use lower-case letters, digits and "
+                          f"'_', starting with a letter, at most {MAX_NAME} characters")
+
+
+def check_inputs(paths, options: GenerateOptions) -> None:
+    """Refuse options that need a single input when several are given (``--name``: one prefix
+    for two robots would write the same files twice)."""
+    if options.name is not None and len(paths) != 1:
+        raise SymdynError(f"--name names the code of one input, but {len(paths)} were given: "
+                          "generate each robot in its own run, with its own --name")
 
 
 def check_kind_options(kind: RobotKind, options: GenerateOptions, path: str) -> None:
@@ -228,6 +254,8 @@ def configure(path, options: GenerateOptions = _UNSET, loaded=None) -> GenerateC
     check_options(options)
     robot, scene = loaded if loaded is not None else load_input(path, parallel=True)
     kind = kind_of(robot)
+    if options.name is not None:
+        robot = replace(robot, name=options.name)
     check_kind_options(kind, options, path)
     functions = kind.parse_functions(options.functions, robot) if options.functions else None
     if kind is SERIAL:
@@ -243,3 +271,15 @@ def generate(config: GenerateConfig, progress=None) -> dict[str, bytes]:
     """Derive (through the cache) and emit ``config``: ``{file name: content}``, written nowhere.
     ``progress``: called with a short text per derivation part and emitted function."""
     return config.kind.emit(config, progress)
+
+
+def provenance(config: GenerateConfig, files) -> dict[str, Provenance]:
+    """What each of ``files`` (the names :func:`generate` returned for ``config``) says it was
+    generated from: the input's file name as the banners print it and the SHA-256 they give.
+    :func:`symdyn.model.files.write_files` (``owners=``) compares it with the banner of a file it
+    would replace; a binary ``.casadi`` file has no banner, the ``NAME_casadi.txt`` written with
+    it speaks for it."""
+    origin = Provenance(source_label(config.source_name), config.robot.source_hash)
+    readme = f"{config.robot.name}_casadi.txt"
+    return {name: replace(origin, banner=readme) if name.endswith(".casadi") and readme in files else origin
+            for name in files}

@@ -20,6 +20,11 @@ What a write guarantees
   silently destroyed, and a refused link's target is never touched.)
 - **Inputs are never overwritten.**  A target that is the same file (``st_dev``, ``st_ino``) as one
   of the ``protect`` paths (the run's input files) is refused.
+- **Generated files of other inputs are kept (with ``owners``).**  An existing target is replaced
+  only if its banner (read from its first :data:`BANNER_BYTES` bytes, or from the file of the set
+  that speaks for it) names the same input as the file replacing it (:class:`Provenance`); a file
+  of another input, or one without a symdyn banner (a file symdyn did not write), is refused in
+  one line before anything is written.  ``symdyn generate`` passes ``owners`` unless ``--force``.
 - **One unit.**  Every file is first written to a temporary ``.symdyn-tmp-*`` in the output
   directory and fsynced; only then are the temporaries renamed over their final names.  A failure
   before the renames (a refusal, a full disk, ^C) removes every temporary and leaves the old files
@@ -75,9 +80,11 @@ import contextlib
 import hashlib
 import hmac
 import os
+import re
 import secrets
 import signal
 import stat
+from dataclasses import dataclass
 from typing import Iterable, Iterator, Mapping
 
 try:
@@ -303,6 +310,99 @@ def _check_target(dfd: int, directory: str, name: str, protected) -> int | None:
     if (info.st_dev, info.st_ino) in protected:
         raise OutputError(f"refusing to overwrite {path}: it is an input file of this run (nothing was written)")
     return stat.S_IMODE(info.st_mode) & 0o777
+
+
+# ---------------------------------------------------------------------------------------------
+# Provenance: the input a generated file was made from, as its banner says
+
+#: how much of an existing file is read to find its banner
+BANNER_BYTES = 4096
+#: the line every banner symdyn writes has (templates/banner.j2, the CasADi descriptions)
+_BANNER_MARK = re.compile(rb"GENERATED FILES? \S{1,4} DO NOT EDIT\. Regenerate (?:it|them) with symdyn")
+_BANNER_FIELD = re.compile(rb"^[ \t/*#%>]*(input|sha256)[ \t]*:[ \t]*([^\r\n]*?)[ \t]*$", re.M)
+#: what a refusal to replace another input's file suggests (the options of symdyn generate)
+ADVICE = "use --name to write beside it, or --force to replace it"
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """The input a generated file was made from, as its banner names it: ``input`` (the input's
+    file name as banners print it) and ``sha256`` (of the input's content).  ``banner``: for a
+    file without a banner of its own (a binary ``.casadi`` file), the file of the same set whose
+    banner speaks for it, else ``""``."""
+
+    input: str
+    sha256: str
+    banner: str = ""
+
+    def same_input(self, other: "Provenance") -> bool:
+        """Whether ``other`` names the same input: the same file name (an edited input file is
+        regenerated in place) or the same content (a copy under another name)."""
+        return self.input == other.input or (bool(self.sha256) and self.sha256 == other.sha256)
+
+
+def read_provenance(head: bytes) -> Provenance | None:
+    """The provenance a symdyn banner in ``head`` (the start of a file) gives, or None when
+    there is no banner (not a file symdyn generated) or it does not name an input and its hash."""
+    if not _BANNER_MARK.search(head):
+        return None
+    fields: dict[str, str] = {}
+    for match in _BANNER_FIELD.finditer(head):
+        fields.setdefault(match.group(1).decode(), match.group(2).decode("utf-8", "replace"))
+    if "input" not in fields or "sha256" not in fields:
+        return None
+    return Provenance(fields["input"], fields["sha256"])
+
+
+def _read_head(dfd: int, name: str) -> bytes | None:
+    """The first :data:`BANNER_BYTES` bytes of the regular file ``name`` (no link followed, no
+    blocking open), or None when there is no such file."""
+    try:
+        fd = os.open(name, os.O_RDONLY | _O_NOFOLLOW | _O_NONBLOCK | _O_CLOEXEC, dir_fd=dfd)
+    except FileNotFoundError:
+        return None
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            return None
+        chunks, size = [], 0
+        while size < BANNER_BYTES:
+            chunk = os.read(fd, BANNER_BYTES - size)
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
+
+
+def _check_owners(dfd: int, directory: str, names, owners: Mapping[str, Provenance], advice: str) -> None:
+    """Refuse (one line, nothing written) to replace an existing file that does not name the
+    input ``owners`` gives for it (see :class:`Provenance`)."""
+    heads: dict[str, bytes | None] = {}
+    for name in names:
+        wanted = owners.get(name)
+        if wanted is None or _lstat(dfd, name) is None:
+            continue
+        path = os.path.join(directory, name)
+        source = wanted.banner or name
+        try:
+            if source not in heads:
+                heads[source] = _read_head(dfd, source)
+        except OSError as exc:
+            raise OutputError(f"cannot read {os.path.join(directory, source)}: {_reason(exc)}") from None
+        head = heads[source]
+        if head is None:
+            raise OutputError(f"refusing to replace {path}: {one_line(source, 120)}, which would say what it was "
+                              f"generated from, is missing (nothing was written): {advice}")
+        found = read_provenance(head)
+        if found is None:
+            where = "its" if source == name else f"{one_line(source, 120)}'s"
+            raise OutputError(f"refusing to replace {path}: it was not generated by symdyn (no symdyn banner naming "
+                              f"its input in {where} first {BANNER_BYTES} bytes; nothing was written): {advice}")
+        if not found.same_input(wanted):
+            raise OutputError(f"{path} was generated from {one_line(found.input, 160)} (sha256 "
+                              f"{one_line(found.sha256, 64)}), not from {one_line(wanted.input, 160)}: {advice}")
 
 
 def check_targets(directory: str, names: Iterable[str], protect: Iterable[str] = ()) -> None:
@@ -636,12 +736,15 @@ class _Transaction:
 
 
 def write_files(directory: str, files: Mapping[str, bytes], protect: Iterable[str] = (), *,
-                mode: int | None = None) -> list[str]:
+                mode: int | None = None, owners: Mapping[str, Provenance] | None = None,
+                advice: str = ADVICE) -> list[str]:
     """Write ``files`` ({plain file name: content}) into the existing ``directory`` as one unit.
 
     ``protect``: paths of the run's input files, which are never overwritten.  ``mode``: the
     permission bits of every file (default: the umask's for a new file, the old file's for a
-    replaced one).  Returns the paths written, in the order of ``files``.  Raises
+    replaced one).  ``owners``: ``{file name: Provenance}`` of generated files; an existing file
+    is then replaced only if its banner names the same input (else the write is refused, in one
+    line ending in ``advice``).  Returns the paths written, in the order of ``files``.  Raises
     :class:`OutputError` (nothing changed, except for the documented double faults); the
     guarantees are in the module docstring."""
     names = list(files)
@@ -653,6 +756,8 @@ def write_files(directory: str, files: Mapping[str, bytes], protect: Iterable[st
     with lock_directory(directory) as dfd:
         signer = _recover(dfd, directory, protected, names)
         modes = {name: _check_target(dfd, directory, name, protected) for name in names}
+        if owners is not None:
+            _check_owners(dfd, directory, names, owners, advice)
         transaction = _Transaction(dfd, directory, signer)
         try:
             for name in names:

@@ -44,6 +44,9 @@ class Scene:
     notes: tuple[str, ...]  # what the scene did, for the generated header
     source: str
     source_hash: str
+    #: the joints the scene locked: ``(joint index from 1, link name, value in rad or m)`` in the
+    #: numbering of the robot file it reads (for the generated header's list of constants)
+    locked: tuple[tuple[int, str, sp.Expr], ...] = ()
 
 
 def is_urdf(path) -> bool:
@@ -354,6 +357,7 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
                 warn(f"{one_line(path, 200)}: field '{where}': {value:g} rad looks like degrees (more than "
                      "2 pi); lock values of revolute joints are in the robot file's angle unit "
                      "('angles: degrees' there makes them degrees)")
+    locked_joints = tuple((k + 1, robot.links[k].name, v) for k, v in sorted(locked.items()))
     if locked:
         notes.append("locked: " + ", ".join(f"joint {k + 1} ({robot.links[k].name}) at {float(v):g}"
                                             for k, v in sorted(locked.items())))
@@ -369,4 +373,4 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
                     f"starting with a letter, at most {MAX_NAME} characters", "name")
     robot = replace(robot, name=name, source=path, source_hash=hashlib.sha256(raw + robot_raw).hexdigest())
     return Scene(robot=robot, functions=functions, precision=precision, notes=tuple(notes),
-                 source=path, source_hash=robot.source_hash)
+                 source=path, source_hash=robot.source_hash, locked=locked_joints)
