@@ -29,7 +29,58 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .chain import Chain
-from .spatial import cross_force, cross_motion, motion_transform, spatial_inertia
+from .spatial import (Placement, apply_force_back, apply_inertia_back, apply_motion, cross_force, cross_motion,
+                      spatial_inertia)
+
+
+@dataclass(frozen=True)
+class JointTransform:
+    """``X_j = X(motion) X(constant)``: the motion transform into joint frame j as two
+    :class:`~symdyn.derive.spatial.Placement` s, the constant one (the previous link's fixed
+    placement and this joint's: numbers and parameters only) and the joint's own motion (a
+    rotation about z by q_j, or a translation along z).  Applied stage by stage, each stage
+    named, a transform costs what its structure needs."""
+
+    constant: Placement
+    moving: Placement
+
+    def matrix(self) -> sp.Matrix:
+        return self.moving.matrix() * self.constant.matrix()
+
+
+def _named(b, hint, exprs) -> sp.Matrix:
+    return sp.Matrix(b.vector(hint, [sp.expand(e) for e in exprs]))
+
+
+def _named_symmetric(b, hint, M) -> sp.Matrix:
+    out = sp.zeros(6, 6)
+    for r in range(6):
+        for c in range(r, 6):
+            out[r, c] = out[c, r] = b.define(f"{hint}_{r}{c}", sp.expand(M[r, c]))
+    return out
+
+
+def _namer(b):
+    return lambda hint, exprs: list(b.vector(hint, exprs))
+
+
+def transform_motion(b, T: JointTransform, v, hint: str) -> sp.Matrix:
+    """``X v`` for a motion vector ``v`` (6 x 1) of the parent frame (stages named ``hint...``;
+    the result itself is returned unnamed)."""
+    inner = apply_motion(T.constant, v, _namer(b), f"{hint}c")
+    return apply_motion(T.moving, inner, _namer(b), f"{hint}m")
+
+
+def transform_force_back(b, T: JointTransform, f, hint: str) -> sp.Matrix:
+    """``X^T f`` for a force ``f`` (6 x 1) of the joint frame, into the parent frame."""
+    inner = _named(b, f"{hint}m", apply_force_back(T.moving, f, _namer(b), f"{hint}m"))
+    return apply_force_back(T.constant, inner, _namer(b), f"{hint}c")
+
+
+def transform_inertia_back(b, T: JointTransform, M, hint: str) -> sp.Matrix:
+    """``X^T M X`` for a symmetric 6 x 6 inertia ``M`` of the joint frame, into the parent frame."""
+    inner = _named_symmetric(b, f"{hint}m", apply_inertia_back(T.moving, M, _namer(b), f"{hint}m"))
+    return apply_inertia_back(T.constant, inner, _namer(b), f"{hint}c")
 
 
 def joint_frames(chain: Chain):
@@ -37,21 +88,31 @@ def joint_frames(chain: Chain):
     motion transform ``^jX_{j-1}`` into joint frame j, the body's spatial velocity there, the
     joint's own velocity and the constant pose of link frame j in joint frame j; ``X_j`` and
     ``v_j`` are named in the chain's program as they are made (a consumer's own definitions
-    for joint j come after them, before joint j + 1's)."""
+    for joint j come after them, before joint j + 1's).  :func:`joint_transforms` gives the
+    same transforms split for staged products."""
     b = chain.builder
-    previous_post = sp.eye(4)
     velocity = sp.zeros(6, 1)
-    for j, link in enumerate(chain.robot.links):
+    for j, (T, post) in enumerate(joint_transforms(chain)):
         k = j + 1
-        geo = chain.geometry[j]
-        pose = previous_post * sp.Matrix(geo.pre) * chain.motions[j]
-        Xj = motion_transform(pose).applyfunc(lambda e: b.define(f"X{k}", sp.expand(e)))
+        link = chain.robot.links[j]
+        Xj = T.matrix().applyfunc(lambda e: b.define(f"X{k}", sp.expand(e)))
         S_qd = sp.zeros(6, 1)
         S_qd[2 if link.is_revolute else 5] = chain.qd[j]
-        velocity = sp.Matrix(b.vector(f"sv{k}", [sp.expand(e) for e in Xj * velocity + S_qd]))
-        post = sp.Matrix(geo.post)
+        velocity = _named(b, f"sv{k}", transform_motion(b, T, velocity, f"svc{k}") + S_qd)
         yield j, Xj, velocity, S_qd, post
-        previous_post = post
+
+
+def joint_transforms(chain: Chain) -> list[tuple[JointTransform, sp.Matrix]]:
+    """Per joint, base to tip: its :class:`JointTransform` and the constant pose of link frame j
+    in joint frame j (4 x 4)."""
+    out = []
+    previous_post = sp.eye(4)
+    for j in range(chain.n):
+        geo = chain.geometry[j]
+        out.append((JointTransform(Placement(previous_post * sp.Matrix(geo.pre)), Placement(chain.motions[j])),
+                    sp.Matrix(geo.post)))
+        previous_post = sp.Matrix(geo.post)
+    return out
 
 
 @dataclass(frozen=True)
@@ -78,6 +139,7 @@ class Sweeps:
     inv: tuple
     Ia: tuple
     pa: tuple
+    transforms: tuple = ()
 
 
 def sweeps(chain: Chain, tau, friction) -> Sweeps:
@@ -94,12 +156,9 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         return sp.Matrix(b.vector(hint, [sp.expand(e) for e in v]))
 
     def sym6(hint, M):
-        out = sp.zeros(6, 6)
-        for r in range(6):
-            for c in range(r, 6):
-                out[r, c] = out[c, r] = b.define(f"{hint}_{r}{c}", sp.expand(M[r, c]))
-        return out
+        return _named_symmetric(b, hint, M)
 
+    transforms = [T for T, _ in joint_transforms(chain)]
     X, v, c, I, IA, pA = [], [], [], [], [], []
     for j, Xj, velocity, S_qd, post in joint_frames(chain):
         k = j + 1
@@ -112,7 +171,8 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         inertia = spatial_inertia(link.mass, com, R * sp.Matrix(link.inertia_matrix) * R.T)
         I.append(sym6(f"IA{k}", inertia))
         IA.append(I[j])
-        pA.append(vec(f"pA{k}", cross_force(velocity, I[j] * velocity)))
+        momentum = vec(f"Iv{k}", I[j] * velocity)  # named first: v x* (I v) stays bilinear, not expanded
+        pA.append(vec(f"pA{k}", cross_force(velocity, momentum)))
     pA0 = tuple(pA)
 
     U, d, u, inv, Ia, pa = [None] * n, [None] * n, [None] * n, [None] * n, [None] * n, [None] * n
@@ -127,11 +187,11 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
             break
         Ia[j] = sym6(f"Ia{k}", IA[j] - U[j] * U[j].T * inv[j])
         pa[j] = vec(f"pa{k}", pA[j] + Ia[j] * c[j] + U[j] * (u[j] * inv[j]))
-        IA[j - 1] = sym6(f"IA{k - 1}s", IA[j - 1] + X[j].T * Ia[j] * X[j])
-        pA[j - 1] = vec(f"pA{k - 1}s", pA[j - 1] + X[j].T * pa[j])
+        IA[j - 1] = sym6(f"IA{k - 1}s", IA[j - 1] + transform_inertia_back(b, transforms[j], Ia[j], f"IAm{k}"))
+        pA[j - 1] = vec(f"pA{k - 1}s", pA[j - 1] + transform_force_back(b, transforms[j], pa[j], f"pAm{k}"))
     return Sweeps(X=tuple(X), axis=axis, v=tuple(v), c=tuple(c), I=tuple(I), pA0=pA0, IA=tuple(IA),
                   pA=tuple(pA), U=tuple(U), d=tuple(d), u=tuple(u), inv=tuple(inv), Ia=tuple(Ia),
-                  pa=tuple(pa))
+                  pa=tuple(pa), transforms=tuple(transforms))
 
 
 def accelerations(chain: Chain, sw: Sweeps):
@@ -141,7 +201,7 @@ def accelerations(chain: Chain, sw: Sweeps):
     a_prime, qdd, a = [], [], []
     for j in range(chain.n):
         k = j + 1
-        ap = sp.Matrix(b.vector(f"ap{k}", [sp.expand(e) for e in sw.X[j] * accel + sw.c[j]]))
+        ap = _named(b, f"ap{k}", transform_motion(b, sw.transforms[j], accel, f"apc{k}") + sw.c[j])
         qdd_j = b.define(f"qdd{k}_aba", sp.expand((sw.u[j] - (sw.U[j].T * ap)[0]) * sw.inv[j]))
         accel = ap.copy()
         accel[sw.axis[j]] += qdd_j

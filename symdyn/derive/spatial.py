@@ -83,3 +83,86 @@ def spatial_inertia(mass, com: sp.Matrix, inertia_com: sp.Matrix) -> sp.Matrix:
     I[3:, :3] = -mass * cx
     I[3:, 3:] = mass * sp.eye(3)
     return I
+
+
+# ---------------------------------------------------------------------------------------------
+# Staged transforms: a placement applied as its rotation and its translation, each stage named
+# ---------------------------------------------------------------------------------------------
+
+class Placement:
+    """The pose of a frame B in a frame A as a rotation ``R`` (3 x 3, B's axes in A) and a
+    translation ``p`` (3 x 1, B's origin in A); its motion transform is ``motion_transform``'s
+    ``X = [R^T 0; 0 R^T] [1 0; -p x 1]``.
+
+    The functions below apply X (or X^T) in stages, naming each stage's entries with ``name(hint,
+    expressions) -> expressions``, so that a product costs what the structure of R and p allows
+    (Featherstone, Rigid Body Dynamics Algorithms, section 2.8 and table A.1): zeros and numbers
+    fold, a rotation about z touches 2 x 2 blocks, a translation along z few entries."""
+
+    def __init__(self, pose: sp.Matrix):
+        self.R = sp.Matrix(pose[:3, :3]).applyfunc(sp.expand)
+        self.p = sp.Matrix(pose[:3, 3]).applyfunc(sp.expand)
+        self.rotates = self.R != sp.eye(3)
+        self.translates = not self.p.is_zero_matrix
+
+    def matrix(self) -> sp.Matrix:
+        """``X`` (6 x 6), for consumers that want it whole."""
+        return motion_transform(sp.Matrix(sp.BlockMatrix([[self.R, self.p], [sp.zeros(1, 3), sp.ones(1, 1)]])))
+
+
+def _stage(name, hint: str, exprs) -> sp.Matrix:
+    return sp.Matrix(list(name(hint, [sp.expand(e) for e in exprs])))
+
+
+def apply_motion(placement: Placement, v: sp.Matrix, name, hint: str) -> sp.Matrix:
+    """``X v``: a motion vector ``[omega; v]`` of frame A in frame B (6 x 1)."""
+    w, lin = sp.Matrix(v[:3, :]), sp.Matrix(v[3:, :])
+    if placement.translates:
+        lin = _stage(name, f"{hint}t", lin - cross_nonzero(placement.p, w))
+    if placement.rotates:
+        Rt = placement.R.T
+        w, lin = _stage(name, f"{hint}w", Rt * w), _stage(name, f"{hint}r", Rt * lin)
+    return sp.Matrix.vstack(w, lin)
+
+
+def apply_force_back(placement: Placement, f: sp.Matrix, name, hint: str) -> sp.Matrix:
+    """``X^T f``: a force ``[n; f]`` of frame B in frame A (moment about A's origin)."""
+    moment, force = sp.Matrix(f[:3, :]), sp.Matrix(f[3:, :])
+    if placement.rotates:
+        moment = _stage(name, f"{hint}n", placement.R * moment)
+        force = _stage(name, f"{hint}f", placement.R * force)
+    if placement.translates:
+        moment = moment + cross_nonzero(placement.p, force)
+    return sp.Matrix.vstack(moment, force)
+
+
+def _symmetric_stage(name, hint: str, M: sp.Matrix) -> sp.Matrix:
+    """``M`` (symmetric 6 x 6) with its upper triangle named (21 entries)."""
+    pairs = [(r, c) for r in range(6) for c in range(r, 6)]
+    values = list(name(hint, [sp.expand(M[r, c]) for r, c in pairs]))
+    out = sp.zeros(6, 6)
+    for (r, c), value in zip(pairs, values):
+        out[r, c] = out[c, r] = value
+    return out
+
+
+def apply_inertia_back(placement: Placement, M: sp.Matrix, name, hint: str) -> sp.Matrix:
+    """``X^T M X``: a symmetric spatial inertia (6 x 6) of frame B in frame A.  The rotation
+    turns each 3 x 3 block (``R M_ij R^T``, by way of ``M_ij R^T``), the translation adds
+    ``[P B21 - Y P, Y; -B22 P, 0]`` with ``P = p x`` and ``Y = B12 + P B22``."""
+    B = sp.Matrix(M)
+    if placement.rotates:
+        R = placement.R
+        blocks = {}
+        for (r, c) in ((0, 0), (0, 3), (3, 3)):
+            half = _stage(name, f"{hint}h{r}{c}", B[r:r + 3, c:c + 3] * R.T)
+            blocks[r, c] = R * half.reshape(3, 3)
+        B = sp.Matrix(sp.BlockMatrix([[blocks[0, 0], blocks[0, 3]], [blocks[0, 3].T, blocks[3, 3]]]))
+        B = _symmetric_stage(name, f"{hint}b", B)
+    if placement.translates:
+        P = skew(placement.p)
+        B11, B12, B22 = B[:3, :3], B[:3, 3:], B[3:, 3:]
+        Y = _stage(name, f"{hint}y", B12 + P * B22).reshape(3, 3)
+        top_left = B11 + P * B12.T - Y * P
+        B = sp.Matrix(sp.BlockMatrix([[top_left, Y], [Y.T, B22]]))
+    return B

@@ -142,8 +142,37 @@ def scene_choices(robot, scene, functions=None, precision=None, default_function
     return tuple(functions), precision or "double", notes
 
 
+#: from this many joints, forward dynamics in double (unless --fd-method says) is derived both
+#: ways and the form with fewer operations is emitted; below it LDL^T always had fewer (the
+#: bundled arms and generic chains of 6 to 12 joints; docs/benchmarks.md)
+AUTO_FD_FROM_DOF = 13
+
+
+def choose_fd_method(config: GenerateConfig, progress=None) -> GenerateConfig:
+    """``config`` with its forward-dynamics method settled by operation count (deterministic:
+    the counts of the emitted C, mul + add + div, ties to LDL^T) where no method was asked for,
+    the arithmetic is double and the chain has at least :data:`AUTO_FD_FROM_DOF` joints; the
+    header notes the counts."""
+    from .cgen import build_function
+    robot, options = config.robot, config.options
+    if options.fd_method or config.precision != "double" or "forward_dynamics" not in config.functions \
+            or robot.dof < AUTO_FD_FROM_DOF:
+        return config
+    counts = {}
+    for method in ("ldlt", "aba"):
+        eqs = derive_cached(robot, options.method, with_requirements(["forward_dynamics"]), use_cache=options.use_cache,
+                            progress=progress, fd_method=method, parameters=options.parameters)
+        ops = build_function(eqs, "forward_dynamics", config.precision, robot.name).ops
+        counts[method] = ops["mul"] + ops["add"] + ops["div"]
+    chosen = "aba" if counts["aba"] < counts["ldlt"] else "ldlt"
+    note = (f"forward dynamics by {'the articulated-body algorithm' if chosen == 'aba' else 'LDL^T of D'}, "
+            f"chosen by operation count: {counts['aba']} (articulated-body) against {counts['ldlt']} (LDL^T)")
+    return replace(config, fd_method=chosen, notes=(*config.notes, note))
+
+
 def _emit_serial(config: GenerateConfig, progress=None) -> dict[str, bytes]:
     from .cgen import generate_c
+    config = choose_fd_method(config, progress)
     robot, options = config.robot, config.options
     eqs = derive_cached(robot, options.method, with_requirements(config.functions), use_cache=options.use_cache,
                         progress=progress, fd_method=config.fd_method, parameters=options.parameters)
