@@ -18,8 +18,9 @@ SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive, "bench"
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="symdyn",
-        description="Symbolic equations of motion for serial robot arms: derive them from a "
-                    "Denavit-Hartenberg robot file and generate C code, checked against Pinocchio.",
+        description="Symbolic equations of motion for robot arms and parallel platforms: derive them "
+                    "from a robot file (Denavit-Hartenberg or general placements), a URDF or a scene, "
+                    "and generate C and CasADi code, checked against Pinocchio.",
         epilog="Run 'symdyn COMMAND --help' for the options of each command.")
     parser.add_argument("--version", action="version", version=f"symdyn {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")

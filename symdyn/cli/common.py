@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import contextlib
+import shutil
 import sys
+import threading
+import time
 
 from ..derive.equations import METHOD_ALIASES
 from ..emit.pipeline import default_fd_method, parse_functions  # noqa: F401 (the subcommands' helpers)
@@ -74,15 +77,71 @@ def check_size(robot, args, path) -> None:
                           "would take long (about 90 s for 40 joints); raise --max-joints to go on")
 
 
-def progress_printer(args):
-    """A function printing progress lines on stderr when it is a terminal (and not --quiet),
-    else None."""
+class Progress:
+    """Shows progress texts on a terminal (``stream``) as ``symdyn: TEXT``: one line each, or
+    (``rewrite``) one line rewritten in place and cleared by :meth:`close`.  With ``after`` > 0
+    nothing shows before that many seconds: a text given earlier is shown then (from a timer
+    thread) if no later one came, so that a short run prints nothing."""
+
+    def __init__(self, stream, after: float = 0.0, rewrite: bool = False):
+        self.stream = stream
+        self.rewrite = rewrite
+        self.start = time.monotonic()
+        self.after = after
+        self.pending: str | None = None
+        self.shown = False
+        self.closed = False
+        self.lock = threading.Lock()
+        self.timer = None
+        if after > 0:
+            self.timer = threading.Timer(after, self._due)
+            self.timer.daemon = True
+            self.timer.start()
+
+    def __call__(self, text: str) -> None:
+        with self.lock:
+            self.pending = text
+            if not self.closed and time.monotonic() - self.start >= self.after:
+                self._write()
+
+    def _due(self) -> None:
+        with self.lock:
+            if not self.closed and self.pending is not None:
+                self._write()
+
+    def _write(self) -> None:
+        line, self.pending = f"symdyn: {self.pending}", None
+        if self.rewrite:  # cut to the terminal's width: a wrapped line cannot be rewritten
+            self.stream.write("\r\033[K" + line[:max(shutil.get_terminal_size().columns - 1, 20)])
+        else:
+            self.stream.write(line + "\n")
+        self.stream.flush()
+        self.shown = True
+
+    def close(self) -> None:
+        """Stop (no text shows afterwards) and clear a rewritten line."""
+        with self.lock:
+            self.closed = True
+            if self.timer is not None:
+                self.timer.cancel()
+            if self.rewrite and self.shown:
+                self.stream.write("\r\033[K")
+                self.stream.flush()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+def progress_printer(args, after: float = 0.0, rewrite: bool = False):
+    """A :class:`Progress` on stderr when it is a terminal (and not ``--quiet``), else None:
+    a line per text, or with ``after``/``rewrite`` only once a run takes longer than ``after``
+    seconds, on one line rewritten in place."""
     if getattr(args, "quiet", False) or not sys.stderr.isatty():
         return None
-
-    def show(text: str) -> None:
-        print(f"symdyn: {text}", file=sys.stderr, flush=True)
-    return show
+    return Progress(sys.stderr, after, rewrite)
 
 
 @contextlib.contextmanager

@@ -9,9 +9,9 @@ import sys
 from ..model.files import check_output_dir, check_targets, write_files
 from ..derive.derivation import STEPS, derive_steps
 from ..model.errors import SymdynError
-from ..emit.printout import FORMATS, render
+from ..emit.printout import DEFAULT_DIGITS, FORMATS, MAX_DIGITS, render
 from ..derive.equations import METHOD_ALIASES
-from .common import add_size_options, check_size, load_robot
+from .common import add_size_options, check_size, load_robot, progress_printer
 
 HELP = "print the derivation of the equations of motion (text, LaTeX or Markdown)"
 
@@ -22,7 +22,7 @@ def add_parser(sub) -> None:
                        "(forward and backward recursion of Table 3.2), ending with D, h, c, or the "
                        "articulated-body algorithm (forward dynamics, and the reaction map of a robot with "
                        "passive joints).")
-    p.add_argument("robot", metavar="ROBOT.yaml", help="robot file (format version 1), or a platform robot "
+    p.add_argument("robot", metavar="ROBOT", help="robot file (.yaml), URDF (.urdf) or scene, or a platform robot "
                    "(kind: parallel): its derivation by the natural orthogonal complement in the order of "
                    "the parallel-manipulator notes (leg Jacobians, A_J, the scalar twist-shape relations, Y, Z, T, L_J, M, N, "
                    "Lambda, phi), each evaluated at one state")
@@ -53,6 +53,11 @@ def add_parser(sub) -> None:
                    help="platform robots: the platform's twist t_M = [omega; c_dot] (rad/s, m/s; default 0)")
     p.add_argument("--qdd", metavar="A1,...,A6",
                    help="platform robots: the actuated joints' accelerations for phi (default 0)")
+    p.add_argument("--digits", type=int, default=DEFAULT_DIGITS, metavar="N",
+                   help=f"print numbers as decimals of N significant digits (1 to {MAX_DIGITS}; default "
+                        f"{DEFAULT_DIGITS}); the derivation itself is exact, integers stay exact")
+    p.add_argument("--quiet", action="store_true",
+                   help=f"no progress line (shown on a terminal when a derivation takes over {PROGRESS_AFTER:g} s)")
     p.set_defaults(run=run)
 
 
@@ -63,6 +68,9 @@ CLOSED_FORM_MAX_DOF = 4
 
 #: the largest magnitude of a --pose, --twist or --qdd entry
 MAX_STATE_VALUE = 1e9
+
+#: seconds after which a derivation still running shows its progress (on a terminal)
+PROGRESS_AFTER = 2.0
 
 
 def _numbers(text, count: int, option: str):
@@ -97,8 +105,14 @@ def _parallel_text(args, robot):
     pose = _numbers(args.pose, 7, "--pose")
     twist = _numbers(args.twist, 6, "--twist")
     qdd = _numbers(args.qdd, 6, "--qdd")
-    return lambda: render_parallel(parallel_steps(robot, pose, twist, qdd), args.format,
-                                   source_name=os.path.basename(args.robot), source_hash=robot.source_hash)
+
+    def text(progress):
+        if progress is not None:
+            progress(f"{robot.name}: natural orthogonal complement")
+        return render_parallel(parallel_steps(robot, pose, twist, qdd), args.format,
+                               source_name=os.path.basename(args.robot), source_hash=robot.source_hash,
+                               digits=args.digits)
+    return text
 
 
 def _serial_text(args, robot):
@@ -117,16 +131,21 @@ def _serial_text(args, robot):
             raise SymdynError("--form closed: the articulated-body derivation is printed in the named form "
                               "only (its quantities are rational in the joint variables)")
         closed = None
-    return lambda: render(derive_steps(robot, args.method, args.steps, closed, args.base_parameters), args.format,
-                          source_name=os.path.basename(args.robot), source_hash=robot.source_hash)
+    return lambda progress: render(
+        derive_steps(robot, args.method, args.steps, closed, args.base_parameters, progress=progress), args.format,
+        source_name=os.path.basename(args.robot), source_hash=robot.source_hash, digits=args.digits,
+        progress=progress)
 
 
 def run(args) -> int:
     """Load, check the options and where ``--out`` goes (before the derivation, which can take
-    long), derive, render, and print or write (:func:`symdyn.model.files.write_files`, the
-    inputs protected)."""
+    long), derive, render (on a terminal with a progress line once it takes over
+    :data:`PROGRESS_AFTER` seconds, unless ``--quiet``), and print or write
+    (:func:`symdyn.model.files.write_files`, the inputs protected)."""
     from ..emit.pipeline import PLATFORM, kind_of
     from ..model.scene import input_files
+    if not 1 <= args.digits <= MAX_DIGITS:
+        raise SymdynError(f"--digits must be from 1 to {MAX_DIGITS}, not {args.digits}")
     robot, _ = load_robot(args.robot, args, parallel=True)
     text_of = _parallel_text(args, robot) if kind_of(robot) is PLATFORM else _serial_text(args, robot)
     if args.out:
@@ -136,7 +155,12 @@ def run(args) -> int:
         protect = input_files(args.robot)
         check_output_dir(directory, option="the directory of --out")
         check_targets(directory, [name], protect)
-    text = text_of()
+    progress = progress_printer(args, after=PROGRESS_AFTER, rewrite=True)
+    try:
+        text = text_of(progress)
+    finally:
+        if progress is not None:
+            progress.close()
     if args.out:
         write_files(directory, {name: text.encode("utf-8")}, protect=protect)
     else:

@@ -30,8 +30,8 @@ def add_parser(sub) -> None:
                        "[0.3, 1.5] (g gets 9.81); runtime parameters their nominal values. "
                        "A platform robot (kind: parallel) is compared with Pinocchio's closed-loop model "
                        "at random states about its home pose, and its statuses at states out of reach, "
-                       "singular or overflowing. Needs the pin package (pip install 'symdyn[test]').")
-    p.add_argument("robot", metavar="ROBOT.yaml")
+                       "singular or overflowing. Needs Pinocchio (pip install 'symdyn[verify]').")
+    p.add_argument("robot", metavar="ROBOT", help="robot file (.yaml: an arm or a platform), URDF (.urdf) or scene")
     p.add_argument("--states", type=int, default=50, help="number of random states (default 50)")
     p.add_argument("--precision", default=None, choices=PRECISION_CHOICES,
                    help="default: the scene's precision, else double")
@@ -52,7 +52,7 @@ def run(args) -> int:
     try:
         import pinocchio  # noqa: F401
     except ImportError:
-        raise SymdynError("symdyn verify needs Pinocchio: pip install pin (or 'symdyn[test]')") from None
+        raise SymdynError("symdyn verify needs Pinocchio: pip install 'symdyn[verify]' (the pin package)") from None
     from ..check.pinocchio_model import PinocchioReference, UrdfReference, compare
     from ..model.scene import is_urdf
     if args.states < 1:

@@ -25,8 +25,9 @@ joint symbols (``q, qd, qdd``) for checking.
 from __future__ import annotations
 
 import itertools
+import time
 from dataclasses import dataclass
-from typing import Iterable
+from typing import Callable, Iterable
 
 import sympy as sp
 
@@ -378,13 +379,15 @@ def _numbered(program, exprs: list, notation: _Notation):
 
 
 def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all",
-                 closed_form: bool | None = None, base_parameters: bool = False) -> Derivation:
+                 closed_form: bool | None = None, base_parameters: bool = False,
+                 progress: Callable[[str], None] | None = None) -> Derivation:
     """The derivation of ``robot``'s equations of motion by ``method``, step by step
     (``base_parameters``: with a last section listing the base parameters, each as an equation
     ``name = expression in the standard parameters``; needs a numeric link geometry).
 
     ``steps='summary'`` keeps the link matrices, inertias and final results only.
-    ``closed_form`` defaults to ``robot.dof <= 3``.
+    ``closed_form`` defaults to ``robot.dof <= 3``.  ``progress`` (optional) is called with a
+    short text as each step starts (the closed form of a 3-joint robot takes seconds to minutes).
     """
     key = str(method).lower().replace("_", "-")
     if key in ABA_ALIASES:
@@ -393,183 +396,237 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
         if closed_form:
             raise ValueError("the articulated-body derivation is printed in the named form only "
                              "(its quantities are rational in the joint variables)")
-        return _with_base_parameters(_articulated_body_steps(robot, steps), base_parameters)
+        report = _reporter(robot, "articulated-body", progress)
+        return _with_base_parameters(_articulated_body_steps(robot, steps, report), base_parameters, progress)
     method = normalize_method(method)
     if steps not in STEPS:
         raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
     closed = robot.dof <= 3 if closed_form is None else closed_form
+    report = _reporter(robot, method, progress)
     chain = make_chain(robot)
     notation = _Notation(chain)
-    n = chain.n
-    sections: list[Section] = []
-
-    def closed_value(value):
-        program = chain.builder.build()
-        if isinstance(value, sp.MatrixBase):
-            return notation.textbook_matrix(notation.to_trig_symbols(program, value))
-        return notation.textbook(notation.to_trig_symbols(program, value))
-
+    report("link matrices")
     # link matrices are short in either form
-    link_mats = [Quantity("link_transform", (i + 1,), notation.textbook_matrix(chain.transforms[i]))
-                 for i in range(n)]
-    sections.append(Section("link_transform", tuple(link_mats)))
-
+    sections: list[Section] = [Section("link_transform", tuple(
+        Quantity("link_transform", (i + 1,), notation.textbook_matrix(chain.transforms[i])) for i in range(chain.n)))]
+    steps_of = {"lagrange-euler": _lagrange_euler_steps, "jacobian-newton-euler": _jacobian_steps}.get(
+        method, _newton_euler_steps)
+    more, named, results = steps_of(chain, notation, steps, closed, report)
+    sections += more
     where: tuple = ()
-    named: tuple = ()
-    if method == "lagrange-euler":
-        le = LagrangeEuler(chain)
-        if closed and steps == "all":
-            A0 = [closed_value(le.A[i]) for i in range(n)]
-            sections.append(Section("base_transform", tuple(Quantity("base_transform", (i + 1,), A0[i]) for i in range(n))))
-        sections.append(Section("q_operator", tuple(
-            Quantity("q_operator", (j + 1,), sp.ImmutableMatrix(q_operator(link.is_revolute)))
-            for j, link in enumerate(robot.links))))
-        sections.append(Section("pseudo_inertia", tuple(
-            Quantity("pseudo_inertia", (i + 1,), sp.ImmutableMatrix(pseudo_inertia(link)))
-            for i, link in enumerate(robot.links))))
-        if closed:
-            for i in range(n):
-                for j in range(i + 1):
-                    le.U(i, j)
-            program = chain.builder.build()
-            Uq = {(i, j): notation.to_trig_symbols(program, le.U(i, j)).applyfunc(sp.expand)
-                  for i in range(n) for j in range(i + 1)}
-            U3 = {}
-            for (i, j), u in Uq.items():
-                for k in range(i + 1):
-                    U3[(i, j, k)] = u.applyfunc(lambda e: sp.expand(notation.diff(e, k)))
-            J = [sp.Matrix(pseudo_inertia(link)) for link in robot.links]
-            g = sp.Matrix([[*chain.gravity, 0]])
-
-            def trace(X, Y):
-                return (X * Y.T).trace()
-
-            D = sp.zeros(n, n)
-            h_ikm = {}
-            for i in range(n):
-                for k in range(n):
-                    D[i, k] = sum((trace(Uq[(j, k)] * J[j], Uq[(j, i)]) for j in range(max(i, k), n)), sp.S.Zero)
-                    for m in range(n):
-                        h_ikm[(i, k, m)] = sum((trace(U3[(j, k, m)] * J[j], Uq[(j, i)])
-                                                for j in range(max(i, k, m), n)), sp.S.Zero)
-            h = sp.Matrix([sum((h_ikm[(i, k, m)] * chain.qd[k] * chain.qd[m] for k in range(n) for m in range(n)), sp.S.Zero)
-                           for i in range(n)])
-            c = sp.Matrix([sum((-robot.links[j].mass * (g * Uq[(j, i)] * sp.Matrix([*robot.links[j].com, 1]))[0]
-                                for j in range(i, n)), sp.S.Zero) for i in range(n)])
-            if steps == "all":
-                sections.append(Section("u", tuple(Quantity("u", (i + 1, j + 1), notation.textbook_matrix(Uq[(i, j)]))
-                                                   for i in range(n) for j in range(i + 1))))
-                sections.append(Section("u3", tuple(Quantity("u3", (i + 1, j + 1, k + 1), notation.textbook_matrix(U3[(i, j, k)]))
-                                                    for i in range(n) for j in range(i + 1) for k in range(i + 1)
-                                                    if not U3[(i, j, k)].is_zero_matrix)))
-                sections.append(Section("d_entry", tuple(Quantity("d_entry", (i + 1, k + 1), notation.textbook(D[i, k]))
-                                                         for i in range(n) for k in range(i, n))))
-                sections.append(Section("h_entry", tuple(Quantity("h_entry", (i + 1, k + 1, m + 1), notation.textbook(h_ikm[(i, k, m)]))
-                                                         for i in range(n) for k in range(n) for m in range(n))))
-                sections.append(Section("h_i", tuple(Quantity("h_i", (i + 1,), notation.textbook(h[i])) for i in range(n))))
-                sections.append(Section("c_i", tuple(Quantity("c_i", (i + 1,), notation.textbook(c[i])) for i in range(n))))
-            results = (notation.textbook_matrix(D), notation.textbook_matrix(h), notation.textbook_matrix(c))
-        else:
-            eqs = derive(robot, "lagrange-euler", ["mass_matrix", "coriolis", "gravity"])
-            results, where = _named_results(eqs, notation)
-    elif method == "jacobian-newton-euler":
-        jne = JacobianNewtonEuler(chain)
-        jacobians = [jne.link_jacobian(i) for i in range(n)]
-        zero = [sp.S.Zero] * n
-        motions = jne.forward(chain.qd, zero, chain.gravity, "b")
-        jne.backward(motions, "b")
-        program = chain.builder.build()
-        namer = None if closed else _Namer(program, notation)
-        if namer is not None:
-            for i in range(n):
-                for label, vec in (("k", jne.k[i]), ("d", jne.d[i]), ("h", jne.h[i]), ("r", jne.r[i])):
-                    for a in range(3):
-                        namer.name(vec[a], sp.Symbol(f"{label}_{i + 1}{AXES[a]}", real=True))
-                for a in range(3):
-                    for c in range(a, 3):
-                        namer.name(jne.inertia[i][a, c], sp.Symbol(f"I_{i + 1}{AXES[a]}{AXES[c]}", real=True))
-
-        show = _shower(closed_value if closed else None, namer)
-        if steps == "all":
-            sections.append(Section("jacobian_link", tuple(Quantity("jc", (i + 1,), show(jacobians[i])) for i in range(n))))
-            if closed:
-                projected = []
-                for i, link in enumerate(robot.links):
-                    J = jacobians[i]
-                    Mi = sp.diag(link.mass, link.mass, link.mass, 1, 1, 1)
-                    Mi[3:, 3:] = jne.inertia[i]
-                    projected.append(Quantity("projected", (i + 1,), show(J.T * Mi * J)))
-                sections.append(Section("projected", tuple(projected)))
-            if namer is not None:
-                for i, m in enumerate(motions):
-                    for attr, name in (("omega", "omega"), ("omegadot", "omegadot"), ("vdot", "vdot"),
-                                       ("f_J", "f_J"), ("t_J", "t_J")):
-                        vec = getattr(m, attr)
-                        for a in range(3):
-                            namer.name(vec[a], sp.Symbol(f"{name}{i + 1}{AXES[a]}", real=True))
-            forward_q = []
-            for i, m in enumerate(motions):
-                forward_q += [Quantity("omega_w", (i + 1,), show(m.omega)),
-                              Quantity("omegadot_w", (i + 1,), show(m.omegadot)),
-                              Quantity("vdot_w", (i + 1,), show(m.vdot))]
-            backward_q = []
-            for i in reversed(range(n)):
-                m = motions[i]
-                backward_q += [Quantity("fJ", (i + 1,), show(m.f_J)), Quantity("tJ", (i + 1,), show(m.t_J)),
-                               Quantity("tau", (i + 1,), show(m.tau))]
-            sections.append(Section("jne_forward", tuple(forward_q)))
-            sections.append(Section("jne_backward", tuple(backward_q)))
-            if namer is not None:
-                named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
-                              if sym in namer.rhs and sym not in notation.trig)
-        results, where = _final_results(robot, method, closed, notation)
-    else:
-        states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "", textbook=True)
-        program = chain.builder.build()
-        namer = None if closed else _Namer(program, notation)
-        if steps == "all":
-            fields = (("omega", "omega", "omega"), ("omegad", "omegadot", "omegadot"), ("vd", "vdot", "vdot"),
-                      ("abar", "abar", "abar"))
-            backward = (("F", "F", "F"), ("N", "N", "N"), ("f", "f", "f"), ("n", "n", "n"))
-            if namer is not None:
-                for i, st in enumerate(states):
-                    for attr, _, name in fields + backward:
-                        vec = getattr(st, attr)
-                        for a in range(3):
-                            namer.name(vec[a], sp.Symbol(f"{name}_{i + 1}{AXES[a]}", real=True))
-                    namer.name(st.tau, sp.Symbol(f"tau{i + 1}", real=True))
-
-            show = _shower(closed_value if closed else None, namer)
-            forward_q, backward_q = [], []
-            for i, st in enumerate(states):
-                for attr, kind, _ in fields:
-                    forward_q.append(Quantity(kind, (i + 1,), show(getattr(st, attr))))
-            for i in reversed(range(n)):
-                st = states[i]
-                for attr, kind, _ in backward:
-                    backward_q.append(Quantity(kind, (i + 1,), show(getattr(st, attr))))
-                backward_q.append(Quantity("tau", (i + 1,), show(st.tau)))
-            if namer is not None:
-                named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
-                              if sym in namer.rhs and sym not in notation.trig)
-            sections.append(Section("ne_forward", tuple(forward_q)))
-            sections.append(Section("ne_backward", tuple(backward_q)))
-        results, where = _final_results(robot, method, closed, notation)
+    if results is None:
+        report("D, h, c" + (" in closed form" if closed else ""))
+        results, where = _final_results(robot, method, closed, notation, progress)
     sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
                                         Quantity("c", (), results[2]))))
     joint = tuple(zip(notation.qdot, chain.qd)) + tuple(zip(notation.qddot, chain.qdd))
     return _with_base_parameters(Derivation(
         robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
         where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
-        joint_symbols=joint), base_parameters)
+        joint_symbols=joint), base_parameters, progress)
 
 
-def _with_base_parameters(derivation: Derivation, wanted: bool) -> Derivation:
+def _reporter(robot: Robot, method: str, progress):
+    """``report(text)``: ``progress('robot: method: text (t s)')``, or nothing without ``progress``."""
+    start = time.perf_counter()
+
+    def report(text: str) -> None:
+        if progress is not None:
+            progress(f"{robot.name}: {method}: {text} ({time.perf_counter() - start:.1f} s)")
+    return report
+
+
+def _closed_valuer(chain, notation: _Notation):
+    """The closed form of a quantity of the chain's recursion (every intermediate expanded)."""
+    def closed_value(value):
+        program = chain.builder.build()
+        if isinstance(value, sp.MatrixBase):
+            return notation.textbook_matrix(notation.to_trig_symbols(program, value))
+        return notation.textbook(notation.to_trig_symbols(program, value))
+    return closed_value
+
+
+def _lagrange_euler_steps(chain, notation: _Notation, steps: str, closed: bool, report):
+    """The Lagrange-Euler sections after the link matrices, no named quantities, and in the
+    closed form D, h, c (else None: :func:`_final_results` gives them)."""
+    robot, n = chain.robot, chain.n
+    sections: list[Section] = []
+    le = LagrangeEuler(chain)
+    if closed and steps == "all":
+        report("base-to-link matrices")
+        closed_value = _closed_valuer(chain, notation)
+        A0 = [closed_value(le.A[i]) for i in range(n)]
+        sections.append(Section("base_transform", tuple(Quantity("base_transform", (i + 1,), A0[i]) for i in range(n))))
+    sections.append(Section("q_operator", tuple(
+        Quantity("q_operator", (j + 1,), sp.ImmutableMatrix(q_operator(link.is_revolute)))
+        for j, link in enumerate(robot.links))))
+    sections.append(Section("pseudo_inertia", tuple(
+        Quantity("pseudo_inertia", (i + 1,), sp.ImmutableMatrix(pseudo_inertia(link)))
+        for i, link in enumerate(robot.links))))
+    if not closed:
+        return sections, (), None
+    report("U_ij and U_ijk")
+    for i in range(n):
+        for j in range(i + 1):
+            le.U(i, j)
+    program = chain.builder.build()
+    Uq = {(i, j): notation.to_trig_symbols(program, le.U(i, j)).applyfunc(sp.expand)
+          for i in range(n) for j in range(i + 1)}
+    U3 = {}
+    for (i, j), u in Uq.items():
+        for k in range(i + 1):
+            U3[(i, j, k)] = u.applyfunc(lambda e: sp.expand(notation.diff(e, k)))
+    J = [sp.Matrix(pseudo_inertia(link)) for link in robot.links]
+    g = sp.Matrix([[*chain.gravity, 0]])
+
+    def trace(X, Y):
+        return (X * Y.T).trace()
+
+    report("D_ik, h_ikm and c_i (traces)")
+    D = sp.zeros(n, n)
+    h_ikm = {}
+    for i in range(n):
+        for k in range(n):
+            D[i, k] = sum((trace(Uq[(j, k)] * J[j], Uq[(j, i)]) for j in range(max(i, k), n)), sp.S.Zero)
+            for m in range(n):
+                h_ikm[(i, k, m)] = sum((trace(U3[(j, k, m)] * J[j], Uq[(j, i)])
+                                        for j in range(max(i, k, m), n)), sp.S.Zero)
+    h = sp.Matrix([sum((h_ikm[(i, k, m)] * chain.qd[k] * chain.qd[m] for k in range(n) for m in range(n)), sp.S.Zero)
+                   for i in range(n)])
+    c = sp.Matrix([sum((-robot.links[j].mass * (g * Uq[(j, i)] * sp.Matrix([*robot.links[j].com, 1]))[0]
+                        for j in range(i, n)), sp.S.Zero) for i in range(n)])
+    if steps == "all":
+        report("closed form of U_ij")
+        sections.append(Section("u", tuple(Quantity("u", (i + 1, j + 1), notation.textbook_matrix(Uq[(i, j)]))
+                                           for i in range(n) for j in range(i + 1))))
+        report("closed form of U_ijk")
+        sections.append(Section("u3", tuple(Quantity("u3", (i + 1, j + 1, k + 1), notation.textbook_matrix(U3[(i, j, k)]))
+                                            for i in range(n) for j in range(i + 1) for k in range(i + 1)
+                                            if not U3[(i, j, k)].is_zero_matrix)))
+        report("closed form of D_ik")
+        sections.append(Section("d_entry", tuple(Quantity("d_entry", (i + 1, k + 1), notation.textbook(D[i, k]))
+                                                 for i in range(n) for k in range(i, n))))
+        report("closed form of h_ikm")
+        sections.append(Section("h_entry", tuple(Quantity("h_entry", (i + 1, k + 1, m + 1), notation.textbook(h_ikm[(i, k, m)]))
+                                                 for i in range(n) for k in range(n) for m in range(n))))
+        report("closed form of h_i and c_i")
+        sections.append(Section("h_i", tuple(Quantity("h_i", (i + 1,), notation.textbook(h[i])) for i in range(n))))
+        sections.append(Section("c_i", tuple(Quantity("c_i", (i + 1,), notation.textbook(c[i])) for i in range(n))))
+    report("closed form of D, h, c")
+    return sections, (), (notation.textbook_matrix(D), notation.textbook_matrix(h), notation.textbook_matrix(c))
+
+
+def _jacobian_steps(chain, notation: _Notation, steps: str, closed: bool, report):
+    """The Jacobian-projected Newton-Euler sections after the link matrices, the named
+    quantities of the named form, and None (D, h, c come from :func:`_final_results`)."""
+    robot, n = chain.robot, chain.n
+    sections: list[Section] = []
+    named: tuple = ()
+    report("link Jacobians and the recursion")
+    jne = JacobianNewtonEuler(chain)
+    jacobians = [jne.link_jacobian(i) for i in range(n)]
+    zero = [sp.S.Zero] * n
+    motions = jne.forward(chain.qd, zero, chain.gravity, "b")
+    jne.backward(motions, "b")
+    program = chain.builder.build()
+    namer = None if closed else _Namer(program, notation)
+    if namer is not None:
+        for i in range(n):
+            for label, vec in (("k", jne.k[i]), ("d", jne.d[i]), ("h", jne.h[i]), ("r", jne.r[i])):
+                for a in range(3):
+                    namer.name(vec[a], sp.Symbol(f"{label}_{i + 1}{AXES[a]}", real=True))
+            for a in range(3):
+                for c in range(a, 3):
+                    namer.name(jne.inertia[i][a, c], sp.Symbol(f"I_{i + 1}{AXES[a]}{AXES[c]}", real=True))
+
+    show = _shower(_closed_valuer(chain, notation) if closed else None, namer)
+    if steps == "all":
+        report("link Jacobians" + (" in closed form" if closed else ""))
+        sections.append(Section("jacobian_link", tuple(Quantity("jc", (i + 1,), show(jacobians[i])) for i in range(n))))
+        if closed:
+            projected = []
+            for i, link in enumerate(robot.links):
+                report(f"projected mass matrix of link {i + 1} in closed form")
+                J = jacobians[i]
+                Mi = sp.diag(link.mass, link.mass, link.mass, 1, 1, 1)
+                Mi[3:, 3:] = jne.inertia[i]
+                projected.append(Quantity("projected", (i + 1,), show(J.T * Mi * J)))
+            sections.append(Section("projected", tuple(projected)))
+        if namer is not None:
+            for i, m in enumerate(motions):
+                for attr, name in (("omega", "omega"), ("omegadot", "omegadot"), ("vdot", "vdot"),
+                                   ("f_J", "f_J"), ("t_J", "t_J")):
+                    vec = getattr(m, attr)
+                    for a in range(3):
+                        namer.name(vec[a], sp.Symbol(f"{name}{i + 1}{AXES[a]}", real=True))
+        forward_q = []
+        for i, m in enumerate(motions):
+            report(f"forward recursion, link {i + 1}")
+            forward_q += [Quantity("omega_w", (i + 1,), show(m.omega)),
+                          Quantity("omegadot_w", (i + 1,), show(m.omegadot)),
+                          Quantity("vdot_w", (i + 1,), show(m.vdot))]
+        backward_q = []
+        for i in reversed(range(n)):
+            report(f"backward recursion, link {i + 1}")
+            m = motions[i]
+            backward_q += [Quantity("fJ", (i + 1,), show(m.f_J)), Quantity("tJ", (i + 1,), show(m.t_J)),
+                           Quantity("tau", (i + 1,), show(m.tau))]
+        sections.append(Section("jne_forward", tuple(forward_q)))
+        sections.append(Section("jne_backward", tuple(backward_q)))
+        if namer is not None:
+            named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
+                          if sym in namer.rhs and sym not in notation.trig)
+    return sections, named, None
+
+
+def _newton_euler_steps(chain, notation: _Notation, steps: str, closed: bool, report):
+    """The forward and backward recursion of Table 3.2, the named quantities of the named form,
+    and None (D, h, c come from :func:`_final_results`)."""
+    n = chain.n
+    sections: list[Section] = []
+    named: tuple = ()
+    report("the recursion")
+    states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "", textbook=True)
+    program = chain.builder.build()
+    namer = None if closed else _Namer(program, notation)
+    if steps == "all":
+        fields = (("omega", "omega", "omega"), ("omegad", "omegadot", "omegadot"), ("vd", "vdot", "vdot"),
+                  ("abar", "abar", "abar"))
+        backward = (("F", "F", "F"), ("N", "N", "N"), ("f", "f", "f"), ("n", "n", "n"))
+        if namer is not None:
+            for i, st in enumerate(states):
+                for attr, _, name in fields + backward:
+                    vec = getattr(st, attr)
+                    for a in range(3):
+                        namer.name(vec[a], sp.Symbol(f"{name}_{i + 1}{AXES[a]}", real=True))
+                namer.name(st.tau, sp.Symbol(f"tau{i + 1}", real=True))
+
+        show = _shower(_closed_valuer(chain, notation) if closed else None, namer)
+        forward_q, backward_q = [], []
+        for i, st in enumerate(states):
+            report(f"forward recursion, link {i + 1}" + (" in closed form" if closed else ""))
+            for attr, kind, _ in fields:
+                forward_q.append(Quantity(kind, (i + 1,), show(getattr(st, attr))))
+        for i in reversed(range(n)):
+            report(f"backward recursion, link {i + 1}" + (" in closed form" if closed else ""))
+            st = states[i]
+            for attr, kind, _ in backward:
+                backward_q.append(Quantity(kind, (i + 1,), show(getattr(st, attr))))
+            backward_q.append(Quantity("tau", (i + 1,), show(st.tau)))
+        if namer is not None:
+            named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
+                          if sym in namer.rhs and sym not in notation.trig)
+        sections.append(Section("ne_forward", tuple(forward_q)))
+        sections.append(Section("ne_backward", tuple(backward_q)))
+    return sections, named, None
+
+
+def _with_base_parameters(derivation: Derivation, wanted: bool, progress=None) -> Derivation:
     """``derivation`` with a last section ``base_parameters`` (one equation per base parameter)."""
     if not wanted:
         return derivation
     from dataclasses import replace
-    eqs = derive(derivation.robot, "newton-euler", ["base_regressor"])
+    eqs = derive(derivation.robot, "newton-euler", ["base_regressor"], progress=progress)
     section = Section("base_parameters", tuple(
         Quantity("beta", (k + 1,), sp.Eq(sp.Symbol(name, real=True), expr, evaluate=False))
         for k, (name, expr) in enumerate(eqs.base_parameters)))
@@ -588,9 +645,9 @@ def _shower(closed_value, namer):
     return show
 
 
-def _final_results(robot: Robot, method: str, closed: bool, notation: _Notation):
+def _final_results(robot: Robot, method: str, closed: bool, notation: _Notation, progress=None):
     """(D, h, c) as printed, and the numbered intermediates x_k they use in the named form."""
-    eqs = derive(robot, method, ["mass_matrix", "coriolis", "gravity"])
+    eqs = derive(robot, method, ["mass_matrix", "coriolis", "gravity"], progress=progress)
     if closed:
         return tuple(notation.textbook_matrix(notation.to_trig_symbols(eqs.program, eqs.output(name)))
                      for name in ("mass_matrix", "coriolis", "gravity")), ()
@@ -616,9 +673,10 @@ def _named_results(eqs, notation: _Notation):
 _SPATIAL = ("wx", "wy", "wz", "x", "y", "z")  # entry labels of spatial vectors [angular; linear]
 
 
-def _articulated_body_steps(robot: Robot, steps: str) -> Derivation:
+def _articulated_body_steps(robot: Robot, steps: str, report=lambda text: None) -> Derivation:
     """The articulated-body algorithm (the force-to-torque articulated-body note, Algorithm 1) written out for ``robot`` in the
     named form, and for a robot with passive joints the force-to-torque map (eqs. 3-14)."""
+    report("the three sweeps" + (" and the reaction map" if robot.passive_joints else ""))
     chain = make_chain(robot)
     notation = _Notation(chain)
     n = chain.n

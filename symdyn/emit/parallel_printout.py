@@ -1,6 +1,6 @@
 """Printing a platform robot's derivation (:mod:`symdyn.derive.parallel_steps`) as text,
 LaTeX or Markdown: each step of the parallel-manipulator notes with its formula and its values at the state.  Numbers
-are shown with 6 significant digits (entries below 1e-9, relative to the larger of 1 and their
+are shown with 6 significant digits (``digits``; entries below 1e-9, relative to the larger of 1 and their
 array's largest entry, as 0).  No derivation happens here."""
 
 from __future__ import annotations
@@ -41,8 +41,8 @@ LATEX = {
 }
 
 
-def _number(x: float) -> str:
-    text = f"{x:.6g}"
+def _number(x: float, digits: int = 6) -> str:
+    text = f"{x:.{digits}g}"
     return "0" if text in ("0", "-0") else text
 
 
@@ -60,12 +60,12 @@ def _latex_number(text: str) -> str:
 NOISE = 1e-9
 
 
-def _rows(value) -> list[list[str]]:
+def _rows(value, digits: int = 6) -> list[list[str]]:
     array = np.atleast_1d(np.asarray(value, dtype=float))
     array = np.where(np.abs(array) < NOISE * max(1.0, float(np.abs(array).max())), 0.0, array)
     if array.ndim == 1:
-        return [[_number(x)] for x in array]  # a column vector
-    return [[_number(x) for x in row] for row in array]
+        return [[_number(x, digits)] for x in array]  # a column vector
+    return [[_number(x, digits) for x in row] for row in array]
 
 
 def _latex_label(label: str) -> str:
@@ -77,14 +77,16 @@ def _latex_label(label: str) -> str:
     return out
 
 
-def render_parallel(derivation: ParallelDerivation, fmt: str, source_name: str = "", source_hash: str = "") -> str:
-    """The derivation as ``text``, ``latex`` or ``markdown``."""
+def render_parallel(derivation: ParallelDerivation, fmt: str, source_name: str = "", source_hash: str = "",
+                    digits: int = 6) -> str:
+    """The derivation as ``text``, ``latex`` or ``markdown``, numbers to ``digits`` significant
+    digits (``symdyn derive --digits``)."""
     robot = derivation.robot
     steps = []
     for number, step in enumerate(derivation.steps, start=1):
         values = []
         for label, value in step.values:
-            rows = _rows(value)
+            rows = _rows(value, digits)
             width = max(len(x) for row in rows for x in row)
             values.append({"label": label, "latex_label": _latex_label(label), "rows": rows,
                            "latex_rows": [[_latex_number(x) for x in row] for row in rows],
@@ -96,8 +98,9 @@ def render_parallel(derivation: ParallelDerivation, fmt: str, source_name: str =
         "name": robot.name, "version": __version__,
         "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
-        "pose": [row[0] for row in _rows(derivation.pose)], "twist": [_number(x) for x in derivation.twist],
-        "accelerations": [_number(x) for x in derivation.accelerations],
+        "pose": [row[0] for row in _rows(derivation.pose, digits)],
+        "twist": [_number(x, digits) for x in derivation.twist],
+        "accelerations": [_number(x, digits) for x in derivation.accelerations],
         "legs": [(leg.name, leg.actuated + 1, leg.actuated_link.name,
                   "revolute" if leg.actuated_link.is_revolute else "prismatic") for leg in robot.legs],
         "steps": steps,

@@ -2,15 +2,25 @@
 
 This module derives nothing: it names each quantity in the notation of the notes, prints the
 values (SymPy's LaTeX and Unicode printers) and renders the templates
-``derivation.{txt,tex,md}.j2``.  Numbers with decimals are shown with 6 significant digits.
+``derivation.{txt,tex,md}.j2``.  Numbers with decimals are printed as decimals of
+:data:`DEFAULT_DIGITS` significant digits (``digits``; the derivation itself stays exact), and
+long LaTeX equations are broken into lines that fit the page (:mod:`symdyn.emit.texlayout`).
 """
 
 from __future__ import annotations
 
+import decimal
+
 import sympy as sp
+from mpmath.libmp import to_str as mlib_to_str
+from sympy.printing.latex import LatexPrinter
+from sympy.printing.pretty.pretty import PrettyPrinter
+from sympy.printing.pretty.pretty_symbology import pretty_use_unicode
+from sympy.printing.pretty.stringpict import prettyForm
 
 from .._version import __version__
 from ..derive.derivation import Derivation
+from . import texlayout
 from .emission import source_label, template_environment
 
 FORMATS = ("text", "latex", "markdown")
@@ -96,11 +106,133 @@ def quantity_name(kind: str, indices: tuple[int, ...], fmt: str) -> str:
     return latex.format(p=indices[0] - 1 if indices else "", **keys)
 
 
-def _rounded(value):
-    """Numbers with decimals (floats, and fractions such as 2159/5000 that came from decimals in
-    the robot file) shown with 6 significant digits; integers and symbols unchanged."""
-    numbers = [a for a in value.atoms(sp.Number) if a.is_Float or (a.is_Rational and not a.is_Integer)]
-    return value.xreplace({a: sp.Float(a, 6) for a in numbers}) if numbers else value
+#: significant digits of the printed numbers (``symdyn derive --digits``); the derivation is exact
+DEFAULT_DIGITS = 6
+#: the most significant digits ``digits`` may ask for
+MAX_DIGITS = 20
+#: integers with more digits than this are printed as decimals too
+MAX_INTEGER_DIGITS = 12
+#: a rational with a numerator or denominator beyond this is a decimal from the robot file (or
+#: a product of such): ``2159/5000``, not ``3/4``
+_SMALL = 1000
+
+
+def _looks_decimal(n, digits: int) -> bool:
+    """Whether the number ``n`` is one to print as a decimal rather than exactly."""
+    if n.is_Float:
+        return True
+    if n.is_Integer:
+        return abs(int(n)) >= 10 ** digits
+    return n.is_Rational and (abs(n.p) > _SMALL or n.q > _SMALL)
+
+
+def _spread(expr, digits: int):
+    """``expr`` (exactly) with the numeric factor of a product moved into its sum when the sum
+    holds numbers printed as decimals, or the factor is one: ``1/10**24 q1 (-2264478143158287783995
+    sin(2 q2) + ...)`` as ``q1 (-0.00226447... sin(2 q2) + ...)``, so that no long integer is
+    left over once the numbers are rounded (the factor's sign stays in front)."""
+    if expr.is_Atom or not expr.args:
+        return expr
+    if expr.is_Pow:
+        return sp.Pow(_spread(expr.base, digits), expr.exp)
+    args = [_spread(a, digits) for a in expr.args]
+    new = expr.func(*args, evaluate=False) if isinstance(expr, sp.core.relational.Relational) else expr.func(*args)
+    if not new.is_Mul:
+        return new
+    coeff, rest = new.as_coeff_Mul()
+    if coeff in (1, -1):
+        return new
+    factors = sp.Mul.make_args(rest)
+    sums = [f for f in factors if f.is_Add]
+    inexact = [f for f in sums if any(_looks_decimal(n, digits) for n in f.atoms(sp.Number))]
+    if inexact or (sums and _looks_decimal(coeff, digits)):
+        target = (inexact or sums)[0]
+        spread = sp.Add(*[abs(coeff) * t for t in target.args])  # the sign stays in front
+        return sp.Mul(sp.sign(coeff), *[f for f in factors if f is not target], spread)
+    return new
+
+
+def _decimal(n, digits: int):
+    """The number ``n`` rounded (half to even) to ``digits`` significant decimal digits, as a
+    Float that prints exactly those digits."""
+    exact = sp.Rational(n)
+    with decimal.localcontext(decimal.Context(prec=digits, rounding=decimal.ROUND_HALF_EVEN)):
+        text = str(decimal.Decimal(exact.p) / decimal.Decimal(exact.q))
+    return sp.Float(text, digits + 5)
+
+
+def _round(expr, digits: int):
+    """``expr`` with its numbers (not its exponents) as :func:`_decimal`: every non-integer but
+    a small rational multiple of pi (pi/2), and integers beyond :data:`MAX_INTEGER_DIGITS`.  No
+    arithmetic happens, so each printed number is its exact value rounded once."""
+    if expr.is_Number:
+        if expr.is_Integer and abs(int(expr)) < 10 ** MAX_INTEGER_DIGITS:
+            return expr
+        return _decimal(expr, digits)
+    if expr.is_Atom or not expr.args:
+        return expr
+    if expr.is_Pow:
+        return sp.Pow(_round(expr.base, digits), expr.exp, evaluate=False)
+    exact_multiple = expr.is_Mul and any(isinstance(a, sp.NumberSymbol) for a in expr.args)
+    args = [a if exact_multiple and a.is_Rational and not _looks_decimal(a, digits) else _round(a, digits)
+            for a in expr.args]  # pi/2 stays pi/2
+    try:
+        return expr.func(*args, evaluate=False)
+    except TypeError:
+        return expr.func(*args)
+
+
+def shown(value, digits: int = DEFAULT_DIGITS):
+    """``value`` (an expression, equation or matrix) as printed: functions of numbers (sin(2/5))
+    evaluated, numbers with decimals and long integers as decimals of ``digits`` significant
+    digits, small integers and pi/2 exact."""
+    value = sp.sympify(value)
+    if isinstance(value, sp.MatrixBase):
+        return sp.ImmutableMatrix(value.rows, value.cols, [shown(e, digits) for e in value])
+    # sin(2/5) cos(1/10): numbers (to 30 digits), so that products of them fold into one
+    constants = [f for f in value.atoms(sp.Function) if f.is_number]
+    if constants:
+        value = value.xreplace({f: sp.Float(sp.N(f, 30), 30) for f in constants})
+    return _round(_spread(value, digits), digits)
+
+
+def _float_text(value, digits: int) -> str:
+    """A rounded Float's digits: fixed point from 1e-5 to 10**digits, else ``1.5e-7``."""
+    return mlib_to_str(value._mpf_, digits, strip_zeros=True, min_fixed=-5, max_fixed=digits)
+
+
+class _TextPrinter(PrettyPrinter):
+    """SymPy's Unicode printer with the printout's decimals."""
+
+    def __init__(self, digits: int, settings):
+        super().__init__(settings)
+        self.digits = digits
+
+    def _print_Float(self, expr):
+        return prettyForm(_float_text(expr, self.digits))
+
+    def _print_Mul(self, expr):
+        """A rational multiple of pi on one line (``-π/2``: it sits in the link table's rows)."""
+        coeff, rest = expr.as_coeff_Mul()
+        if coeff.is_Rational and not coeff.is_Integer and isinstance(rest, sp.NumberSymbol):
+            numerator = "" if abs(coeff.p) == 1 else f"{abs(coeff.p)}⋅"
+            sign = "-" if coeff < 0 else ""
+            form = prettyForm(f"{sign}{numerator}{self._print(rest)}/{coeff.q}")
+            form.binding = prettyForm.NEG if sign else prettyForm.MUL
+            return form
+        return super()._print_Mul(expr)
+
+
+class _TexPrinter(LatexPrinter):
+    """SymPy's LaTeX printer with the printout's decimals (``1.5 \\cdot 10^{-7}``)."""
+
+    def __init__(self, digits: int, settings):
+        super().__init__(settings)
+        self.digits = digits
+
+    def _print_Float(self, expr):
+        mantissa, _, exponent = _float_text(expr, self.digits).partition("e")
+        return f"{mantissa} \\cdot 10^{{{int(exponent)}}}" if exponent else mantissa
 
 
 _LATEX_NAME = __import__("re").compile(r"(IA|Ia|pA|pa0|pa|ap|u0)_(.+)\Z")
@@ -108,59 +240,97 @@ _LATEX_HEAD = {"IA": r"\bar{I}^{A}", "Ia": r"\bar{I}^{a}", "pA": r"\bar{p}^{A}",
                "pa0": r"\bar{p}^{a0}", "ap": r"\bar{a}'", "u0": r"u^{0}"}
 
 
-def _latex(value) -> str:
-    """``sp.latex`` with the articulated-body algorithm's names typeset as in the seed
-    (``IA_2,15`` as I-bar^A_{2,15}, ``ap_3,x`` as a-bar'_{3,x}, ...)."""
+def _latex(value, digits: int = DEFAULT_DIGITS) -> str:
+    """LaTeX of a value already :func:`shown`, with the articulated-body algorithm's names
+    typeset as in the notes (``IA_2,15`` as I-bar^A_{2,15}, ``ap_3,x`` as a-bar'_{3,x}, ...)."""
     names = {}
     for sym in getattr(value, "free_symbols", ()):
         match = _LATEX_NAME.match(sym.name)
         if match:
             names[sym] = f"{_LATEX_HEAD[match.group(1)]}_{{{match.group(2)}}}"
-    return sp.latex(value, symbol_names=names) if names else sp.latex(value)
+    return _TexPrinter(digits, {"symbol_names": names}).doprint(value)
+
+
+def _pretty(value, digits: int = DEFAULT_DIGITS) -> str:
+    printer = _TextPrinter(digits, {"use_unicode": True, "num_columns": 100})
+    flag = pretty_use_unicode(True)
+    try:
+        return printer.doprint(value)
+    finally:
+        pretty_use_unicode(flag)
+
+
+#: the width, in TeX points, a displayed line may take: the LaTeX page (less the estimate's margin),
+#: and about the text column of a Markdown page on GitHub
+LINE_WIDTH = {"latex": texlayout.TEXT_WIDTH * texlayout.FILL, "markdown": 480.0}
 
 
 class _Printer:
-    """Prints values in one format; long expressions are split over lines."""
+    """Prints values in one format; long LaTeX expressions are split over lines that fit the
+    page (:mod:`symdyn.emit.texlayout`).  Remembers each value's printed form (a value is often
+    printed more than once: measured, then shown)."""
 
-    LINE = 90  # LaTeX source characters per displayed line (a proxy for its width)
-
-    def __init__(self, fmt: str):
+    def __init__(self, fmt: str, digits: int = DEFAULT_DIGITS):
         self.fmt = fmt
+        self.digits = digits
+        self.width = LINE_WIDTH.get(fmt, 0.0)
+        self._shown: dict = {}
+        self._latex: dict = {}
+
+    def shown(self, value):
+        """``value`` as printed (:func:`shown`)."""
+        value = sp.sympify(value)
+        if isinstance(value, sp.MatrixBase):
+            return sp.ImmutableMatrix(value.rows, value.cols, [self.shown(e) for e in value])
+        if value not in self._shown:
+            self._shown[value] = shown(value, self.digits)
+        return self._shown[value]
+
+    def latex(self, value) -> str:
+        """LaTeX of a value already :meth:`shown`."""
+        if isinstance(value, sp.MatrixBase):
+            return _latex(value, self.digits)
+        if value not in self._latex:
+            self._latex[value] = _latex(value, self.digits)
+        return self._latex[value]
 
     def value(self, value) -> str:
-        value = _rounded(sp.sympify(value))
+        value = self.shown(value)
         if self.fmt == "text":
-            return sp.pretty(value, use_unicode=True, num_columns=100)
-        return _latex(value)
+            return _pretty(value, self.digits)
+        return self.latex(value)
 
-    def lines(self, value) -> list[str]:
-        """The value as display lines (LaTeX: terms of a long sum grouped per line)."""
-        value = _rounded(sp.sympify(value))
-        if self.fmt == "text" or isinstance(value, sp.MatrixBase) or not value.is_Add:
-            return [self.value(value)]
-        lines, current = [], ""
-        for k, term in enumerate(value.as_ordered_terms()):
-            text = _latex(term)
-            if k > 0:
-                text = "- " + text[1:].lstrip() if text.startswith("-") else "+ " + text
-            if current and len(current) + len(text) > self.LINE:
-                lines.append(current)
-                current = text
-            else:
-                current = f"{current} {text}".strip()
-        lines.append(current)
-        return lines
+    def lines(self, value, name: str = "") -> list[str]:
+        """The value as display lines after ``name =`` (LaTeX: a long sum broken between terms,
+        a long term inside its parentheses, so that every line fits the page)."""
+        value = self.shown(value)
+        if self.fmt == "text":
+            return [_pretty(value, self.digits)]
+        if isinstance(value, sp.MatrixBase):
+            return [self.latex(value)]
+        available = self.width - texlayout.width(f"{name} ={{}}")
+        if isinstance(value, sp.Equality):
+            head = self.latex(value.lhs) + " ="
+            lines = texlayout.break_lines(value.rhs, available, self.latex,
+                                          first=available - texlayout.width(head + " {}"))
+            return [f"{head} {lines[0]}"] + lines[1:]
+        return texlayout.break_lines(value, available, self.latex)
 
-    def is_wide(self, value) -> bool:
+    def is_wide(self, value, name: str) -> bool:
+        """Whether a matrix is too wide to show whole (it is then shown entry by entry): in
+        LaTeX wider than a line, in text with an entry of over 60 LaTeX characters."""
         if not isinstance(value, sp.MatrixBase):
             return False
-        return any(len(_latex(_rounded(sp.sympify(e)))) > 60 for e in value)
+        value = self.shown(value)
+        if self.fmt == "text":
+            return any(len(self.latex(e)) > 60 for e in value)
+        return texlayout.width(f"{name} = {self.latex(value)}") > self.width
 
 
 def _items(printer: _Printer, fmt: str, kind: str, indices, value):
     """[(name, lines)] for one quantity: a wide matrix is shown entry by entry."""
     name = quantity_name(kind, indices, fmt)
-    if printer.is_wide(value):
+    if printer.is_wide(value, name):
         rows, cols = value.shape
         out = []
         symmetric = kind in ("D", "pseudo_inertia") or (rows == cols and value == value.T)
@@ -178,26 +348,35 @@ def _items(printer: _Printer, fmt: str, kind: str, indices, value):
                     entry = f"({name})_{{{index}}}"
                 else:
                     entry = f"{name}[{r + 1},{c + 1}]" if cols > 1 else f"{name}[{r + 1}]"
-                out.append((entry, printer.lines(value[r, c])))
+                out.append((entry, printer.lines(value[r, c], entry)))
         return out
-    return [(name, printer.lines(value))]
+    return [(name, printer.lines(value, name))]
 
 
-def render(derivation: Derivation, fmt: str = "text", source_name: str = "", source_hash: str = "") -> str:
-    """The derivation as a complete document in ``fmt`` (text, latex or markdown)."""
+def render(derivation: Derivation, fmt: str = "text", source_name: str = "", source_hash: str = "",
+           digits: int = DEFAULT_DIGITS, progress=None) -> str:
+    """The derivation as a complete document in ``fmt`` (text, latex or markdown), numbers to
+    ``digits`` significant digits; ``progress`` (optional) is called with a short text per
+    section printed."""
     if fmt not in FORMATS:
         raise ValueError(f"format must be one of {', '.join(FORMATS)}, not {fmt!r}")
-    printer = _Printer(fmt)
+    if not isinstance(digits, int) or not 1 <= digits <= MAX_DIGITS:
+        raise ValueError(f"digits must be an integer from 1 to {MAX_DIGITS}, not {digits!r}")
+    printer = _Printer(fmt, digits)
     robot = derivation.robot
     sections = []
-    for section in derivation.sections:
+    for number, section in enumerate(derivation.sections, start=1):
+        if progress is not None:
+            progress(f"{robot.name}: printing section {number} of {len(derivation.sections)}")
         items = []
         for q in section.quantities:
             items.extend(_items(printer, fmt, q.kind, q.indices, q.value))
         sections.append({"kind": section.kind, "items": items})
     symbol = (lambda s: sp.pretty(s, use_unicode=True)) if fmt == "text" else sp.latex
     shorthand = [(symbol(s), printer.value(meaning)) for s, meaning in derivation.shorthand]
-    where = [(symbol(s), printer.lines(rhs)) for s, rhs in derivation.where]
+    if progress is not None and derivation.where:
+        progress(f"{robot.name}: printing the intermediate quantities")
+    where = [(symbol(s), printer.lines(rhs, symbol(s))) for s, rhs in derivation.where]
     dh = []
     for k, link in enumerate(robot.links):
         com = ", ".join(printer.value(c) for c in link.com)
@@ -224,6 +403,6 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
                             else f"{robot.convention} Denavit–Hartenberg convention"),
         "placements": placements,
         "dh": dh, "sections": sections, "shorthand": shorthand, "where": where,
-        "revolute": [link.is_revolute for link in robot.links],
+        "revolute": [link.is_revolute for link in robot.links], "digits": digits,
     }
     return template_environment().get_template(TEMPLATES[fmt]).render(**context)

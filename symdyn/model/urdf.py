@@ -653,8 +653,8 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
 
     name = _robot_name(urdf.robot_name)
     if name != urdf.robot_name:
-        urdf.warn(f"renamed '{name}' (robot names: a-z, 0-9 and '_', at most {MAX_NAME} characters)",
-                  None, "robot name")
+        urdf.warn(f"{describe(urdf.robot_name)} renamed '{name}' (robot names: a-z, 0-9 and '_', at most "
+                  f"{MAX_NAME} characters)", None, "robot name")
 
     notes = [f"read from URDF {display_path(os.path.basename(path))}: chain {one_line(urdf.root, 60)} -> "
              f"{one_line(tip, 60)}, "

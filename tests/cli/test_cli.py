@@ -161,3 +161,18 @@ def test_verify_a_one_joint_robot_and_a_negative_seed(tmp_path, capsys):
     assert main(["verify", str(path), "--seed", "-1"]) == 1
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--seed must be a non-negative integer" in err[0]
+
+
+def test_help_names_inputs_as_they_are(capsys):
+    """Every subcommand that reads robots calls its input ROBOT (robot files, URDFs, scenes and
+    platforms are all accepted), none says 'Denavit-Hartenberg robot file', and verify names
+    the extra the README installs ([verify])."""
+    from symdyn.cli import SUBCOMMANDS
+    for name in ["", *SUBCOMMANDS]:
+        assert main([name, "--help"] if name else ["--help"]) == 0
+        text = capsys.readouterr().out
+        assert "ROBOT.yaml" not in text and "Denavit-Hartenberg robot file" not in text, name
+    main(["verify", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "symdyn[verify]" in text and "symdyn[test]" not in text
+    assert 'pip install ".[verify]"' in (REPO / "README.md").read_text().splitlines()[7]

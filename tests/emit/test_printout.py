@@ -147,6 +147,7 @@ def test_latex_output_compiles(tmp_path, name, method):
                             cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert result.returncode == 0, result.stdout[-2000:]
     assert (tmp_path / f"{name}.pdf").stat().st_size > 1000
+    assert "Overfull \\hbox" not in (tmp_path / f"{name}.log").read_text(errors="replace")  # every line fits
 
 
 def test_every_format_renders_every_section(tmp_path, capsys):

@@ -187,7 +187,8 @@ def test_header_describes_parameters_and_constants(tmp_path):
     assert main(["generate", str(REPO / "robots" / "scenes" / "ur5_payload.yaml"), "--out", str(tmp_path), "--quiet"]) == 0
     header = (tmp_path / "ur5_payload_dynamics.h").read_text()
     assert "p[0] = m_p" in header and "link 6 (wrist_3): mass (kg), com (m)" in header
-    assert "gravity [0, 0, -9.81] m/s^2" in header and "link 1 (shoulder_pan): mass 3.7 kg" in header
+    assert "gravity = [0.0, 0.0, -9.81]" in header and "link 1 (shoulder_pan): revolute joint" in header
+    assert "mass = 3.7; com = [0.0, -0.02561, 0.00193]" in header
     assert " 1 divisions" not in header and " 1 multiplications" not in header
 
 
