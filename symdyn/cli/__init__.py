@@ -59,15 +59,20 @@ def main(argv=None) -> int:
         print("symdyn: error: the input is nested too deeply to process", file=sys.stderr)
         return 1
     except MemoryError:
-        limit = getattr(args, "max_memory", None)
-        budget = f"more than --max-memory {limit:g} GB" if limit else "more memory than the machine has"
-        print(f"symdyn: error: out of memory: the run needed {budget} (a very large robot, or many "
-              "functions: raise --max-memory, or ask for fewer --functions)", file=sys.stderr)
-        return 1
+        return _out_of_memory(args)
     except Exception as exc:  # a bug in symdyn, never a traceback for the user
         print(f"symdyn: internal error: {type(exc).__name__}: {one_line(exc, 300)} "
               "(please report it with the input file)", file=sys.stderr)
         return 3
+
+
+def _out_of_memory(args) -> int:
+    """The one line of a run that ran out of memory (its budget, or the machine's)."""
+    limit = getattr(args, "max_memory", None)
+    budget = f"more than --max-memory {limit:g} GB" if limit else "more memory than the machine has"
+    print(f"symdyn: error: out of memory: the run needed {budget} (a very large robot, or many "
+          "functions: raise --max-memory, or ask for fewer --functions)", file=sys.stderr)
+    return 1
 
 
 @contextlib.contextmanager

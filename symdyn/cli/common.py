@@ -170,5 +170,27 @@ def memory_budget(gigabytes: float | None):
         return
     try:
         yield
+    except (MemoryError, SymdynError):
+        raise
+    except Exception as exc:
+        if near_memory_budget(gigabytes):  # a C extension that failed to allocate raises something else
+            raise MemoryError(f"{type(exc).__name__} at the memory budget") from exc
+        raise
     finally:
         resource.setrlimit(kind, (soft, hard))
+
+
+def near_memory_budget(gigabytes: float | None) -> bool:
+    """Whether this process's data segment is within 10% of ``gigabytes`` (then an error
+    raised in a C extension, such as a SystemError without its MemoryError, is the budget
+    running out rather than a bug); False where it cannot be read (non-Linux)."""
+    if not gigabytes or gigabytes <= 0:
+        return False
+    try:
+        with open("/proc/self/status", encoding="ascii") as handle:
+            for line in handle:
+                if line.startswith("VmData:"):
+                    return int(line.split()[1]) * 1024 >= 0.9 * gigabytes * 2 ** 30
+    except (OSError, ValueError, IndexError):
+        pass
+    return False
