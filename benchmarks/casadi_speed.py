@@ -53,6 +53,12 @@ HARNESS = PRELUDE.replace("%(includes)s", DECLARATIONS) + r"""
     TIME("casadi_c_coriolis_matrix", CASADI(%(n)s_casadi_coriolis_matrix, q[k], qd[k], 0));
     TIME("c_forward_dynamics", %(n)s_forward_dynamics(q[k], qd[k], qdd[k], out));
     TIME("casadi_c_forward_dynamics", CASADI(%(n)s_casadi_forward_dynamics, q[k], qd[k], qdd[k]));
+    TIME("c_forward_kinematics", %(n)s_forward_kinematics(q[k], out));
+    TIME("casadi_c_forward_kinematics", CASADI(%(n)s_casadi_forward_kinematics, q[k], 0, 0));
+    TIME("c_jacobian", %(n)s_jacobian(q[k], out));
+    TIME("casadi_c_jacobian", CASADI(%(n)s_casadi_jacobian, q[k], 0, 0));
+    TIME("c_jacobian_dot_qd", %(n)s_jacobian_dot_qd(q[k], qd[k], out));
+    TIME("casadi_c_jacobian_dot_qd", CASADI(%(n)s_casadi_jacobian_dot_qd, q[k], qd[k], 0));
     return 0;
 }
 """
