@@ -39,6 +39,9 @@ def test_regeneration_is_byte_identical(regenerated):
             fresh = (regenerated / f"{name}_dynamics.{ext}").read_bytes()
             checked_in = (GENERATED / f"{name}_dynamics.{ext}").read_bytes()
             assert fresh == checked_in, f"generated/{name}_dynamics.{ext} is stale: run the command in docs"
+        header = (GENERATED / f"{name}_dynamics.h").read_text()
+        assert "N divisions" not in header  # the cost line counts them; the summary says 'at most one per joint'
+        assert "at most one division per joint" in header
 
 
 def _compare(lib, name, precision, tolerance, functions=OUTPUTS):
