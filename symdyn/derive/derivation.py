@@ -336,6 +336,12 @@ class _Namer:
         self.names: dict[sp.Symbol, sp.Symbol] = dict(notation.trig_display)
         self.memo: dict[sp.Symbol, sp.Expr] = {}
         self.inputs = notation.to_display
+        self.auto: list[sp.Symbol] = []  # intermediates named xi_1, xi_2, ... because they were too long to inline
+
+    #: an intermediate whose inlined form has more operations (SymPy count_ops) is shown as a
+    #: numbered quantity xi_k with its own definition (inlining everything grew without bound:
+    #: the Jacobian-projected form of a 6-joint URDF ran out of 8 GB)
+    INLINE_LIMIT = 300
 
     def name(self, sym: sp.Symbol, shown: sp.Symbol):
         if isinstance(sym, sp.Symbol) and sym in self.rhs and sym not in self.names:
@@ -350,16 +356,41 @@ class _Namer:
                 subs[s] = self.names[s]
             elif s in self.rhs:
                 if s not in self.memo:
-                    self.memo[s] = self.inline(self.rhs[s])
+                    value = self.inline(self.rhs[s])
+                    if sp.count_ops(value) > self.INLINE_LIMIT:  # shown as a numbered quantity instead
+                        shown = sp.Symbol(f"xi_{len(self.auto) + 1}", real=True)
+                        self.auto.append(s)
+                        self.names[s] = shown
+                        self.memo[s] = value
+                        subs[s] = shown
+                        continue
+                    self.memo[s] = value
                 subs[s] = self.memo[s]
             elif s in self.inputs:
                 subs[s] = self.inputs[s]
         return sp.expand(expr.xreplace(subs))
 
+    def definitions(self, exclude) -> tuple:
+        """``(shown, definition)`` of every named intermediate not in ``exclude``: the numbered
+        ones first (in the order they were made, each after those it uses), then the others."""
+        out, done = [], set()
+        while True:
+            pending = [sym for sym in list(self.names) if sym not in done and sym in self.rhs and sym not in exclude]
+            if not pending:
+                break
+            for sym in pending:
+                done.add(sym)
+                out.append((sym, self.names[sym], self.definition(sym)))
+        auto = {sym: k for k, sym in enumerate(self.auto)}
+        out.sort(key=lambda item: (0, auto[item[0]]) if item[0] in auto else (1, 0))  # stable: the others keep their order
+        return tuple((shown, value) for _, shown, value in out)
+
     def definition(self, sym) -> sp.Expr:
         """The right-hand side of a named symbol, one level down (a joint's sin/cos: its shorthand)."""
         if isinstance(sym, sp.Symbol) and sym in self.notation.trig_display:
             return self.notation.trig_display[sym]
+        if isinstance(sym, sp.Symbol) and sym in self.auto:
+            return self.memo[sym]
         if isinstance(sym, sp.Symbol) and sym in self.rhs:
             return self.inline(self.rhs[sym])
         return self.inline(sym)
@@ -417,6 +448,8 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     if results is None:
         report("D, h, c" + (" in closed form" if closed else ""))
         results, where = _final_results(robot, method, closed, notation, progress)
+    # the intermediates too long to inline (xi_k) are listed with the numbered quantities
+    where = tuple(item for item in named if item[0].name.startswith("xi_")) + tuple(where)
     sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
                                         Quantity("c", (), results[2]))))
     joint = tuple(zip(notation.qdot, chain.qd)) + tuple(zip(notation.qddot, chain.qdd))
@@ -574,8 +607,7 @@ def _jacobian_steps(chain, notation: _Notation, steps: str, closed: bool, report
         sections.append(Section("jne_forward", tuple(forward_q)))
         sections.append(Section("jne_backward", tuple(backward_q)))
         if namer is not None:
-            named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
-                          if sym in namer.rhs and sym not in notation.trig)
+            named = namer.definitions(notation.trig)
     return sections, named, None
 
 
@@ -614,8 +646,7 @@ def _newton_euler_steps(chain, notation: _Notation, steps: str, closed: bool, re
                 backward_q.append(Quantity(kind, (i + 1,), show(getattr(st, attr))))
             backward_q.append(Quantity("tau", (i + 1,), show(st.tau)))
         if namer is not None:
-            named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
-                          if sym in namer.rhs and sym not in notation.trig)
+            named = namer.definitions(notation.trig)
         sections.append(Section("ne_forward", tuple(forward_q)))
         sections.append(Section("ne_backward", tuple(backward_q)))
     return sections, named, None
@@ -785,8 +816,7 @@ def _articulated_body_steps(robot: Robot, steps: str, report=lambda text: None) 
             Quantity("k0", (0,), sp.ImmutableMatrix([namer.names.get(e, e) for e in rm.k0])),
             Quantity("Dmap", (), sp.ImmutableMatrix(sp.Matrix.hstack(*[
                 sp.Matrix([namer.names.get(e, e) for e in col]) for col in rm.columns]))))))
-    named = tuple((shown, namer.definition(sym)) for sym, shown in namer.names.items()
-                  if sym in namer.rhs and sym not in notation.trig)
+    named = namer.definitions(notation.trig)
     joint = tuple(zip(notation.qdot, chain.qd))
     return Derivation(robot=robot, method="articulated-body", steps=steps, closed_form=False,
                       sections=tuple(sections), where=(), named=named,

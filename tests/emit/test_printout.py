@@ -205,3 +205,21 @@ def test_checked_in_platform_derivation_is_up_to_date(tmp_path):
                  "--out", str(out)]) == 0
     assert out.read_bytes() == (REPO / "docs" / "derivations" / "sru_platform.md").read_bytes(), \
         "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"
+
+
+def test_named_form_names_what_is_too_long_to_inline(tmp_path):
+    """The Jacobian-projected printout of a 6-joint URDF with general placements (it ran out of
+    8 GB inlining every intermediate): intermediates longer than the inline limit are shown as
+    xi_k, each defined under 'Intermediate quantities' before the numbered results; the run
+    takes seconds."""
+    import time
+    from symdyn.cli import main
+    out = tmp_path / "jne.txt"
+    start = time.perf_counter()
+    assert main(["derive", str(REPO / "tests" / "data" / "urdf" / "handmade.urdf"), "--method",
+                 "jacobian-newton-euler", "--out", str(out), "--quiet"]) == 0
+    assert time.perf_counter() - start < 60
+    text = out.read_text()
+    used = {line for line in text.splitlines() if "ξ₁" in line}
+    defined = text.split("Intermediate quantities", 1)[1]
+    assert used and "ξ₁ = " in defined and "ξ₂ = " in defined
