@@ -171,7 +171,7 @@ def main(argv=None):
                 times, errors, files = run(name, count, workdir)
         ours_id, theirs_id = times["symdyn_inverse_dynamics"], times["pinocchio_inverse_dynamics"]
         ours_fd = times["symdyn_forward_dynamics"]
-        print(f"| {name} | inverse dynamics (rnea + Jc + LU) | {ours_id:.0f} | {theirs_id:.0f} | "
+        print(f"| {name} | inverse dynamics (rnea + Jc + block solve) | {ours_id:.0f} | {theirs_id:.0f} | "
               f"{theirs_id / ours_id:.1f}x | {errors['inverse']:.1e} |")
         for key in ("constraintDynamics", "lcaba"):
             theirs = times[f"pinocchio_{key}"]

@@ -11,7 +11,10 @@
 // MODEL_NO_ARMATURE.txt, the same model without it (as the generated functions).
 //
 // Pinocchio's inverse dynamics: rnea of the open tree, the constraint Jacobian, and the square
-// system [Jc^T S] [lambda; phi] = tau (partial-pivoting LU).  Its forward dynamics:
+// system [Jc^T S] [lambda; phi] = tau solved by blocks, as a hand-written solver would: each
+// leg's 6 rows give its closure force lambda_J = y_J - z_J phi_J (one 6x6 LU per leg), and the
+// platform's 6 rows then a 6x6 system in phi (a dense 42x42 LU where the structure is not
+// one closure per leg with 6 joints each).  Its forward dynamics:
 // constraintDynamics (initConstraintDynamics once, proximal settings 1e-12 / 1e-12 / 10 iterations)
 // and the loop-constrained ABA (lcaba, settings below).  Both are given the legs' joint values: Pinocchio has no
 // leg inverse kinematics, symdyn's functions compute theirs from the platform's pose.
@@ -110,14 +113,70 @@ int main(int argc, char **argv) {
   system.rightCols(6) = S;
   Eigen::PartialPivLU<Eigen::MatrixXd> lu(nv);
   Eigen::VectorXd solution(nv);
+  // the block structure: a velocity column used by several closures is the platform's, one used
+  // by a single closure belongs to that closure's leg (the pattern of a few states, so that a
+  // coincidental zero does not hide an entry)
+  std::vector<std::vector<int>> leg_columns(count);
+  std::vector<int> platform_columns, leg_actuated(count, -1);
+  {
+    Eigen::MatrixXd pattern = Eigen::MatrixXd::Zero(nc, nv);
+    for (int s = 0; s < std::min(states, 5); ++s) {
+      pinocchio::computeJointJacobians(model_id, data_id, q[s]);
+      Jc.setZero();
+      pinocchio::getConstraintsJacobian(model_id, data_id, cmodels, cdatas, Jc);
+      pattern += Jc.cwiseAbs();
+    }
+    for (int c = 0; c < nv; ++c) {
+      int users = 0, last = -1;
+      for (int J = 0; J < count; ++J)
+        if (pattern.block(6 * J, c, 6, 1).maxCoeff() > 0) { ++users; last = J; }
+      if (users > 1) platform_columns.push_back(c);
+      else if (users == 1) leg_columns[last].push_back(c);
+    }
+    for (int J = 0; J < count; ++J)
+      for (int k = 0; k < 6; ++k)
+        for (int r = 0; r < (int)leg_columns[J].size(); ++r)
+          if (leg_columns[J][r] == actuated[k]) leg_actuated[J] = k;
+  }
+  bool blocked = count == 6 && (int)platform_columns.size() == 6;
+  for (int J = 0; J < count && blocked; ++J)
+    blocked = leg_columns[J].size() == 6 && leg_actuated[J] >= 0;
+  std::fprintf(stderr, "inverse dynamics: %s solve\n", blocked ? "block" : "dense LU");
+  Eigen::Matrix<double, 6, 6> A, P, Z;
+  Eigen::Matrix<double, 6, 1> y, z, t_leg, y_sum, t_platform;
+  Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>> leg_lu, platform_lu;
   auto pin_inverse = [&](int s) {
     const Eigen::VectorXd &t = pinocchio::rnea(model_id, data_id, q[s], v[s], a[s]);
     pinocchio::computeJointJacobians(model_id, data_id, q[s]);
     Jc.setZero();
     pinocchio::getConstraintsJacobian(model_id, data_id, cmodels, cdatas, Jc);
-    system.leftCols(nc) = Jc.transpose();
-    lu.compute(system);
-    solution = lu.solve(t);
+    if (!blocked) {
+      system.leftCols(nc) = Jc.transpose();
+      lu.compute(system);
+      solution = lu.solve(t);
+      return solution[nv - 1];
+    }
+    Z.setZero();
+    y_sum.setZero();
+    for (int J = 0; J < count; ++J) {
+      for (int r = 0; r < 6; ++r) {
+        t_leg(r) = t(leg_columns[J][r]);
+        for (int c = 0; c < 6; ++c) {
+          A(r, c) = Jc(6 * J + c, leg_columns[J][r]);
+          P(r, c) = Jc(6 * J + c, platform_columns[r]);
+        }
+      }
+      leg_lu.compute(A);
+      y = leg_lu.solve(t_leg);
+      z.setZero();
+      for (int r = 0; r < 6; ++r) z(r) = leg_columns[J][r] == actuated[leg_actuated[J]] ? 1.0 : 0.0;
+      z = leg_lu.solve(z);
+      y_sum.noalias() += P * y;
+      Z.col(leg_actuated[J]).noalias() += P * z;
+    }
+    for (int r = 0; r < 6; ++r) t_platform(r) = t(platform_columns[r]);
+    platform_lu.compute(Z);
+    solution.tail(6) = platform_lu.solve(y_sum - t_platform);
     return solution[nv - 1];
   };
   pinocchio::initConstraintDynamics(model, data, cmodels, cdatas);
