@@ -93,7 +93,7 @@ except ImportError:  # not POSIX: no locking
     fcntl = None
 
 from .errors import SymdynError, one_line
-from .userdir import user_secret
+from .userdir import read_at_most, user_secret
 
 #: prefix of every temporary symdyn creates in an output directory (and deletes when left over)
 TEMP_PREFIX = ".symdyn-tmp-"
@@ -364,14 +364,7 @@ def _read_head(dfd: int, name: str) -> bytes | None:
     try:
         if not stat.S_ISREG(os.fstat(fd).st_mode):
             return None
-        chunks, size = [], 0
-        while size < BANNER_BYTES:
-            chunk = os.read(fd, BANNER_BYTES - size)
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-        return b"".join(chunks)
+        return read_at_most(fd, BANNER_BYTES)
     finally:
         os.close(fd)
 

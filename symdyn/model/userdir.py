@@ -83,16 +83,22 @@ def read_private_file(dir_fd: int, name: str, limit: int, private: bool = False)
         check_regular(name, st)
         if private and st.st_mode & 0o066:
             raise Untrusted(f"{name} is readable or writable by group or others")
-        chunks, size = [], 0
-        while size <= limit:
-            chunk = os.read(fd, min(limit + 1 - size, 1 << 20))
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
-        return b"".join(chunks)
+        return read_at_most(fd, limit + 1)
     finally:
         os.close(fd)
+
+
+def read_at_most(fd: int, count: int) -> bytes:
+    """Up to ``count`` bytes from the open file ``fd`` (fewer at its end), read in chunks of at
+    most 1 MiB."""
+    chunks, size = [], 0
+    while size < count:
+        chunk = os.read(fd, min(count - size, 1 << 20))
+        if not chunk:
+            break
+        chunks.append(chunk)
+        size += len(chunk)
+    return b"".join(chunks)
 
 
 def check_regular(name: str, st: os.stat_result) -> None:
