@@ -143,7 +143,7 @@ def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[
 
     The chain rule runs through the program's intermediate symbols; new intermediate symbols
     for the derivatives are added to ``builder``.  Returns one matrix (shape of ``outputs``)
-    per variable.  ``scale`` seeds the variable's own derivative, so a constant factor folds
+    per variable.  ``scale`` is the variable's own derivative (d x / d x), so a constant factor folds
     into the recursion's constants instead of costing one multiplication per result (C = dh/dqd
     / 2 with ``scale=1/2``; a power of two leaves every rounding unchanged).
     """
