@@ -174,7 +174,7 @@ void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_rea
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 4769 multiplications, 3931 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 3341 multiplications, 2934 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chain12_real *C);
 
@@ -211,7 +211,7 @@ void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, con
  * Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
- * Cost: 200 multiplications, 136 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 199 multiplications, 136 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_forward_kinematics(const chain12_real *q, chain12_real *T);
 
@@ -219,7 +219,7 @@ void chain12_forward_kinematics(const chain12_real *q, chain12_real *T);
  * Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 256 multiplications, 184 additions/subtractions, 0 divisions, 16 sin/cos.
+ * Cost: 255 multiplications, 184 additions/subtractions, 0 divisions, 16 sin/cos.
  */
 void chain12_jacobian(const chain12_real *q, chain12_real *J);
 
@@ -228,7 +228,7 @@ void chain12_jacobian(const chain12_real *q, chain12_real *J);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   a (out): J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes
- * Cost: 397 multiplications, 274 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 396 multiplications, 274 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_jacobian_dot_qd(const chain12_real *q, const chain12_real *qd, chain12_real *a);
 
@@ -237,7 +237,7 @@ void chain12_jacobian_dot_qd(const chain12_real *q, const chain12_real *qd, chai
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   T (out): pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)
  *   J (out): tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)
- * Cost: 274 multiplications, 193 additions/subtractions, 0 divisions, 18 sin/cos.
+ * Cost: 273 multiplications, 193 additions/subtractions, 0 divisions, 18 sin/cos.
  */
 void chain12_kinematics(const chain12_real *q, chain12_real *T, chain12_real *J);
 

@@ -144,7 +144,7 @@ void iiwa14_coriolis(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *h
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 1422 multiplications, 974 additions/subtractions, 0 divisions, 12 sin/cos.
+ * Cost: 1289 multiplications, 1083 additions/subtractions, 0 divisions, 12 sin/cos.
  */
 void iiwa14_coriolis_matrix(const iiwa14_real *q, const iiwa14_real *qd, iiwa14_real *C);
 

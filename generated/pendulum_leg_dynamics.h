@@ -143,7 +143,7 @@ void pendulum_leg_coriolis(const pendulum_leg_real *q, const pendulum_leg_real *
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 803 multiplications, 508 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 764 multiplications, 603 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void pendulum_leg_coriolis_matrix(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *C);
 

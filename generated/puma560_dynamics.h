@@ -138,7 +138,7 @@ void puma560_coriolis(const puma560_real *q, const puma560_real *qd, puma560_rea
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 823 multiplications, 549 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 715 multiplications, 578 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void puma560_coriolis_matrix(const puma560_real *q, const puma560_real *qd, puma560_real *C);
 

@@ -138,7 +138,7 @@ void ur5_coriolis(const ur5_real *q, const ur5_real *qd, ur5_real *h);
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)
- * Cost: 822 multiplications, 587 additions/subtractions, 0 divisions, 10 sin/cos.
+ * Cost: 640 multiplications, 536 additions/subtractions, 0 divisions, 10 sin/cos.
  */
 void ur5_coriolis_matrix(const ur5_real *q, const ur5_real *qd, ur5_real *C);
 

@@ -16,9 +16,11 @@ symdyn             meaning                                     Pinocchio
 =================  =========================================  ==================================
 
 Units: q in rad (m for prismatic joints), qd in rad/s, qdd in rad/s^2, tau in N m (N).
-C satisfies ``dD/dt - 2C`` skew-symmetric; with Newton-Euler it is computed as
+C satisfies ``dD/dt - 2C`` skew-symmetric; with Newton-Euler it is computed by the O(n^2)
+recursion of :mod:`symdyn.derive.coriolis` (sums of 6-vector dot products), or, where that
+costs more operations (short sparse arms, see :data:`CORIOLIS_RECURSION_FROM_DOF`), as
 ``C = (1/2) dh/dqd`` (h is quadratic in qd and its symmetric coefficient tensor is exactly the
-Christoffel symbols of the first kind), with Lagrange-Euler as ``C_ik = sum_m h_ikm qd_m``.
+Christoffel symbols of the first kind); with Lagrange-Euler as ``C_ik = sum_m h_ikm qd_m``.
 
 With Newton-Euler, D comes from the composite-rigid-body method (:mod:`symdyn.derive.composite`), the
 recursive companion of Table 3.2; with Lagrange-Euler from the trace form over U_ij and the
@@ -47,6 +49,7 @@ from .regressor import base_equivalent
 from .regressor import regressor as regressor_matrix
 from .chain import make_chain
 from .composite import mass_matrix_factored
+from .coriolis import coriolis_matrix as recursive_coriolis_matrix
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
@@ -109,7 +112,12 @@ class Equations:
     #: :data:`LOOPED_SOLVE_FROM_DOF` joints or more); else ``()``.  Both give the same
     #: solution up to rounding; the pivots checked are the same.
     fd_system: tuple = ()
-    #: per joint, the program's symbols ``(c_j, s_j)`` for the cosine and sine of a revolute
+    #: ``(S, dS, F, g, e)`` when the Coriolis matrix was built by the O(n^2) recursion
+    #: (:mod:`symdyn.derive.coriolis`): each a tuple of n base-frame 6-vectors (tuples of
+    #: expressions in the program's symbols) with ``C[i, k] = S_i . F_k`` (i <= k) and
+    #: ``g_i . dS_k + e_i . S_k`` (k < i), for emitters that write C as a loop; else ``()``
+    coriolis_factors: tuple = ()
+    #: per joint, the program's symbols ``(c_j, s_j)`` for for the cosine and sine of a revolute
     #: joint's angle theta_j + q_j (:func:`symdyn.derive.chain.make_chain`), ``()`` for a
     #: prismatic joint: what a consumer substitutes to give the joint angles another way
     joint_trig: tuple = ()
@@ -336,6 +344,15 @@ LOOPED_SOLVE_FROM_DOF = 16
 FD_METHODS = ("ldlt", "aba")
 
 
+#: from this many joints the Coriolis matrix is always built by the O(n^2) recursion
+#: (:mod:`symdyn.derive.coriolis`); below, both ways are built and the one with fewer operations
+#: (SymPy's count of the statements) kept.  Multiplications + additions of the emitted C,
+#: derivative of h against recursion: SCARA 58 / 91 and Stanford arm 1215 / 1394 keep the
+#: derivative; Puma 560 1372 / 1421 (a near tie) and the Panda 3740 / 2455 take the recursion,
+#: as do generic chains (6 joints: 3727 / 2402; 12: 16,370 / 7557; 24: 66,041 / 20,553)
+CORIOLIS_RECURSION_FROM_DOF = 12
+
+
 def _coriolis_matrix_of(b, h: sp.Matrix, qd) -> sp.Matrix:
     """C = dh/dqd / 2 (n x n), the Christoffel-consistent Coriolis matrix (h is quadratic in qd),
     by forward-mode differentiation of h's recursion, seeded with 1/2."""
@@ -358,6 +375,7 @@ class _Derivation:
         self.friction = friction_terms(robot, chain.qd, chain.qdd)
         self.values: dict[str, sp.Matrix] = {}
         self.mass_factors: tuple = ()
+        self.coriolis_factors: tuple = ()
         self.fd_system: tuple = ()
         self.pivots: tuple = ()
         self.base: tuple = ()
@@ -404,9 +422,42 @@ def _coriolis(d: _Derivation) -> sp.Matrix:
 def _coriolis_matrix(d: _Derivation) -> sp.Matrix:
     if d.le is not None:
         return d.le.coriolis_matrix(d.chain.qd)
-    h = d.get("coriolis")
-    d.report("coriolis_matrix (derivative of h by qd)")
-    return _coriolis_matrix_of(d.b, h, d.chain.qd)
+    if d.jne is not None:
+        d.report("coriolis_matrix (derivative of h by qd)")
+        return _coriolis_matrix_of(d.b, d.get("coriolis"), d.chain.qd)
+    if d.n >= CORIOLIS_RECURSION_FROM_DOF:
+        return _recursive_coriolis_matrix(d)
+    return _cheaper_coriolis_matrix(d)
+
+
+def _recursive_coriolis_matrix(d: _Derivation) -> sp.Matrix:
+    d.report("coriolis_matrix (O(n^2) recursion in the base frame)")
+    C, factors = recursive_coriolis_matrix(d.chain)
+    d.coriolis_factors = factors.as_tuple()
+    return C
+
+
+def _cheaper_coriolis_matrix(d: _Derivation) -> sp.Matrix:
+    """C by whichever of the two ways needs fewer operations (SymPy's count over every statement
+    C needs; ties to the recursion), each built on a copy of the program so far: the derivation
+    goes on with the chosen copy only (deterministic: the counts depend on the robot alone)."""
+    start, values = d.b.build(), dict(d.values)
+    candidates = []
+    for way in ("recursion", "derivative"):
+        d.b = d.chain.builder = ProgramBuilder(d.b.prefix, start=start)
+        d.values = dict(values)
+        d.coriolis_factors = ()
+        if way == "recursion":
+            C = _recursive_coriolis_matrix(d)
+        else:
+            d.report("coriolis_matrix (derivative of h by qd)")
+            C = _coriolis_matrix_of(d.b, d.get("coriolis"), d.chain.qd)
+        needed = d.b.build().needed_for(list(C))
+        cost = sum(sp.count_ops(rhs) for _, rhs in needed) + sum(sp.count_ops(e) for e in C)
+        candidates.append((cost, way, d.b, d.values, d.coriolis_factors, C))
+    cost, way, builder, d.values, d.coriolis_factors, C = min(candidates, key=lambda c: c[0])
+    d.b = d.chain.builder = builder
+    return C
 
 
 def _mass_matrix(d: _Derivation) -> sp.Matrix:
@@ -577,5 +628,6 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      base_parameters=d.base if ("base_regressor" in wanted or parameters == "base") else (),
                      parameter_form="base" if (parameters == "base" and "inverse_dynamics" in wanted) else "standard",
                      mass_factors=d.mass_factors if "mass_matrix" in wanted else (),
+                     coriolis_factors=d.coriolis_factors if "coriolis_matrix" in wanted else (),
                      fd_system=d.fd_system if "forward_dynamics" in wanted else (),
                      joint_trig=chain.joint_trig)

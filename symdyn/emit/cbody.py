@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .cplan import FunctionPlan, ReducedPlan
+from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan
 from .cprinter import CPrinter, count_operations
 from .emission import template_environment
 
@@ -84,6 +84,22 @@ def gram_loop(out: str, size: int, ltype: str, element_bytes: int, prefix: str, 
 def gram_ops(size: int) -> Counter:
     """Operations of :func:`gram_loop`: six products and five sums per entry above the diagonal."""
     return Counter({"mul": 6 * size * (size - 1) // 2, "add": 5 * size * (size - 1) // 2})
+
+
+def coriolis_loop(out: str, n: int, ltype: str, store: str) -> list[str]:
+    """C lines of the Coriolis matrix ``out`` (row-major n x n) from the factor arrays of
+    :data:`symdyn.emit.cplan.CORIOLIS_ARRAYS` (component c of vector k at ``[c * n + k]``):
+    ``out[i][k] = S_i . F_k`` for k >= i, ``g_i . dS_k + e_i . S_k`` for k < i, each row's
+    inner loops over consecutive k (contiguous in ``out`` and the arrays; gcc -O3 vectorizes
+    them).  ``store``: the cast to the output type, or empty."""
+    return _macro_lines(_loops().coriolis_loop(out, n, ltype, store))
+
+
+def coriolis_ops(n: int) -> Counter:
+    """Operations of :func:`coriolis_loop`: 6 products and 5 sums per entry on and above the
+    diagonal, 12 and 11 below."""
+    upper, lower = n * (n + 1) // 2, n * (n - 1) // 2
+    return Counter({"mul": 6 * upper + 12 * lower, "add": 5 * upper + 11 * lower})
 
 
 def looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name: str, store: str,
@@ -157,6 +173,9 @@ class BodyWriter:
         if plan.gram:
             size = 6 * (plan.gram[1] - 1)
             self.lines.append(f"{self.ltype} mass_s[{size}], mass_f[{size}];")
+        if plan.coriolis:
+            size = 6 * plan.coriolis[1]
+            self.lines.append(f"{self.ltype} " + ", ".join(f"{a}[{size}]" for a in CORIOLIS_ARRAYS) + ";")
         if plan.looped:
             n = ctx.n
             self.lines.append(f"{self.ltype} fd_M[{n * n}], fd_b[{n}], fd_w[{n}], fd_d[{n}], fd_inv[{n}], fd_x[{n}];")
@@ -289,6 +308,10 @@ class BodyWriter:
             out, size = plan.gram
             self.lines += gram_loop(out, size, self.ltype, 4 if ctx.internal == "float" else 8, ctx.prefix, self.vector)
             self.ops += gram_ops(size)
+        if plan.coriolis:
+            out, n = plan.coriolis
+            self.lines += coriolis_loop(out, n, self.ltype, self.store)
+            self.ops += coriolis_ops(n)
         if plan.looped:
             solve, solve_ops = looped_solve(ctx.n, self.ltype, self.printer.literal(ctx.rtol), self.printer.literal(1.0),
                                             self.vector, plan.out_name, self.store, ctx.internal, ctx.scalar)

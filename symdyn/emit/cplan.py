@@ -28,6 +28,15 @@ from .emission import factor_coefficients, fold_constants, fresh_symbols, pair_c
 #: 155 -> 93 s, 817 -> 410 MB peak.  Below, SymPy's CSE, which also groups common sums, is kept.
 PAIR_CSE_FROM = 10000
 
+#: from this many joints the Coriolis matrix, when it comes from the O(n^2) recursion
+#: (:attr:`Equations.coriolis_factors`), is written by a loop over the five arrays of 6-vectors
+#: (:func:`symdyn.emit.cbody.coriolis_loop`) instead of n^2 straight-line dot products: the
+#: code stays linear in n (see docs/benchmarks.md for where the loop starts to pay)
+LOOPED_CORIOLIS_FROM_DOF = 8
+
+#: the scratch arrays of the Coriolis loop, in the order of ``Equations.coriolis_factors``
+CORIOLIS_ARRAYS = ("cor_s", "cor_ds", "cor_f", "cor_g", "cor_e")
+
 
 @dataclass(frozen=True)
 class Target:
@@ -45,7 +54,8 @@ class FunctionPlan:
     """Stage 1: what one C function computes and writes.
 
     ``gram``: ``(array, n)`` when the body ends with the loop filling the mass matrix's
-    off-diagonal entries from the factors; ``aliases``: ``(lvalue, source)`` copies written last
+    off-diagonal entries from the factors; ``coriolis``: ``(array, n)`` when it ends with the
+    loop writing the Coriolis matrix from its factors; ``aliases``: ``(lvalue, source)`` copies written last
     (the lower triangle of a symmetric output); ``pivots``: the ``(d_j, M_jj)`` pairs checked in
     the unrolled forward dynamics, flattened; ``looped``: forward dynamics solved by a loop."""
 
@@ -56,6 +66,7 @@ class FunctionPlan:
     targets: list[Target] = field(default_factory=list)
     aliases: list[tuple[str, str]] = field(default_factory=list)
     gram: tuple[str, int] | None = None
+    coriolis: tuple[str, int] | None = None
     empty_outputs: list[str] = field(default_factory=list)
     checked: bool = False
     looped: bool = False
@@ -92,6 +103,13 @@ def _output_targets(eqs: Equations, plan: FunctionPlan, part: str) -> None:
     if output.shape(dims) != matrix.shape:
         raise AssertionError(f"{part}: derived {matrix.shape}, registered {output.shape(dims)}")
     factored = output.symmetric and bool(eqs.mass_factors)
+    if part == "coriolis_matrix" and eqs.coriolis_factors and eqs.n >= LOOPED_CORIOLIS_FROM_DOF:
+        n = eqs.n  # component c of vector k of each factor at array[c * n + k]
+        plan.targets.extend(Target(f"{array}[{c * n + k}]", e, True)
+                            for array, vectors in zip(CORIOLIS_ARRAYS, eqs.coriolis_factors)
+                            for k, vector in enumerate(vectors) for c, e in enumerate(vector))
+        plan.coriolis = (output.arguments[0].name, n)
+        return
     for argument, (rows, cols) in output.argument_shapes(dims):
         block = matrix[:, argument.first:argument.first + cols]
         arg = argument.name

@@ -1,0 +1,216 @@
+"""The Coriolis matrix C(q, qd) by an O(n^2) recursion in one inertial frame.
+
+The Christoffel-consistent Coriolis matrix (the one of Pinocchio's ``computeCoriolisMatrix``;
+``dD/dt - 2C`` skew-symmetric, ``C qd = h``) is, with every spatial quantity in one inertial
+frame about its origin (Featherstone's ``[omega; v]`` motion and ``[n; f]`` force vectors),
+
+    C = sum_b J_b^T (I_b dJ_b/dt + B_b J_b),   B_b = 1/2 (dI_b/dt + (I_b v_b) x-bar)
+
+(Echeandia and Wensing, "Numerical methods to compute the Coriolis matrix and Christoffel
+symbols for rigid-body systems", 2021), where J_b (6 x n) is body b's Jacobian, whose column j
+is joint j's motion subspace ``S_j`` for every joint j on the way to b, v_b the body's
+velocity, ``dI_b/dt = v_b x* I_b - I_b v_b x`` and ``(f x-bar) u = u x* f``.  ``dI/dt`` is
+symmetric and ``f x-bar`` skew, so B's two halves are what ``dD/dt - 2C`` needs to be skew.
+
+The entries are dot products, the same in any inertial frame: the one used is the frame of
+joint 1 turned by q_1 at this instant (fixed in space), where joint 1's axis and link 1's pose
+are constants and q_1, on which nothing depends, never enters.
+
+In a chain (and in any tree) the bodies seen by both joints i and k are the subtree of the later
+one, so with the composite quantities of joint i's subtree (inertia ``Ic_i``, its rate
+``dIc_i``, momentum ``hc_i``; sums over the subtree)::
+
+    dS_i = v_i x S_i                                  (rate of joint i's axis, 6)
+    F_i  = Ic_i dS_i + 1/2 dIc_i S_i + 1/2 S_i x* hc_i  (6)
+    g_i  = Ic_i S_i,  e_i = 1/2 dIc_i S_i - 1/2 S_i x* hc_i   (6 each)
+
+    C[i, k] = S_i . F_k                 for i <= k (joint i on the way to body k)
+    C[i, k] = g_i . dS_k + e_i . S_k    for k < i
+
+The composites are sums of 10 (inertia), 9 (its rate: ``dh = m dc``, the rotational part) and 6
+(momentum) numbers per body: no 6 x 6 matrix is formed, and the n^2 entries cost 6 or 12
+multiplications each.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .chain import Chain
+from .spatial import cross3, cross_force, cross_motion, skew
+
+
+@dataclass(frozen=True)
+class CoriolisFactors:
+    """Per joint (in joint order) the base-frame 6-vectors whose dot products are C's entries:
+    ``C[i, k] = S[i] . F[k]`` (i <= k), ``g[i] . dS[k] + e[i] . S[k]`` (k < i); each a tuple of
+    n 6 x 1 SymPy matrices in the program's symbols."""
+
+    S: tuple
+    dS: tuple
+    F: tuple
+    g: tuple
+    e: tuple
+
+    def as_tuple(self) -> tuple:
+        """``(S, dS, F, g, e)``, each a tuple of n tuples of 6 expressions (what
+        :attr:`symdyn.derive.equations.Equations.coriolis_factors` holds)."""
+        return tuple(tuple(tuple(v) for v in vectors) for vectors in (self.S, self.dS, self.F, self.g, self.e))
+
+    def entry(self, i: int, k: int) -> sp.Expr:
+        """C[i, k] (0-based) as a sum of products."""
+        if i <= k:
+            return _dot(self.S[i], self.F[k])
+        return _dot(self.g[i], self.dS[k]) + _dot(self.e[i], self.S[k])
+
+
+def _dot(a, b) -> sp.Expr:
+    return sp.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
+
+
+@dataclass
+class _Body:
+    """One body's base-frame inertia (mass, first moment h = m c, rotational inertia about the
+    base origin, 3 x 3), its rate (dh, dI) and its momentum (6)."""
+
+    mass: sp.Expr
+    h: sp.Matrix
+    inertia: sp.Matrix
+    dh: sp.Matrix
+    dinertia: sp.Matrix
+    momentum: sp.Matrix
+
+    def __add__(self, other: "_Body") -> "_Body":
+        return _Body(self.mass + other.mass, self.h + other.h, self.inertia + other.inertia,
+                     self.dh + other.dh, self.dinertia + other.dinertia, self.momentum + other.momentum)
+
+    def times(self, motion: sp.Matrix) -> sp.Matrix:
+        """``I m`` for a motion vector ``m = [w; x]``: ``[I_O w + h x x; m x - h x w]``."""
+        w, x = motion[:3, 0], motion[3:, 0]
+        return sp.Matrix([*(self.inertia * w + sp.Matrix(cross3(self.h, x))),
+                          *(self.mass * x - sp.Matrix(cross3(self.h, w)))])
+
+    def rate_times(self, motion: sp.Matrix) -> sp.Matrix:
+        """``dI/dt m``: ``[dI_O w + dh x x; -dh x w]`` (the mass does not change)."""
+        w, x = motion[:3, 0], motion[3:, 0]
+        return sp.Matrix([*(self.dinertia * w + sp.Matrix(cross3(self.dh, x))),
+                          *(-sp.Matrix(cross3(self.dh, w)))])
+
+
+def _symmetric(b, hint: str, M: sp.Matrix) -> sp.Matrix:
+    """A symmetric 3 x 3 with its upper triangle named."""
+    out = sp.zeros(3, 3)
+    for r in range(3):
+        for c in range(r, 3):
+            out[r, c] = out[c, r] = b.define(f"{hint}_{r}{c}", sp.expand(M[r, c]))
+    return out
+
+
+def _named_pose(b, hint: str, pose: sp.Matrix) -> sp.Matrix:
+    """``pose`` (4 x 4) with its top three rows named (entries that fold to numbers stay)."""
+    out = sp.eye(4)
+    for row in range(3):
+        for col in range(4):
+            out[row, col] = b.define(f"{hint}_{row}{col}", sp.expand(pose[row, col]))
+    return out
+
+
+def _frames(chain: Chain) -> list[tuple[list, list, sp.Matrix]]:
+    """Per joint: its axis (3), its point (3) and its link's pose (4 x 4, named) in the frame of
+    joint 1 turned by q_1, where joint 1's axis and link 1's pose are constants."""
+    b = chain.builder
+    current = sp.eye(4)
+    frames = []
+    for i, geometry in enumerate(chain.geometry):
+        j = i + 1
+        if i == 0:
+            joint_frame = sp.eye(4)
+        elif sp.Matrix(geometry.pre) != sp.eye(4):
+            joint_frame = _named_pose(b, f"cP{j}", current * sp.Matrix(geometry.pre))
+        else:
+            joint_frame = current
+        moved = _named_pose(b, f"cM{j}", joint_frame * (chain.motions[i] if i else sp.eye(4)))
+        current = _named_pose(b, f"cA0{j}", moved * sp.Matrix(geometry.post))
+        frames.append(([sp.expand(e) for e in joint_frame[:3, 2]], [sp.expand(e) for e in joint_frame[:3, 3]], current))
+    return frames
+
+
+def coriolis_factors(chain: Chain) -> CoriolisFactors:
+    """The vectors of the recursion (see the module docstring), named in ``chain``'s program.
+
+    Positions are taken from the last joint's point (the reference point of every moment): a
+    small distal body's rows of C are then not the difference of large moments about a far
+    origin (in float, the Puma's wrist rows lost 3 digits that way).  Each product is staged
+    so that it costs what its structure allows: the link pose as (joint frame) x (joint motion)
+    x (constant rest), a link's rotated inertia as ``R (I R^T)``, and the halves of ``B_i S_i``
+    from ``S_i / 2``, shared by F and e."""
+    b, robot = chain.builder, chain.robot
+    n = chain.n
+    frames = _frames(chain)
+    reference = sp.Matrix(frames[-1][1])
+    velocity = sp.zeros(6, 1)
+    S, dS, bodies = [], [], []
+    for i, (link, (axis, point, pose)) in enumerate(zip(robot.links, frames)):
+        j = i + 1
+        if link.is_revolute:
+            lever = b.vector(f"cp{j}", (sp.Matrix(point) - reference).applyfunc(sp.expand))
+            subspace = axis + cross3(lever, axis)
+        else:
+            subspace = [0, 0, 0] + axis
+        S.append(b.vector(f"cS{j}", [sp.expand(e) for e in subspace]))
+        velocity = b.vector(f"cv{j}", velocity + S[i] * chain.qd[i])
+        dS.append(b.vector(f"cdS{j}", cross_motion(velocity, S[i]).applyfunc(sp.expand)))
+        origin = b.vector(f"co{j}", (pose[:3, 3] - reference).applyfunc(sp.expand))
+        bodies.append(_body(b, j, link, pose[:3, :3], origin, velocity))
+    F, g, e = [None] * n, [None] * n, [None] * n
+    composite = None
+    for i in reversed(range(n)):
+        j = i + 1
+        composite = bodies[i] if composite is None else _named_body(b, f"cC{j}", bodies[i] + composite)
+        half = b.vector(f"cSh{j}", (S[i] / 2).applyfunc(sp.expand))
+        half_rate = b.vector(f"cBr{j}", composite.rate_times(half).applyfunc(sp.expand))
+        half_cross = b.vector(f"cBx{j}", cross_force(half, composite.momentum).applyfunc(sp.expand))
+        F[i] = b.vector(f"cF{j}", (composite.times(dS[i]) + half_rate + half_cross).applyfunc(sp.expand))
+        g[i] = b.vector(f"cg{j}", composite.times(S[i]).applyfunc(sp.expand))
+        e[i] = b.vector(f"ce{j}", (half_rate - half_cross).applyfunc(sp.expand))
+    return CoriolisFactors(tuple(S), tuple(dS), tuple(F), tuple(g), tuple(e))
+
+
+def _body(b, j: int, link, R: sp.Matrix, origin: sp.Matrix, velocity: sp.Matrix) -> _Body:
+    """Link j's inertia, inertia rate and momentum about the reference point (``R``, ``origin``:
+    the link frame's axes and origin, named; ``velocity``: its spatial velocity)."""
+    mass = sp.sympify(link.mass)
+    com = b.vector(f"cc{j}", (origin + R * sp.Matrix(link.com)).applyfunc(sp.expand))
+    half = b.matrix(f"cIh{j}", (sp.Matrix(link.inertia_matrix) * R.T).applyfunc(sp.expand))
+    rotated = _symmetric(b, f"cIr{j}", R * half)
+    cx = skew(com)
+    h = b.vector(f"ch{j}", mass * com)
+    hx = skew(h)  # products with h = m c cost one multiplication where m c c costs two
+    inertia = _symmetric(b, f"cIo{j}", rotated - hx * cx)
+    w, x = velocity[:3, 0], velocity[3:, 0]
+    com_velocity = b.vector(f"ccd{j}", (x + sp.Matrix(cross3(w, com))).applyfunc(sp.expand))
+    dh = b.vector(f"cdh{j}", mass * com_velocity)
+    wx, cdx = skew(w), skew(com_velocity)
+    spin = b.matrix(f"cW{j}", (wx * rotated).applyfunc(sp.expand))  # R_dot I R^T: the rate is spin + spin^T
+    dinertia = _symmetric(b, f"cdI{j}", spin + spin.T - (cdx * hx + hx * cdx))
+    # momentum I v = [I_r w + c x m c_dot; m c_dot]: the linear part is dh itself
+    angular = b.vector(f"cm{j}", (rotated * w + sp.Matrix(cross3(com, dh))).applyfunc(sp.expand))
+    return _Body(mass, h, inertia, dh, dinertia, sp.Matrix.vstack(angular, dh))
+
+
+def _named_body(b, hint: str, body: _Body) -> _Body:
+    return _Body(b.define(f"{hint}m", sp.expand(body.mass)), b.vector(f"{hint}h", body.h.applyfunc(sp.expand)),
+                 _symmetric(b, f"{hint}I", body.inertia), b.vector(f"{hint}dh", body.dh.applyfunc(sp.expand)),
+                 _symmetric(b, f"{hint}dI", body.dinertia),
+                 b.vector(f"{hint}p", body.momentum.applyfunc(sp.expand)))
+
+
+def coriolis_matrix(chain: Chain) -> tuple[sp.Matrix, CoriolisFactors]:
+    """C (n x n, each entry named ``C{i}_{k}``) and the factors it is made of."""
+    factors = coriolis_factors(chain)
+    n = chain.n
+    b = chain.builder
+    C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}_{k + 1}", sp.expand(factors.entry(i, k))))
+    return C, factors
