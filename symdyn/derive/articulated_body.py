@@ -159,7 +159,7 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         return _named_symmetric(b, hint, M)
 
     transforms = [T for T, _ in joint_transforms(chain)]
-    X, v, c, I, IA, pA = [], [], [], [], [], []
+    X, v, c, I, IA = [], [], [], [], []
     for j, Xj, velocity, S_qd, post in joint_frames(chain):
         k = j + 1
         link = robot.links[j]
@@ -171,14 +171,22 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         inertia = spatial_inertia(link.mass, com, R * sp.Matrix(link.inertia_matrix) * R.T)
         I.append(sym6(f"IA{k}", inertia))
         IA.append(I[j])
-        momentum = vec(f"Iv{k}", I[j] * velocity)  # named first: v x* (I v) stays bilinear, not expanded
-        pA.append(vec(f"pA{k}", cross_force(velocity, momentum)))
-    pA0 = tuple(pA)
 
+    def bias(j):
+        """``p^A_j = v_j x* I_j v_j``, made where the backward sweep first needs it (so that it
+        is not live through the whole forward sweep: faster register allocation for the
+        compiler on long chains)."""
+        momentum = vec(f"Iv{j + 1}", I[j] * v[j])  # named first: v x* (I v) stays bilinear, not expanded
+        return vec(f"pA{j + 1}", cross_force(v[j], momentum))
+
+    pA0 = [None] * n
+    pA = [None] * n
     U, d, u, inv, Ia, pa = [None] * n, [None] * n, [None] * n, [None] * n, [None] * n, [None] * n
     for j in reversed(range(n)):
         k = j + 1
         link = robot.links[j]
+        if pA[j] is None:
+            pA[j] = pA0[j] = bias(j)
         U[j] = IA[j][:, axis[j]]
         d[j] = b.define(f"aba_d{k}", sp.expand(U[j][axis[j]] + link.armature))
         u[j] = b.define(f"aba_u{k}", sp.expand(tau[j] - friction[j] - pA[j][axis[j]]))
@@ -188,8 +196,9 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         Ia[j] = sym6(f"Ia{k}", IA[j] - U[j] * U[j].T * inv[j])
         pa[j] = vec(f"pa{k}", pA[j] + Ia[j] * c[j] + U[j] * (u[j] * inv[j]))
         IA[j - 1] = sym6(f"IA{k - 1}s", IA[j - 1] + transform_inertia_back(b, transforms[j], Ia[j], f"IAm{k}"))
-        pA[j - 1] = vec(f"pA{k - 1}s", pA[j - 1] + transform_force_back(b, transforms[j], pa[j], f"pAm{k}"))
-    return Sweeps(X=tuple(X), axis=axis, v=tuple(v), c=tuple(c), I=tuple(I), pA0=pA0, IA=tuple(IA),
+        pA0[j - 1] = bias(j - 1)
+        pA[j - 1] = vec(f"pA{k - 1}s", pA0[j - 1] + transform_force_back(b, transforms[j], pa[j], f"pAm{k}"))
+    return Sweeps(X=tuple(X), axis=axis, v=tuple(v), c=tuple(c), I=tuple(I), pA0=tuple(pA0), IA=tuple(IA),
                   pA=tuple(pA), U=tuple(U), d=tuple(d), u=tuple(u), inv=tuple(inv), Ia=tuple(Ia),
                   pa=tuple(pa), transforms=tuple(transforms))
 

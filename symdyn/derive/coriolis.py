@@ -163,12 +163,16 @@ def coriolis_factors(chain: Chain) -> CoriolisFactors:
         velocity = b.vector(f"cv{j}", velocity + S[i] * chain.qd[i])
         dS.append(b.vector(f"cdS{j}", cross_motion(velocity, S[i]).applyfunc(sp.expand)))
         origin = b.vector(f"co{j}", (pose[:3, 3] - reference).applyfunc(sp.expand))
-        bodies.append(_body(b, j, link, pose[:3, :3], origin, velocity))
+        bodies.append((link, pose[:3, :3], origin, velocity))
     F, g, e = [None] * n, [None] * n, [None] * n
     composite = None
     for i in reversed(range(n)):
         j = i + 1
-        composite = bodies[i] if composite is None else _named_body(b, f"cC{j}", bodies[i] + composite)
+        # each body's quantities are made where they are summed (the tip first): few values
+        # stay live from the forward pass to the backward one, which keeps the compiler's
+        # register allocation fast on long chains
+        body = _body(b, j, *bodies[i])
+        composite = body if composite is None else _named_body(b, f"cC{j}", body + composite)
         half = b.vector(f"cSh{j}", (S[i] / 2).applyfunc(sp.expand))
         half_rate = b.vector(f"cBr{j}", composite.rate_times(half).applyfunc(sp.expand))
         half_cross = b.vector(f"cBx{j}", cross_force(half, composite.momentum).applyfunc(sp.expand))
