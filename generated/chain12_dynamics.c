@@ -102,6 +102,21 @@ static void chain12_sincos(int count, const double *x, double *s, double *c)
     }
 }
 
+/*
+ * The loops over arrays of 6-vectors (the mass matrix's off-diagonal entries D_ij = S_i . F_j,
+ * the Coriolis matrix's entries) run over vectors of consecutive entries where GCC 9+ or Clang
+ * has vector types on 16-byte (SSE2, NEON) or 32-byte (AVX) registers, each entry computed in
+ * the order of the plain loop (same results); SYMDYN_NO_VECTOR for the plain loop.
+ */
+#if !defined(SYMDYN_NO_VECTOR) && (defined(__clang__) || (defined(__GNUC__) && __GNUC__ >= 9)) \
+    && (defined(__SSE2__) || defined(__ARM_NEON))
+#if defined(__AVX__)
+#define CHAIN12_GRAM_BYTES 32
+#else
+#define CHAIN12_GRAM_BYTES 16
+#endif
+#endif
+
 void chain12_inverse_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *qdd, chain12_real *tau)
 {
     chain12_real trig_sin[9], trig_cos[9];
@@ -3871,18 +3886,66 @@ void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chai
     cor_e[12] = ce1_1;
     const chain12_real ce1_2 = cBr1_2 - cBx1_2;
     cor_e[24] = ce1_2;
+#ifdef CHAIN12_GRAM_BYTES
+    {
+        typedef chain12_real chain12_gram_vec __attribute__((vector_size(CHAIN12_GRAM_BYTES)));
+        for (int i = 0; i < 12; ++i) {
+            const chain12_real cor_si0 = cor_s[0 + i], cor_si1 = cor_s[12 + i], cor_si2 = cor_s[24 + i], cor_si3 = cor_s[36 + i], cor_si4 = cor_s[48 + i], cor_si5 = cor_s[60 + i];
+            const chain12_real cor_gi0 = cor_g[0 + i], cor_gi1 = cor_g[12 + i], cor_gi2 = cor_g[24 + i], cor_gi3 = cor_g[36 + i], cor_gi4 = cor_g[48 + i], cor_gi5 = cor_g[60 + i];
+            const chain12_real cor_ei0 = cor_e[0 + i], cor_ei1 = cor_e[12 + i], cor_ei2 = cor_e[24 + i], cor_ei3 = cor_e[36 + i], cor_ei4 = cor_e[48 + i], cor_ei5 = cor_e[60 + i];
+    int k = 0;
+            for (; k + (int)(sizeof(chain12_gram_vec) / sizeof(chain12_real)) <= i; k += (int)(sizeof(chain12_gram_vec) / sizeof(chain12_real))) {
+                chain12_gram_vec cor_dsk0, cor_dsk1, cor_dsk2, cor_dsk3, cor_dsk4, cor_dsk5, cor_sk0, cor_sk1, cor_sk2, cor_sk3, cor_sk4, cor_sk5, row;
+                __builtin_memcpy(&cor_dsk0, cor_ds + 0 + k, sizeof cor_dsk0);
+                __builtin_memcpy(&cor_dsk1, cor_ds + 12 + k, sizeof cor_dsk1);
+                __builtin_memcpy(&cor_dsk2, cor_ds + 24 + k, sizeof cor_dsk2);
+                __builtin_memcpy(&cor_dsk3, cor_ds + 36 + k, sizeof cor_dsk3);
+                __builtin_memcpy(&cor_dsk4, cor_ds + 48 + k, sizeof cor_dsk4);
+                __builtin_memcpy(&cor_dsk5, cor_ds + 60 + k, sizeof cor_dsk5);
+                __builtin_memcpy(&cor_sk0, cor_s + 0 + k, sizeof cor_sk0);
+                __builtin_memcpy(&cor_sk1, cor_s + 12 + k, sizeof cor_sk1);
+                __builtin_memcpy(&cor_sk2, cor_s + 24 + k, sizeof cor_sk2);
+                __builtin_memcpy(&cor_sk3, cor_s + 36 + k, sizeof cor_sk3);
+                __builtin_memcpy(&cor_sk4, cor_s + 48 + k, sizeof cor_sk4);
+                __builtin_memcpy(&cor_sk5, cor_s + 60 + k, sizeof cor_sk5);
+    row = ((cor_gi0*cor_dsk0 + cor_gi1*cor_dsk1 + cor_gi2*cor_dsk2 + cor_gi3*cor_dsk3 + cor_gi4*cor_dsk4 + cor_gi5*cor_dsk5)
+                    + (cor_ei0*cor_sk0 + cor_ei1*cor_sk1 + cor_ei2*cor_sk2 + cor_ei3*cor_sk3 + cor_ei4*cor_sk4 + cor_ei5*cor_sk5));
+                __builtin_memcpy(C + i * 12 + k, &row, sizeof row);
+            }
+            for (; k < i; ++k) {
+                C[i * 12 + k] = ((cor_gi0*cor_ds[0 + k] + cor_gi1*cor_ds[12 + k] + cor_gi2*cor_ds[24 + k] + cor_gi3*cor_ds[36 + k] + cor_gi4*cor_ds[48 + k] + cor_gi5*cor_ds[60 + k])
+                    + (cor_ei0*cor_s[0 + k] + cor_ei1*cor_s[12 + k] + cor_ei2*cor_s[24 + k] + cor_ei3*cor_s[36 + k] + cor_ei4*cor_s[48 + k] + cor_ei5*cor_s[60 + k]));
+            }
+            for (; k + (int)(sizeof(chain12_gram_vec) / sizeof(chain12_real)) <= 12; k += (int)(sizeof(chain12_gram_vec) / sizeof(chain12_real))) {
+                chain12_gram_vec cor_fk0, cor_fk1, cor_fk2, cor_fk3, cor_fk4, cor_fk5, row;
+                __builtin_memcpy(&cor_fk0, cor_f + 0 + k, sizeof cor_fk0);
+                __builtin_memcpy(&cor_fk1, cor_f + 12 + k, sizeof cor_fk1);
+                __builtin_memcpy(&cor_fk2, cor_f + 24 + k, sizeof cor_fk2);
+                __builtin_memcpy(&cor_fk3, cor_f + 36 + k, sizeof cor_fk3);
+                __builtin_memcpy(&cor_fk4, cor_f + 48 + k, sizeof cor_fk4);
+                __builtin_memcpy(&cor_fk5, cor_f + 60 + k, sizeof cor_fk5);
+    row = (cor_si0*cor_fk0 + cor_si1*cor_fk1 + cor_si2*cor_fk2 + cor_si3*cor_fk3 + cor_si4*cor_fk4 + cor_si5*cor_fk5);
+                __builtin_memcpy(C + i * 12 + k, &row, sizeof row);
+            }
+            for (; k < 12; ++k) {
+                C[i * 12 + k] = (cor_si0*cor_f[0 + k] + cor_si1*cor_f[12 + k] + cor_si2*cor_f[24 + k] + cor_si3*cor_f[36 + k] + cor_si4*cor_f[48 + k] + cor_si5*cor_f[60 + k]);
+            }
+        }
+    }
+#else
     for (int i = 0; i < 12; ++i) {
         const chain12_real cor_si0 = cor_s[0 + i], cor_si1 = cor_s[12 + i], cor_si2 = cor_s[24 + i], cor_si3 = cor_s[36 + i], cor_si4 = cor_s[48 + i], cor_si5 = cor_s[60 + i];
         const chain12_real cor_gi0 = cor_g[0 + i], cor_gi1 = cor_g[12 + i], cor_gi2 = cor_g[24 + i], cor_gi3 = cor_g[36 + i], cor_gi4 = cor_g[48 + i], cor_gi5 = cor_g[60 + i];
         const chain12_real cor_ei0 = cor_e[0 + i], cor_ei1 = cor_e[12 + i], cor_ei2 = cor_e[24 + i], cor_ei3 = cor_e[36 + i], cor_ei4 = cor_e[48 + i], cor_ei5 = cor_e[60 + i];
-        for (int k = 0; k < i; ++k) {
+    for (int k = 0; k < i; ++k) {
             C[i * 12 + k] = ((cor_gi0*cor_ds[0 + k] + cor_gi1*cor_ds[12 + k] + cor_gi2*cor_ds[24 + k] + cor_gi3*cor_ds[36 + k] + cor_gi4*cor_ds[48 + k] + cor_gi5*cor_ds[60 + k])
-                + (cor_ei0*cor_s[0 + k] + cor_ei1*cor_s[12 + k] + cor_ei2*cor_s[24 + k] + cor_ei3*cor_s[36 + k] + cor_ei4*cor_s[48 + k] + cor_ei5*cor_s[60 + k]));
+                    + (cor_ei0*cor_s[0 + k] + cor_ei1*cor_s[12 + k] + cor_ei2*cor_s[24 + k] + cor_ei3*cor_s[36 + k] + cor_ei4*cor_s[48 + k] + cor_ei5*cor_s[60 + k]));
         }
         for (int k = i; k < 12; ++k) {
             C[i * 12 + k] = (cor_si0*cor_f[0 + k] + cor_si1*cor_f[12 + k] + cor_si2*cor_f[24 + k] + cor_si3*cor_f[36 + k] + cor_si4*cor_f[48 + k] + cor_si5*cor_f[60 + k]);
         }
     }
+#endif
 }
 
 void chain12_gravity(const chain12_real *q, chain12_real *c)

@@ -131,6 +131,12 @@ typedef double chain12_real;
  * by a branch-free polynomial within 1 ulp of libm for |q| <= 1e5 rad (libm's sin and cos
  * beyond, and for every angle when SYMDYN_LIBM_TRIG is defined).
  *
+ * The loops over arrays of 6-vectors in this long chain's functions (the mass matrix's
+ * off-diagonal entries D_ij = S_i . F_j, the Coriolis matrix's C_ik = S_i . F_k above the
+ * diagonal and g_i . dS_k + e_i . S_k below) run over GCC/Clang vector types where the target
+ * has 16- or 32-byte vector registers (SSE2, AVX, NEON), each entry summed in the plain loop's
+ * order; define SYMDYN_NO_VECTOR for the plain loop.
+ *
  * Floating-point contraction: compile with -ffp-contract=off (the default of -std=c99) for the
  * results documented here, identical across compilers and optimization levels.  GCC's
  * vectorizer (-O3, or -O2 from GCC 12, on FMA hardware such as -march=native) may still fuse

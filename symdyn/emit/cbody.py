@@ -86,13 +86,16 @@ def gram_ops(size: int) -> Counter:
     return Counter({"mul": 6 * size * (size - 1) // 2, "add": 5 * size * (size - 1) // 2})
 
 
-def coriolis_loop(out: str, n: int, ltype: str, store: str) -> list[str]:
+def coriolis_loop(out: str, n: int, ltype: str, store: str, prefix: str, vector: bool) -> list[str]:
     """C lines of the Coriolis matrix ``out`` (row-major n x n) from the factor arrays of
     :data:`symdyn.emit.cplan.CORIOLIS_ARRAYS` (component c of vector k at ``[c * n + k]``):
     ``out[i][k] = S_i . F_k`` for k >= i, ``g_i . dS_k + e_i . S_k`` for k < i, each row's
-    inner loops over consecutive k (contiguous in ``out`` and the arrays; gcc -O3 vectorizes
-    them).  ``store``: the cast to the output type, or empty."""
-    return _macro_lines(_loops().coriolis_loop(out, n, ltype, store))
+    inner loops over consecutive k (contiguous in ``out`` and the arrays).  gcc -O3 vectorizes
+    the plain loops, gcc -O2 does not: where the compiler has vector types
+    (``PREFIX_GRAM_BYTES``, as for :func:`gram_loop`) they run over vectors of consecutive k,
+    each entry summed in the plain loop's order.  ``store``: the cast to the output type, or
+    empty (a cast, or ``vector``, the batch form's lanes function, keeps the plain loop)."""
+    return _macro_lines(_loops().coriolis_loop(out, n, ltype, store, prefix, vector))
 
 
 def coriolis_ops(n: int) -> Counter:
@@ -310,7 +313,7 @@ class BodyWriter:
             self.ops += gram_ops(size)
         if plan.coriolis:
             out, n = plan.coriolis
-            self.lines += coriolis_loop(out, n, self.ltype, self.store)
+            self.lines += coriolis_loop(out, n, self.ltype, self.store, ctx.prefix, self.vector)
             self.ops += coriolis_ops(n)
         if plan.looped:
             solve, solve_ops = looped_solve(ctx.n, self.ltype, self.printer.literal(ctx.rtol), self.printer.literal(1.0),

@@ -62,7 +62,8 @@ class CFunction:
     trig_type: str = ""
     #: the batch form (see build_function), or None
     batch: dict | None = None
-    #: whether the body has the mass matrix's off-diagonal loop (see symdyn.emit.cbody.gram_loop)
+    #: whether the body has the mass matrix's off-diagonal loop or the Coriolis matrix's (see
+    #: symdyn.emit.cbody.gram_loop, coriolis_loop): they use vector types where there are some
     gram_loop: bool = False
 
     @property
@@ -193,7 +194,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
     common = dict(summary=summary, args=args, lines=body.lines, ops=body.ops, unused=unused,
-                  trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram))
+                  trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis))
     if plan.checked:
         status = REGISTRY[name].status_for(eqs.fd_method)
         return CFunction(name=f"{name}_checked", returns="int",
