@@ -1,65 +1,77 @@
-"""Forward dynamics against Pinocchio's C++ ``aba``, in the same run: LDL^T and the
-articulated-body algorithm, double and float.
+"""Forward dynamics against Pinocchio's C++ ``aba`` and the Pinocchio -> CasADi peer: LDL^T and the
+articulated-body algorithm, double and float, each timed by benchmarks/harness.py.
 
-Usage:  python benchmarks/forward_dynamics_speed.py [ROBOT ...]   (default: puma560 ur5 iiwa14 panda)
+Usage:  python benchmarks/forward_dynamics_speed.py [ROBOT ...] [--processes 5] [--passes 15]
+            [--states 10000] [--flags O2,O3native] [--no-peer] [--smoke]
+        (default: puma560 ur5 iiwa14 panda)
 
-For each robot generates ``forward_dynamics`` four ways (``--fd-method ldlt|aba`` x
-``--precision double|float``), times each with the harness of :mod:`symdyn.check.timing`
-(-O3 -march=native, ns per call, median of 7 repeats of 20000 calls cycling over 10,000
-distinct random states), times Pinocchio's ``aba`` on the same model (benchmarks/pinocchio_bench.cpp,
-also cycling over 10,000 states) and prints a Markdown table with the ratio Pinocchio / symdyn
-(> 1: symdyn is faster) and each variant's operation count. ``panda`` has full (non-diagonal)
-inertia tensors, as identified by Gaz et al. 2019.
+For each variant of symdyn's ``forward_dynamics`` (``--fd-method ldlt|aba`` x ``--precision
+double|float``) one harness run times it beside Pinocchio's ``aba`` (its faster convention)
+in the same processes, over the same states (float C reads float copies of them), same GCC and
+flags; the peer's ``aba`` C is timed in the first run.  Prints, per flag set, Pinocchio's time,
+the peer's, and per variant symdyn's time and the ratio Pinocchio / symdyn (> 1: symdyn is
+faster), each as median over processes (min-max), then each variant's operation count
+(mul/add/div).  ``panda`` has full (non-diagonal) inertia tensors, as identified by Gaz et al.
+2019.
 """
 
+import argparse
 import os
-import subprocess
 import sys
-import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-sys.path.insert(0, os.path.join(HERE, ".."))
 
-import symdyn  # noqa: E402
-from c_speed import pinocchio_bench_binary  # noqa: E402
-from symdyn.check.pinocchio_model import build_model  # noqa: E402
-from symdyn.check.timing import parse, time_generated  # noqa: E402
-from symdyn.emit.cgen import build_function, generate_c  # noqa: E402
+import harness  # noqa: E402
 
 VARIANTS = (("ldlt", "double"), ("aba", "double"), ("ldlt", "float"), ("aba", "float"))
 
 
+def table(runs, flag_set: str) -> str:
+    """runs: {variant: rows of one harness run}."""
+    first = runs[VARIANTS[0]]
+    lines = ["| robot | Pinocchio aba ns | CasADi peer ns | "
+             + " | ".join(f"{m} {p} ns, Pinocchio / symdyn" for m, p in VARIANTS) + " |",
+             "|---|---:|---:|" + "---:|" * len(VARIANTS)]
+    for index, row in enumerate(r for r in first if r.flag_set == flag_set):
+        convention, pinocchio = row.side("pinocchio")
+        peer = row.side("peer")
+        cells = []
+        for variant in VARIANTS:
+            other = [r for r in runs[variant] if r.flag_set == flag_set][index]
+            cells.append(f"{harness.summary(other.times['symdyn'])}, {harness.summary(other.ratio('pinocchio'), 2)}")
+        peer_cell = harness.summary(peer[1]) + (f" {peer[0]}" if peer[0] else "") if peer else "-"
+        lines.append(f"| {row.case.label} | {harness.summary(pinocchio)} {convention} | {peer_cell} | "
+                     + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
 def main(argv=None):
-    names = (argv if argv is not None else sys.argv[1:]) or ["puma560", "ur5", "iiwa14", "panda"]
-    with tempfile.TemporaryDirectory() as workdir:
-        print("building Pinocchio benchmark (C++, takes a minute)...", file=sys.stderr)
-        pinbench = pinocchio_bench_binary(workdir)
-        header = " | ".join(f"{m} {p} (ns, ratio)" for m, p in VARIANTS)
-        print(f"| robot | Pinocchio aba (ns) | {header} | operations {' / '.join(f'{m} {p}' for m, p in VARIANTS[:2])} |")
-        print("|---|---:|" + "---:|" * len(VARIANTS) + "---|")
-        for name in names:
-            robot = symdyn.load(os.path.join(HERE, "..", "robots", f"{name}.yaml"))
-            model, _ = build_model(robot)
-            model_file = os.path.join(workdir, f"{name}.txt")
-            model.saveToText(model_file)
-            theirs = parse(subprocess.run([pinbench, model_file], capture_output=True, text=True, check=True).stdout)["aba"]
-            cells, ops = [], []
-            for fd_method in ("ldlt", "aba"):
-                eqs = symdyn.derive(robot, outputs=["forward_dynamics"], fd_method=fd_method)
-                for method, precision in VARIANTS:
-                    if method != fd_method:
-                        continue
-                    folder = os.path.join(workdir, f"{name}-{method}-{precision}")
-                    os.makedirs(folder)
-                    files = generate_c(eqs, ["forward_dynamics"], precision)
-                    mine = time_generated(files, name, robot.dof, ["forward_dynamics"], precision, folder)["forward_dynamics"]
-                    cells.append((VARIANTS.index((method, precision)), f"{mine:.0f} ({theirs / mine:.1f}x)"))
-                    if precision == "double":
-                        o = build_function(eqs, "forward_dynamics", "double", name).ops
-                        ops.append((fd_method, f"{o['mul']}/{o['add']}/{o['div']}"))
-            row = " | ".join(text for _, text in sorted(cells))
-            print(f"| {name} | {theirs:.0f} | {row} | {' ; '.join(f'{m} {t}' for m, t in ops)} |", flush=True)
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("robots", nargs="*", default=["puma560", "ur5", "iiwa14", "panda"])
+    harness.add_arguments(parser)
+    args = parser.parse_args(argv)
+    kwargs = harness.options(args)
+    runs = {}
+    for k, (method, precision) in enumerate(VARIANTS):
+        print(f"forward dynamics by {method}, {precision}...", file=sys.stderr)
+        options = {**kwargs, "peer": kwargs["peer"] and k == 0}  # the peer's aba once
+        runs[method, precision] = harness.run(args.robots, ["forward_dynamics"], **options,
+                                              generate_options={"fd_method": method, "precision": precision})
+    print(harness.environment(kwargs))
+    for flag_set in kwargs["flag_sets"]:
+        print(f"\n### {' '.join(harness.FLAG_SETS[flag_set])} (every side)\n")
+        print(table(runs, flag_set))
+    print("\n### Operations (mul/add/div) of symdyn's forward_dynamics\n")
+    print("| robot | " + " | ".join(f"{m} {p}" for m, p in VARIANTS) + " |")
+    print("|---|" + "---:|" * len(VARIANTS))
+    for index, row in enumerate(r for r in runs[VARIANTS[0]] if r.flag_set == kwargs["flag_sets"][0]):
+        cells = []
+        for variant in VARIANTS:
+            case = [r for r in runs[variant] if r.flag_set == kwargs["flag_sets"][0]][index].case
+            ops = case.costs()["forward_dynamics"]
+            cells.append(f"{ops['mul']}/{ops['add']}/{ops['div']}")
+        print(f"| {row.case.label} | " + " | ".join(cells) + " |")
 
 
 if __name__ == "__main__":

@@ -1,13 +1,16 @@
 """Tool kinematics of symdyn's generated C against Pinocchio's C++ in the same run, and the
 derivation time of a URDF arm against the same arm from its DH table.
 
-Usage:  python benchmarks/kinematics_speed.py
+Usage:  python benchmarks/kinematics_speed.py [--smoke]
+        (--smoke: the UR5 URDF and the ur5 DH table only, one derivation each, 200 states)
 
 Robots: the UR5 and Panda URDFs of the example-robot-data wheel (a test extra), read by
 symdyn and, for Pinocchio, by Pinocchio's own URDF parser (``buildModelFromUrdf``, joints off
 the chain locked), and the bundled DH robots ur5 and panda.  Timing: ns per call, median of 7
-repeats of 20000 calls cycling over 10,000 distinct random states, gcc -O3 -march=native for
-symdyn's C.  Ratios are Pinocchio / symdyn (> 1: symdyn is faster):
+repeats of 20000 calls cycling over 10,000 distinct random states (thread CPU time on
+Pinocchio's side, benchmarks/bench_timing.hpp), gcc -O3 -march=native -std=c99 for symdyn's C
+and g++ -O3 -march=native -ffp-contract=off for Pinocchio (no FMA contraction on either side, as
+-std=c99 implies it; built once and cached by benchmarks/harness.py).  Ratios are Pinocchio / symdyn (> 1: symdyn is faster):
 
 - FK + J: symdyn's ``kinematics`` (pose and Jacobian in one call; the two single functions cost
   about twice as much, each computing the joints' sin/cos) against
@@ -18,6 +21,7 @@ symdyn's C.  Ratios are Pinocchio / symdyn (> 1: symdyn is faster):
   ``getFrameClassicalAcceleration``.
 """
 
+import argparse
 import os
 import subprocess
 import sys
@@ -50,16 +54,18 @@ URDFS = [  # (label, path under example-robot-data, tip, tool, bundled DH robot 
 ]
 
 
-def pinocchio_binary(workdir):
-    from c_speed import pinocchio_bench_binary
-    return pinocchio_bench_binary(workdir, "pinocchio_kinematics_bench.cpp", "pinkin")
+def pinocchio_binary(workdir, flags=("-O3", "-march=native", "-ffp-contract=off")):
+    import harness
+    objects = [harness.pinocchio_object("pinocchio_kinematics_bench.cpp", "pinocchio-kinematics", flags)]
+    return harness.link_pinocchio(objects, os.path.join(workdir, "pinkin"), flags)
 
 
-def pinocchio_times(binary, model, frame, workdir, label):
+def pinocchio_times(binary, model, frame, workdir, label, states):
     from symdyn.check.timing import parse
     path = os.path.join(workdir, f"{label.split()[0]}-{len(os.listdir(workdir))}.txt")
     model.saveToText(path)
-    return parse(subprocess.run([binary, path, frame], capture_output=True, text=True, check=True).stdout)
+    return parse(subprocess.run([binary, path, frame, str(states)], capture_output=True, text=True,
+                                check=True).stdout)
 
 
 def symdyn_times(robot, workdir):
@@ -77,26 +83,29 @@ def derivation_seconds(robot, repeats=3):
     return best
 
 
-def main():
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--smoke", action="store_true", help="UR5 only, one derivation each, 200 states")
+    args = parser.parse_args(argv)
     robots_dir = example_robot_data()
     rows, derivations = [], []
+    states, repeats = (200, 1) if args.smoke else (10000, 3)
     with tempfile.TemporaryDirectory() as workdir:
-        print("building the Pinocchio benchmark (C++, takes a minute)...", file=sys.stderr)
         binary = pinocchio_binary(workdir)
         cases = []
-        for label, relative, tip, tool, dh_name in URDFS:
+        for label, relative, tip, tool, dh_name in URDFS[:1] if args.smoke else URDFS:
             path = os.path.join(robots_dir, relative)
             robot = symdyn.load(path, tip=tip, tool=tool)
             reference = UrdfReference(path, tip, tool)
             cases.append((label, robot, reference.model, tool or tip))
             dh = symdyn.load(os.path.join(HERE, "..", "robots", f"{dh_name}.yaml"))
-            derivations.append((label, derivation_seconds(robot), dh_name, derivation_seconds(dh)))
-        for dh_name in ("ur5", "panda", "puma560"):
+            derivations.append((label, derivation_seconds(robot, repeats), dh_name, derivation_seconds(dh, repeats)))
+        for dh_name in ("ur5",) if args.smoke else ("ur5", "panda", "puma560"):
             robot = symdyn.load(os.path.join(HERE, "..", "robots", f"{dh_name}.yaml"))
             cases.append((f"{dh_name} (DH)", robot, PinocchioReference(robot).model, "tool"))
         for label, robot, model, frame in cases:
             _, mine = symdyn_times(robot, workdir)
-            theirs = pinocchio_times(binary, model, frame, workdir, label)
+            theirs = pinocchio_times(binary, model, frame, workdir, label, states)
             fk_j = mine["kinematics"]
             rows.append((label, fk_j, theirs["computeJointJacobians_framesForwardKinematics"],
                          theirs["computeFrameJacobian"], mine["forward_kinematics"], theirs["updateFramePlacement"],

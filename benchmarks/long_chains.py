@@ -1,24 +1,24 @@
 """Long generic chains: where straight-line code stops paying, measured against Pinocchio.
 
-Usage:  python benchmarks/long_chains.py [N ...] [--functions LIST] [--fd-method ldlt|aba|auto]
-        (default N: 6 12 24 48; functions: inverse_dynamics,mass_matrix,gravity,forward_dynamics)
+Usage:  python benchmarks/long_chains.py [N ...] [--functions LIST] [--fd-method ldlt|aba]
+            [--processes 5] [--passes 15] [--states 10000] [--flags O2,O3native] [--no-peer] [--smoke]
+        (default N: 6 12 24 48; functions: inverse_dynamics,mass_matrix,gravity,forward_dynamics;
+        forward dynamics: symdyn's own choice, as ``symdyn generate`` makes it, unless --fd-method)
 
 Each chain is generic: revolute joints with standard DH parameters drawn at random (seeded; a, d
 in [0.05, 0.4] m, twists anywhere in (-pi, pi), no zeros or quarter turns to exploit), masses in
 [0.5, 5] kg, full inertia tensors (random principal moments satisfying the triangle inequality,
-rotated by a random rotation) and COM offsets in all three axes.  For each N: derive time, C
-operation counts, C file size, gcc -O2 compile time of the file (the size a user compiles), and
-ns per call (gcc -O2 and gcc -O3 -march=native, median of 7 x 20000 calls over 10,000 distinct
-states) beside Pinocchio's C++ (rnea, crba, computeGeneralizedGravity, aba) timed in the same run.
-Prints a Markdown table.
+rotated by a random rotation) and COM offsets in all three axes.  Timing: benchmarks/harness.py
+(its docstring gives the method): symdyn's C, Pinocchio's C++ and the Pinocchio -> CasADi peer,
+same GCC and flags, interleaved passes over the same random states, several processes.  Prints
+the harness's tables, then per N and function: the time symdyn took to derive and emit the C
+(``symdyn generate --no-cache``), its operation counts, the C file's size and gcc -O2's compile
+time and peak memory on it (the file a user compiles).
 """
 
 import argparse
 import os
-import subprocess
 import sys
-import tempfile
-import time
 
 import numpy as np
 
@@ -26,13 +26,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 sys.path.insert(0, HERE)
 
-import symdyn  # noqa: E402
-from symdyn.check.pinocchio_model import build_model  # noqa: E402
-from symdyn.check.timing import parse, symdyn_harness  # noqa: E402
-from symdyn.emit.cgen import build_function, generate_c  # noqa: E402
-
-PINOCCHIO = {"inverse_dynamics": "rnea", "mass_matrix": "crba", "gravity": "computeGeneralizedGravity",
-             "coriolis": "nonLinearEffects", "coriolis_matrix": "computeCoriolisMatrix", "forward_dynamics": "aba"}
+import harness  # noqa: E402
 
 
 def generic_chain(n: int, seed: int = 0) -> str:
@@ -54,58 +48,38 @@ def generic_chain(n: int, seed: int = 0) -> str:
     return "\n".join(lines) + "\n"
 
 
+def chain_table(rows) -> str:
+    """Per N and function: generation time, operation counts, file size, gcc -O2 compile cost."""
+    lines = ["| N | function | derive + emit, no cache (s) | symdyn forward dynamics | mul | add | C file (kB) | "
+             "gcc -O2 compile (s) | gcc -O2 peak (MB) |", "|---:|---|---:|---|---:|---:|---:|---:|---:|"]
+    seen = set()
+    for row in rows:
+        case = row.case
+        if (id(case), row.function) in seen:
+            continue
+        seen.add((id(case), row.function))
+        ops = case.costs().get(row.function, {"mul": "-", "add": "-"})
+        compile_s, peak = case.compile_costs.get(("O2", "symdyn"), ("-", "-"))
+        compile_cells = f"{compile_s:.1f} | {peak:.0f}" if compile_s != "-" else "- | -"
+        lines.append(f"| {case.dof} | {row.function} | {case.generate_seconds:.1f} | {case.fd_method} | {ops['mul']} | "
+                     f"{ops['add']} | {case.sizes['symdyn'] / 1000:.0f} | {compile_cells} |")
+    return "\n".join(lines)
+
+
 def main(argv=None):
-    from c_speed import pinocchio_bench_binary
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("sizes", nargs="*", type=int, default=[6, 12, 24, 48])
     parser.add_argument("--functions", default="inverse_dynamics,mass_matrix,gravity,forward_dynamics")
     parser.add_argument("--fd-method", default=None, choices=("ldlt", "aba"))
+    harness.add_arguments(parser)
     args = parser.parse_args(argv)
-    functions = args.functions.split(",")
-    with tempfile.TemporaryDirectory() as workdir:
-        print("building Pinocchio benchmark (C++, takes a minute)...", file=sys.stderr)
-        pinbench = pinocchio_bench_binary(workdir)
-        print("| N | function | derive (s) | emit (s) | mul | add | C file (kB) | gcc -O2 compile (s) | "
-              "-O2 ns | -O3 native ns | Pinocchio ns | Pinocchio / -O2 | Pinocchio / -O3 native |")
-        print("|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-        for n in args.sizes:
-            path = os.path.join(workdir, f"generic{n}.yaml")
-            with open(path, "w") as handle:
-                handle.write(generic_chain(n))
-            robot = symdyn.load(path)
-            start = time.perf_counter()
-            kwargs = {"fd_method": args.fd_method} if args.fd_method else {}
-            eqs = symdyn.derive(robot, outputs=functions, **kwargs)
-            derive_time = time.perf_counter() - start
-            start = time.perf_counter()
-            files = generate_c(eqs, functions)
-            emit_time = time.perf_counter() - start
-            for fname, text in files.items():
-                with open(os.path.join(workdir, fname), "w") as handle:
-                    handle.write(text)
-            source = os.path.join(workdir, f"generic{n}_dynamics.c")
-            start = time.perf_counter()
-            subprocess.run(["gcc", "-O2", "-std=c99", "-c", source, "-o", os.path.join(workdir, "o2.o")], check=True)
-            compile_time = time.perf_counter() - start
-            harness = os.path.join(workdir, "time.c")
-            with open(harness, "w") as handle:
-                handle.write(symdyn_harness(f"generic{n}", n, functions))
-            ns = {}
-            for label, flags in (("O2", ["-O2"]), ("O3", ["-O3", "-march=native"])):
-                exe = os.path.join(workdir, f"time_{label}")
-                subprocess.run(["gcc", *flags, "-std=c99", "-w", harness, source, "-o", exe, "-lm"], check=True)
-                ns[label] = parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)
-            model, _ = build_model(robot)
-            model_file = os.path.join(workdir, f"generic{n}.txt")
-            model.saveToText(model_file)
-            theirs = parse(subprocess.run([pinbench, model_file], capture_output=True, text=True, check=True).stdout)
-            size = os.path.getsize(source) / 1000
-            for f in functions:
-                ops = build_function(eqs, f, "double", robot.name).ops
-                pin = theirs[PINOCCHIO[f]]
-                print(f"| {n} | {f} | {derive_time:.1f} | {emit_time:.1f} | {ops['mul']} | {ops['add']} | {size:.0f} | "
-                      f"{compile_time:.1f} | {ns['O2'][f]:.0f} | {ns['O3'][f]:.0f} | {pin:.0f} | "
-                      f"{pin / ns['O2'][f]:.1f}x | {pin / ns['O3'][f]:.1f}x |", flush=True)
+    kwargs = harness.options(args)
+    generate_options = {"use_cache": False, **({"fd_method": args.fd_method} if args.fd_method else {})}
+    rows = harness.run([str(n) for n in args.sizes], args.functions.split(","), generate_options=generate_options,
+                       **kwargs)
+    harness.print_tables(rows, kwargs)
+    print("\n### Generated code per chain\n")
+    print(chain_table(rows))
 
 
 if __name__ == "__main__":

@@ -1,8 +1,9 @@
 """Time a platform robot's generated inverse and forward dynamics against Pinocchio's C++
 closed-loop computation, in the same run (issue: parallel platforms).
 
-Usage:  python benchmarks/parallel_speed.py [PLATFORM ...] [--states N] [--symdyn-flags "-O2"]
-        (default: flight_simulator, 10000 states, the generated C at -O3 -march=native)
+Usage:  python benchmarks/parallel_speed.py [PLATFORM ...] [--states N] [--symdyn-flags "-O2"] [--smoke]
+        (default: flight_simulator, 10000 states, the generated C at -O3 -march=native; --smoke:
+        20 states)
 
 For each platform (robots/parallel/NAME.yaml): generates double-precision C, builds Pinocchio's
 closed-loop model (symdyn.check.pinocchio_model.build_closed_loop_model: a free-flying platform,
@@ -12,7 +13,8 @@ joints, which Pinocchio's constraint solvers need, and which moves the accelerat
 each leg's joint positions, rates and accelerations from Pinocchio's closed-loop model
 (symdyn.check.closed_loop, the reference of symdyn verify and bench: Pinocchio's side is handed
 them, it has no inverse kinematics of closed loops).  benchmarks/pinocchio_platform_bench.cpp, compiled with g++ -O3 -march=native against the
-pin wheel's Pinocchio and linked with the generated C (gcc, same flags), times
+pin wheel's Pinocchio (-ffp-contract=off, as -std=c99 implies for the C; once, cached by
+benchmarks/harness.py) and linked with the generated C (gcc, same flags), times
 
 - inverse dynamics: symdyn's NAME_inverse_dynamics(pose, twist, twist_rate) against Pinocchio's
   rnea + computeJointJacobians + getConstraintsJacobian + LU solve of [Jc^T S] (42 x 42);
@@ -20,8 +22,8 @@ pin wheel's Pinocchio and linked with the generated C (gcc, same flags), times
   constraintDynamics (proximal accuracy 1e-12, mu 1e-12, 10 iterations) and lcaba
   (loop-constrained ABA; accuracy 1e-12, mu 1e-6, up to 50 iterations);
 
-ns per call, median of 7 repeats of 20000 calls cycling over the states, and checks every state's
-results against each other.  Prints a Markdown table (ratio = Pinocchio's time / symdyn's).
+ns per call (thread CPU time), median of 7 repeats of 20000 calls (2 N when fewer) cycling over
+the states, and checks every state's results against each other.  Prints a Markdown table (ratio = Pinocchio's time / symdyn's).
 """
 
 import multiprocessing
@@ -35,14 +37,15 @@ import numpy as np
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 
-from benchmarks.c_speed import pinocchio_bench_binary  # noqa: E402
+sys.path.insert(0, HERE)
+import harness  # noqa: E402
 from symdyn.check.timing import parse  # noqa: E402
 
 #: platform -> (home height of P (m), range of positions (m) and angles (rad) about the home pose)
 PLATFORMS = {"flight_simulator": (2.0, 0.2, 0.17), "sru_platform": (0.55, 0.03, 0.08)}
 ARMATURE = 1e-9
 #: gcc flags of the generated C (--symdyn-flags "-O2" for a baseline x86-64 build); Pinocchio's
-#: side is always built with g++ -O3 -march=native, the flags of its own builds here
+#: side is always built with g++ -O3 -march=native -ffp-contract=off
 SYMDYN_FLAGS = ["-O3", "-march=native"]
 
 
@@ -114,16 +117,14 @@ def run(name, count, workdir):
 
     subprocess.run(["gcc", "-std=c99", *SYMDYN_FLAGS, "-c", os.path.join(workdir, f"{name}_dynamics.c"),
                     "-o", os.path.join(workdir, f"{name}.o")], check=True)
-    print(f"{name}: building the C++ benchmark (takes a minute)...", file=sys.stderr)
-    exe = pinocchio_bench_binary(workdir, source="pinocchio_platform_bench.cpp", name=f"bench_{name}",
-                                 flags=("-O3", "-march=native", f"-I{workdir}",
-                                        f'-DPLATFORM_HEADER="{name}_dynamics.h"',
-                                        f"-DPLATFORM_inverse_dynamics={name}_inverse_dynamics",
-                                        f"-DPLATFORM_forward_dynamics={name}_forward_dynamics",
-                                        os.path.join(workdir, f"{name}.o")))
+    flags = ("-O3", "-march=native", "-ffp-contract=off")  # as gcc -std=c99 on the generated C
+    bench = harness.pinocchio_object("pinocchio_platform_bench.cpp", "pinocchio-platform", flags)
+    exe = harness.link_pinocchio([bench, os.path.join(workdir, f"{name}.o")], os.path.join(workdir, f"bench_{name}"),
+                                 flags, [f"-Wl,--defsym,platform_inverse_dynamics={name}_inverse_dynamics",
+                                         f"-Wl,--defsym,platform_forward_dynamics={name}_forward_dynamics"])
     output = subprocess.run([exe, os.path.join(workdir, "model.txt"), os.path.join(workdir, "closures.txt"),
                              os.path.join(workdir, "states.bin"), os.path.join(workdir, "results.bin"),
-                             os.path.join(workdir, "model_no_armature.txt")],
+                             os.path.join(workdir, "model_no_armature.txt"), str(min(20000, 2 * count))],
                             capture_output=True, text=True, check=True).stdout
     times = parse(output)
     nv = model.nv
@@ -146,6 +147,9 @@ def run(name, count, workdir):
 def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     count = 10000
+    if "--smoke" in argv:
+        argv.remove("--smoke")
+        count = 20
     if "--states" in argv:
         k = argv.index("--states")
         count = int(argv[k + 1])
@@ -181,7 +185,7 @@ def main(argv=None):
         costs = [line.strip(" *") for line in header.splitlines() if line.startswith(" * Cost:")]
         print(f"\n{name}: op counts (header): inverse dynamics {costs[0]}; forward dynamics {costs[1]}", file=sys.stderr)
     print(f"\n({count} distinct states; symdyn: gcc {' '.join(SYMDYN_FLAGS)}; Pinocchio {__import__('pinocchio').__version__}: "
-          "g++ -O3 -march=native)")
+          "g++ -O3 -march=native -ffp-contract=off)")
 
 
 if __name__ == "__main__":

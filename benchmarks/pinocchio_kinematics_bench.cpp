@@ -1,6 +1,7 @@
 // Times Pinocchio's C++ kinematics of one frame on a model saved by benchmarks/kinematics_speed.py
-// (pinocchio::Model::saveToText).  Usage: pinkin MODEL.txt FRAME.  Prints "name ns_per_call"
-// lines (median of 7 repeats of 20000 calls cycling over 10,000 distinct random states).
+// (pinocchio::Model::saveToText).  Usage: pinkin MODEL.txt FRAME [STATES].  Prints "name
+// ns_per_call" lines (median of 7 repeats of 2 x STATES calls cycling over STATES distinct random
+// states, default 10,000; thread CPU time, bench_timing.hpp).
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/frames.hpp>
 #include <pinocchio/algorithm/jacobian.hpp>
@@ -9,6 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <vector>
 
 #include "bench_timing.hpp"
@@ -20,7 +22,8 @@ int main(int argc, char **argv) {
   pinocchio::Data data(model);
   const pinocchio::FrameIndex frame = model.getFrameId(argv[2]);
   if (frame >= model.frames.size()) return 3;
-  const int calls = 20000, states = 10000;
+  const int states = argc > 3 ? std::atoi(argv[3]) : 10000, calls = 2 * states;
+  if (states < 1) return 2;
   std::vector<Eigen::VectorXd> q, v;
   for (int k = 0; k < states; ++k) {
     q.push_back(pinocchio::randomConfiguration(model, -Eigen::VectorXd::Ones(model.nq), Eigen::VectorXd::Ones(model.nq)));

@@ -4,7 +4,9 @@
 // cycling over the states) and writes every state's results to a binary file for the accuracy
 // comparison.
 //
-//   pinocchio_platform_bench MODEL.txt CLOSURES.txt STATES.bin RESULTS.bin MODEL_NO_ARMATURE.txt
+//   pinocchio_platform_bench MODEL.txt CLOSURES.txt STATES.bin RESULTS.bin MODEL_NO_ARMATURE.txt [CALLS]
+//
+// (CALLS: default 20000.)
 //
 // MODEL.txt has a 1e-9 armature on the legs' joints (Pinocchio's constraint solvers factorize the
 // joint-space mass matrix, which the legs' massless crosses leave singular); inverse dynamics uses
@@ -28,14 +30,26 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <vector>
 
-// PLATFORM_HEADER ("NAME_dynamics.h"), PLATFORM_inverse_dynamics and PLATFORM_forward_dynamics
-// are defined on the command line (benchmarks/parallel_speed.py)
+// The generated functions: with PLATFORM_HEADER ("NAME_dynamics.h"), PLATFORM_inverse_dynamics
+// and PLATFORM_forward_dynamics defined on the command line, from that header; else declared here
+// as platform_inverse_dynamics and platform_forward_dynamics, which the link maps to the platform's
+// (benchmarks/parallel_speed.py: -Wl,--defsym, so that this file compiles once for every platform)
+#ifdef PLATFORM_HEADER
 extern "C" {
 #include PLATFORM_HEADER
 }
+#else
+extern "C" int platform_inverse_dynamics(const double pose[7], const double twist[6], const double twist_rate[6],
+                                         double phi[6]);
+extern "C" int platform_forward_dynamics(const double pose[7], const double twist[6], const double phi[6],
+                                         double twist_rate[6], double qdd[6]);
+#define PLATFORM_inverse_dynamics platform_inverse_dynamics
+#define PLATFORM_forward_dynamics platform_forward_dynamics
+#endif
 
 // lcaba's proximal settings: mu 1e-6 (its documentation's typical value; 1e-12 left errors of
 // 1e-5 to 1e-2 in the accelerations here) and up to 50 iterations to an accuracy of 1e-12
@@ -221,7 +235,7 @@ int main(int argc, char **argv) {
   }
   results.close();
 
-  const int calls = 20000;
+  const int calls = argc > 6 ? std::atoi(argv[6]) : 20000;
   double sink = 0;
   std::printf("states %d\n", states);
   std::printf("symdyn_inverse_dynamics %.1f\n", time_ns([&](int i) { sink += ours_inverse(i % states); }, calls));

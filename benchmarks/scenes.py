@@ -1,10 +1,12 @@
 """What specialization buys: operation counts and time per call of each scene in
 robots/scenes/ (and float versions) against the full model's same function.
 
-Usage:  python benchmarks/scenes.py
-Prints a Markdown table (ns per call: median of 7 x 20000 calls, -O3 -march=native).
+Usage:  python benchmarks/scenes.py [--smoke]
+Prints a Markdown table (ns per call: median of 7 x 20000 calls, -O3 -march=native; the loop of
+symdyn.check.timing: no Pinocchio here).  --smoke: the first two cases only.
 """
 
+import argparse
 import os
 import sys
 import tempfile
@@ -33,11 +35,14 @@ CASES = [  # (label, scene file or robot, functions, precision)
 ]
 
 
-def main():
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--smoke", action="store_true", help="the first two cases only")
+    args = parser.parse_args(argv)
     print("| model | function | precision | ns | mul | add | div | sin/cos |")
     print("|---|---|---|---:|---:|---:|---:|---:|")
     with tempfile.TemporaryDirectory() as workdir:
-        for label, file, functions, precision in CASES:
+        for label, file, functions, precision in CASES[:2] if args.smoke else CASES:
             path = os.path.join(ROBOTS, file)
             robot = load_scene(path).robot if file.startswith("scenes/") else symdyn.load(path)
             eqs = symdyn.derive(robot)

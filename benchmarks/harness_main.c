@@ -1,0 +1,156 @@
+/* The timing driver of benchmarks/harness.py.
+ *
+ * Usage: harness STATES.bin MODEL.txt PASSES
+ *   STATES.bin: S states of N joints as doubles, four blocks of S x N (q, qd, qdd, tau), the same
+ *   arrays for every side; MODEL.txt: the Pinocchio model (pinocchio::Model::saveToText).
+ *
+ * harness_cases.h (written by harness.py for one robot) includes the code under test and lists
+ * the cases as X(function, side, call, result), the call reading the state through Q, QD, QDD,
+ * TAU (float copies QF, QDF, QDDF, TAUF when SYMDYN_FLOAT is defined, for symdyn's float C) and
+ * writing through OUT (OUTF), result the number it adds to a checksum (so no call can be
+ * dropped).  Each case gets a pass function that calls it once per state and returns the thread
+ * CPU time of the pass (CLOCK_THREAD_CPUTIME_ID) per call in ns.  After one untimed warm-up pass
+ * of every case, the sides of one function take turns, pass after pass (their order rotated each
+ * pass, so that no side always follows the same neighbour), so that drift in clock speed or
+ * cache state reaches all sides alike.  Prints "time FUNCTION SIDE ns ns ..." (one number per
+ * pass), "check NAME max_abs_difference max_abs_value" (Pinocchio's result against the CasADi
+ * peer's on the first state) and "checksum X". */
+#define _POSIX_C_SOURCE 199309L
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <math.h>
+
+#include "harness_pinocchio.h"
+#include "harness_cases.h"
+
+static long S;
+static double *q, *qd, *qdd, *tau, *OUT, *other;
+static volatile double sink;
+#ifdef SYMDYN_FLOAT
+static float *qf, *qdf, *qddf, *tauf, *OUTF;
+#define FLOAT_STATE const float *QF = qf + k * N, *QDF = qdf + k * N, *QDDF = qddf + k * N, *TAUF = tauf + k * N; \
+    (void)QF; (void)QDF; (void)QDDF; (void)TAUF;
+
+static void float_states(void) {
+    long i;
+    qf = malloc(sizeof(float) * 4 * S * N);
+    for (i = 0; i < 4 * S * N; ++i) qf[i] = (float)q[i];
+    qdf = qf + S * N;
+    qddf = qdf + S * N;
+    tauf = qddf + S * N;
+    OUTF = calloc(HARNESS_OUT_SIZE, sizeof(float));
+}
+#else
+#define FLOAT_STATE
+#endif
+
+static double cpu_ns(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+    return t.tv_sec * 1e9 + t.tv_nsec;
+}
+
+#ifdef HARNESS_PEER
+static const casadi_real *peer_arg[4];
+static casadi_real *peer_res[1];
+static casadi_int *peer_iw;
+static casadi_real *peer_w;
+#define PEER(f, a0, a1, a2) do { peer_arg[0] = a0; peer_arg[1] = a1; peer_arg[2] = a2; peer_res[0] = OUT; \
+    f(peer_arg, peer_res, peer_iw, peer_w, 0); } while (0)
+
+static void peer_workspace(void) {
+    casadi_int n_arg, n_res, n_iw, n_w, max_iw = 1, max_w = 1;
+#define X(f) f##_work(&n_arg, &n_res, &n_iw, &n_w); if (n_iw > max_iw) max_iw = n_iw; if (n_w > max_w) max_w = n_w;
+    HARNESS_PEER_FUNCTIONS(X)
+#undef X
+    peer_iw = malloc(sizeof(casadi_int) * max_iw);
+    peer_w = malloc(sizeof(casadi_real) * max_w);
+}
+#endif
+
+#define X(fn, side, call, result) static double pass_##fn##_##side(void) { \
+    double acc = 0.0, t0 = cpu_ns(), t1; long k; \
+    for (k = 0; k < S; ++k) { \
+        const double *Q = q + k * N, *QD = qd + k * N, *QDD = qdd + k * N, *TAU = tau + k * N; \
+        FLOAT_STATE (void)Q; (void)QD; (void)QDD; (void)TAU; call; acc += result; } \
+    t1 = cpu_ns(); sink += acc; return (t1 - t0) / S; }
+HARNESS_CASES(X)
+#undef X
+
+struct timed_case { const char *function, *side; double (*pass)(void); };
+static const struct timed_case cases[] = {
+#define X(fn, side, call, result) {#fn, #side, pass_##fn##_##side},
+    HARNESS_CASES(X)
+#undef X
+};
+#define NCASES ((int)(sizeof(cases) / sizeof(cases[0])))
+
+static void cross_check(void) {
+#ifdef HARNESS_PEER
+    const double *Q = q, *QD = qd, *QDD = qdd, *TAU = tau;
+    int n, i;
+    double diff, scale;
+    (void)Q; (void)QD; (void)QDD; (void)TAU;
+#define X(name, pin_call, peer_call) pin_call; n = pin_result(#name, other); peer_call; \
+    for (diff = 0, scale = 0, i = 0; i < n; ++i) { diff = fmax(diff, fabs(OUT[i] - other[i])); \
+        scale = fmax(scale, fabs(other[i])); } \
+    printf("check %s %.3g %.3g\n", #name, diff, scale);
+    HARNESS_CHECKS(X)
+#undef X
+#endif
+}
+
+static int read_states(const char *path) {
+    FILE *f = fopen(path, "rb");
+    long bytes;
+    if (!f) return 0;
+    fseek(f, 0, SEEK_END);
+    bytes = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    S = bytes / (long)(4 * N * sizeof(double));
+    if (S < 1 || bytes != S * 4 * N * (long)sizeof(double)) { fclose(f); return 0; }
+    q = malloc(bytes);
+    if (fread(q, 1, bytes, f) != (size_t)bytes) { fclose(f); return 0; }
+    fclose(f);
+    qd = q + S * N;
+    qdd = qd + S * N;
+    tau = qdd + S * N;
+    return 1;
+}
+
+int main(int argc, char **argv) {
+    int passes, r, g, end, j, i;
+    double *times;
+    if (argc != 4) { fprintf(stderr, "usage: %s STATES.bin MODEL.txt PASSES\n", argv[0]); return 2; }
+    if (!read_states(argv[1])) { fprintf(stderr, "cannot read %d-joint states from %s\n", N, argv[1]); return 2; }
+    if (pin_load(argv[2]) != N) { fprintf(stderr, "%s is not a %d-joint model with nq = nv\n", argv[2], N); return 2; }
+    passes = atoi(argv[3]);
+    OUT = calloc(HARNESS_OUT_SIZE, sizeof(double));
+#ifdef SYMDYN_FLOAT
+    float_states();
+#endif
+    other = calloc(HARNESS_OUT_SIZE, sizeof(double));
+#ifdef HARNESS_PEER
+    peer_workspace();
+#endif
+    cross_check();
+    for (i = 0; i < NCASES; ++i) cases[i].pass();  /* warm-up */
+    times = malloc(sizeof(double) * passes * NCASES);
+    for (r = 0; r < passes; ++r)
+        for (g = 0; g < NCASES; g = end) {  /* the cases of one function: g .. end - 1 */
+            for (end = g; end < NCASES && !strcmp(cases[end].function, cases[g].function); ++end) {}
+            for (j = 0; j < end - g; ++j) {
+                i = g + (j + r) % (end - g);
+                times[r * NCASES + i] = cases[i].pass();
+            }
+        }
+    for (i = 0; i < NCASES; ++i) {
+        printf("time %s %s", cases[i].function, cases[i].side);
+        for (r = 0; r < passes; ++r) printf(" %.2f", times[r * NCASES + i]);
+        printf("\n");
+    }
+    printf("states %ld\nchecksum %.17g\n", S, (double)sink);
+    return 0;
+}
