@@ -347,9 +347,9 @@ FD_METHODS = ("ldlt", "aba")
 #: from this many joints the Coriolis matrix is always built by the O(n^2) recursion
 #: (:mod:`symdyn.derive.coriolis`); below, both ways are built and the one with fewer operations
 #: (SymPy's count of the statements) kept.  Multiplications + additions of the emitted C,
-#: derivative of h against recursion: SCARA 58 / 91 and Stanford arm 1215 / 1394 keep the
-#: derivative; Puma 560 1372 / 1421 (a near tie) and the Panda 3740 / 2455 take the recursion,
-#: as do generic chains (6 joints: 3727 / 2402; 12: 16,370 / 7557; 24: 66,041 / 20,553)
+#: derivative of h against recursion: SCARA 58 / 125 and Stanford arm 1215 / 1318 keep the
+#: derivative; Puma 560 1372 / 1293 and the Panda 3740 / 2687 take the recursion, as do generic
+#: chains (6 joints: 3727 / 2432; 12: 16,370 / 7574; 24: 66,041 / 20,606)
 CORIOLIS_RECURSION_FROM_DOF = 12
 
 

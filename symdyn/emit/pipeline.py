@@ -147,17 +147,28 @@ def scene_choices(robot, scene, functions=None, precision=None, default_function
 #: bundled arms and generic chains of 6 to 12 joints; docs/benchmarks.md)
 AUTO_FD_FROM_DOF = 13
 
+#: from this many joints the articulated-body algorithm is taken without building LDL^T's C to
+#: compare: LDL^T's operations grow as n^3 and ABA's as n (generic chains: 9561 against 6986
+#: multiplications at 24 joints; at 48 LDL^T's 39,004 are twice ABA's at 64, 19,272), and
+#: building both took a 64-joint generation from 74 to 123 s
+AUTO_FD_ABA_FROM_DOF = 24
+
 
 def choose_fd_method(config: GenerateConfig, progress=None) -> GenerateConfig:
     """``config`` with its forward-dynamics method settled by operation count (deterministic:
     the counts of the emitted C, mul + add + div, ties to LDL^T) where no method was asked for,
-    the arithmetic is double and the chain has at least :data:`AUTO_FD_FROM_DOF` joints; the
-    header notes the counts."""
+    the arithmetic is double and the chain has at least :data:`AUTO_FD_FROM_DOF` joints (from
+    :data:`AUTO_FD_ABA_FROM_DOF`, the articulated-body algorithm without counting); the header
+    notes the choice."""
     from .cgen import build_function
     robot, options = config.robot, config.options
     if options.fd_method or config.precision != "double" or "forward_dynamics" not in config.functions \
             or robot.dof < AUTO_FD_FROM_DOF:
         return config
+    if robot.dof >= AUTO_FD_ABA_FROM_DOF:
+        note = (f"forward dynamics by the articulated-body algorithm (O(n) operations; from {AUTO_FD_ABA_FROM_DOF} "
+                "joints LDL^T of D, O(n^3), always needs more)")
+        return replace(config, fd_method="aba", notes=(*config.notes, note))
     counts = {}
     for method in ("ldlt", "aba"):
         eqs = derive_cached(robot, options.method, with_requirements(["forward_dynamics"]), use_cache=options.use_cache,

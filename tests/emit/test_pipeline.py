@@ -103,3 +103,26 @@ def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch
     asked = generate(configure(path, GenerateOptions(functions="forward_dynamics", fd_method="ldlt")))
     assert "chosen by operation count" not in asked["generic16_dynamics.h"].decode()
     assert "LDL^T factorization" in asked["generic16_dynamics.h"].decode()
+
+
+def test_long_chains_take_the_articulated_body_algorithm_without_counting(tmp_path, monkeypatch):
+    """From AUTO_FD_ABA_FROM_DOF joints the choice is made without deriving or building LDL^T
+    (its n^3 operations always exceed ABA's there); the header says why."""
+    import sys
+    from symdyn.emit import pipeline
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from long_chains import generic_chain
+    path = tmp_path / "generic.yaml"
+    path.write_text(generic_chain(pipeline.AUTO_FD_ABA_FROM_DOF))
+    config = configure(path, GenerateOptions(functions="forward_dynamics"))
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("nothing is derived to choose")
+    monkeypatch.setattr(pipeline, "derive_cached", refuse)
+    chosen = pipeline.choose_fd_method(config)
+    assert chosen.fd_method == "aba"
+    assert any("from 24 joints LDL^T of D, O(n^3), always needs more" in note for note in chosen.notes)
+    short = tmp_path / "short.yaml"
+    short.write_text(generic_chain(pipeline.AUTO_FD_ABA_FROM_DOF - 1))
+    with pytest.raises(AssertionError, match="nothing is derived"):  # below it, both are counted
+        pipeline.choose_fd_method(configure(short, GenerateOptions(functions="forward_dynamics")))
