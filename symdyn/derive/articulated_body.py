@@ -30,7 +30,7 @@ import sympy as sp
 
 from .chain import Chain
 from .spatial import (Placement, apply_force_back, apply_inertia_back, apply_motion, cross_force, cross_motion,
-                      spatial_inertia)
+                      named_symmetric, spatial_inertia)
 
 
 @dataclass(frozen=True)
@@ -52,14 +52,6 @@ def _named(b, hint, exprs) -> sp.Matrix:
     return sp.Matrix(b.vector(hint, [sp.expand(e) for e in exprs]))
 
 
-def _named_symmetric(b, hint, M) -> sp.Matrix:
-    out = sp.zeros(6, 6)
-    for r in range(6):
-        for c in range(r, 6):
-            out[r, c] = out[c, r] = b.define(f"{hint}_{r}{c}", sp.expand(M[r, c]))
-    return out
-
-
 def _namer(b):
     return lambda hint, exprs: list(b.vector(hint, exprs))
 
@@ -79,7 +71,7 @@ def transform_force_back(b, T: JointTransform, f, hint: str) -> sp.Matrix:
 
 def transform_inertia_back(b, T: JointTransform, M, hint: str) -> sp.Matrix:
     """``X^T M X`` for a symmetric 6 x 6 inertia ``M`` of the joint frame, into the parent frame."""
-    inner = _named_symmetric(b, f"{hint}m", apply_inertia_back(T.moving, M, _namer(b), f"{hint}m"))
+    inner = named_symmetric(b, f"{hint}m", apply_inertia_back(T.moving, M, _namer(b), f"{hint}m"))
     return apply_inertia_back(T.constant, inner, _namer(b), f"{hint}c")
 
 
@@ -156,7 +148,7 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         return sp.Matrix(b.vector(hint, [sp.expand(e) for e in v]))
 
     def sym6(hint, M):
-        return _named_symmetric(b, hint, M)
+        return named_symmetric(b, hint, M)
 
     transforms = [T for T, _ in joint_transforms(chain)]
     X, v, c, I, IA = [], [], [], [], []
@@ -182,11 +174,10 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
     pA0 = [None] * n
     pA = [None] * n
     U, d, u, inv, Ia, pa = [None] * n, [None] * n, [None] * n, [None] * n, [None] * n, [None] * n
+    pA[n - 1] = pA0[n - 1] = bias(n - 1)
     for j in reversed(range(n)):
         k = j + 1
         link = robot.links[j]
-        if pA[j] is None:
-            pA[j] = pA0[j] = bias(j)
         U[j] = IA[j][:, axis[j]]
         d[j] = b.define(f"aba_d{k}", sp.expand(U[j][axis[j]] + link.armature))
         u[j] = b.define(f"aba_u{k}", sp.expand(tau[j] - friction[j] - pA[j][axis[j]]))

@@ -28,6 +28,7 @@ import sympy as sp
 
 from .chain import Chain
 from .program import ProgramBuilder
+from .spatial import named_symmetric
 
 
 @dataclass(frozen=True)
@@ -45,14 +46,6 @@ def _cross_matrix_terms(p: sp.Matrix, h: sp.Matrix, m: sp.Expr) -> sp.Matrix:
     ph = (p.T * h)[0]
     pp = (p.T * p)[0]
     return m * (pp * sp.eye(3) - p * p.T) + 2 * ph * sp.eye(3) - p * h.T - h * p.T
-
-
-def _symmetric(b: ProgramBuilder, hint: str, mat: sp.Matrix) -> sp.Matrix:
-    out = sp.zeros(3, 3)
-    for r in range(3):
-        for c in range(r, 3):
-            out[r, c] = out[c, r] = b.define(f"{hint}_{r}{c}", sp.expand(mat[r, c]))
-    return out
 
 
 def _single_axis(R: sp.Matrix):
@@ -107,10 +100,10 @@ def transform_inertia(b: ProgramBuilder, body: BodyInertia, pose: sp.Matrix, hin
         J_rot = _rotate_about_axis(b, body.rotational, axis, hint)
     else:
         half = sp.Matrix(3, 3, lambda r, c: b.define(f"{hint}A_{r}{c}", sp.expand((R[r, :] * body.rotational[:, c])[0])))
-        J_rot = _symmetric(b, f"{hint}R", half * R.T)
+        J_rot = named_symmetric(b, f"{hint}R", half * R.T)
     if p.is_zero_matrix:
         return BodyInertia(m, h_rot, J_rot)
-    J = _symmetric(b, f"{hint}J", J_rot + _cross_matrix_terms(p, h_rot, m))
+    J = named_symmetric(b, f"{hint}J", J_rot + _cross_matrix_terms(p, h_rot, m))
     h = b.vector(f"{hint}m", (h_rot + m * p).applyfunc(sp.expand))
     return BodyInertia(m, h, J)
 
@@ -118,7 +111,7 @@ def transform_inertia(b: ProgramBuilder, body: BodyInertia, pose: sp.Matrix, hin
 def add_inertia(b: ProgramBuilder, a: BodyInertia, c: BodyInertia, hint: str) -> BodyInertia:
     return BodyInertia(sp.expand(a.mass + c.mass),
                        b.vector(f"{hint}h", (a.first_moment + c.first_moment).applyfunc(sp.expand)),
-                       _symmetric(b, f"{hint}J", a.rotational + c.rotational))
+                       named_symmetric(b, f"{hint}J", a.rotational + c.rotational))
 
 
 def transform_force(b: ProgramBuilder, force: tuple[sp.Matrix, sp.Matrix], pose: sp.Matrix, hint: str):
@@ -167,7 +160,7 @@ def _composite_inertias(chain: Chain) -> list[BodyInertia]:
         own = _link_inertia(chain, j)
         if j == n - 1:
             composite[j] = BodyInertia(own.mass, b.vector(f"Ic{j + 1}h", own.first_moment),
-                                       _symmetric(b, f"Ic{j + 1}J", own.rotational))
+                                       named_symmetric(b, f"Ic{j + 1}J", own.rotational))
             continue
         child = transform_inertia(b, composite[j + 1], chain.motions[j + 1], f"Iq{j + 2}")
         child = transform_inertia(b, child, between[j], f"Ib{j + 2}")

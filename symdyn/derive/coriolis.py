@@ -39,12 +39,13 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .chain import Chain
-from .spatial import cross3, cross_force, cross_motion, skew
+from .spatial import cross, cross_force, cross_motion, named_symmetric, skew
 
 
 @dataclass(frozen=True)
 class CoriolisFactors:
-    """Per joint (in joint order) the base-frame 6-vectors whose dot products are C's entries:
+    """Per joint (in joint order) the 6-vectors (in the recursion's inertial frame, moments about
+    its reference point) whose dot products are C's entries:
     ``C[i, k] = S[i] . F[k]`` (i <= k), ``g[i] . dS[k] + e[i] . S[k]`` (k < i); each a tuple of
     n 6 x 1 SymPy matrices in the program's symbols."""
 
@@ -72,8 +73,8 @@ def _dot(a, b) -> sp.Expr:
 
 @dataclass
 class _Body:
-    """One body's base-frame inertia (mass, first moment h = m c, rotational inertia about the
-    base origin, 3 x 3), its rate (dh, dI) and its momentum (6)."""
+    """One body's inertia in the recursion's frame (mass, first moment h = m c, rotational
+    inertia about the reference point, 3 x 3), its rate (dh, dI) and its momentum (6)."""
 
     mass: sp.Expr
     h: sp.Matrix
@@ -89,32 +90,17 @@ class _Body:
     def times(self, motion: sp.Matrix) -> sp.Matrix:
         """``I m`` for a motion vector ``m = [w; x]``: ``[I_O w + h x x; m x - h x w]``."""
         w, x = motion[:3, 0], motion[3:, 0]
-        return sp.Matrix([*(self.inertia * w + sp.Matrix(cross3(self.h, x))),
-                          *(self.mass * x - sp.Matrix(cross3(self.h, w)))])
+        return sp.Matrix.vstack(self.inertia * w + cross(self.h, x), self.mass * x - cross(self.h, w))
 
     def rate_times(self, motion: sp.Matrix) -> sp.Matrix:
         """``dI/dt m``: ``[dI_O w + dh x x; -dh x w]`` (the mass does not change)."""
         w, x = motion[:3, 0], motion[3:, 0]
-        return sp.Matrix([*(self.dinertia * w + sp.Matrix(cross3(self.dh, x))),
-                          *(-sp.Matrix(cross3(self.dh, w)))])
-
-
-def _symmetric(b, hint: str, M: sp.Matrix) -> sp.Matrix:
-    """A symmetric 3 x 3 with its upper triangle named."""
-    out = sp.zeros(3, 3)
-    for r in range(3):
-        for c in range(r, 3):
-            out[r, c] = out[c, r] = b.define(f"{hint}_{r}{c}", sp.expand(M[r, c]))
-    return out
+        return sp.Matrix.vstack(self.dinertia * w + cross(self.dh, x), -cross(self.dh, w))
 
 
 def _named_pose(b, hint: str, pose: sp.Matrix) -> sp.Matrix:
     """``pose`` (4 x 4) with its top three rows named (entries that fold to numbers stay)."""
-    out = sp.eye(4)
-    for row in range(3):
-        for col in range(4):
-            out[row, col] = b.define(f"{hint}_{row}{col}", sp.expand(pose[row, col]))
-    return out
+    return sp.Matrix.vstack(b.matrix(hint, pose[:3, :].applyfunc(sp.expand)), sp.Matrix([[0, 0, 0, 1]]))
 
 
 def _frames(chain: Chain) -> list[tuple[list, list, sp.Matrix]]:
@@ -156,7 +142,7 @@ def coriolis_factors(chain: Chain) -> CoriolisFactors:
         j = i + 1
         if link.is_revolute:
             lever = b.vector(f"cp{j}", (sp.Matrix(point) - reference).applyfunc(sp.expand))
-            subspace = axis + cross3(lever, axis)
+            subspace = axis + list(cross(lever, axis))
         else:
             subspace = [0, 0, 0] + axis
         S.append(b.vector(f"cS{j}", [sp.expand(e) for e in subspace]))
@@ -188,26 +174,26 @@ def _body(b, j: int, link, R: sp.Matrix, origin: sp.Matrix, velocity: sp.Matrix)
     mass = sp.sympify(link.mass)
     com = b.vector(f"cc{j}", (origin + R * sp.Matrix(link.com)).applyfunc(sp.expand))
     half = b.matrix(f"cIh{j}", (sp.Matrix(link.inertia_matrix) * R.T).applyfunc(sp.expand))
-    rotated = _symmetric(b, f"cIr{j}", R * half)
+    rotated = named_symmetric(b, f"cIr{j}", R * half)
     cx = skew(com)
     h = b.vector(f"ch{j}", mass * com)
     hx = skew(h)  # products with h = m c cost one multiplication where m c c costs two
-    inertia = _symmetric(b, f"cIo{j}", rotated - hx * cx)
+    inertia = named_symmetric(b, f"cIo{j}", rotated - hx * cx)
     w, x = velocity[:3, 0], velocity[3:, 0]
-    com_velocity = b.vector(f"ccd{j}", (x + sp.Matrix(cross3(w, com))).applyfunc(sp.expand))
+    com_velocity = b.vector(f"ccd{j}", (x + cross(w, com)).applyfunc(sp.expand))
     dh = b.vector(f"cdh{j}", mass * com_velocity)
     wx, cdx = skew(w), skew(com_velocity)
     spin = b.matrix(f"cW{j}", (wx * rotated).applyfunc(sp.expand))  # R_dot I R^T: the rate is spin + spin^T
-    dinertia = _symmetric(b, f"cdI{j}", spin + spin.T - (cdx * hx + hx * cdx))
+    dinertia = named_symmetric(b, f"cdI{j}", spin + spin.T - (cdx * hx + hx * cdx))
     # momentum I v = [I_r w + c x m c_dot; m c_dot]: the linear part is dh itself
-    angular = b.vector(f"cm{j}", (rotated * w + sp.Matrix(cross3(com, dh))).applyfunc(sp.expand))
+    angular = b.vector(f"cm{j}", (rotated * w + cross(com, dh)).applyfunc(sp.expand))
     return _Body(mass, h, inertia, dh, dinertia, sp.Matrix.vstack(angular, dh))
 
 
 def _named_body(b, hint: str, body: _Body) -> _Body:
     return _Body(b.define(f"{hint}m", sp.expand(body.mass)), b.vector(f"{hint}h", body.h.applyfunc(sp.expand)),
-                 _symmetric(b, f"{hint}I", body.inertia), b.vector(f"{hint}dh", body.dh.applyfunc(sp.expand)),
-                 _symmetric(b, f"{hint}dI", body.dinertia),
+                 named_symmetric(b, f"{hint}I", body.inertia), b.vector(f"{hint}dh", body.dh.applyfunc(sp.expand)),
+                 named_symmetric(b, f"{hint}dI", body.dinertia),
                  b.vector(f"{hint}p", body.momentum.applyfunc(sp.expand)))
 
 

@@ -113,11 +113,11 @@ class Equations:
     #: solution up to rounding; the pivots checked are the same.
     fd_system: tuple = ()
     #: ``(S, dS, F, g, e)`` when the Coriolis matrix was built by the O(n^2) recursion
-    #: (:mod:`symdyn.derive.coriolis`): each a tuple of n base-frame 6-vectors (tuples of
-    #: expressions in the program's symbols) with ``C[i, k] = S_i . F_k`` (i <= k) and
+    #: (:mod:`symdyn.derive.coriolis`): each a tuple of n 6-vectors in the recursion's frame
+    #: (tuples of expressions in the program's symbols) with ``C[i, k] = S_i . F_k`` (i <= k) and
     #: ``g_i . dS_k + e_i . S_k`` (k < i), for emitters that write C as a loop; else ``()``
     coriolis_factors: tuple = ()
-    #: per joint, the program's symbols ``(c_j, s_j)`` for for the cosine and sine of a revolute
+    #: per joint, the program's symbols ``(c_j, s_j)`` for the cosine and sine of a revolute
     #: joint's angle theta_j + q_j (:func:`symdyn.derive.chain.make_chain`), ``()`` for a
     #: prismatic joint: what a consumer substitutes to give the joint angles another way
     joint_trig: tuple = ()
@@ -423,15 +423,19 @@ def _coriolis_matrix(d: _Derivation) -> sp.Matrix:
     if d.le is not None:
         return d.le.coriolis_matrix(d.chain.qd)
     if d.jne is not None:
-        d.report("coriolis_matrix (derivative of h by qd)")
-        return _coriolis_matrix_of(d.b, d.get("coriolis"), d.chain.qd)
+        return _derivative_coriolis_matrix(d)
     if d.n >= CORIOLIS_RECURSION_FROM_DOF:
         return _recursive_coriolis_matrix(d)
     return _cheaper_coriolis_matrix(d)
 
 
+def _derivative_coriolis_matrix(d: _Derivation) -> sp.Matrix:
+    d.report("coriolis_matrix (derivative of h by qd)")
+    return _coriolis_matrix_of(d.b, d.get("coriolis"), d.chain.qd)
+
+
 def _recursive_coriolis_matrix(d: _Derivation) -> sp.Matrix:
-    d.report("coriolis_matrix (O(n^2) recursion in the base frame)")
+    d.report("coriolis_matrix (O(n^2) recursion)")
     C, factors = recursive_coriolis_matrix(d.chain)
     d.coriolis_factors = factors.as_tuple()
     return C
@@ -443,19 +447,15 @@ def _cheaper_coriolis_matrix(d: _Derivation) -> sp.Matrix:
     goes on with the chosen copy only (deterministic: the counts depend on the robot alone)."""
     start, values = d.b.build(), dict(d.values)
     candidates = []
-    for way in ("recursion", "derivative"):
+    for build in (_recursive_coriolis_matrix, _derivative_coriolis_matrix):
         d.b = d.chain.builder = ProgramBuilder(d.b.prefix, start=start)
         d.values = dict(values)
         d.coriolis_factors = ()
-        if way == "recursion":
-            C = _recursive_coriolis_matrix(d)
-        else:
-            d.report("coriolis_matrix (derivative of h by qd)")
-            C = _coriolis_matrix_of(d.b, d.get("coriolis"), d.chain.qd)
+        C = build(d)
         needed = d.b.build().needed_for(list(C))
         cost = sum(sp.count_ops(rhs) for _, rhs in needed) + sum(sp.count_ops(e) for e in C)
-        candidates.append((cost, way, d.b, d.values, d.coriolis_factors, C))
-    cost, way, builder, d.values, d.coriolis_factors, C = min(candidates, key=lambda c: c[0])
+        candidates.append((cost, d.b, d.values, d.coriolis_factors, C))
+    _, builder, d.values, d.coriolis_factors, C = min(candidates, key=lambda c: c[0])
     d.b = d.chain.builder = builder
     return C
 

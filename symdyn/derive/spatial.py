@@ -7,7 +7,8 @@ motion vector is ``[omega; v]``, a force vector ``[n; f]``, angular part first):
   (SymPy matrices, lists, or anything indexable; the results are written component by component,
   so they work on numbers and expressions alike);
 - :func:`cross_motion` (``v x m``), :func:`cross_force` (``v x* f``), :func:`motion_transform`
-  and :func:`spatial_inertia` on spatial quantities;
+  and :func:`spatial_inertia` on spatial quantities; :func:`named_symmetric` names a symmetric
+  matrix's upper triangle in a program;
 - :func:`skew_numeric`, the numpy form of :func:`skew`.
 
 The independent references in :mod:`symdyn.check` keep their own arithmetic on purpose.
@@ -61,6 +62,18 @@ def cross_force(v: sp.Matrix, f: sp.Matrix) -> sp.Matrix:
     """``v x* f`` of a motion vector and a force vector (6 x 1): ``[w x n + u x f; w x f]``."""
     w, u = v[:3, 0], v[3:, 0]
     return sp.Matrix.vstack(w.cross(f[:3, 0]) + u.cross(f[3:, 0]), w.cross(f[3:, 0]))
+
+
+def named_symmetric(builder, hint: str, M: sp.Matrix) -> sp.Matrix:
+    """The symmetric square ``M`` (3 x 3 or 6 x 6) with its upper triangle named in
+    ``builder`` (a :class:`~symdyn.derive.program.ProgramBuilder`) as ``{hint}_{r}{c}``, each
+    entry expanded, the lower triangle mirrored."""
+    size = M.rows
+    out = sp.zeros(size, size)
+    for r in range(size):
+        for c in range(r, size):
+            out[r, c] = out[c, r] = builder.define(f"{hint}_{r}{c}", sp.expand(M[r, c]))
+    return out
 
 
 def motion_transform(pose: sp.Matrix) -> sp.Matrix:
