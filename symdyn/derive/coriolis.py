@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .chain import Chain
-from .spatial import cross, cross_force, cross_motion, named_symmetric, skew
+from .spatial import cross, cross_force, cross_motion, named_pose, named_symmetric, skew
 
 
 @dataclass(frozen=True)
@@ -98,11 +98,6 @@ class _Body:
         return sp.Matrix.vstack(self.dinertia * w + cross(self.dh, x), -cross(self.dh, w))
 
 
-def _named_pose(b, hint: str, pose: sp.Matrix) -> sp.Matrix:
-    """``pose`` (4 x 4) with its top three rows named (entries that fold to numbers stay)."""
-    return sp.Matrix.vstack(b.matrix(hint, pose[:3, :].applyfunc(sp.expand)), sp.Matrix([[0, 0, 0, 1]]))
-
-
 def _frames(chain: Chain) -> list[tuple[list, list, sp.Matrix]]:
     """Per joint: its axis (3), its point (3) and its link's pose (4 x 4, named) in the frame of
     joint 1 turned by q_1, where joint 1's axis and link 1's pose are constants."""
@@ -114,11 +109,11 @@ def _frames(chain: Chain) -> list[tuple[list, list, sp.Matrix]]:
         if i == 0:
             joint_frame = sp.eye(4)
         elif sp.Matrix(geometry.pre) != sp.eye(4):
-            joint_frame = _named_pose(b, f"cP{j}", current * sp.Matrix(geometry.pre))
+            joint_frame = named_pose(b, f"cP{j}", current * sp.Matrix(geometry.pre))
         else:
             joint_frame = current
-        moved = _named_pose(b, f"cM{j}", joint_frame * (chain.motions[i] if i else sp.eye(4)))
-        current = _named_pose(b, f"cA0{j}", moved * sp.Matrix(geometry.post))
+        moved = named_pose(b, f"cM{j}", joint_frame * (chain.motions[i] if i else sp.eye(4)))
+        current = named_pose(b, f"cA0{j}", moved * sp.Matrix(geometry.post))
         frames.append(([sp.expand(e) for e in joint_frame[:3, 2]], [sp.expand(e) for e in joint_frame[:3, 3]], current))
     return frames
 

@@ -45,6 +45,7 @@ import sympy as sp
 
 from .chain import Chain
 from .spatial import cross_nonzero as _cross
+from .spatial import named_pose
 
 
 @dataclass
@@ -79,11 +80,7 @@ class JacobianNewtonEuler:
             joint_frame = current * sp.Matrix(geo.pre)
             self.k.append(b.vector(f"k{n}", [sp.expand(e) for e in joint_frame[:3, 2]]))
             self.p.append(b.vector(f"pj{n}", [sp.expand(e) for e in joint_frame[:3, 3]]))
-            pose = current * chain.transforms[i]
-            current = sp.eye(4)
-            for row in range(3):
-                for col in range(4):
-                    current[row, col] = b.define(f"A0{n}_{row}{col}", sp.expand(pose[row, col]))
+            current = named_pose(b, f"A0{n}", current * chain.transforms[i])
             R = current[:3, :3]
             self.r.append(b.vector(f"r{n}", [sp.expand(e) for e in current[:3, 3] + R * sp.Matrix(link.com)]))
             self.d.append(b.vector(f"d{n}", self.r[i] - self.p[i]))

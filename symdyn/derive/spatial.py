@@ -7,8 +7,8 @@ motion vector is ``[omega; v]``, a force vector ``[n; f]``, angular part first):
   (SymPy matrices, lists, or anything indexable; the results are written component by component,
   so they work on numbers and expressions alike);
 - :func:`cross_motion` (``v x m``), :func:`cross_force` (``v x* f``), :func:`motion_transform`
-  and :func:`spatial_inertia` on spatial quantities; :func:`named_symmetric` names a symmetric
-  matrix's upper triangle in a program;
+  and :func:`spatial_inertia` on spatial quantities; :func:`named_symmetric` and
+  :func:`named_pose` name a symmetric matrix's upper triangle, a pose's entries, in a program;
 - :func:`skew_numeric`, the numpy form of :func:`skew`.
 
 The independent references in :mod:`symdyn.check` keep their own arithmetic on purpose.
@@ -74,6 +74,12 @@ def named_symmetric(builder, hint: str, M: sp.Matrix) -> sp.Matrix:
         for c in range(r, size):
             out[r, c] = out[c, r] = builder.define(f"{hint}_{r}{c}", sp.expand(M[r, c]))
     return out
+
+
+def named_pose(builder, hint: str, pose: sp.Matrix) -> sp.Matrix:
+    """``pose`` (4 x 4 homogeneous) with its top three rows named in ``builder`` as
+    ``{hint}_{r}{c}``, each entry expanded (entries that fold to numbers stay numbers)."""
+    return sp.Matrix.vstack(builder.matrix(hint, pose[:3, :].applyfunc(sp.expand)), sp.Matrix([[0, 0, 0, 1]]))
 
 
 def motion_transform(pose: sp.Matrix) -> sp.Matrix:
