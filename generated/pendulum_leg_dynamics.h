@@ -207,7 +207,7 @@ void pendulum_leg_jacobian_dot_qd(const pendulum_leg_real *q, const pendulum_leg
  *   qd: joint velocities, N (rad/s or m/s)
  *   k0 (out): base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) and force (N) the base exerts on body 1 through joint 1, base-frame axes
  *   D (out): wrench per unit actuated torque, 6*NA row-major (column j: actuated joint j in the order listed above): [n; f] = k0 + D tau_H
- * Cost: 986 multiplications, 652 additions/subtractions, 5 divisions, 12 sin/cos.
+ * Cost: 817 multiplications, 515 additions/subtractions, 5 divisions, 12 sin/cos.
  */
 void pendulum_leg_reaction_map(const pendulum_leg_real *q, const pendulum_leg_real *qd, pendulum_leg_real *k0, pendulum_leg_real *D);
 

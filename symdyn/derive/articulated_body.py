@@ -184,8 +184,15 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         inv[j] = b.define(f"aba_inv{k}", 1 / d[j])
         if j == 0:
             break
-        Ia[j] = sym6(f"Ia{k}", IA[j] - U[j] * U[j].T * inv[j])
-        pa[j] = vec(f"pa{k}", pA[j] + Ia[j] * c[j] + U[j] * (u[j] * inv[j]))
+        scaled = vec(f"aba_b{k}", U[j] * inv[j])  # U / d, once: I^a below takes 21 products, not 42
+        projected = IA[j] - scaled * U[j].T
+        if link.armature == 0:
+            # I^a S = U - U (S^T U) / d = 0 exactly when d = S^T U: the joint's row and column
+            # vanish (Featherstone, section 7.3), and every product with them folds away
+            projected[axis[j], :] = sp.zeros(1, 6)
+            projected[:, axis[j]] = sp.zeros(6, 1)
+        Ia[j] = sym6(f"Ia{k}", projected)
+        pa[j] = vec(f"pa{k}", pA[j] + Ia[j] * c[j] + U[j] * b.define(f"aba_ud{k}", u[j] * inv[j]))
         IA[j - 1] = sym6(f"IA{k - 1}s", IA[j - 1] + transform_inertia_back(b, transforms[j], Ia[j], f"IAm{k}"))
         pA0[j - 1] = bias(j - 1)
         pA[j - 1] = vec(f"pA{k - 1}s", pA0[j - 1] + transform_force_back(b, transforms[j], pa[j], f"pAm{k}"))
