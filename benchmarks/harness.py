@@ -23,7 +23,9 @@ Method (every choice is the same for all three sides):
 - One program per flag set (-O2; -O3 -march=native; each with -ffp-contract=off, and
   O3nativefma: -O3 -march=native -ffp-contract=fast): benchmarks/harness_main.c, symdyn's C, the
   peer's C (gcc -std=c99) and Pinocchio (benchmarks/harness_pinocchio.cpp, g++ -std=c++17), all
-  with the same GCC and the same flags.
+  with the same GCC and the same flags.  O2libm and O3nativelibm are O2 and O3native with
+  symdyn's C compiled with -DSYMDYN_LIBM_TRIG (the C library's sin() and cos() instead of the
+  generated sin/cos block): how much of the lead that block gives.
 - States: ``--states`` seeded random states (q in [-pi, pi], qd in [-2, 2], qdd in [-5, 5],
   tau in [-20, 20]) written to one binary file that the program reads into the arrays every side
   reads.
@@ -74,7 +76,19 @@ if HERE not in sys.path:
 #: same flags without it would give Pinocchio FMAs that the C sides do not get (-march=native).
 #: O3nativefma: all sides with contraction.
 FLAG_SETS = {"O2": ("-O2", "-ffp-contract=off"), "O3native": ("-O3", "-march=native", "-ffp-contract=off"),
-             "O3nativefma": ("-O3", "-march=native", "-ffp-contract=fast")}
+             "O3nativefma": ("-O3", "-march=native", "-ffp-contract=fast"),
+             "O2libm": ("-O2", "-ffp-contract=off"), "O3nativelibm": ("-O3", "-march=native", "-ffp-contract=off")}
+#: defines for symdyn's C only, per flag set: the *libm sets compute the joints' sines and
+#: cosines with the C library's sin() and cos(), one call each, instead of the generated code's
+#: vectorized block (SYMDYN_LIBM_TRIG), to measure how much of symdyn's lead that block gives
+#: (the other sides are compiled exactly as in the set without "libm")
+SYMDYN_DEFINES = {"O2libm": ("-DSYMDYN_LIBM_TRIG",), "O3nativelibm": ("-DSYMDYN_LIBM_TRIG",)}
+
+
+def flag_label(flag_set: str) -> str:
+    """The flags of a set as the tables show them (symdyn-only defines marked)."""
+    extra = SYMDYN_DEFINES.get(flag_set, ())
+    return " ".join(FLAG_SETS[flag_set]) + (f" (symdyn: {' '.join(extra)})" if extra else "")
 FUNCTIONS = ("inverse_dynamics", "mass_matrix", "gravity", "coriolis", "coriolis_matrix", "forward_dynamics")
 #: symdyn function -> (Pinocchio's functions timed for it (the faster is reported), the part of
 #: benchmarks/harness_pinocchio.cpp that holds them)
@@ -382,7 +396,7 @@ def build_program(case: Case, flag_set: str, peer: bool, objects: dict) -> str:
     flags, folder, paths = FLAG_SETS[flag_set], case.folder, site_paths()
     out = lambda name: os.path.join(folder, f"{flag_set}-{name}.o")  # noqa: E731
     case.compile_costs[flag_set, "symdyn"] = compile_cost(
-        ["gcc", *flags, "-std=c99", "-w", "-c", case.source, "-o", out("symdyn")])
+        ["gcc", *flags, *SYMDYN_DEFINES.get(flag_set, ()), "-std=c99", "-w", "-c", case.source, "-o", out("symdyn")])
     linked = [out("main"), out("symdyn")]
     if peer:
         case.compile_costs[flag_set, "peer"] = compile_cost(
@@ -537,7 +551,7 @@ def build_table(rows) -> str:
         peer = case.compile_costs.get((fs, "peer"))
         peer_cells = f"{case.sizes['peer'] / 1000:.0f} | {peer[0]:.1f} | {peer[1]:.0f}" if peer else "- | - | -"
         check = f"{case.peer_difference:.1e}" if peer else "-"
-        lines.append(f"| {case.label} | {' '.join(FLAG_SETS[fs])} | {case.sizes['symdyn'] / 1000:.0f} | "
+        lines.append(f"| {case.label} | {flag_label(fs)} | {case.sizes['symdyn'] / 1000:.0f} | "
                      f"{sd_time:.1f} | {sd_mem:.0f} | {peer_cells} | {case.fd_method} | {check} |")
     return "\n".join(lines)
 
@@ -570,7 +584,7 @@ def add_arguments(parser: argparse.ArgumentParser, peer: bool = True) -> None:
     parser.add_argument("--passes", type=int, help=f"passes per side and process (default {DEFAULTS['passes']})")
     parser.add_argument("--states", type=int, help=f"distinct random states (default {DEFAULTS['states']})")
     parser.add_argument("--flags", help="comma-separated flag sets: " + "; ".join(
-        f"{k} ({' '.join(v)})" for k, v in FLAG_SETS.items()) + f" (default {DEFAULTS['flags']})")
+        f"{k} ({flag_label(k)})" for k in FLAG_SETS) + f" (default {DEFAULTS['flags']})")
     parser.add_argument("--seed", type=int, default=2026, help="seed of the states")
     parser.add_argument("--smoke", action="store_true",
                         help="tiny run for tests: " + ", ".join(f"--{k} {v}" for k, v in SMOKE.items()))
@@ -618,7 +632,7 @@ harness reads the first entry of each side's result for its checksum."""
 def print_tables(rows, kwargs: dict) -> None:
     print(environment(kwargs))
     for flag_set in kwargs["flag_sets"]:
-        print(f"\n### {' '.join(FLAG_SETS[flag_set])} (every side)\n")
+        print(f"\n### {flag_label(flag_set)} (every side)\n")
         print(markdown(rows, flag_set))
     print("\n### Builds (gcc -c of each generated file; peak memory of the compiler)\n")
     print(build_table(rows))

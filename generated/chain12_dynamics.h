@@ -2,9 +2,10 @@
  * chain12_dynamics — equations of motion of robot 'chain12' (12 joints, modified DH).
  *
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
- *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
+ *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by the articulated-body algorithm, double precision)
  *   input     : chain12.yaml
  *   sha256    : 1aa9009c929e2fd0d86ff36cae8f4e88189c8724cd2d728ecf32e27db1c90d31
+ *   note      : forward dynamics by the articulated-body algorithm, chosen by operation count: 3896 (articulated-body) against 4002 (LDL^T)
  */
 #ifndef CHAIN12_DYNAMICS_H
 #define CHAIN12_DYNAMICS_H
@@ -193,23 +194,23 @@ void chain12_coriolis_matrix(const chain12_real *q, const chain12_real *qd, chai
 void chain12_gravity(const chain12_real *q, chain12_real *c);
 
 /*
- * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint).
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body algorithm written out for this robot (three sweeps, at most one division per joint, no mass matrix).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
- * Cost: 2151 multiplications, 1839 additions/subtractions, 12 divisions, 18 sin/cos.
+ * Returns 0 on success; 1 when the mass matrix is singular at q (an articulated inertia d_j about joint j's axis, by which the algorithm divides, is not positive, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Cost: 2055 multiplications, 1830 additions/subtractions, 11 divisions, 18 sin/cos.
  */
 int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
 
 /*
- * Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint). Same as chain12_forward_dynamics_checked, without the status: where that returns nonzero, qdd is left unchanged.
+ * Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body algorithm written out for this robot (three sweeps, at most one division per joint, no mass matrix). Same as chain12_forward_dynamics_checked, without the status: where that returns nonzero, qdd is left unchanged.
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Cost: 2151 multiplications, 1839 additions/subtractions, 12 divisions, 18 sin/cos.
+ * Cost: 2055 multiplications, 1830 additions/subtractions, 11 divisions, 18 sin/cos.
  */
 void chain12_forward_dynamics(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);
 

@@ -144,8 +144,9 @@ def scene_choices(robot, scene, functions=None, precision=None, default_function
 
 #: from this many joints, forward dynamics in double (unless --fd-method says) is derived both
 #: ways and the form with fewer operations is emitted; below it LDL^T always had fewer (the
-#: bundled arms and generic chains of 6 to 12 joints; docs/benchmarks.md)
-AUTO_FD_FROM_DOF = 13
+#: bundled arms and generic chains of 6 and 7 joints; at 12 the articulated-body algorithm has
+#: fewer: docs/benchmarks.md)
+AUTO_FD_FROM_DOF = 10
 
 #: from this many joints the articulated-body algorithm is taken without building LDL^T's C to
 #: compare: LDL^T's operations grow as n^3 and ABA's as n (generic chains: 9561 against 6986

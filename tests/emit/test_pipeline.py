@@ -93,7 +93,9 @@ def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch
     first = generate(configure(path, options))
     assert generate(configure(path, options)) == first  # deterministic
     header = first["generic16_dynamics.h"].decode()
-    assert "chosen by operation count: 8010 (articulated-body) against 8698 (LDL^T)" in header
+    import re
+    counts = re.search(r"chosen by operation count: (\d+) \(articulated-body\) against (\d+) \(LDL\^T\)", header)
+    assert counts and int(counts[1]) < int(counts[2]), header[:2000]
     assert "by the articulated-body algorithm" in header
     robot = symdyn.load(str(path))
     files = {k: v.decode() for k, v in first.items()}
