@@ -2,6 +2,7 @@
 and CasADi, compiled and called, timed and verified against Pinocchio, so that none can be
 half-added."""
 
+import dataclasses
 import shutil
 import subprocess
 
@@ -17,22 +18,27 @@ from symdyn.cli.common import parse_functions
 from symdyn.derive.equations import DERIVATIONS
 from symdyn.emit.casadi_backend import casadi_function
 from symdyn.emit.cgen import generate_c
-from symdyn.model.outputs import (ALL_OUTPUTS, COMBINED_SPECS, OUTPUTS, REGISTRY, SPECS, Dimensions,
-                                  default_outputs, functions_help, with_requirements)
+from symdyn.model.outputs import (ALL_OUTPUTS, COMBINED_SPECS, OUTPUTS, SPECS, Dimensions, default_outputs,
+                                  functions_help, with_requirements)
+from symdyn.model.outputs import REGISTRY
+from symdyn.model.robot import TASKS
 
 #: passive joints (a nontrivial reaction map) and a numeric geometry (base parameters)
 ROBOT = "pendulum_leg"
+#: its task for the task-space functions: the tool's orientation (its position lies on a sphere
+#: about the foot's spherical joint, so a task with linear rows would be singular everywhere)
+TASK = "orientation"
 
 
 @pytest.fixture(scope="module")
 def everything(tmp_path_factory):
     """(robot, Equations of every output, compiled library, generated files)."""
-    robot = symdyn.load(robot_path(ROBOT))
+    robot = dataclasses.replace(symdyn.load(robot_path(ROBOT)), task=TASKS[TASK])
     eqs = symdyn.derive(robot, outputs=ALL_OUTPUTS)
     files = generate_c(eqs, ALL_OUTPUTS)
     workdir = tmp_path_factory.mktemp("registry")
     lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), workdir=str(workdir),
-                         actuated=len(robot.actuated_joints))
+                         actuated=len(robot.actuated_joints), task=len(robot.task_rows))
     lib.base_columns = len(eqs.base_parameters)
     return robot, eqs, lib, files, workdir
 
@@ -73,7 +79,7 @@ def test_every_output_derived_emitted_and_called(everything):
     """Each registered output: its derived matrix has the registered shape, and the compiled C
     function returns the numbers the numpy evaluation of the same equations gives."""
     robot, eqs, lib, files, _ = everything
-    dims = Dimensions(robot.dof, len(robot.actuated_joints), len(eqs.base_parameters))
+    dims = Dimensions(robot.dof, len(robot.actuated_joints), len(eqs.base_parameters), len(robot.task_rows))
     rng = np.random.default_rng(5)
     state = {g: rng.uniform(-1, 1, robot.dof) for g in ("q", "qd", "qdd", "tau")}
     for spec in SPECS:
@@ -87,9 +93,11 @@ def test_every_output_derived_emitted_and_called(everything):
         scale = max(1.0, float(np.max(np.abs(expected))))
         np.testing.assert_allclose(mine, expected, rtol=0, atol=1e-12 * scale, err_msg=spec.name)
     for combined in COMBINED_SPECS:
-        results = getattr(lib, combined.name)(*[state[g] for g in REGISTRY[combined.parts[0]].inputs])
+        results = getattr(lib, combined.name)(*[state[g] for g in combined.inputs])
         for part, value in zip(combined.parts, results):
-            np.testing.assert_allclose(value, getattr(lib, part)(state["q"]), rtol=0, atol=1e-14)
+            single = getattr(lib, part)(*[state[g] for g in REGISTRY[part].inputs])
+            assert np.all(np.isfinite(single)), part
+            np.testing.assert_allclose(value, single, rtol=0, atol=1e-14)
 
 
 def test_every_output_as_casadi(everything):
@@ -121,10 +129,12 @@ def test_every_output_can_be_timed(everything):
     assert result.returncode == 0, result.stderr[:2000]
 
 
-def test_every_output_verified(capsys):
+def test_every_output_verified(capsys, tmp_path):
     """symdyn verify compares every registered output with Pinocchio (regressors as torques)."""
     pytest.importorskip("pinocchio")
-    code = main(["verify", str(robot_path(ROBOT)), "--functions", ",".join(ALL_OUTPUTS), "--states", "4"])
+    path = tmp_path / f"{ROBOT}.yaml"
+    path.write_text(open(robot_path(ROBOT)).read() + f"task: {TASK}\n")
+    code = main(["verify", str(path), "--functions", ",".join(ALL_OUTPUTS), "--states", "4"])
     out = capsys.readouterr().out
     assert code == 0, out
     for name in ALL_OUTPUTS:

@@ -12,7 +12,7 @@ import tempfile
 import numpy as np
 
 from ..model.errors import SymdynError
-from ..model.outputs import COMBINED_SPECS, REGISTRY, SPECS, Dimensions
+from ..model.outputs import COMBINED, COMBINED_SPECS, REGISTRY, SPECS, TASK_OUTPUTS, Dimensions
 
 WARNING_FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
 
@@ -44,6 +44,7 @@ class CompiledDynamics:
         self.prefix, self.n, self.np = prefix, dof, n_params
         self.actuated = dof if actuated is None else actuated
         self.base_columns = 0  # set by callers of base_regressor (the number of base parameters)
+        self.task = 6  # rows of the task of the task-space functions (build_and_load sets it)
         single = precision in ("float", "mixed")
         self.ctype = ctypes.c_float if single else ctypes.c_double
         self.dtype = np.float32 if single else np.float64
@@ -59,18 +60,31 @@ class CompiledDynamics:
         code = fn(*[a.ctypes.data_as(pointer) for a in arrays], out.ctypes.data_as(pointer))
         return (int(code), out) if status else out
 
-    def _call_outputs(self, name, args, p, sizes):
-        """Call ``NAME_<name>`` that writes several output arrays (of ``sizes`` numbers each)
-        after its inputs; returns them, flat."""
+    def _call_outputs(self, name, args, p, sizes, status=False, fill=0.0):
+        """Call ``NAME_<name>`` that writes several output arrays (of ``sizes`` numbers each,
+        filled with ``fill`` before the call) after its inputs; returns them, flat (``status``:
+        the function returns an int, and the result is ``(status, outputs)``)."""
         fn = getattr(self.lib, f"{self.prefix}_{name}")
         arrays = [np.ascontiguousarray(a, dtype=self.dtype) for a in args]
         if self.np:
             arrays.append(np.ascontiguousarray(p, dtype=self.dtype))
-        outputs = [np.zeros(size, dtype=self.dtype) for size in sizes]
+        outputs = [np.full(size, fill, dtype=self.dtype) for size in sizes]
         pointer = ctypes.POINTER(self.ctype)
-        fn.restype = None
-        fn(*[a.ctypes.data_as(pointer) for a in arrays + outputs])
-        return outputs
+        fn.restype = ctypes.c_int if status else None
+        code = fn(*[a.ctypes.data_as(pointer) for a in arrays + outputs])
+        return (int(code), outputs) if status else outputs
+
+    def with_status(self, name, *args, p=None, fill=float("nan")):
+        """``(status, outputs)`` of a function that returns a status (a task-space function, or
+        ``forward_dynamics_checked``): ``outputs`` a tuple of numpy arrays shaped as the outputs
+        (a vector for one column), each filled with ``fill`` before the call, so that entries the
+        function did not write keep it."""
+        parts = COMBINED.get(name, (name.removesuffix("_checked"),))
+        dims = _dims(self)
+        specs = [REGISTRY[part] for part in parts]
+        blocks = [(spec, shape) for spec in specs for _, shape in spec.argument_shapes(dims)]
+        code, flat = self._call_outputs(name, args, p, [r * c for _, (r, c) in blocks], status=True, fill=fill)
+        return code, tuple(f if spec.is_vector else f.reshape(shape) for f, (spec, shape) in zip(flat, blocks))
 
     def forward_dynamics_checked(self, q, qd, tau, p=None, qdd=None):
         """``(status, qdd)`` from ``NAME_forward_dynamics_checked``; ``qdd`` (default zeros) is the
@@ -79,7 +93,7 @@ class CompiledDynamics:
 
 
 def _dims(lib, columns=None) -> Dimensions:
-    return Dimensions(lib.n, lib.actuated, columns or lib.base_columns)
+    return Dimensions(lib.n, lib.actuated, columns or lib.base_columns, lib.task)
 
 
 def _compiled_method(spec):
@@ -93,7 +107,11 @@ def _compiled_method(spec):
         if 0 in shape and spec.name == "base_regressor":
             raise ValueError("base_regressor: give the number of base parameters (columns, or set base_columns)")
         blocks = spec.argument_shapes(dims)
-        flat = self._call_outputs(spec.name, args, p, [rows * cols for _, (rows, cols) in blocks])
+        sizes = [rows * cols for _, (rows, cols) in blocks]
+        if spec.name in TASK_OUTPUTS:  # returns a status: on a nonzero one the NaNs stay (no silent zeros)
+            flat = self._call_outputs(spec.name, args, p, sizes, status=True, fill=float("nan"))[1]
+        else:
+            flat = self._call_outputs(spec.name, args, p, sizes)
         if len(blocks) > 1:
             return np.hstack([f.reshape(rows, cols) for f, (_, (rows, cols)) in zip(flat, blocks)])
         return flat[0] if spec.is_vector else flat[0].reshape(shape)
@@ -107,10 +125,14 @@ def _combined_method(combined):
     parts = [REGISTRY[part] for part in combined.parts]
 
     def method(self, *args, p=None):
-        if len(args) == len(parts[0].inputs) + 1 and p is None:
+        if len(args) == len(combined.inputs) + 1 and p is None:
             *args, p = args
         dims = _dims(self)
-        flat = self._call_outputs(combined.name, args, p, [r * c for part in parts for _, (r, c) in part.argument_shapes(dims)])
+        sizes = [r * c for part in parts for _, (r, c) in part.argument_shapes(dims)]
+        if all(part.name in TASK_OUTPUTS for part in parts):
+            flat = self._call_outputs(combined.name, args, p, sizes, status=True, fill=float("nan"))[1]
+        else:
+            flat = self._call_outputs(combined.name, args, p, sizes)
         return tuple(f if part.is_vector else f.reshape(part.shape(dims)) for f, part in zip(flat, parts))
     method.__name__ = combined.name
     method.__doc__ = f"{combined.summary} From ``NAME_{combined.name}``: ({', '.join(combined.parts)})."
@@ -124,14 +146,17 @@ for _combined in COMBINED_SPECS:
 
 
 def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, precision: str = "double",
-                   workdir: str | None = None, actuated: int | None = None) -> CompiledDynamics:
-    """Write generated ``files`` to ``workdir`` (a new temporary directory by default), compile and load."""
+                   workdir: str | None = None, actuated: int | None = None, task: int = 6) -> CompiledDynamics:
+    """Write generated ``files`` to ``workdir`` (a new temporary directory by default), compile and load
+    (``task``: rows of the task-space functions' task)."""
     workdir = workdir or tempfile.mkdtemp(prefix="symdyn_")
     for name, text in files.items():
         with open(os.path.join(workdir, name), "w") as handle:
             handle.write(text)
     lib = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir)
-    return CompiledDynamics(lib, prefix, dof, n_params, precision, actuated)
+    compiled = CompiledDynamics(lib, prefix, dof, n_params, precision, actuated)
+    compiled.task = task
+    return compiled
 
 
 __all__ = ["compile_shared", "build_and_load", "CompiledDynamics", "find_compiler"]

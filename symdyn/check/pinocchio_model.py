@@ -382,6 +382,7 @@ class PinocchioReference:
         self.actuated = list(robot.actuated_joints)
         base = np.array([_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
         self.world_to_base = pin.SE3(base[:3, :3].copy(), base[:3, 3].copy()).inverse()
+        self.task_rows = tuple(robot.task_rows)
 
     def mass_matrix(self, q):
         M = self.pin.crba(self.model, self.data, q)
@@ -450,6 +451,34 @@ class PinocchioReference:
         acc = self.pin.getFrameClassicalAcceleration(self.model, self.data, self.tool_frame,
                                                      self.pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
         return np.concatenate([acc.linear, acc.angular])
+
+    #: the rows of the tool Jacobian the task-space references use (the robot's task)
+    task_rows: tuple = (0, 1, 2, 3, 4, 5)
+
+    def _task_terms(self, q):
+        """``(M^-1, J_s, Lambda)`` at q: ``computeMinverse`` (armature included, upper triangle
+        mirrored), the task rows of the LOCAL_WORLD_ALIGNED tool Jacobian, and the inverse of
+        ``J_s M^-1 J_s^T``."""
+        Minv = np.array(self.pin.computeMinverse(self.model, self.data, q))
+        Minv = np.triu(Minv) + np.triu(Minv, 1).T
+        J = PinocchioReference.jacobian(self, q)[list(self.task_rows), :]
+        return Minv, J, np.linalg.inv(J @ Minv @ J.T)
+
+    def task_mass_matrix(self, q):
+        return self._task_terms(q)[2]
+
+    def task_gravity(self, q):
+        Minv, J, Lambda = self._task_terms(q)
+        return Lambda @ J @ Minv @ PinocchioReference.gravity(self, q)
+
+    def task_bias(self, q, qd):
+        Minv, J, Lambda = self._task_terms(q)
+        h = PinocchioReference.coriolis(self, q, qd)
+        return Lambda @ (J @ Minv @ h - PinocchioReference.jacobian_dot_qd(self, q, qd)[list(self.task_rows)])
+
+    def task_inverse(self, q):
+        Minv, J, Lambda = self._task_terms(q)
+        return Minv @ J.T @ Lambda
 
 
 class UrdfReference(PinocchioReference):

@@ -4,7 +4,7 @@ import os
 import re
 import subprocess
 
-from ..model.outputs import COMBINED, REGISTRY, Dimensions
+from ..model.outputs import COMBINED, REGISTRY, Dimensions, function_inputs
 
 #: C prelude: includes, a monotonic clock, S seeded random states of N joints (q, qd, qdd) and
 #: TIME(label, call): median of 7 repeats of 20000 calls, printed as "label ns".  The includes
@@ -46,13 +46,13 @@ def parse(text):
     return {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+) ([\d.]+)$", text, re.M)}
 
 
-def call_arguments(function: str, dof: int, base_parameters: int = 0) -> tuple[str, list[str], int]:
+def call_arguments(function: str, dof: int, base_parameters: int = 0, task: int = 6) -> tuple[str, list[str], int]:
     """The harness's arguments of ``NAME_<function>`` before ``p`` and its output arrays: the
     inputs (state k; tau is read from the qdd array), then every output argument at its own
     offset in ``out`` (the first at ``out``); and the numbers the outputs take."""
     parts = COMBINED.get(function, (function,))
-    dims = Dimensions(dof, dof, base_parameters or dof)
-    inputs = ", ".join(f"{'qdd' if g == 'tau' else g}[k]" for g in REGISTRY[parts[0]].inputs)
+    dims = Dimensions(dof, dof, base_parameters or dof, task)
+    inputs = ", ".join(f"{'qdd' if g == 'tau' else g}[k]" for g in function_inputs(function))
     sizes = [rows * cols for part in parts for _, (rows, cols) in REGISTRY[part].argument_shapes(dims)]
     offsets = [sum(sizes[:k]) for k in range(len(sizes))]
     return inputs, [("out" if offset == 0 else f"out + {offset}") for offset in offsets], sum(sizes)

@@ -77,7 +77,7 @@ def robot_fingerprint(robot) -> str:
     """Hash of everything in a robot that affects its equations (not where it was read from)."""
     parts = [robot.name, robot.convention, sp.srepr(tuple(robot.gravity)),
              sp.srepr(robot.parameters), repr(robot.runtime_names),
-             sp.srepr(tuple(robot.base_matrix())), sp.srepr(tuple(robot.tool_matrix()))]
+             sp.srepr(tuple(robot.base_matrix())), sp.srepr(tuple(robot.tool_matrix())), repr(robot.task_rows)]
     for link in robot.links:
         parts.append(link.joint + ("" if link.actuated else " passive"))
         parts.append(sp.srepr(link.expressions()))

@@ -42,6 +42,7 @@ import numpy as np
 import sympy as sp
 
 from ..model.errors import SymdynError, warn
+from . import ldlt
 from .articulated_body import forward_dynamics as articulated_body_fd
 from .articulated_body import reaction_map
 from .regressor import base_parameters as find_base_parameters
@@ -55,11 +56,13 @@ from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
-                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, default_outputs, spec, with_requirements)
+                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, default_outputs, spec,
+                             with_requirements)
 from ..model.robot import Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
 from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
+from .task_space import task_space
 from .tool import tool_kinematics
 
 #: how inverse dynamics is written: in the robot's standard parameters, or in its base parameters
@@ -121,6 +124,11 @@ class Equations:
     #: joint's angle theta_j + q_j (:func:`symdyn.derive.chain.make_chain`), ``()`` for a
     #: prismatic joint: what a consumer substitutes to give the joint angles another way
     joint_trig: tuple = ()
+    #: ``(pivot, diagonal entry, status)`` for every pivot the task-space outputs divide by, in
+    #: program order: the LDL^T of ``M = D + diag(armature)`` (status 1, checked at the pivot
+    #: tolerance) and of ``J M^-1 J^T`` (status 3, checked at the header's ``NAME_TASK_RTOL``);
+    #: empty when no task-space output was derived
+    task_checks: tuple = ()
 
     @property
     def n(self) -> int:
@@ -308,28 +316,13 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
 def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> tuple[sp.Matrix, tuple[tuple[sp.Expr, sp.Expr], ...]]:
     """Solve M x = rhs for symmetric positive definite M with an unrolled LDL^T (n divisions);
     returns the solution (n x 1) and the n pairs (pivot d_j, diagonal entry M_jj)."""
-    n = M.shape[0]
-    L = sp.eye(n)
-    d: list[sp.Expr] = []
-    inv_d: list[sp.Expr] = []
-    for j in range(n):
-        dj = M[j, j] - sp.Add(*[L[j, k] ** 2 * d[k] for k in range(j)])
-        if dj == 0:
-            raise SymdynError(f"forward dynamics: pivot {j + 1} of the mass matrix is identically 0 "
-                              f"(joint {j + 1} moves no inertia); give the link inertia or an armature, "
-                              "or leave forward_dynamics out")
-        d.append(b.define(f"ldl_d{j + 1}", dj))
-        inv_d.append(b.define(f"ldl_inv{j + 1}", 1 / d[j]))
-        for i in range(j + 1, n):
-            lij = (M[i, j] - sp.Add(*[L[i, k] * L[j, k] * d[k] for k in range(j)])) * inv_d[j]
-            L[i, j] = b.define(f"ldl_L{i + 1}{j + 1}", lij)
-    y = [sp.S.Zero] * n
-    for i in range(n):
-        y[i] = b.define(f"ldl_y{i + 1}", rhs[i] - sp.Add(*[L[i, k] * y[k] for k in range(i)]))
-    x = [sp.S.Zero] * n
-    for i in reversed(range(n)):
-        x[i] = b.define(f"qdd{i + 1}_fd", y[i] * inv_d[i] - sp.Add(*[L[k, i] * x[k] for k in range(i + 1, n)]))
-    return sp.Matrix(x), tuple((d[j], M[j, j]) for j in range(n))
+    def identically_zero(j):
+        raise SymdynError(f"forward dynamics: pivot {j + 1} of the mass matrix is identically 0 "
+                          f"(joint {j + 1} moves no inertia); give the link inertia or an armature, "
+                          "or leave forward_dynamics out")
+    factorization = ldlt.factor(b, M, "ldl", identically_zero)
+    x = ldlt.solve(b, factorization, rhs, "ldl_y", "qdd{i}_fd")
+    return sp.Matrix(x), factorization.pivots
 
 
 #: from this many joints, emitters solve ``M qdd = rhs`` for forward dynamics by an LDL^T loop
@@ -378,6 +371,7 @@ class _Derivation:
         self.coriolis_factors: tuple = ()
         self.fd_system: tuple = ()
         self.pivots: tuple = ()
+        self.task_checks: tuple = ()
         self.base: tuple = ()
         self.jne = self.le = None
         if method == "jacobian-newton-euler":
@@ -512,6 +506,55 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
     return qdd
 
 
+def _task(d: _Derivation) -> sp.Matrix:
+    """Every task-space output, derived together (:mod:`symdyn.derive.task_space`)."""
+    robot = d.robot
+    M = d.get("mass_matrix") + sp.diag(*[link.armature for link in robot.links])
+    J, jdot, h, c = d.get("jacobian"), d.get("jacobian_dot_qd"), d.get("coriolis"), d.get("gravity")
+    d.report("task space (LDL^T of M, J M^-1 J^T and its LDL^T)")
+
+    def identically_zero(j):
+        raise SymdynError(f"{robot.source or robot.name}: task space: pivot {j + 1} of the mass matrix is identically 0 "
+                          f"(joint {j + 1} moves no inertia); give the link inertia or an armature, or leave the "
+                          "task-space functions out")
+    ts = task_space(d.b, M, J, jdot, h, c, robot.task_rows, identically_zero)
+    check_task_regular(robot, d.b.build(), ts.task_pivots)
+    d.values.update(ts.outputs())
+    d.task_checks = tuple((p, m, 1) for p, m in ts.mass.pivots) + tuple((p, m, 3) for p, m in ts.task_pivots)
+    return d.values[TASK_OUTPUTS[0]]
+
+
+def check_task_regular(robot: Robot, program: Program, pivots, states: int = 3, seed: int = 0) -> None:
+    """Refuse a task the tool cannot move in at any configuration: the pivots ``(e_k, A_kk)`` of
+    the LDL^T of ``A = J_s M^-1 J_s^T`` evaluated at ``states`` random configurations (random
+    positive parameter values); when the same pivot is below 1e-9 of its diagonal entry at
+    every one of them, the task rows are linearly dependent for every q (a planar arm asked for
+    its whole pose, a leg whose tool spins freely about an axis) and every call would return
+    status 3: a :class:`SymdynError` names the file, the field and the rank found."""
+    q = joint_symbols(robot.dof)[0]
+    ratios = sp.Matrix([[e / a for e, a in pivots]])
+    evaluate = compile_function([q, robot.parameters], program, ratios, "task_check")
+    rng = np.random.default_rng(seed)
+    small = set(range(len(pivots)))
+    for _ in range(states):
+        values, pose = rng.uniform(0.5, 1.5, len(robot.parameters)), rng.uniform(-np.pi, np.pi, robot.dof)
+        try:
+            found = np.asarray(evaluate(pose, values), dtype=float).ravel()
+        except (ZeroDivisionError, OverflowError, ValueError, TypeError):
+            small &= set(range(len(pivots)))  # a zero diagonal entry: that row cannot move at all
+            continue
+        small &= {k for k, ratio in enumerate(found) if not ratio > 1e-9}
+    if not small:
+        return
+    rows, names = robot.task_rows, ("linear x", "linear y", "linear z", "angular x", "angular y", "angular z")
+    what = "field 'task'" if robot.task is not None else "the task-space functions' default task (the tool's pose)"
+    raise SymdynError(
+        f"{robot.source or robot.name}: {what}: the tool cannot move independently in the {len(rows)} task "
+        f"directions ({', '.join(names[r] for r in rows)}) at any configuration (J's task rows have rank at most "
+        f"{len(rows) - len(small)} at every sampled q), so the task-space mass matrix does not exist; choose fewer "
+        "rows ('task: position', or a list of Jacobian rows such as [0, 1], in the robot file or scene)")
+
+
 def _reaction_map(d: _Derivation) -> sp.Matrix:
     d.report("reaction_map (articulated-body recursion at tau = 0, eqs. 5-14 of the force-to-torque note)")
     return reaction_map(d.chain, d.static_friction).matrix
@@ -563,7 +606,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "inverse_dynamics": _inverse_dynamics, "fd_bias": _bias,
     **{name: _tool for name in KINEMATIC_OUTPUTS},
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
-    "base_regressor": _base_regressor,
+    "base_regressor": _base_regressor, **{name: _task for name in TASK_OUTPUTS},
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")
 
@@ -630,4 +673,5 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      mass_factors=d.mass_factors if "mass_matrix" in wanted else (),
                      coriolis_factors=d.coriolis_factors if "coriolis_matrix" in wanted else (),
                      fd_system=d.fd_system if "forward_dynamics" in wanted else (),
-                     joint_trig=chain.joint_trig)
+                     joint_trig=chain.joint_trig,
+                     task_checks=d.task_checks if any(name in wanted for name in TASK_OUTPUTS) else ())

@@ -137,6 +137,12 @@ def _position_of(expr, position) -> int:
     return max((position[x] for x in sp.sympify(expr).free_symbols if x in position), default=-1)
 
 
+#: the status a task-space function returns at a singular task (J M^-1 J^T not positive definite)
+TASK_SINGULAR = 3
+#: the comment beside each status a pivot check returns
+STATUS_COMMENTS = {1: "singular mass matrix at q", TASK_SINGULAR: "singular task at q (J M^-1 J^T)"}
+
+
 class BodyWriter:
     """Lays out one reduced function as C lines (:meth:`write`)."""
 
@@ -231,13 +237,15 @@ class BodyWriter:
         Returns the tests by the index of the statement after which they go."""
         if not self.plan.checked:
             return {}
-        out: dict[int, list[str]] = {}
-        rtol = self.printer.literal(self.ctx.rtol)
+        out: dict[int, list[tuple[str, int]]] = {}
         checks = self.reduced.checks
-        for d, m in zip(checks[0::2], checks[1::2]):
+        codes = self.plan.pivot_codes or [1] * (len(checks) // 2)
+        for d, m, code in zip(checks[0::2], checks[1::2], codes):
             if not sp.sympify(d).free_symbols and not sp.sympify(m).free_symbols and \
                     float(d) > (0.0 if sp.sympify(d - m) == 0 else self.ctx.rtol * float(m)):
                 continue  # a constant pivot that passes: no test that is always false (clang's -Wunreachable-code)
+            rtol = (f"({self.ctx.real}){self.ctx.prefix}_TASK_RTOL" if code == TASK_SINGULAR  # whatever type the user's macro has
+                    else self.printer.literal(self.ctx.rtol))
             at = max(_position_of(d, self.position), _position_of(m, self.position))
             pd = self.printer.doprint(d)
             if sp.sympify(d - m) == 0:
@@ -245,17 +253,18 @@ class BodyWriter:
             else:
                 test = f"({pd} > {rtol}*({self.printer.doprint(m)}))"
                 test = test if self.vector else "!" + test
-            out.setdefault(at, []).append(test)
+            out.setdefault(at, []).append((test, code))
         return out
 
     def _emit_checks(self, checks, at) -> None:
         if at not in checks:
             return
         if self.vector:
-            self.lines.append("all_ok &= " + "\n        & ".join(checks[at]) + ";")
-        else:
-            self.lines += ["if (" + "\n        || ".join(checks[at]) + ") {",
-                           "    return 1; /* singular mass matrix at q */",
+            self.lines.append("all_ok &= " + "\n        & ".join(test for test, _ in checks[at]) + ";")
+            return
+        for code in sorted({code for _, code in checks[at]}):
+            self.lines += ["if (" + "\n        || ".join(test for test, c in checks[at] if c == code) + ") {",
+                           f"    return {code}; /* {STATUS_COMMENTS[code]} */",
                            "}"]
 
     def _statements(self, checks) -> list:
@@ -282,10 +291,11 @@ class BodyWriter:
         return late
 
     def _checked_results(self, late) -> None:
-        """Forward dynamics' results: every one finite (else status 2), then written."""
+        """A checked function's results (forward dynamics, task space): every one finite (else
+        status 2), then written to their output entries."""
         self.used |= set().union(*(sp.sympify(e).free_symbols for e in self.reduced.checks))
         limit, fabs = _limit(self.ctx.internal, self.ctx.scalar)
-        names, out_name = self.ctx.names, self.plan.out_name
+        names = self.ctx.names
         results = []
         for target, expr in late:
             if isinstance(expr, sp.Symbol) and expr in names:
@@ -294,15 +304,16 @@ class BodyWriter:
                 self.lines.append(f"const {self.ltype} {target.lvalue} = {self.show(expr)};")
                 results.append(target.lvalue)
             self._count(expr)
+        writes = [(final, result) for (target, _), result in zip(late, results) for final in target.finals]
         if self.vector:
             self.lines.append("all_ok &= " + "\n        & ".join(f"({r} <= {limit}) & ({r} >= -{limit})" for r in results) + ";")
-            self.lines += [f"{out_name}[{i}] = {result};" for i, result in enumerate(results)]
+            self.lines += [f"{final} = {result};" for final, result in writes]
             self.lines.append("*ok = all_ok;")
         else:
             self.lines += ["if (" + "\n        || ".join(f"!({fabs}({r}) <= {limit})" for r in results) + ") {",
                            "    return 2; /* a result is NaN or out of range */",
                            "}"]
-            self.lines += [f"{out_name}[{i}] = {self.store}{result};" for i, result in enumerate(results)]
+            self.lines += [f"{final} = {self.store}{result};" for final, result in writes]
             self.lines.append("return 0;")
 
     def _loops(self) -> None:

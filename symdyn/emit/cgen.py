@@ -21,7 +21,7 @@ from .cprinter import VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
 from ..derive.equations import Equations
 from ..model.tolerances import pivot_rtol
-from ..model.outputs import ALL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY
+from ..model.outputs import ALL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -196,9 +196,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     common = dict(summary=summary, args=args, lines=body.lines, ops=body.ops, unused=unused,
                   trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis))
     if plan.checked:
-        status = REGISTRY[name].status_for(eqs.fd_method)
-        return CFunction(name=f"{name}_checked", returns="int",
-                         returns_doc=status.format(rtol=context.rtol, real=scalar), **common)
+        status = REGISTRY[plan.parts[0]].status_for(eqs.fd_method if name == "forward_dynamics" else "")
+        return CFunction(name=checked_name(name), returns="int",
+                         returns_doc=status.format(rtol=context.rtol, real=scalar, prefix=prefix), **common)
     return CFunction(name=name, **common)
 
 
@@ -225,7 +225,26 @@ def _batch_form(eqs: Equations, plan, reduced, context: BodyContext, group_of, p
             "vector_functions": sorted(vector_functions), "checked": plan.checked,
             "inputs": [(group, len(getattr(eqs, group))) for group in plan.inputs],
             "parameters": len(eqs.parameters), "outputs": sizes,
-            "scalar": f"{plan.name}_checked" if plan.checked else plan.name, "trig": bool(context.angles)}
+            "scalar": checked_name(plan.name) if plan.checked else plan.name, "trig": bool(context.angles)}
+
+
+#: the name of each row of the tool Jacobian, for the header's description of a task
+JACOBIAN_ROWS = ("linear x", "linear y", "linear z", "angular x", "angular y", "angular z")
+
+
+def _task_context(eqs: Equations, precision: str) -> dict:
+    """What the header says about the task of the task-space functions: its rows and the
+    default of the singularity tolerance macro."""
+    rows = eqs.robot.task_rows
+    return {"count": len(rows), "rows": ", ".join(f"{row} ({JACOBIAN_ROWS[row]})" for row in rows),
+            "rtol": repr(pivot_rtol("double" if precision == "double" else "float"))}
+
+
+def checked_name(name: str) -> str:
+    """The name of the function that returns a status: forward dynamics' is
+    ``forward_dynamics_checked`` (``forward_dynamics`` is the plain call beside it); the
+    task-space functions return their status themselves."""
+    return f"{name}_checked" if name == "forward_dynamics" else name
 
 
 def _nominal_standard(robot):
@@ -314,6 +333,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "joints": [(k + 1, link.name, link.joint, link.actuated) for k, link in enumerate(robot.links)],
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
+        "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,
         "functions": built,
         "header_only": header_only,
         "notes": [comment_text(note) for note in notes],

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..derive.equations import Equations
-from ..model.outputs import COMBINED, REGISTRY, Dimensions
+from ..model.outputs import COMBINED, REGISTRY, TASK_OUTPUTS, Dimensions, function_inputs
 from .emission import factor_coefficients, fold_constants, fresh_symbols, pair_cse
 
 #: functions of at least this many statements get the pair CSE (:func:`emission.pair_cse`) instead
@@ -47,6 +47,9 @@ class Target:
     lvalue: str
     expr: sp.Expr
     local: bool = False
+    #: where a checked function writes the value once every check has passed (the output
+    #: entries; two for an off-diagonal entry of a symmetric output)
+    finals: tuple[str, ...] = ()
 
 
 @dataclass
@@ -71,6 +74,9 @@ class FunctionPlan:
     checked: bool = False
     looped: bool = False
     pivots: list[sp.Expr] = field(default_factory=list)
+    #: the status each pivot pair returns when its check fails (empty: 1 for every pair) and
+    #: whether it is checked against the header's task tolerance macro instead of the literal one
+    pivot_codes: list[int] = field(default_factory=list)
 
 
 @dataclass
@@ -85,7 +91,7 @@ class ReducedPlan:
 
 def dimensions(eqs: Equations) -> Dimensions:
     """The sizes the outputs of ``eqs`` depend on."""
-    return Dimensions(eqs.n, len(eqs.robot.actuated_joints), len(eqs.base_parameters))
+    return Dimensions(eqs.n, len(eqs.robot.actuated_joints), len(eqs.base_parameters), len(eqs.robot.task_rows))
 
 
 def _factor_targets(motions, momenta, size: int) -> list[Target]:
@@ -102,7 +108,7 @@ def _output_targets(eqs: Equations, plan: FunctionPlan, part: str) -> None:
     dims = dimensions(eqs)
     if output.shape(dims) != matrix.shape:
         raise AssertionError(f"{part}: derived {matrix.shape}, registered {output.shape(dims)}")
-    factored = output.symmetric and bool(eqs.mass_factors)
+    factored = part == "mass_matrix" and bool(eqs.mass_factors)
     if part == "coriolis_matrix" and eqs.coriolis_factors and eqs.n >= LOOPED_CORIOLIS_FROM_DOF:
         n = eqs.n  # component c of vector k of each factor at array[c * n + k]
         plan.targets.extend(Target(f"{array}[{c * n + k}]", e, True)
@@ -127,10 +133,35 @@ def _output_targets(eqs: Equations, plan: FunctionPlan, part: str) -> None:
             plan.gram = (arg, rows)
 
 
+def _task_targets(eqs: Equations, plan: FunctionPlan) -> None:
+    """A task-space function: every result to a local first (``result0``, ...), written to its
+    output entries only when every pivot check has passed; the checks of both factorizations."""
+    dims = dimensions(eqs)
+    k = 0
+    for part in plan.parts:
+        output = REGISTRY[part]
+        matrix = eqs.output(part)
+        for argument, (rows, cols) in output.argument_shapes(dims):
+            arg = argument.name
+            for i in range(rows):
+                for j in range(cols):
+                    if output.symmetric and j < i:
+                        continue  # written with its mirror above the diagonal
+                    finals = (f"{arg}[{i * cols + j}]",) + ((f"{arg}[{j * cols + i}]",) if output.symmetric and j > i else ())
+                    plan.targets.append(Target(f"result{k}", matrix[i, j], finals=finals))
+                    k += 1
+    plan.pivots = [e for pivot, diagonal, _ in eqs.task_checks for e in (pivot, diagonal)]
+    plan.pivot_codes = [code for _, _, code in eqs.task_checks]
+
+
 def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
     """Stage 1 for the function ``name`` (an output, or a combined function of several)."""
     parts = COMBINED.get(name, (name,))
-    plan = FunctionPlan(name, parts, REGISTRY[parts[0]].inputs, REGISTRY[parts[0]].arguments[0].name)
+    plan = FunctionPlan(name, parts, function_inputs(name), REGISTRY[parts[0]].arguments[0].name)
+    if all(part in TASK_OUTPUTS for part in parts) and eqs.task_checks:
+        plan.checked = True
+        _task_targets(eqs, plan)
+        return plan
     plan.checked = name == "forward_dynamics" and bool(eqs.pivots)
     plan.looped = plan.checked and bool(eqs.fd_system)
     n = eqs.n
@@ -144,7 +175,7 @@ def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
         plan.targets += [Target(f"fd_b[{i}]", rhs[i], True) for i in range(n)]
     elif plan.checked:  # results go to locals first: qdd is written only when every check passes
         matrix = eqs.output(name)
-        plan.targets = [Target(f"result{i}", matrix[i]) for i in range(n)]
+        plan.targets = [Target(f"result{i}", matrix[i], finals=(f"{plan.out_name}[{i}]",)) for i in range(n)]
         plan.pivots = [e for pair in eqs.pivots for e in pair]
     else:
         for part in parts:

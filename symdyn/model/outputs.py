@@ -32,6 +32,8 @@ class Dimensions:
     dof: int
     actuated: int | None = None
     base_parameters: int = 0
+    #: rows of the task (the task-space functions' M): 6 for the tool's pose (the default)
+    task: int = 6
 
     @property
     def na(self) -> int:
@@ -114,10 +116,26 @@ class CombinedSpec:
     parts: tuple[str, ...]
     summary: str
 
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """The inputs of all its parts, in the order of :data:`INPUT_GROUPS`."""
+        wanted = {group for part in self.parts for group in REGISTRY[part].inputs}
+        return tuple(group for group in INPUT_GROUPS if group in wanted)
+
 
 _PIVOTS = ("Returns 0 on success; 1 when the mass matrix is singular at q ({why}); 2 when an input is NaN or "
            "infinite, or a result is not finite (NaN or beyond the range of {{real}}). On a nonzero return qdd is "
            "not written.")
+
+_TASK_STATUS = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot of its LDL^T factorization "
+                "is not above {rtol:g} times its diagonal entry, or is not a number); 2 when an input is NaN or "
+                "infinite, or a result is not finite (NaN or beyond the range of {real}); 3 when the task is "
+                "singular at q: a pivot of the LDL^T factorization of J M^-1 J^T (the inverse of Lambda) is not "
+                "above {prefix}_TASK_RTOL times its diagonal entry (a kinematic singularity, or a task direction "
+                "the joints cannot move the tool in). On a nonzero return nothing is written.")
+#: what the task-space outputs are derived from
+_TASK_REQUIRES = ("mass_matrix", "coriolis", "gravity", "jacobian", "jacobian_dot_qd")
+_TASK_UNITS = "kg, kg m or kg m^2 (rows: N and N m per m/s^2 and rad/s^2)"
 
 SPECS: tuple[OutputSpec, ...] = (
     OutputSpec(
@@ -187,6 +205,30 @@ SPECS: tuple[OutputSpec, ...] = (
         "Inverse dynamics in the base parameters: the columns of the regressor that the identifiable combinations beta of the standard parameters multiply, tau = Yb beta.",
         (OutputArgument("Yb", "base regressor, N*NB row-major (NB base parameters in the order listed above): tau = Yb beta"),),
         default=False),
+    OutputSpec(
+        "task_mass_matrix", "Lambda", ("q",), lambda d: (d.task, d.task), "M x M", _TASK_UNITS,
+        "Task-space mass matrix M_x = Lambda = (J M^-1 J^T)^-1 of the tool (J: the task's rows of NAME_jacobian, M = D + "
+        "diag(armature)); for a square, regular J it equals J^-T M J^-1.",
+        (OutputArgument("Lambda", "task-space mass matrix Lambda, M*M row-major, symmetric (M task rows, as listed "
+                                  "above): F = Lambda xdd + mu + Gx"),),
+        default=False, requires=_TASK_REQUIRES, symmetric=True, status=_TASK_STATUS),
+    OutputSpec(
+        "task_bias", "mu", ("q", "qd"), lambda d: (d.task, 1), "M", "N or N m",
+        "Task-space Coriolis and centrifugal force V_x = mu = Lambda (J M^-1 h - J-dot qd) of the tool (friction not included).",
+        (OutputArgument("mu", "task-space Coriolis and centrifugal force mu = V_x, M (N for linear rows, N m for angular ones)"),),
+        default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
+    OutputSpec(
+        "task_gravity", "Gx", ("q",), lambda d: (d.task, 1), "M", "N or N m",
+        "Task-space gravity force G_x = Lambda J M^-1 c of the tool (= J^-T c for a square J).",
+        (OutputArgument("Gx", "task-space gravity force G_x, M (N for linear rows, N m for angular ones)"),),
+        default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
+    OutputSpec(
+        "task_inverse", "Jbar", ("q",), lambda d: (d.dof, d.task), "N x M", "(rad/s or m/s) per (m/s or rad/s)",
+        "Dynamically consistent inverse of the task Jacobian, Jbar = M^-1 J^T Lambda: the null-space projector "
+        "of joint torques is 1 - J^T Jbar^T.",
+        (OutputArgument("Jbar", "dynamically consistent inverse Jbar = M^-1 J^T Lambda, N*M row-major: tau = J^T F "
+                                "+ (1 - J^T Jbar^T) tau0 leaves the tool's acceleration to F"),),
+        default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
 )
 
 #: every output by name, in the order generated code and documentation list them
@@ -197,6 +239,11 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
     CombinedSpec("kinematics", ("forward_kinematics", "jacobian"),
                  "Pose and Jacobian of the tool in one call: the same results as NAME_forward_kinematics and "
                  "NAME_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls)."),
+    CombinedSpec("task_space", ("task_mass_matrix", "task_bias", "task_gravity", "task_inverse"),
+                 "Task-space dynamics of the tool in one call, F = Lambda xdd + mu + Gx: Lambda, mu and Gx as "
+                 "NAME_task_mass_matrix, NAME_task_bias and NAME_task_gravity, and Jbar as NAME_task_inverse, "
+                 "sharing one factorization of M and one of J M^-1 J^T. A controller applies tau = J^T (Lambda a + mu "
+                 "+ Gx) + (1 - J^T Jbar^T) tau0 for a tool acceleration a and a null-space torque tau0."),
 )
 COMBINED: dict[str, tuple[str, ...]] = {c.name: c.parts for c in COMBINED_SPECS}
 
@@ -214,6 +261,10 @@ ALL_OUTPUTS = OUTPUTS + EXTRA_OUTPUTS
 #: the outputs about the tool frame (the others are joint-space dynamics)
 KINEMATIC_OUTPUTS = tuple(s.name for s in SPECS if s.kinematic)
 
+#: the task-space outputs (derived together; generated when asked for, or when the robot file
+#: or scene names a task)
+TASK_OUTPUTS = ("task_mass_matrix", "task_bias", "task_gravity", "task_inverse")
+
 #: the inputs each output depends on, in the order of the generated functions' arguments
 OUTPUT_INPUTS = {s.name: s.inputs for s in SPECS}
 
@@ -230,9 +281,18 @@ def spec(name: str) -> OutputSpec:
 
 
 def default_outputs(robot) -> tuple[str, ...]:
-    """What is derived and generated when nothing is asked for: :data:`OUTPUTS`, and the
-    reaction map when the robot has passive joints."""
-    return OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
+    """What is derived and generated when nothing is asked for: :data:`OUTPUTS`, the reaction
+    map when the robot has passive joints, and the task-space outputs when it names a task."""
+    return (OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
+            + (TASK_OUTPUTS if getattr(robot, "task", None) is not None else ()))
+
+
+def function_inputs(name: str) -> tuple[str, ...]:
+    """The input groups of a generated function (an output, or a combined function), in order."""
+    for combined in COMBINED_SPECS:
+        if combined.name == name:
+            return combined.inputs
+    return spec(name).inputs
 
 
 def with_requirements(names: Iterable[str]) -> tuple[str, ...]:
@@ -253,13 +313,15 @@ def in_order(names: Iterable[str]) -> tuple[str, ...]:
     return tuple(n for n in ALL_OUTPUTS if n in names)
 
 
-def output_shape(name: str, n: int, actuated: int | None = None, base_parameters: int = 0) -> tuple[int, int]:
+def output_shape(name: str, n: int, actuated: int | None = None, base_parameters: int = 0,
+                 task: int = 6) -> tuple[int, int]:
     """Rows and columns of an output for a robot of ``n`` joints (``actuated`` of them actuated,
-    default all; ``base_parameters`` columns of the base regressor)."""
-    return spec(name).shape(Dimensions(n, actuated, base_parameters))
+    default all; ``base_parameters`` columns of the base regressor; ``task`` rows of the task)."""
+    return spec(name).shape(Dimensions(n, actuated, base_parameters, task))
 
 
 def functions_help() -> str:
     """The ``--functions`` help text of serial robots, from the registry."""
     return (f"comma-separated subset of: {', '.join(ALL_OUTPUTS)} (default: the scene's functions, else "
-            f"{', '.join(OUTPUTS)}, and reaction_map when the robot has passive joints)")
+            f"{', '.join(OUTPUTS)}, reaction_map when the robot has passive joints, the task_* functions when it "
+            f"names a task)")

@@ -39,7 +39,9 @@ _RESERVED_NAME = re.compile(r"(q|qd|qdd|qdot|qddot|tau|p|cse)[0-9]*\Z|(c|s)[0-9]
 _RESERVED_WORDS = frozenset({"pi", "e", "E", "I", "sin", "cos", "sqrt"})
 _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any case
 
-TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "tool", "parameters", "links")
+TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "tool", "task", "parameters", "links")
+#: the named tasks of ``task:`` (rows of the tool Jacobian: 0-2 linear x, y, z, 3-5 angular)
+TASKS = {"pose": (0, 1, 2, 3, 4, 5), "position": (0, 1, 2), "orientation": (3, 4, 5)}
 ANGLE_UNITS = ("radians", "degrees")
 LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "origin", "axis", "mass", "com", "inertia",
              "armature", "damping", "coulomb", "limits", "actuated")
@@ -206,6 +208,14 @@ class Robot:
     #: constant 4x4 transform (16 entries) from the last link's frame to the frame ``tool`` is
     #: given in, or None; not part of the file format: set by scenes that lock the last joints
     tool_fixed: tuple[sp.Expr, ...] | None = None
+    #: the task of the task-space functions, as rows of the tool Jacobian (0-2 linear x, y, z,
+    #: 3-5 angular), or None when the file names none (they then use the whole pose)
+    task: tuple[int, ...] | None = None
+
+    @property
+    def task_rows(self) -> tuple[int, ...]:
+        """The rows of the tool Jacobian the task-space functions use (the pose by default)."""
+        return TASKS["pose"] if self.task is None else self.task
 
     @property
     def base_gravity(self) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
@@ -628,6 +638,7 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     reader.read_parameters(doc.get("parameters"))
     base = reader.placement(doc["base"], None, "base") if "base" in doc else None
     tool = reader.placement(doc["tool"], None, "tool") if "tool" in doc else None
+    task = task_rows(doc["task"], lambda message: reader.fail(message, None, "task")) if "task" in doc else None
     gravity = (reader.vector(doc["gravity"], 3, None, "gravity") if "gravity" in doc
                else DEFAULT_GRAVITY)
     links_raw = doc.get("links")
@@ -650,8 +661,29 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     return Robot(
         name=name, convention=convention, gravity=tuple(sp.sympify(g) for g in gravity),
         links=links, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
-        source=path, source_hash=source_hash, base=base, tool=tool,
+        source=path, source_hash=source_hash, base=base, tool=tool, task=task,
         runtime_names=tuple(s.name for s in runtime_syms if s in used))
+
+
+def task_rows(raw, fail) -> tuple[int, ...]:
+    """The rows of a ``task:`` field: ``pose``, ``position``, ``orientation`` or a list of
+    distinct row indices 0-5 of the tool Jacobian (kept in the order given); ``fail(message)``
+    raises the caller's error."""
+    if isinstance(raw, str):
+        if raw not in TASKS:
+            fail(f"unknown task {describe(raw)} (allowed: {', '.join(TASKS)}, or a list of Jacobian rows 0-5, "
+                 "e.g. [0, 1] for x and y)")
+        return TASKS[raw]
+    if not isinstance(raw, list) or not raw:
+        fail(f"expected {', '.join(TASKS)} or a non-empty list of Jacobian rows 0-5, not {describe(raw)}")
+    rows = []
+    for value in raw:
+        if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 5:
+            fail(f"a task row is an integer 0-5 (0-2: linear x, y, z; 3-5: angular x, y, z), not {describe(value)}")
+        if value in rows:
+            fail(f"task row {value} is listed twice")
+        rows.append(value)
+    return tuple(rows)
 
 
 def load(path: str | os.PathLike) -> Robot:

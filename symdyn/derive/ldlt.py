@@ -1,0 +1,69 @@
+"""Unrolled LDL^T factorizations of symmetric positive definite matrices, symbolic.
+
+``M = L diag(d) L^T`` with L unit lower triangular, written out for one matrix of expressions:
+every pivot ``d_j``, its reciprocal and every entry of L named in a
+:class:`~symdyn.derive.program.ProgramBuilder` as they are made (n divisions in all, no square
+root).  Forward dynamics solves ``(D + diag(armature)) qdd = rhs`` with it; task-space dynamics
+factors the mass matrix with it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import sympy as sp
+
+
+@dataclass(frozen=True)
+class Factorization:
+    """``M = L diag(d) L^T`` of a symmetric n x n ``M``: ``L`` (n x n, unit lower triangular,
+    entries named), ``d`` and ``inv`` (the pivots and their reciprocals, named), ``diagonal``
+    (``M_jj``, for the run-time check ``d_j > rtol * M_jj``)."""
+
+    L: sp.Matrix
+    d: tuple
+    inv: tuple
+    diagonal: tuple
+
+    @property
+    def size(self) -> int:
+        return len(self.d)
+
+    @property
+    def pivots(self) -> tuple[tuple[sp.Expr, sp.Expr], ...]:
+        """``(d_j, M_jj)`` per pivot, in order."""
+        return tuple(zip(self.d, self.diagonal))
+
+
+def factor(b, M: sp.Matrix, hint: str = "ldl", on_zero: Callable[[int], None] | None = None) -> Factorization:
+    """The unrolled LDL^T of the symmetric ``M`` (its lower triangle is read), named in ``b`` as
+    ``{hint}_d{j}``, ``{hint}_inv{j}``, ``{hint}_L{i}{j}`` (1-based).  ``on_zero(j)`` (0-based) is
+    called when pivot j is identically zero (it should raise)."""
+    n = M.shape[0]
+    L = sp.eye(n)
+    d: list[sp.Expr] = []
+    inv: list[sp.Expr] = []
+    for j in range(n):
+        dj = M[j, j] - sp.Add(*[L[j, k] ** 2 * d[k] for k in range(j)])
+        if dj == 0 and on_zero is not None:
+            on_zero(j)
+        d.append(b.define(f"{hint}_d{j + 1}", dj))
+        inv.append(b.define(f"{hint}_inv{j + 1}", 1 / d[j]))
+        for i in range(j + 1, n):
+            lij = (M[i, j] - sp.Add(*[L[i, k] * L[j, k] * d[k] for k in range(j)])) * inv[j]
+            L[i, j] = b.define(f"{hint}_L{i + 1}{j + 1}", lij)
+    return Factorization(L=L, d=tuple(d), inv=tuple(inv), diagonal=tuple(M[j, j] for j in range(n)))
+
+
+def solve(b, f: Factorization, rhs, forward_hint: str, back_hint: str) -> list[sp.Expr]:
+    """``x`` with ``M x = rhs`` (n entries) by forward and back substitution, each entry named
+    (``{forward_hint}{i}``, ``{back_hint}`` with ``{i}`` replaced by the 1-based row)."""
+    n, L, inv = f.size, f.L, f.inv
+    y = [sp.S.Zero] * n
+    for i in range(n):
+        y[i] = b.define(f"{forward_hint}{i + 1}", rhs[i] - sp.Add(*[L[i, k] * y[k] for k in range(i)]))
+    x = [sp.S.Zero] * n
+    for i in reversed(range(n)):
+        x[i] = b.define(back_hint.format(i=i + 1), y[i] * inv[i] - sp.Add(*[L[k, i] * x[k] for k in range(i + 1, n)]))
+    return x
