@@ -7,7 +7,7 @@ import os
 import sys
 
 from ..model.files import check_output_dir, check_targets, write_files
-from ..derive.derivation import STEPS, derive_steps
+from ..derive.derivation import STEPS, TASK_CLOSED_FORM_MAX_DOF, derive_steps
 from ..model.errors import SymdynError
 from ..emit.printout import DEFAULT_DIGITS, FORMATS, MAX_DIGITS, render
 from ..derive.equations import METHOD_ALIASES
@@ -35,6 +35,10 @@ def add_parser(sub) -> None:
     p.add_argument("--base-parameters", action="store_true",
                    help="end with the base parameters (identification): each as a combination of the standard "
                         "parameters (needs a numeric link geometry)")
+    p.add_argument("--task", action="store_true",
+                   help="end with the equations of motion in the tool's task coordinates, F = M_x xdd + V_x + G_x "
+                        "(the lecture's Cartesian space; the robot file's or scene's task, default the tool's pose), "
+                        "in closed form, up to 3 joints")
     p.add_argument("--format", default="text", choices=FORMATS,
                    help="text (Unicode, for the terminal), latex (a complete document for pdflatex) "
                         "or markdown (math blocks that render on GitHub); default text")
@@ -99,7 +103,8 @@ def _parallel_text(args, robot):
     from ..derive.parallel_steps import parallel_steps
     from ..emit.parallel_printout import render_parallel
     refused = [flag for flag, on in (("--method", args.method != "newton-euler"), ("--steps", args.steps != "all"),
-                                     ("--form", args.form != "auto"), ("--base-parameters", args.base_parameters)) if on]
+                                     ("--form", args.form != "auto"), ("--base-parameters", args.base_parameters),
+                                     ("--task", args.task)) if on]
     if refused:
         raise SymdynError(f"{args.robot}: {refused[0]} does not apply to a platform robot (kind: parallel)")
     pose = _numbers(args.pose, 7, "--pose")
@@ -131,8 +136,13 @@ def _serial_text(args, robot):
             raise SymdynError("--form closed: the articulated-body derivation is printed in the named form "
                               "only (its quantities are rational in the joint variables)")
         closed = None
+    if args.task and robot.dof > TASK_CLOSED_FORM_MAX_DOF:
+        raise SymdynError(f"{args.robot}: --task prints closed forms, kept to robots of up to {TASK_CLOSED_FORM_MAX_DOF} "
+                          f"joints (this one has {robot.dof}); the task-space C functions have no such limit "
+                          "(symdyn generate --functions task_space)")
     return lambda progress: render(
-        derive_steps(robot, args.method, args.steps, closed, args.base_parameters, progress=progress), args.format,
+        derive_steps(robot, args.method, args.steps, closed, args.base_parameters, progress=progress, task=args.task),
+        args.format,
         source_name=os.path.basename(args.robot), source_hash=robot.source_hash, digits=args.digits,
         progress=progress)
 

@@ -37,6 +37,7 @@ from .equations import friction_terms, normalize_method, derive
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler, q_operator, pseudo_inertia
 from .newton_euler import recursion
+from ..model.errors import SymdynError
 from ..model.robot import Robot
 
 STEPS = ("all", "summary")
@@ -120,6 +121,11 @@ KINDS = {
     "column": "[e_j; d_j] = X_1^T A_1 ... X_j^T b_j, base wrench per unit tau_j (eq. 14)",
     "Dmap": "D = [d_1 ... d_na], 6 x na (eq. 13)",
     "beta": "beta_k, a base parameter: name = combination of the standard parameters",
+    "task_J": "J, the task's rows of the tool Jacobian (world axes at the tool origin)",
+    "task_det": "det J (square tasks)",
+    "Mx": "M_x(q) = (J D^-1 J^T)^-1, task-space mass matrix",
+    "Vx": "V_x(q, qdot) = M_x (J D^-1 h - Jdot qdot), task-space Coriolis and centrifugal force",
+    "Gx": "G_x(q) = M_x J D^-1 c, task-space gravity force",
     "D": "D(q), n x n",
     "h": "h(q, qdot), n x 1",
     "c": "c(q), n x 1",
@@ -409,12 +415,76 @@ def _numbered(program, exprs: list, notation: _Notation):
     return [sp.sympify(e).xreplace(mapping) for e in exprs], tuple(where)
 
 
+#: the most joints the task-space section (closed forms) is printed for
+TASK_CLOSED_FORM_MAX_DOF = 3
+
+
+def _rational(notation: _Notation, expr) -> sp.Expr:
+    """A rational expression in the joints' trig symbols in closed form: numerator and
+    denominator each reduced as :meth:`_Notation.textbook` reduces a polynomial, the denominator
+    factored."""
+    numerator, denominator = sp.fraction(sp.cancel(sp.together(expr)))
+    top = notation.textbook(numerator)
+    bottom = sp.factor(notation.textbook(denominator))
+    return sp.factor_terms(top) / bottom if bottom != 1 else top
+
+
+def task_section(robot: Robot, notation: _Notation, progress=None) -> Section:
+    """The task-space equations of motion ``F = M_x xdd + V_x + G_x`` of the ECE 470 lecture
+    ("Cartesian space") for the robot's task rows, in closed form: J, det J (square tasks),
+    M_x, V_x, G_x; square tasks in the lecture's form ``J^-T D J^-1``, ``J^-T (h - D J^-1 Jdot
+    qdot)``, ``J^-T c``, others as ``(J D^-1 J^T)^-1`` and its products.  D includes the armature."""
+    n, rows = robot.dof, robot.task_rows
+    if n > TASK_CLOSED_FORM_MAX_DOF:
+        raise SymdynError(f"{robot.source or robot.name}: the task-space section is printed in closed form, which is "
+                          f"kept to robots of up to {TASK_CLOSED_FORM_MAX_DOF} joints (this one has {n}); its C "
+                          "functions (symdyn generate --functions task_space) have no such limit")
+    eqs = derive(robot, "newton-euler", ["mass_matrix", "coriolis", "gravity", "jacobian", "jacobian_dot_qd"],
+                 progress=progress)
+    trig = lambda M: sp.Matrix(notation.to_trig_symbols(eqs.program, sp.Matrix(M)))  # noqa: E731
+    D = trig(eqs.mass_matrix) + sp.diag(*[link.armature for link in robot.links])
+    h, c = trig(eqs.coriolis), trig(eqs.gravity)
+    J = trig(eqs.jacobian)[list(rows), :]
+    jdot = trig(eqs.jacobian_dot_qd)[list(rows), :]
+    quantities = [Quantity("task_J", (), notation.textbook_matrix(J))]
+    if len(rows) == n:
+        det = J.det()
+        quantities.append(Quantity("task_det", (), sp.factor(notation.textbook(det))))
+        J_inv_T = J.adjugate().T / det
+        Mx = J_inv_T * D * J_inv_T.T
+        Vx = J_inv_T * (h - D * J_inv_T.T * jdot)
+        Gx = J_inv_T * c
+    else:
+        D_inv = D.adjugate() / D.det()
+        Mx = (J * D_inv * J.T).inv()
+        Vx = Mx * (J * D_inv * h - jdot)
+        Gx = Mx * J * D_inv * c
+    shown = lambda M: sp.ImmutableMatrix(sp.Matrix(M).applyfunc(lambda e: _rational(notation, e)))  # noqa: E731
+    quantities += [Quantity("Mx", (), shown(Mx)), Quantity("Vx", (), shown(Vx)), Quantity("Gx", (), shown(Gx))]
+    return Section("task_space", tuple(quantities))
+
+
+def _with_task(derivation: Derivation, wanted: bool, progress=None) -> Derivation:
+    """``derivation`` with a last section ``task_space`` (:func:`task_section`)."""
+    if not wanted:
+        return derivation
+    from dataclasses import replace
+    notation = _Notation(make_chain(derivation.robot))
+    section = task_section(derivation.robot, notation, progress)
+    shorthand = dict(derivation.shorthand) | notation.shorthand
+    return replace(derivation, sections=derivation.sections + (section,),
+                   shorthand=tuple(sorted(shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))))
+
+
 def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all",
                  closed_form: bool | None = None, base_parameters: bool = False,
-                 progress: Callable[[str], None] | None = None) -> Derivation:
+                 progress: Callable[[str], None] | None = None, task: bool = False) -> Derivation:
     """The derivation of ``robot``'s equations of motion by ``method``, step by step
     (``base_parameters``: with a last section listing the base parameters, each as an equation
     ``name = expression in the standard parameters``; needs a numeric link geometry).
+
+    ``task``: with a last section of the task-space equations of motion (:func:`task_section`,
+    closed forms, up to :data:`TASK_CLOSED_FORM_MAX_DOF` joints).
 
     ``steps='summary'`` keeps the link matrices, inertias and final results only.
     ``closed_form`` defaults to ``robot.dof <= 3``.  ``progress`` (optional) is called with a
@@ -428,7 +498,8 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
             raise ValueError("the articulated-body derivation is printed in the named form only "
                              "(its quantities are rational in the joint variables)")
         report = _reporter(robot, "articulated-body", progress)
-        return _with_base_parameters(_articulated_body_steps(robot, steps, report), base_parameters, progress)
+        return _with_task(_with_base_parameters(_articulated_body_steps(robot, steps, report), base_parameters, progress),
+                          task, progress)
     method = normalize_method(method)
     if steps not in STEPS:
         raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
@@ -453,10 +524,10 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
                                         Quantity("c", (), results[2]))))
     joint = tuple(zip(notation.qdot, chain.qd)) + tuple(zip(notation.qddot, chain.qdd))
-    return _with_base_parameters(Derivation(
+    return _with_task(_with_base_parameters(Derivation(
         robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
         where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
-        joint_symbols=joint), base_parameters, progress)
+        joint_symbols=joint), base_parameters, progress), task, progress)
 
 
 def _reporter(robot: Robot, method: str, progress):

@@ -195,3 +195,21 @@ def test_a_task_the_tool_cannot_follow_is_refused(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert code != 0 and "rank at most 1" in err and "task: position" in err and len(err.splitlines()) == 1, err
     assert not any(tmp_path.iterdir())
+
+
+def test_checked_in_task_derivation_is_up_to_date(tmp_path):
+    """docs/derivations/planar2r_task.md: the lecture's planar arm in Cartesian space."""
+    out = tmp_path / "planar2r_task.md"
+    assert main(["derive", str(REPO / "examples" / "task_space" / "planar2r_task.yaml"), "--task", "--steps", "summary",
+                 "--format", "markdown", "--out", str(out), "--quiet"]) == 0
+    assert out.read_bytes() == (REPO / "docs" / "derivations" / "planar2r_task.md").read_bytes(), \
+        "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"
+
+
+@pytest.mark.parametrize("path, message", [(robot_path("puma560"), "up to 3 joints"),
+                                           (str(REPO / "robots" / "parallel" / "sru_platform.yaml"),
+                                            "--task does not apply to a platform")])
+def test_derive_task_refusals_are_one_line(path, message, capsys):
+    assert main(["derive", path, "--task", "--quiet"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert message in err and len(err.splitlines()) == 1, err
