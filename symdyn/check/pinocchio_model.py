@@ -464,6 +464,16 @@ class PinocchioReference:
         J = PinocchioReference.jacobian(self, q)[list(self.task_rows), :]
         return Minv, J, np.linalg.inv(J @ Minv @ J.T)
 
+    def task_pivot_ratio(self, q) -> float:
+        """The smallest pivot of the LDL^T of ``J_s M^-1 J_s^T`` relative to its diagonal entry
+        (1 for an ideally conditioned task, 0 at a singularity): what the generated code checks."""
+        Minv, J, _ = PinocchioReference._task_terms(self, q)
+        A = J @ Minv @ J.T
+        try:
+            return float(np.min(np.diag(np.linalg.cholesky(A)) ** 2 / np.diag(A)))
+        except np.linalg.LinAlgError:
+            return 0.0
+
     def task_mass_matrix(self, q):
         return self._task_terms(q)[2]
 
@@ -595,6 +605,6 @@ def _configured(method):
     return wrapped
 
 
-for _name in (*ALL_OUTPUTS, "base_wrench"):  # every reference function, q as the URDF reader orders it
+for _name in (*ALL_OUTPUTS, "base_wrench", "task_pivot_ratio"):  # every reference function, q as the URDF reader orders it
     if _name in vars(PinocchioReference) and _name not in PinocchioReference.COMPOSED:
         setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))

@@ -25,7 +25,7 @@ from ..derive.cache import derive_cached
 from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
 from ..model.errors import SymdynError, describe
 from ..model.files import Provenance
-from ..model.outputs import ALL_OUTPUTS, OUTPUTS, default_outputs, with_requirements
+from ..model.outputs import ALL_OUTPUTS, COMBINED, OUTPUTS, default_outputs, with_requirements
 from ..model.parallel import ParallelRobot
 from ..model.robot import MAX_NAME, ROBOT_NAME_PATTERN, Robot
 from .cgen import PRECISION_CHOICES
@@ -105,7 +105,13 @@ def default_fd_method(precision: str) -> str:
 
 def parse_functions(text, robot=None) -> tuple[str, ...]:
     """The serial functions named by ``text`` (comma-separated, or a sequence of names), in
-    registry order; ``None`` or empty: the standard outputs."""
+    registry order; ``None`` or empty: the standard outputs.  The name of a combined function
+    (``task_space``, ``kinematics``) stands for its parts (the combined function is emitted
+    with them)."""
+    if text and isinstance(text, str):
+        text = ",".join(",".join(COMBINED.get(t.strip(), (t.strip(),))) for t in text.split(","))
+    elif text:
+        text = [part for t in text for part in COMBINED.get(t, (t,))]
     return _parse(text, ALL_OUTPUTS, OUTPUTS, "")
 
 

@@ -23,11 +23,11 @@ from .errors import RobotFileError, SymdynError, SymdynWarning, describe, displa
 from .geometry import joint_geometry, joint_motion
 from .outputs import ALL_OUTPUTS
 from .inputs import decode_text, load_yaml, read_input
-from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document
+from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, task_rows
 
 SCENE_VERSION = 1
-SCENE_KEYS = ("scene", "robot", "tip", "tool", "exact_angles", "name", "functions", "precision", "lock", "payload", "runtime",
-              "values")
+SCENE_KEYS = ("scene", "robot", "tip", "tool", "task", "exact_angles", "name", "functions", "precision", "lock", "payload",
+              "runtime", "values")
 PAYLOAD_KEYS = ("mass", "com", "inertia")
 NAME_TOKEN = re.compile(r"(?<![0-9.])\b[A-Za-z_][A-Za-z0-9_]*")
 #: the largest magnitude of a lock value (rad or m)
@@ -371,6 +371,10 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
         _fail(path, f"{describe(name)} is not a valid name: use lower-case letters, digits and '_', "
                     f"starting with a letter, at most {MAX_NAME} characters", "name")
+    if "task" in doc:  # the task of the task-space functions (replaces the robot file's)
+        task = task_rows(doc["task"], lambda message: _fail(path, message, "task"))
+        robot = replace(robot, task=task)
+        notes.append("task: Jacobian rows " + ", ".join(str(r) for r in task))
     robot = replace(robot, name=name, source=path, source_hash=hashlib.sha256(raw + robot_raw).hexdigest())
     return Scene(robot=robot, functions=functions, precision=precision, notes=tuple(notes),
                  source=path, source_hash=robot.source_hash, locked=locked_joints)

@@ -213,3 +213,19 @@ def test_derive_task_refusals_are_one_line(path, message, capsys):
     assert main(["derive", path, "--task", "--quiet"]) == 1
     err = capsys.readouterr().err.strip()
     assert message in err and len(err.splitlines()) == 1, err
+
+
+def test_scene_task_replaces_the_robot_files(tmp_path, capsys):
+    """A scene's task: (here the position of ur5's tool) replaces the robot file's default
+    pose, brings the task-space functions into the default set, and is checked like the robot
+    file's (one line naming the scene and the field)."""
+    from symdyn.model.scene import load_scene
+    scene = tmp_path / "scene.yaml"
+    scene.write_text(f"scene: 1\nrobot: {robot_path('ur5')}\ntask: position\n")
+    loaded = load_scene(str(scene))
+    assert loaded.robot.task_rows == (0, 1, 2) and set(TASK_OUTPUTS) <= set(default_outputs(loaded.robot))
+    assert any(note.startswith("task: Jacobian rows 0, 1, 2") for note in loaded.notes)
+    scene.write_text(f"scene: 1\nrobot: {robot_path('ur5')}\ntask: [0, 9]\n")
+    assert main(["generate", str(scene), "--out", str(tmp_path / "out")]) != 0
+    err = capsys.readouterr().err.strip()
+    assert "scene.yaml" in err and "task" in err and "integer 0-5" in err and len(err.splitlines()) == 1, err
