@@ -229,3 +229,35 @@ def test_scene_task_replaces_the_robot_files(tmp_path, capsys):
     assert main(["generate", str(scene), "--out", str(tmp_path / "out")]) != 0
     err = capsys.readouterr().err.strip()
     assert "scene.yaml" in err and "task" in err and "integer 0-5" in err and len(err.splitlines()) == 1, err
+
+
+def test_batch_equals_the_scalar_function_bit_for_bit(tmp_path):
+    """NAME_task_space_batch (vector lanes where the compiler has them): the same bytes as one
+    scalar call per state, statuses included (a NaN state and the singular zero pose of iiwa14
+    counted as failed, their outputs untouched)."""
+    import ctypes
+    from symdyn.check.cbuild import compile_shared
+    robot = symdyn.load(robot_path("iiwa14"))
+    eqs = symdyn.derive(robot, outputs=TASK_OUTPUTS)
+    for name, text in generate_c(eqs, TASK_OUTPUTS, batch=True).items():
+        (tmp_path / name).write_text(text)
+    lib = ctypes.CDLL(compile_shared(str(tmp_path / "iiwa14_dynamics.c"), str(tmp_path)))
+    n, m, count = 7, 6, 37
+    rng = np.random.default_rng(1)
+    q, qd = rng.uniform(-3, 3, (count, n)), rng.uniform(-2, 2, (count, n))
+    q[5, 1], q[6] = np.nan, 0.0
+    pointer = ctypes.POINTER(ctypes.c_double)
+    sizes = (m * m, m, m, n * m)
+    batch = [np.full((count, size), 7.0) for size in sizes]
+    lib.iiwa14_task_space_batch.restype = lib.iiwa14_task_space.restype = ctypes.c_int
+    failed = lib.iiwa14_task_space_batch(count, q.ctypes.data_as(pointer), qd.ctypes.data_as(pointer),
+                                         *[b.ctypes.data_as(pointer) for b in batch])
+    codes = []
+    for k in range(count):
+        single = [np.full(size, 7.0) for size in sizes]
+        codes.append(lib.iiwa14_task_space(np.ascontiguousarray(q[k]).ctypes.data_as(pointer),
+                                           np.ascontiguousarray(qd[k]).ctypes.data_as(pointer),
+                                           *[s.ctypes.data_as(pointer) for s in single]))
+        for whole, one in zip(batch, single):
+            assert whole[k].tobytes() == one.tobytes(), k
+    assert codes[5] == 2 and codes[6] == 3 and failed == sum(code != 0 for code in codes) == 2
