@@ -89,6 +89,7 @@ def flag_label(flag_set: str) -> str:
     """The flags of a set as the tables show them (symdyn-only defines marked)."""
     extra = SYMDYN_DEFINES.get(flag_set, ())
     return " ".join(FLAG_SETS[flag_set]) + (f" (symdyn: {' '.join(extra)})" if extra else "")
+#: the functions timed by default (task_space on request: --functions task_space)
 FUNCTIONS = ("inverse_dynamics", "mass_matrix", "gravity", "coriolis", "coriolis_matrix", "forward_dynamics")
 #: symdyn function -> (Pinocchio's functions timed for it (the faster is reported), the part of
 #: benchmarks/harness_pinocchio.cpp that holds them)
@@ -97,10 +98,18 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "gravity": (("computeGeneralizedGravity",), "RNEA"),
              "coriolis": (("nonLinearEffects",), "RNEA"),
              "coriolis_matrix": (("computeCoriolisMatrix",), "RNEA"),
-             "forward_dynamics": (("aba_local", "aba_world"), "ABA")}
+             "forward_dynamics": (("aba_local", "aba_world"), "ABA"),
+             "task_space": (("taskSpace",), "TASK")}
+#: parts of Pinocchio's side in a source of their own (benchmarks/harness_pinocchio_task.cpp), so that
+#: adding them leaves the cached objects of the others valid
+OWN_SOURCE_PARTS = ("TASK",)
+#: the Pinocchio functions the CasADi peer has (benchmarks/harness_peer.cpp); the others are
+#: timed without a peer column
+PEER_VARIANTS = ("rnea", "computeGeneralizedGravity", "nonLinearEffects", "computeCoriolisMatrix", "crba_local",
+                 "crba_world", "aba_local", "aba_world")
 PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "nonLinearEffects": "Q, QD",
                        "computeCoriolisMatrix": "Q, QD", "crba_local": "Q", "crba_world": "Q",
-                       "aba_local": "Q, QD, TAU", "aba_world": "Q, QD, TAU"}
+                       "aba_local": "Q, QD, TAU", "aba_world": "Q, QD, TAU", "taskSpace": "Q, QD"}
 STATE_ARRAYS = {"q": "Q", "qd": "QD", "qdd": "QDD", "tau": "TAU"}
 #: Pinocchio's headers need these with the pin wheel's Boost (its joint visitors take more
 #: arguments than Boost's default limits allow)
@@ -179,9 +188,9 @@ def cached_build(label: str, sources, command, suffix: str = ".o") -> str:
 
 def pinocchio_part(part: str, flags) -> str:
     """The cached object of one part of benchmarks/harness_pinocchio.cpp compiled with ``flags``."""
-    source = os.path.join(HERE, "harness_pinocchio.cpp")
+    source = os.path.join(HERE, "harness_pinocchio_task.cpp" if part in OWN_SOURCE_PARTS else "harness_pinocchio.cpp")
     return cached_build(f"pinocchio-{part.lower()}-{'_'.join(f.strip('-') for f in flags)}",
-                        [source, os.path.join(HERE, "harness_pinocchio.h")],
+                        [source] if part in OWN_SOURCE_PARTS else [source, os.path.join(HERE, "harness_pinocchio.h")],
                         lambda out: ["g++", *flags, *pinocchio_compile_flags(), f"-DPART_{part}", "-c", source,
                                      "-o", out])
 
@@ -291,12 +300,13 @@ def robot_file(spec: str, folder: str) -> str:
 def symdyn_arguments(function: str, dof: int, precision: str = "double") -> str:
     """The arguments of NAME_<function> in the harness: state arrays, then each output at its
     offset in OUT (float C: the float copies QF, ... and OUTF)."""
-    from symdyn.model.outputs import REGISTRY, Dimensions
-    spec, suffix = REGISTRY[function], "F" if precision == "float" else ""
-    arguments, offset = [STATE_ARRAYS[name] + suffix for name in spec.inputs], 0
-    for _, (rows, cols) in spec.argument_shapes(Dimensions(dof, dof, dof)):
-        arguments.append(f"OUT{suffix}" if offset == 0 else f"OUT{suffix} + {offset}")
-        offset += rows * cols
+    from symdyn.model.outputs import COMBINED, REGISTRY, Dimensions, function_inputs
+    suffix = "F" if precision == "float" else ""
+    arguments, offset = [STATE_ARRAYS[name] + suffix for name in function_inputs(function)], 0
+    for part in COMBINED.get(function, (function,)):
+        for _, (rows, cols) in REGISTRY[part].argument_shapes(Dimensions(dof, dof, dof)):
+            arguments.append(f"OUT{suffix}" if offset == 0 else f"OUT{suffix} + {offset}")
+            offset += rows * cols
     return ", ".join(arguments)
 
 
@@ -307,8 +317,10 @@ def side_suffix(variant: str) -> str:
 
 def cases_header(case: Case, peer: bool) -> str:
     """harness_cases.h for benchmarks/harness_main.c."""
-    lines = [f"#define N {case.dof}", f"#define HARNESS_OUT_SIZE {case.dof * case.dof + 16}",
+    lines = [f"#define N {case.dof}", f"#define HARNESS_OUT_SIZE {case.dof * case.dof + 8 * case.dof + 64}",
              f'#include "{case.prefix}_dynamics.h"']
+    if "task_space" in case.functions:  # its own source, declared here (benchmarks/harness_pinocchio_task.cpp)
+        lines.append("void pin_taskSpace(const double *q, const double *v, double *out);")
     if case.precision == "float":
         lines.append("#define SYMDYN_FLOAT 1")
     result = "OUTF[0]" if case.precision == "float" else "OUT[0]"
@@ -319,7 +331,7 @@ def cases_header(case: Case, peer: bool) -> str:
         for variant in PINOCCHIO[function][0]:
             pin_call = f"pin_{variant}({PINOCCHIO_ARGUMENTS[variant]}, OUT)"
             cases.append(f"X({function}, pinocchio{side_suffix(variant)}, {pin_call}, OUT[0])")
-            if peer:
+            if peer and variant in PEER_VARIANTS:
                 arguments = (PINOCCHIO_ARGUMENTS[variant].split(", ") + ["0", "0"])[:3]
                 peer_call = f"PEER(peer_{variant}, {', '.join(arguments)})"
                 cases.append(f"X({function}, peer{side_suffix(variant)}, {peer_call}, OUT[0])")
@@ -372,7 +384,7 @@ def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, see
     model, _ = build_model(robot)
     model.saveToText(os.path.join(folder, "model.txt"))
     if peer:
-        variants = [v for f in functions for v in PINOCCHIO[f][0]]
+        variants = [v for f in functions for v in PINOCCHIO[f][0] if v in PEER_VARIANTS]
         paths = site_paths()  # this environment's libraries, wherever the cached generator was built
         environment = {**os.environ, "LD_LIBRARY_PATH": os.pathsep.join(
             [paths["casadi"], paths["lib"], *filter(None, [os.environ.get("LD_LIBRARY_PATH")])])}
@@ -494,9 +506,10 @@ def run(specs, functions=FUNCTIONS, processes: int = 5, passes: int = 15, states
     :func:`prepare_case`)."""
     unknown = [f for f in list(functions) if f not in PINOCCHIO] + [f for f in flag_sets if f not in FLAG_SETS]
     if unknown:
-        raise SystemExit(f"unknown function or flag set {unknown[0]} (functions: {', '.join(FUNCTIONS)}; "
+        raise SystemExit(f"unknown function or flag set {unknown[0]} (functions: {', '.join(PINOCCHIO)}; "
                          f"flag sets: {', '.join(FLAG_SETS)})")
-    functions = [f for f in FUNCTIONS if f in functions]
+    functions = [f for f in PINOCCHIO if f in functions]
+    peer = peer and any(v in PEER_VARIANTS for f in functions for v in PINOCCHIO[f][0])  # task_space alone: no peer
     with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool, \
             tempfile.TemporaryDirectory() as scratch:
         pending = build_objects(flag_sets, functions, pool)
@@ -643,7 +656,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0],
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("robots", nargs="*", default=["puma560"], help="robot names or joint counts N")
-    parser.add_argument("--functions", default=",".join(FUNCTIONS), help="comma-separated (default all six)")
+    parser.add_argument("--functions", default=",".join(FUNCTIONS),
+                        help=f"comma-separated, of {', '.join(PINOCCHIO)} (default the first six)")
     parser.add_argument("--keep", help="build and run in this directory and keep it")
     add_arguments(parser)
     args = parser.parse_args(argv)

@@ -22,8 +22,9 @@ from symdyn.model.robot import TASKS
 pin = pytest.importorskip("pinocchio")
 
 #: bundled arms and their tasks: 6-joint arms and the two 7-joint (redundant) arms take the
-#: whole pose; the SCARA moves in x, y, z and turns about z only
-ARMS = {"puma560": None, "ur5": None, "stanford": None, "iiwa14": None, "panda": None, "scara": (0, 1, 2, 5)}
+#: whole pose, as does the redundant 12-joint chain; the SCARA moves in x, y, z and turns about z only
+ARMS = {"puma560": None, "ur5": None, "stanford": None, "iiwa14": None, "panda": None, "scara": (0, 1, 2, 5),
+        "chain12": None}
 _BUILT: dict = {}
 
 
