@@ -25,6 +25,8 @@ pin = pytest.importorskip("pinocchio")
 #: whole pose, as does the redundant 12-joint chain; the SCARA moves in x, y, z and turns about z only
 ARMS = {"puma560": None, "ur5": None, "stanford": None, "iiwa14": None, "panda": None, "scara": (0, 1, 2, 5),
         "chain12": None}
+#: the arm whose library also has the batch functions
+BATCH_ARM = "iiwa14"
 _BUILT: dict = {}
 
 
@@ -35,8 +37,9 @@ def compiled(name, tmp_path_factory):
         if ARMS.get(name) is not None:
             robot = dataclasses.replace(robot, task=ARMS[name])
         eqs = symdyn.derive(robot, outputs=TASK_OUTPUTS)
-        lib = build_and_load(generate_c(eqs, TASK_OUTPUTS), robot.name, robot.dof, 0, "double",
-                             str(tmp_path_factory.mktemp(name)), task=len(robot.task_rows))
+        files = generate_c(eqs, TASK_OUTPUTS, batch=name == BATCH_ARM)  # one compile serves the batch test too
+        lib = build_and_load(files, robot.name, robot.dof, 0, "double", str(tmp_path_factory.mktemp(name)),
+                             task=len(robot.task_rows))
         _BUILT[name] = (robot, lib, PinocchioReference(robot))
     return _BUILT[name]
 
@@ -232,18 +235,14 @@ def test_scene_task_replaces_the_robot_files(tmp_path, capsys):
     assert "scene.yaml" in err and "task" in err and "integer 0-5" in err and len(err.splitlines()) == 1, err
 
 
-def test_batch_equals_the_scalar_function_bit_for_bit(tmp_path):
+def test_batch_equals_the_scalar_function_bit_for_bit(tmp_path_factory):
     """NAME_task_space_batch (vector lanes where the compiler has them): the same bytes as one
     scalar call per state, statuses included (a NaN state and the singular zero pose of iiwa14
     counted as failed, their outputs untouched)."""
     import ctypes
-    from symdyn.check.cbuild import compile_shared
-    robot = symdyn.load(robot_path("iiwa14"))
-    eqs = symdyn.derive(robot, outputs=TASK_OUTPUTS)
-    for name, text in generate_c(eqs, TASK_OUTPUTS, batch=True).items():
-        (tmp_path / name).write_text(text)
-    lib = ctypes.CDLL(compile_shared(str(tmp_path / "iiwa14_dynamics.c"), str(tmp_path)))
-    n, m, count = 7, 6, 37
+    robot, compiled_lib, _ = compiled(BATCH_ARM, tmp_path_factory)
+    lib = compiled_lib.lib
+    n, m, count = robot.dof, 6, 37
     rng = np.random.default_rng(1)
     q, qd = rng.uniform(-3, 3, (count, n)), rng.uniform(-2, 2, (count, n))
     q[5, 1], q[6] = np.nan, 0.0

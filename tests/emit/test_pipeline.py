@@ -75,8 +75,8 @@ def test_serial_functions_in_registry_order():
 
 
 def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch):
-    """A generic 16-joint chain in double without --fd-method: both forms are derived and the
-    one with fewer operations emitted (here the articulated-body algorithm, 8010 against 8698),
+    """A generic chain of AUTO_FD_FROM_DOF (10) joints in double without --fd-method: both forms
+    are derived and the one with fewer operations emitted (here the articulated-body algorithm),
     the header says so, the same run twice gives the same bytes, and the C agrees with
     Pinocchio's aba; --fd-method ldlt is obeyed as asked."""
     import sys
@@ -87,12 +87,14 @@ def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch
     sys.path.insert(0, str(REPO / "benchmarks"))
     from long_chains import generic_chain
     monkeypatch.setenv("SYMDYN_CACHE_DIR", str(tmp_path / "cache"))
-    path = tmp_path / "generic16.yaml"
-    path.write_text(generic_chain(16))
+    from symdyn.emit import pipeline
+    n = pipeline.AUTO_FD_FROM_DOF
+    path = tmp_path / f"generic{n}.yaml"
+    path.write_text(generic_chain(n))
     options = GenerateOptions(functions="forward_dynamics")
     first = generate(configure(path, options))
     assert generate(configure(path, options)) == first  # deterministic
-    header = first["generic16_dynamics.h"].decode()
+    header = first[f"generic{n}_dynamics.h"].decode()
     import re
     counts = re.search(r"chosen by operation count: (\d+) \(articulated-body\) against (\d+) \(LDL\^T\)", header)
     assert counts and int(counts[1]) < int(counts[2]), header[:2000]
@@ -103,8 +105,8 @@ def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch
     errors = compare(lib, PinocchioReference(robot), random_states(robot.dof, 10, seed=5), ("forward_dynamics",), np.zeros(0))
     assert errors["forward_dynamics"] <= 1e-10, errors
     asked = generate(configure(path, GenerateOptions(functions="forward_dynamics", fd_method="ldlt")))
-    assert "chosen by operation count" not in asked["generic16_dynamics.h"].decode()
-    assert "LDL^T factorization" in asked["generic16_dynamics.h"].decode()
+    assert "chosen by operation count" not in asked[f"generic{n}_dynamics.h"].decode()
+    assert "LDL^T factorization" in asked[f"generic{n}_dynamics.h"].decode()
 
 
 def test_long_chains_take_the_articulated_body_algorithm_without_counting(tmp_path, monkeypatch):
