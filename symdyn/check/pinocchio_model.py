@@ -589,13 +589,11 @@ def _pinocchio_urdf(path: str, tolerance: float | None) -> tuple[str | None, dic
 
 
 def _only_leaf(path: str) -> str:
-    import xml.etree.ElementTree as ET  # a trusted test input: the caller's own file
-    root = ET.parse(path).getroot()
-    parents = {joint.find("parent").get("link") for joint in root.findall("joint")}
-    leaves = [link.get("name") for link in root.findall("link") if link.get("name") not in parents]
-    if len(leaves) != 1:
-        raise ValueError(f"{path}: several leaf links ({', '.join(leaves)}): give the tip")
-    return leaves[0]
+    """The tip symdyn's reading takes when none is given (symdyn.model.urdf.default_tip): the
+    chain compared is the one symdyn generated; the model itself is Pinocchio's own reading."""
+    from ..model.urdf import default_tip
+    with open(path, encoding="utf-8") as handle:
+        return default_tip(handle.read(), path)
 
 
 def _configured(method):

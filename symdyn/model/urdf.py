@@ -427,6 +427,7 @@ class _Reader:
             self.fail("the file has no <link>")
         self.parent_joint: dict[str, _Joint] = {}
         self.child_joints: dict[str, list[_Joint]] = {name: [] for name in self.links}
+        self.tip_note = ""  # how the tip was found when the file does not say
         for joint in self.joints.values():
             for role in ("parent", "child"):
                 link = getattr(joint, role)
@@ -585,8 +586,42 @@ class _Reader:
         leaves = [name for name in self.links if not self.child_joints[name]]
         if len(leaves) == 1:
             return leaves[0]
-        self.fail(f"the tree has {len(leaves)} leaf links ({_names(leaves)}): choose one with --tip LINK "
-                  "(or `tip:` in a scene) to say where the chain ends")
+        end = self.moving_chain_end()
+        if end is not None:
+            others = [leaf for leaf in leaves if leaf != end]
+            self.tip_note = (f"tip: {one_line(end, 60)}, the link of the last moving joint (the moving joints form one "
+                             f"chain; {_names(others)} hang{'s' if len(others) == 1 else ''} on fixed joints only and "
+                             f"{'is' if len(others) == 1 else 'are'} merged; --tool LINK makes one the tool frame)")
+            return end
+        self.fail(f"the tree has {len(leaves)} leaf links ({_names(leaves)}) and moving joints on more than one "
+                  "branch: choose one with --tip LINK (or `tip:` in a scene) to say where the chain ends")
+
+    def moving_chain_end(self) -> str | None:
+        """The child link of the last moving (non-fixed) joint when the moving joints all lie on
+        one path from the root (every other branch holds fixed joints only), else None."""
+        moves: dict[str, bool] = {}
+
+        def has_moving(link: str) -> bool:  # iterative post-order: deep trees do not recurse
+            stack = [(link, False)]
+            while stack:
+                name, done = stack.pop()
+                if done:
+                    moves[name] = any(j.type != "fixed" or moves[j.child] for j in self.child_joints[name])
+                elif name not in moves:
+                    stack.append((name, True))
+                    stack.extend((j.child, False) for j in self.child_joints[name])
+            return moves[link]
+        has_moving(self.root)
+        link, end = self.root, None
+        while True:
+            onward = [j for j in self.child_joints[link] if j.type != "fixed" or moves[j.child]]
+            if not onward:
+                return end
+            if len(onward) > 1:
+                return None
+            if onward[0].type != "fixed":
+                end = onward[0].child
+            link = onward[0].child
 
     def chain(self, tip: str) -> list[_Joint]:
         """The joints from the root to ``tip``."""
@@ -625,6 +660,13 @@ def _robot_name(name: str) -> str:
 # The document
 
 
+def default_tip(text: str, path: str) -> str:
+    """The link a URDF's chain ends at when no tip is given: the only leaf, or the link of the
+    last moving joint when the moving joints form one chain and the other leaves hang on fixed
+    joints only (a :class:`RobotFileError` otherwise)."""
+    return _Reader(text, path, False).tip(None)
+
+
 def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None,
               exact_angles: bool = False) -> tuple[dict, list[str]]:
     """The robot document (``convention: general``, see ``docs/urdf.md``) of the chain of a URDF
@@ -658,7 +700,7 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
 
     notes = [f"read from URDF {display_path(os.path.basename(path))}: chain {one_line(urdf.root, 60)} -> "
              f"{one_line(tip, 60)}, "
-             f"{len(moving)} moving joint{'s' if len(moving) != 1 else ''}"]
+             f"{len(moving)} moving joint{'s' if len(moving) != 1 else ''}"] + ([urdf.tip_note] if urdf.tip_note else [])
     links: list[dict] = []
     bodies: list[_Body] = []  # of each moving link, in its frame
     ground = {"body": _EMPTY, "links": []}

@@ -33,6 +33,9 @@ URDFS = [
     ("z1", "z1_description/urdf/z1.urdf", None, None),
     ("kinova", "kinova_description/robots/kinova.urdf", "j2s6s200_end_effector", None),
     ("handmade", HANDMADE, None, None),
+    # three leaves, two of them (ee_link, tool0) and the ROS "base" frame on fixed joints only:
+    # the chain ends at the last moving joint's link without --tip
+    ("ur10", "ur_description/urdf/ur10_robot.urdf", None, None),
 ]
 
 _DERIVED = {}
@@ -163,3 +166,20 @@ def test_derivation_printouts_of_a_urdf(tmp_path, capsys):
         result = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "arm.tex"],
                                 cwd=tmp_path, capture_output=True, text=True, timeout=120)
         assert result.returncode == 0, result.stdout[-2000:]
+
+
+def test_tip_of_a_chain_with_fixed_leaves_and_refusal_of_a_branching_one(capsys):
+    """ur10_robot.urdf (leaves ee_link, base, tool0 on fixed joints): no --tip needed, the
+    header says which tip was taken and why; solo12.urdf (four legs, moving joints on every
+    branch): one line asking for --tip, naming the leaves."""
+    from symdyn.cli import main
+    _, eqs = derived_urdf(URDFS[-1])
+    assert eqs.n == 6
+    assert any(note.startswith("tip: wrist_3_link, the link of the last moving joint") and "'tool0'" in note
+               for note in eqs.robot.notes), eqs.robot.notes
+    solo = os.path.join(example_robot_data(), "solo_description", "robots", "solo12.urdf")
+    assert main(["generate", solo, "--out", "/nonexistent-dir-never-made"]) == 1
+    err = capsys.readouterr().err.strip()
+    assert "4 leaf links ('FL_FOOT', 'FR_FOOT', 'HL_FOOT', 'HR_FOOT')" in err and "--tip LINK" in err, err
+    assert len(err.splitlines()) == 1
+
