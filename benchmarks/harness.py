@@ -89,7 +89,7 @@ def flag_label(flag_set: str) -> str:
     """The flags of a set as the tables show them (symdyn-only defines marked)."""
     extra = SYMDYN_DEFINES.get(flag_set, ())
     return " ".join(FLAG_SETS[flag_set]) + (f" (symdyn: {' '.join(extra)})" if extra else "")
-#: the functions timed by default (task_space on request: --functions task_space)
+#: the functions timed by default (the tool kinematics and task_space on request, e.g. --functions kinematics)
 FUNCTIONS = ("inverse_dynamics", "mass_matrix", "gravity", "coriolis", "coriolis_matrix", "forward_dynamics")
 #: symdyn function -> (Pinocchio's functions timed for it (the faster is reported), the part of
 #: benchmarks/harness_pinocchio.cpp that holds them)
@@ -99,17 +99,23 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "coriolis": (("nonLinearEffects",), "RNEA"),
              "coriolis_matrix": (("computeCoriolisMatrix",), "RNEA"),
              "forward_dynamics": (("aba_local", "aba_world"), "ABA"),
-             "task_space": (("taskSpace",), "TASK")}
-#: parts of Pinocchio's side in a source of their own (benchmarks/harness_pinocchio_task.cpp), so that
-#: adding them leaves the cached objects of the others valid
-OWN_SOURCE_PARTS = ("TASK",)
+             "task_space": (("taskSpace",), "TASK"),
+             "forward_kinematics": (("framePlacement",), "KIN"),
+             "jacobian": (("frameJacobian",), "KIN"),
+             "jacobian_dot_qd": (("frameClassicalAcceleration",), "KIN"),
+             "kinematics": (("framePlacementJacobian",), "KIN")}
+#: parts of Pinocchio's side in a source of their own (benchmarks/harness_pinocchio_task.cpp,
+#: harness_pinocchio_kin.cpp), so that adding them leaves the cached objects of the others valid
+OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocchio_kin.cpp"}
 #: the Pinocchio functions the CasADi peer has (benchmarks/harness_peer.cpp); the others are
 #: timed without a peer column
 PEER_VARIANTS = ("rnea", "computeGeneralizedGravity", "nonLinearEffects", "computeCoriolisMatrix", "crba_local",
                  "crba_world", "aba_local", "aba_world")
 PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "nonLinearEffects": "Q, QD",
                        "computeCoriolisMatrix": "Q, QD", "crba_local": "Q", "crba_world": "Q",
-                       "aba_local": "Q, QD, TAU", "aba_world": "Q, QD, TAU", "taskSpace": "Q, QD"}
+                       "aba_local": "Q, QD, TAU", "aba_world": "Q, QD, TAU", "taskSpace": "Q, QD",
+                       "framePlacement": "Q", "frameJacobian": "Q", "frameClassicalAcceleration": "Q, QD",
+                       "framePlacementJacobian": "Q"}
 STATE_ARRAYS = {"q": "Q", "qd": "QD", "qdd": "QDD", "tau": "TAU"}
 #: Pinocchio's headers need these with the pin wheel's Boost (its joint visitors take more
 #: arguments than Boost's default limits allow)
@@ -188,7 +194,7 @@ def cached_build(label: str, sources, command, suffix: str = ".o") -> str:
 
 def pinocchio_part(part: str, flags) -> str:
     """The cached object of one part of benchmarks/harness_pinocchio.cpp compiled with ``flags``."""
-    source = os.path.join(HERE, "harness_pinocchio_task.cpp" if part in OWN_SOURCE_PARTS else "harness_pinocchio.cpp")
+    source = os.path.join(HERE, OWN_SOURCE_PARTS.get(part, "harness_pinocchio.cpp"))
     return cached_build(f"pinocchio-{part.lower()}-{'_'.join(f.strip('-') for f in flags)}",
                         [source] if part in OWN_SOURCE_PARTS else [source, os.path.join(HERE, "harness_pinocchio.h")],
                         lambda out: ["g++", *flags, *pinocchio_compile_flags(), f"-DPART_{part}", "-c", source,
@@ -319,8 +325,11 @@ def cases_header(case: Case, peer: bool) -> str:
     """harness_cases.h for benchmarks/harness_main.c."""
     lines = [f"#define N {case.dof}", f"#define HARNESS_OUT_SIZE {case.dof * case.dof + 8 * case.dof + 64}",
              f'#include "{case.prefix}_dynamics.h"']
-    if "task_space" in case.functions:  # its own source, declared here (benchmarks/harness_pinocchio_task.cpp)
-        lines.append("void pin_taskSpace(const double *q, const double *v, double *out);")
+    for function in case.functions:  # the parts in their own sources, declared here
+        if PINOCCHIO[function][1] in OWN_SOURCE_PARTS:
+            for variant in PINOCCHIO[function][0]:
+                arguments = ", ".join(f"const double *{a.lower()}" for a in PINOCCHIO_ARGUMENTS[variant].split(", "))
+                lines.append(f"void pin_{variant}({arguments}, double *out);")
     if case.precision == "float":
         lines.append("#define SYMDYN_FLOAT 1")
     result = "OUTF[0]" if case.precision == "float" else "OUT[0]"

@@ -99,15 +99,17 @@ def test_script_runs_tiny(script):
             assert NUMERIC_CELL.search(row), f"{script}: a row without numbers: {row}"
 
 
-def test_harness_times_the_task_space_functions():
-    """The harness's task-space comparison (Pinocchio's side in its own source,
-    benchmarks/harness_pinocchio_task.cpp; no peer column) on a tiny run."""
+def test_harness_times_the_task_space_and_kinematics_functions():
+    """The harness's task-space and tool-kinematics comparisons (Pinocchio's side in sources of
+    their own, benchmarks/harness_pinocchio_task.cpp and _kin.cpp; no peer column) on a tiny run."""
     reason = _missing_tool("harness.py")
     if reason:
         pytest.skip(reason)
-    run = subprocess.run([sys.executable, str(BENCHMARKS / "harness.py"), "ur5", "--functions", "task_space", "--smoke"],
-                         cwd=REPO, capture_output=True, text=True, timeout=900)
+    functions = ("task_space", "forward_kinematics", "jacobian", "jacobian_dot_qd", "kinematics")
+    run = subprocess.run([sys.executable, str(BENCHMARKS / "harness.py"), "ur5", "--functions", ",".join(functions),
+                          "--smoke"], cwd=REPO, capture_output=True, text=True, timeout=900)
     assert run.returncode == 0, f"harness.py failed:\n{run.stdout[-2000:]}\n{run.stderr[-4000:]}"
-    rows = [row for rows in tables(run.stdout) for row in rows if "task_space" in row]
-    assert rows and all(NUMERIC_CELL.search(row) for row in rows), run.stdout[-2000:]
+    for function in functions:
+        rows = [row for rows in tables(run.stdout) for row in rows if f"| {function} |" in row]
+        assert rows and all(NUMERIC_CELL.search(row) for row in rows), (function, run.stdout[-2000:])
 
