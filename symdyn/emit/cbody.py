@@ -50,6 +50,9 @@ class Body:
     ops: Counter
     used: set
     vector_functions: set = field(default_factory=set)
+    #: the parts a long body is split into (:data:`SPLIT_FROM_STATEMENTS`): each ``(returns,
+    #: extra parameters, lines)``, a function of its own called in order from ``lines``
+    parts: list = field(default_factory=list)
 
 
 @functools.lru_cache(maxsize=1)
@@ -137,6 +140,18 @@ def _position_of(expr, position) -> int:
     return max((position[x] for x in sp.sympify(expr).free_symbols if x in position), default=-1)
 
 
+#: a scalar body of more statements than this is emitted as parts of about
+#: :data:`PART_STATEMENTS` statements, each a function of its own (not inlined, where the compiler
+#: has the attribute), the values one part hands to a later one kept in an array: the compiler's
+#: register allocation and dead-store elimination grow faster than linearly with a function's
+#: length (gcc -O2 spent 25 s on the 64-joint Coriolis matrix in one function, 10 s of them in
+#: LRA's hard register assignment); the results are the same bit for bit
+SPLIT_FROM_STATEMENTS = 8000
+PART_STATEMENTS = 2000
+#: placeholders in a split body's calls, replaced by the emitter: the function's own arguments,
+#: and ``@PART<k>@`` the name of part k
+ARGUMENTS, PART = "@ARGS@", "@PART"
+
 #: the status a task-space function returns at a singular task (J M^-1 J^T not positive definite)
 TASK_SINGULAR = 3
 #: the comment beside each status a pivot check returns
@@ -174,6 +189,8 @@ class BodyWriter:
             self._input_checks()
         self._trig_block()
         checks = self._pivot_checks()
+        self.arrays: list[tuple[str, int]] = [("trig_sin", len(ctx.angles)), ("trig_cos", len(ctx.angles))] \
+            if ctx.angles else []
         if plan.checked and self.vector:
             self.lines.append(f"{ctx.prefix}_vint all_ok = ({self.vreal}){{0.0}} == 0.0; /* every lane true */")
             limit, _ = _limit(ctx.internal, ctx.scalar)  # a lane whose input is NaN or infinite: the scalar function's 2
@@ -182,13 +199,19 @@ class BodyWriter:
         if plan.gram:
             size = 6 * (plan.gram[1] - 1)
             self.lines.append(f"{self.ltype} mass_s[{size}], mass_f[{size}];")
+            self.arrays += [("mass_s", size), ("mass_f", size)]
         if plan.coriolis:
             size = 6 * plan.coriolis[1]
             self.lines.append(f"{self.ltype} " + ", ".join(f"{a}[{size}]" for a in CORIOLIS_ARRAYS) + ";")
+            self.arrays += [(a, size) for a in CORIOLIS_ARRAYS]
         if plan.looped:
             n = ctx.n
             self.lines.append(f"{self.ltype} fd_M[{n * n}], fd_b[{n}], fd_w[{n}], fd_d[{n}], fd_inv[{n}], fd_x[{n}];")
+            self.arrays += [(a, size) for a, size in (("fd_M", n * n), ("fd_b", n), ("fd_w", n), ("fd_d", n),
+                                                      ("fd_inv", n), ("fd_x", n))]
+        self.segment_start = len(self.lines)
         late = self._statements(checks)
+        self.segment_end = len(self.lines)
         if plan.checked and not plan.looped:
             self._checked_results(late)
         else:
@@ -199,7 +222,11 @@ class BodyWriter:
                 self._count(expr)
         self._loops()
         self.lines.extend(f"{target} = {source};" for target, source in plan.aliases)
-        return Body(self.lines, self.ops, self.used, self.printer.vector_functions)
+        body = Body(self.lines, self.ops, self.used, self.printer.vector_functions)
+        if not self.vector and len(self.reduced.statements) > SPLIT_FROM_STATEMENTS:
+            late_symbols = set().union(set(), *(sp.sympify(e).free_symbols for _, e in late))
+            _split(self, body, late_symbols)
+        return body
 
     def _input_checks(self) -> None:
         """Forward dynamics first checks its inputs: a NaN or infinite q, qd or tau returns 2
@@ -235,9 +262,11 @@ class BodyWriter:
         """Forward dynamics checks each pivot as soon as it is computed, before anything divides
         by it: a singular D returns 1 without a division by zero (lanes: all in one mask).
         Returns the tests by the index of the statement after which they go."""
+        self.check_symbols = {}
         if not self.plan.checked:
             return {}
         out: dict[int, list[tuple[str, int]]] = {}
+        self.check_symbols: dict[int, set] = {}
         checks = self.reduced.checks
         codes = self.plan.pivot_codes or [1] * (len(checks) // 2)
         for d, m, code in zip(checks[0::2], checks[1::2], codes):
@@ -247,6 +276,7 @@ class BodyWriter:
             rtol = (f"({self.ctx.real}){self.ctx.prefix}_TASK_RTOL" if code == TASK_SINGULAR  # whatever type the user's macro has
                     else self.printer.literal(self.ctx.rtol))
             at = max(_position_of(d, self.position), _position_of(m, self.position))
+            self.check_symbols.setdefault(at, set()).update(sp.sympify(d).free_symbols | sp.sympify(m).free_symbols)
             pd = self.printer.doprint(d)
             if sp.sympify(d - m) == 0:
                 test = f"({pd} > 0.0)" if self.vector else f"!({pd} > 0)"
@@ -272,17 +302,23 @@ class BodyWriter:
         statement it reads (so that no value stays live until the end of the function);
         returns the results written at the end, ``(target, expression)``."""
         early: dict[int, list[str]] = {}
+        self.early_symbols: dict[int, set] = {}
         late = []
         for target, expr in zip(self.plan.targets, self.reduced.outputs):
             if not target.local:
                 late.append((target, expr))
                 continue
-            early.setdefault(_position_of(expr, self.position), []).append(f"{target.lvalue} = {self.show(expr)};")
+            at = _position_of(expr, self.position)
+            early.setdefault(at, []).append(f"{target.lvalue} = {self.show(expr)};")
+            self.early_symbols.setdefault(at, set()).update(sp.sympify(expr).free_symbols)
             self._count(expr)
         self._emit_checks(checks, -1)
         self.lines.extend(early.get(-1, ()))
         names = self.ctx.names
+        self.segments = []  # per statement: (first line, symbols its lines read)
         for k, (sym, rhs) in enumerate(self.reduced.statements):
+            self.segments.append((len(self.lines), set(rhs.free_symbols) | self.early_symbols.get(k, set())
+                                  | self.check_symbols.get(k, set())))
             self.lines.append(f"const {self.ltype} {names[sym]} = {self.show(rhs)};")
             self.ops += count_operations(rhs)
             self.used |= rhs.free_symbols
@@ -331,6 +367,62 @@ class BodyWriter:
                                             self.vector, plan.out_name, self.store, ctx.internal, ctx.scalar)
             self.lines += solve
             self.ops += solve_ops
+
+
+def _split(writer: "BodyWriter", body: Body, late_symbols: set) -> None:
+    """Turn ``body`` (a long scalar body) into a short one that calls its parts: the lines
+    before the statements stay (input checks, the sin/cos block, the scratch arrays' and a
+    ``carry`` array's declarations); the statements are cut into parts of about
+    :data:`PART_STATEMENTS`, each part reading the values it needs from earlier parts out of
+    ``carry`` and leaving there the ones later parts need; the last part also writes the results
+    and runs the loops.  A checked function's parts return its status."""
+    names, ltype = writer.ctx.names, writer.ltype
+    statements, segments = writer.reduced.statements, writer.segments
+    bounds = list(range(0, len(statements), PART_STATEMENTS))
+    chunks = [(a, min(a + PART_STATEMENTS, len(statements))) for a in bounds]
+    defined_in = {sym: k for k, (sym, _) in enumerate(statements)}
+    chunk_of = lambda index: index // PART_STATEMENTS  # noqa: E731
+    used_by = [set() for _ in chunks]
+    for index, (_, symbols) in enumerate(segments):
+        used_by[chunk_of(index)] |= {s for s in symbols if s in defined_in}
+    used_by[-1] |= {s for s in late_symbols if s in defined_in}
+    carried = sorted({s for c, used in enumerate(used_by) for s in used if chunk_of(defined_in[s]) < c},
+                     key=lambda s: defined_in[s])
+    slot = {s: k for k, s in enumerate(carried)}
+    lines = body.lines
+    head, tail = lines[:writer.segment_start], lines[writer.segment_end:]
+    checked = writer.plan.checked
+    returns = "int" if checked else "void"
+    params = [f"{ltype} *{name}" for name, _ in writer.arrays] + [f"{ltype} *carry"]
+    parts = []
+    for c, (first, last) in enumerate(chunks):
+        start = segments[first][0] if first else writer.segment_start
+        stop = segments[last][0] if last < len(statements) else writer.segment_end
+        part = [f"(void){name};" for name, _ in writer.arrays] + ["(void)carry;"]
+        part += [f"const {ltype} {names[s]} = carry[{slot[s]}];" for s in carried
+                 if s in used_by[c] and chunk_of(defined_in[s]) < c]
+        part += lines[start:stop]
+        part += [f"carry[{slot[s]}] = {names[s]};" for s in carried if chunk_of(defined_in[s]) == c]
+        if c == len(chunks) - 1:
+            part += tail
+            if checked and not part[-1].startswith("return"):
+                part.append("return 0;")
+        elif checked:
+            part.append("return 0;")
+        parts.append((returns, params, part))
+    calls = []
+    arguments = ", ".join([ARGUMENTS] + [name for name, _ in writer.arrays] + ["carry"])
+    for c in range(len(parts)):
+        call = f"{PART}{c + 1}@({arguments})"
+        if not checked:
+            calls.append(f"{call};")
+        elif c == len(parts) - 1:
+            calls.append(f"return {call};")
+        else:
+            calls += [f"status = {call};", "if (status != 0) {", "    return status;", "}"]
+    declarations = [f"{ltype} carry[{max(1, len(carried))}];"] + (["int status;"] if checked and len(parts) > 1 else [])
+    body.lines = head + declarations + calls
+    body.parts = parts
 
 
 def write_body(plan: FunctionPlan, reduced: ReducedPlan, context: BodyContext, vector: bool = False) -> Body:

@@ -8,6 +8,8 @@ subexpressions, folds constants, prints with :mod:`symdyn.emit.cprinter` and ren
 
 from __future__ import annotations
 
+import re
+
 from collections import Counter
 from dataclasses import dataclass, field
 
@@ -15,7 +17,7 @@ import sympy as sp
 
 from .._version import __version__
 from ..model.errors import warn
-from .cbody import BodyContext, write_body
+from .cbody import ARGUMENTS, BodyContext, write_body
 from .cplan import collect_targets, dimensions, reduce_targets
 from .cprinter import VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
@@ -65,6 +67,9 @@ class CFunction:
     #: whether the body has the mass matrix's off-diagonal loop or the Coriolis matrix's (see
     #: symdyn.emit.cbody.gram_loop, coriolis_loop): they use vector types where there are some
     gram_loop: bool = False
+    #: a long body's parts, each ``(returns, extra parameters, lines)``: functions of their own,
+    #: called in order from ``lines`` (symdyn.emit.cbody.SPLIT_FROM_STATEMENTS)
+    parts: list = field(default_factory=list)
 
     @property
     def batch_args(self) -> str:
@@ -193,7 +198,14 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
-    common = dict(summary=summary, args=args, lines=body.lines, ops=body.ops, unused=unused,
+    lines, parts = body.lines, []
+    if body.parts:  # a long body in parts (symdyn.emit.cbody.SPLIT_FROM_STATEMENTS)
+        own = checked_name(name) if plan.checked else name
+        names = ", ".join(a for _, a, _, _ in args)
+        lines = [re.sub(r"@PART(\d+)@", lambda m: f"{prefix}_{own}_part{m.group(1)}", line.replace(ARGUMENTS, names))
+                 for line in lines]
+        parts = [(returns, ", ".join(extra)) + (part_lines,) for returns, extra, part_lines in body.parts]
+    common = dict(summary=summary, args=args, lines=lines, parts=parts, ops=body.ops, unused=unused,
                   trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis))
     if plan.checked:
         status = REGISTRY[plan.parts[0]].status_for(eqs.fd_method if name == "forward_dynamics" else "")
