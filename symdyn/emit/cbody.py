@@ -148,6 +148,11 @@ def _position_of(expr, position) -> int:
 #: LRA's hard register assignment); the results are the same bit for bit
 SPLIT_FROM_STATEMENTS = 8000
 PART_STATEMENTS = 2000
+#: forward dynamics gains from shorter parts already at 24 joints (generic chain, harness:
+#: 4240 -> 3810 ns at gcc -O2, 3337 -> 2876 ns at -O3 -march=native), where the Coriolis matrix
+#: loses (4725 -> 4853 ns): its own limits (docs/benchmarks.md, "Long bodies in parts")
+FD_SPLIT_FROM_STATEMENTS = 2500
+FD_PART_STATEMENTS = 1500
 #: placeholders in a split body's calls, replaced by the emitter: the function's own arguments,
 #: and ``@PART<k>@`` the name of part k
 ARGUMENTS, PART = "@ARGS@", "@PART"
@@ -223,9 +228,11 @@ class BodyWriter:
         self._loops()
         self.lines.extend(f"{target} = {source};" for target, source in plan.aliases)
         body = Body(self.lines, self.ops, self.used, self.printer.vector_functions)
-        if not self.vector and len(self.reduced.statements) > SPLIT_FROM_STATEMENTS:
+        forward = plan.name == "forward_dynamics"
+        limit, size = (FD_SPLIT_FROM_STATEMENTS, FD_PART_STATEMENTS) if forward else (SPLIT_FROM_STATEMENTS, PART_STATEMENTS)
+        if not self.vector and len(self.reduced.statements) > limit:
             late_symbols = set().union(set(), *(sp.sympify(e).free_symbols for _, e in late))
-            _split(self, body, late_symbols)
+            _split(self, body, late_symbols, size)
         return body
 
     def _input_checks(self) -> None:
@@ -369,19 +376,19 @@ class BodyWriter:
             self.ops += solve_ops
 
 
-def _split(writer: "BodyWriter", body: Body, late_symbols: set) -> None:
+def _split(writer: "BodyWriter", body: Body, late_symbols: set, size: int) -> None:
     """Turn ``body`` (a long scalar body) into a short one that calls its parts: the lines
     before the statements stay (input checks, the sin/cos block, the scratch arrays' and a
     ``carry`` array's declarations); the statements are cut into parts of about
-    :data:`PART_STATEMENTS`, each part reading the values it needs from earlier parts out of
+    ``size`` statements, each part reading the values it needs from earlier parts out of
     ``carry`` and leaving there the ones later parts need; the last part also writes the results
     and runs the loops.  A checked function's parts return its status."""
     names, ltype = writer.ctx.names, writer.ltype
     statements, segments = writer.reduced.statements, writer.segments
-    bounds = list(range(0, len(statements), PART_STATEMENTS))
-    chunks = [(a, min(a + PART_STATEMENTS, len(statements))) for a in bounds]
+    bounds = list(range(0, len(statements), size))
+    chunks = [(a, min(a + size, len(statements))) for a in bounds]
     defined_in = {sym: k for k, (sym, _) in enumerate(statements)}
-    chunk_of = lambda index: index // PART_STATEMENTS  # noqa: E731
+    chunk_of = lambda index: index // size  # noqa: E731
     used_by = [set() for _ in chunks]
     for index, (_, symbols) in enumerate(segments):
         used_by[chunk_of(index)] |= {s for s in symbols if s in defined_in}

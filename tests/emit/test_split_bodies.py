@@ -28,8 +28,9 @@ def puma():
 
 
 def _split_files(eqs, monkeypatch, **kwargs):
-    monkeypatch.setattr(cbody, "SPLIT_FROM_STATEMENTS", 50)
-    monkeypatch.setattr(cbody, "PART_STATEMENTS", 37)
+    for limit, size in (("SPLIT_FROM_STATEMENTS", "PART_STATEMENTS"), ("FD_SPLIT_FROM_STATEMENTS", "FD_PART_STATEMENTS")):
+        monkeypatch.setattr(cbody, limit, 50)
+        monkeypatch.setattr(cbody, size, 37)
     return generate_c(eqs, FUNCTIONS, **kwargs)
 
 
