@@ -74,6 +74,14 @@ class CompiledDynamics:
         code = fn(*[a.ctypes.data_as(pointer) for a in arrays + outputs])
         return (int(code), outputs) if status else outputs
 
+    def _outputs_of(self, name, parts, args, p, sizes):
+        """The flat outputs of ``NAME_<name>`` (writing ``parts``): a task-space function returns
+        a status and writes nothing on a nonzero one, so its outputs start as NaN (never silent
+        zeros)."""
+        if all(part in TASK_OUTPUTS for part in parts):
+            return self._call_outputs(name, args, p, sizes, status=True, fill=float("nan"))[1]
+        return self._call_outputs(name, args, p, sizes)
+
     def with_status(self, name, *args, p=None, fill=float("nan")):
         """``(status, outputs)`` of a function that returns a status (a task-space function, or
         ``forward_dynamics_checked``): ``outputs`` a tuple of numpy arrays shaped as the outputs
@@ -107,11 +115,7 @@ def _compiled_method(spec):
         if 0 in shape and spec.name == "base_regressor":
             raise ValueError("base_regressor: give the number of base parameters (columns, or set base_columns)")
         blocks = spec.argument_shapes(dims)
-        sizes = [rows * cols for _, (rows, cols) in blocks]
-        if spec.name in TASK_OUTPUTS:  # returns a status: on a nonzero one the NaNs stay (no silent zeros)
-            flat = self._call_outputs(spec.name, args, p, sizes, status=True, fill=float("nan"))[1]
-        else:
-            flat = self._call_outputs(spec.name, args, p, sizes)
+        flat = self._outputs_of(spec.name, (spec.name,), args, p, [rows * cols for _, (rows, cols) in blocks])
         if len(blocks) > 1:
             return np.hstack([f.reshape(rows, cols) for f, (_, (rows, cols)) in zip(flat, blocks)])
         return flat[0] if spec.is_vector else flat[0].reshape(shape)
@@ -128,11 +132,8 @@ def _combined_method(combined):
         if len(args) == len(combined.inputs) + 1 and p is None:
             *args, p = args
         dims = _dims(self)
-        sizes = [r * c for part in parts for _, (r, c) in part.argument_shapes(dims)]
-        if all(part.name in TASK_OUTPUTS for part in parts):
-            flat = self._call_outputs(combined.name, args, p, sizes, status=True, fill=float("nan"))[1]
-        else:
-            flat = self._call_outputs(combined.name, args, p, sizes)
+        flat = self._outputs_of(combined.name, combined.parts, args, p,
+                                [r * c for part in parts for _, (r, c) in part.argument_shapes(dims)])
         return tuple(f if part.is_vector else f.reshape(part.shape(dims)) for f, part in zip(flat, parts))
     method.__name__ = combined.name
     method.__doc__ = f"{combined.summary} From ``NAME_{combined.name}``: ({', '.join(combined.parts)})."

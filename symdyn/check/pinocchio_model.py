@@ -455,20 +455,23 @@ class PinocchioReference:
     #: the rows of the tool Jacobian the task-space references use (the robot's task)
     task_rows: tuple = (0, 1, 2, 3, 4, 5)
 
-    def _task_terms(self, q):
-        """``(M^-1, J_s, Lambda)`` at q: ``computeMinverse`` (armature included, upper triangle
-        mirrored), the task rows of the LOCAL_WORLD_ALIGNED tool Jacobian, and the inverse of
-        ``J_s M^-1 J_s^T``."""
+    def _task_inverse_terms(self, q):
+        """``(M^-1, J_s, J_s M^-1 J_s^T)`` at q: ``computeMinverse`` (armature included, upper
+        triangle mirrored) and the task rows of the LOCAL_WORLD_ALIGNED tool Jacobian."""
         Minv = np.array(self.pin.computeMinverse(self.model, self.data, q))
         Minv = np.triu(Minv) + np.triu(Minv, 1).T
         J = PinocchioReference.jacobian(self, q)[list(self.task_rows), :]
-        return Minv, J, np.linalg.inv(J @ Minv @ J.T)
+        return Minv, J, J @ Minv @ J.T
+
+    def _task_terms(self, q):
+        """``(M^-1, J_s, Lambda)`` at q, Lambda the inverse of ``J_s M^-1 J_s^T``."""
+        Minv, J, A = self._task_inverse_terms(q)
+        return Minv, J, np.linalg.inv(A)
 
     def task_pivot_ratio(self, q) -> float:
         """The smallest pivot of the LDL^T of ``J_s M^-1 J_s^T`` relative to its diagonal entry
         (1 for an ideally conditioned task, 0 at a singularity): what the generated code checks."""
-        Minv, J, _ = PinocchioReference._task_terms(self, q)
-        A = J @ Minv @ J.T
+        A = PinocchioReference._task_inverse_terms(self, q)[2]
         try:
             return float(np.min(np.diag(np.linalg.cholesky(A)) ** 2 / np.diag(A)))
         except np.linalg.LinAlgError:

@@ -58,7 +58,7 @@ from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, default_outputs, spec,
                              with_requirements)
-from ..model.robot import Robot
+from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
 from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
@@ -126,8 +126,9 @@ class Equations:
     joint_trig: tuple = ()
     #: ``(pivot, diagonal entry, status)`` for every pivot the task-space outputs divide by, in
     #: program order: the LDL^T of ``M = D + diag(armature)`` (status 1, checked at the pivot
-    #: tolerance) and of ``J M^-1 J^T`` (status 3, checked at the header's ``NAME_TASK_RTOL``);
-    #: empty when no task-space output was derived
+    #: tolerance) and the squared diagonal ``R_kk^2`` of the QR that factors ``J M^-1 J^T``
+    #: (status 3, checked at the header's ``NAME_TASK_RTOL``); empty when no task-space output
+    #: was derived
     task_checks: tuple = ()
 
     @property
@@ -546,11 +547,11 @@ def check_task_regular(robot: Robot, program: Program, pivots, states: int = 3, 
         small &= {k for k, ratio in enumerate(found) if not ratio > 1e-9}
     if not small:
         return
-    rows, names = robot.task_rows, ("linear x", "linear y", "linear z", "angular x", "angular y", "angular z")
+    rows = robot.task_rows
     what = "field 'task'" if robot.task is not None else "the task-space functions' default task (the tool's pose)"
     raise SymdynError(
         f"{robot.source or robot.name}: {what}: the tool cannot move independently in the {len(rows)} task "
-        f"directions ({', '.join(names[r] for r in rows)}) at any configuration (J's task rows have rank at most "
+        f"directions ({', '.join(JACOBIAN_ROWS[r] for r in rows)}) at any configuration (J's task rows have rank at most "
         f"{len(rows) - len(small)} at every sampled q), so the task-space mass matrix does not exist; choose fewer "
         "rows ('task: position', or a list of Jacobian rows such as [0, 1], in the robot file or scene)")
 

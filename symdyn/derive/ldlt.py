@@ -56,14 +56,25 @@ def factor(b, M: sp.Matrix, hint: str = "ldl", on_zero: Callable[[int], None] | 
     return Factorization(L=L, d=tuple(d), inv=tuple(inv), diagonal=tuple(M[j, j] for j in range(n)))
 
 
+def forward_substitute(b, f: Factorization, rhs, hint: str) -> list[sp.Expr]:
+    """``y`` with ``L y = rhs`` (L unit lower triangular; n entries, named ``{hint}{i}``, 1-based)."""
+    L, y = f.L, [sp.S.Zero] * f.size
+    for i in range(f.size):
+        y[i] = b.define(f"{hint}{i + 1}", rhs[i] - sp.Add(*[L[i, k] * y[k] for k in range(i)]))
+    return y
+
+
+def back_substitute(b, f: Factorization, values, hint: str) -> list[sp.Expr]:
+    """``x`` with ``L^T x = values`` (n entries, named ``hint`` with ``{i}`` replaced by the
+    1-based row)."""
+    L, x = f.L, [sp.S.Zero] * f.size
+    for i in reversed(range(f.size)):
+        x[i] = b.define(hint.format(i=i + 1), values[i] - sp.Add(*[L[k, i] * x[k] for k in range(i + 1, f.size)]))
+    return x
+
+
 def solve(b, f: Factorization, rhs, forward_hint: str, back_hint: str) -> list[sp.Expr]:
     """``x`` with ``M x = rhs`` (n entries) by forward and back substitution, each entry named
     (``{forward_hint}{i}``, ``{back_hint}`` with ``{i}`` replaced by the 1-based row)."""
-    n, L, inv = f.size, f.L, f.inv
-    y = [sp.S.Zero] * n
-    for i in range(n):
-        y[i] = b.define(f"{forward_hint}{i + 1}", rhs[i] - sp.Add(*[L[i, k] * y[k] for k in range(i)]))
-    x = [sp.S.Zero] * n
-    for i in reversed(range(n)):
-        x[i] = b.define(back_hint.format(i=i + 1), y[i] * inv[i] - sp.Add(*[L[k, i] * x[k] for k in range(i + 1, n)]))
-    return x
+    y = forward_substitute(b, f, rhs, forward_hint)
+    return back_substitute(b, f, [y[i] * f.inv[i] for i in range(f.size)], back_hint)

@@ -43,14 +43,15 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..model.outputs import TASK_OUTPUTS  # noqa: F401 (the outputs this module derives, together)
-from .ldlt import Factorization, factor
+from .ldlt import Factorization, back_substitute, factor, forward_substitute
 
 
 @dataclass(frozen=True)
 class TaskSpace:
     """The task-space quantities of one robot and task (expressions in a program's symbols):
     ``Lambda`` (m x m), ``bias`` (V_x, m x 1), ``gravity`` (G_x, m x 1), ``inverse`` (Jbar,
-    n x m); ``mass`` and ``task`` the two factorizations (of M and of Lambda^-1)."""
+    n x m); ``mass`` the LDL^T of M, ``task_pivots`` the pivots ``(R_kk^2, (J M^-1 J^T)_kk)``
+    of the task's QR factorization, which the generated code checks."""
 
     Lambda: sp.Matrix
     bias: sp.Matrix
@@ -67,11 +68,17 @@ class TaskSpace:
 def _whiten(b, f: Factorization, inv_roots, vector, hint: str) -> list[sp.Expr]:
     """``D^-1/2 L^-1 vector`` (n entries, named ``{hint}{i}``): forward substitution with the
     unit lower triangular L, then each entry divided by the square root of its pivot."""
-    L, n = f.L, f.size
-    y = [sp.S.Zero] * n
-    for i in range(n):
-        y[i] = b.define(f"{hint}y{i + 1}", vector[i] - sp.Add(*[L[i, k] * y[k] for k in range(i)]))
-    return [b.define(f"{hint}{i + 1}", y[i] * inv_roots[i]) for i in range(n)]
+    y = forward_substitute(b, f, vector, f"{hint}y")
+    return [b.define(f"{hint}{i + 1}", y[i] * inv_roots[i]) for i in range(f.size)]
+
+
+def _project_out(b, q, vector, coefficient_hint: str, hint: str, reduce: bool = True):
+    """One modified Gram-Schmidt step: ``(q . vector, vector - (q . vector) q)`` (the reduced
+    vector only when ``reduce``, else ``vector``), every entry named."""
+    coefficient = b.define(coefficient_hint, sp.Add(*[a * e for a, e in zip(q, vector)]))
+    if not reduce:
+        return coefficient, vector
+    return coefficient, [b.define(f"{hint}{i + 1}", e - coefficient * a) for i, (a, e) in enumerate(zip(q, vector))]
 
 
 def task_space(b, M: sp.Matrix, J: sp.Matrix, jacobian_dot_qd: sp.Matrix, h: sp.Matrix, c: sp.Matrix,
@@ -100,14 +107,11 @@ def task_space(b, M: sp.Matrix, J: sp.Matrix, jacobian_dot_qd: sp.Matrix, h: sp.
         q = [b.define(f"tsQ{k + 1}_{i + 1}", e * inv_diagonal[k]) for i, e in enumerate(work[k])]
         Q.append(q)
         for j in range(k + 1, m):
-            R[k, j] = b.define(f"tsR{k + 1}{j + 1}", sp.Add(*[a * e for a, e in zip(q, work[j])]))
-            work[j] = [b.define(f"tsB{j + 1}_{k + 1}_{i + 1}", e - R[k, j] * a) for i, (a, e) in enumerate(zip(q, work[j]))]
+            R[k, j], work[j] = _project_out(b, q, work[j], f"tsR{k + 1}{j + 1}", f"tsB{j + 1}_{k + 1}_")
         for hint, column, coefficients in (("tsC", gravity_column, gravity_coefficients),
                                            ("tsH", bias_column, bias_coefficients)):
-            coefficient = b.define(f"{hint}r{k + 1}", sp.Add(*[a * e for a, e in zip(q, column)]))
+            coefficient, column[:] = _project_out(b, q, column, f"{hint}r{k + 1}", f"{hint}_{k + 1}_", k + 1 < m)
             coefficients.append(coefficient)
-            if k + 1 < m:
-                column[:] = [b.define(f"{hint}_{k + 1}_{i + 1}", e - coefficient * a) for i, (a, e) in enumerate(zip(q, column))]
     # W = R^-1 (upper triangular), column by column
     W = sp.zeros(m, m)
     for j in range(m):
@@ -125,13 +129,9 @@ def task_space(b, M: sp.Matrix, J: sp.Matrix, jacobian_dot_qd: sp.Matrix, h: sp.
             for l in range(m)]  # Q^T D^-1/2 L^-1 h - R^-T Jdot qd
     bias = sp.Matrix([b.define(f"tsV{i + 1}", sp.Add(*[W[i, l] * back[l] for l in range(i, m)])) for i in range(m)])
     # Jbar = L^-T D^-1/2 Q W^T: each column by back substitution
-    L = fM.L
     Jbar = sp.zeros(n, m)
     for s in range(m):
         scaled = [b.define(f"tsJ{s + 1}_s{i + 1}", inv_roots[i] * sp.Add(*[Q[k][i] * W[s, k] for k in range(s, m)]))
                   for i in range(n)]
-        x = [sp.S.Zero] * n
-        for i in reversed(range(n)):
-            x[i] = b.define(f"tsJ{s + 1}_{i + 1}", scaled[i] - sp.Add(*[L[k, i] * x[k] for k in range(i + 1, n)]))
-        Jbar[:, s] = sp.Matrix(x)
+        Jbar[:, s] = sp.Matrix(back_substitute(b, fM, scaled, f"tsJ{s + 1}_{{i}}"))
     return TaskSpace(Lambda=Lambda, bias=bias, gravity=gravity, inverse=Jbar, mass=fM, task_pivots=tuple(pivots))

@@ -203,17 +203,12 @@ class BodyWriter:
                 f"({name}[{i}] <= {limit}) & ({name}[{i}] >= -{limit})" for name in plan.inputs for i in range(ctx.n)) + ";")
         if plan.gram:
             size = 6 * (plan.gram[1] - 1)
-            self.lines.append(f"{self.ltype} mass_s[{size}], mass_f[{size}];")
-            self.arrays += [("mass_s", size), ("mass_f", size)]
+            self._declare([("mass_s", size), ("mass_f", size)])
         if plan.coriolis:
-            size = 6 * plan.coriolis[1]
-            self.lines.append(f"{self.ltype} " + ", ".join(f"{a}[{size}]" for a in CORIOLIS_ARRAYS) + ";")
-            self.arrays += [(a, size) for a in CORIOLIS_ARRAYS]
+            self._declare([(a, 6 * plan.coriolis[1]) for a in CORIOLIS_ARRAYS])
         if plan.looped:
             n = ctx.n
-            self.lines.append(f"{self.ltype} fd_M[{n * n}], fd_b[{n}], fd_w[{n}], fd_d[{n}], fd_inv[{n}], fd_x[{n}];")
-            self.arrays += [(a, size) for a, size in (("fd_M", n * n), ("fd_b", n), ("fd_w", n), ("fd_d", n),
-                                                      ("fd_inv", n), ("fd_x", n))]
+            self._declare([("fd_M", n * n), ("fd_b", n), ("fd_w", n), ("fd_d", n), ("fd_inv", n), ("fd_x", n)])
         self.segment_start = len(self.lines)
         late = self._statements(checks)
         self.segment_end = len(self.lines)
@@ -231,9 +226,15 @@ class BodyWriter:
         forward = plan.name == "forward_dynamics"
         limit, size = (FD_SPLIT_FROM_STATEMENTS, FD_PART_STATEMENTS) if forward else (SPLIT_FROM_STATEMENTS, PART_STATEMENTS)
         if not self.vector and len(self.reduced.statements) > limit:
-            late_symbols = set().union(set(), *(sp.sympify(e).free_symbols for _, e in late))
+            late_symbols = set().union(*(sp.sympify(e).free_symbols for _, e in late))
             _split(self, body, late_symbols, size)
         return body
+
+    def _declare(self, arrays) -> None:
+        """Declare the scratch arrays ``[(name, size)]`` in one line; :func:`_split` passes them
+        to the parts of a long body."""
+        self.lines.append(f"{self.ltype} " + ", ".join(f"{name}[{size}]" for name, size in arrays) + ";")
+        self.arrays += arrays
 
     def _input_checks(self) -> None:
         """Forward dynamics first checks its inputs: a NaN or infinite q, qd or tau returns 2
@@ -269,11 +270,10 @@ class BodyWriter:
         """Forward dynamics checks each pivot as soon as it is computed, before anything divides
         by it: a singular D returns 1 without a division by zero (lanes: all in one mask).
         Returns the tests by the index of the statement after which they go."""
-        self.check_symbols = {}
+        self.check_symbols: dict[int, set] = {}  # symbols the checks after each statement read
         if not self.plan.checked:
             return {}
         out: dict[int, list[tuple[str, int]]] = {}
-        self.check_symbols: dict[int, set] = {}
         checks = self.reduced.checks
         codes = self.plan.pivot_codes or [1] * (len(checks) // 2)
         for d, m, code in zip(checks[0::2], checks[1::2], codes):

@@ -22,6 +22,7 @@ from .cplan import collect_targets, dimensions, reduce_targets
 from .cprinter import VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
 from ..derive.equations import Equations
+from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
 from ..model.outputs import ALL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS
 
@@ -238,10 +239,6 @@ def _batch_form(eqs: Equations, plan, reduced, context: BodyContext, group_of, p
             "inputs": [(group, len(getattr(eqs, group))) for group in plan.inputs],
             "parameters": len(eqs.parameters), "outputs": sizes,
             "scalar": checked_name(plan.name) if plan.checked else plan.name, "trig": bool(context.angles)}
-
-
-#: the name of each row of the tool Jacobian, for the header's description of a task
-JACOBIAN_ROWS = ("linear x", "linear y", "linear z", "angular x", "angular y", "angular z")
 
 
 def _task_context(eqs: Equations, precision: str) -> dict:

@@ -42,6 +42,8 @@ _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any 
 TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "tool", "task", "parameters", "links")
 #: the named tasks of ``task:`` (rows of the tool Jacobian: 0-2 linear x, y, z, 3-5 angular)
 TASKS = {"pose": (0, 1, 2, 3, 4, 5), "position": (0, 1, 2), "orientation": (3, 4, 5)}
+#: the name of each row of the tool Jacobian (world axes at the tool origin)
+JACOBIAN_ROWS = ("linear x", "linear y", "linear z", "angular x", "angular y", "angular z")
 ANGLE_UNITS = ("radians", "degrees")
 LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "origin", "axis", "mass", "com", "inertia",
              "armature", "damping", "coulomb", "limits", "actuated")

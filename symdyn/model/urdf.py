@@ -599,19 +599,15 @@ class _Reader:
     def moving_chain_end(self) -> str | None:
         """The child link of the last moving (non-fixed) joint when the moving joints all lie on
         one path from the root (every other branch holds fixed joints only), else None."""
-        moves: dict[str, bool] = {}
-
-        def has_moving(link: str) -> bool:  # iterative post-order: deep trees do not recurse
-            stack = [(link, False)]
-            while stack:
-                name, done = stack.pop()
-                if done:
-                    moves[name] = any(j.type != "fixed" or moves[j.child] for j in self.child_joints[name])
-                elif name not in moves:
-                    stack.append((name, True))
-                    stack.extend((j.child, False) for j in self.child_joints[name])
-            return moves[link]
-        has_moving(self.root)
+        moves: dict[str, bool] = {}  # whether a link's subtree holds a moving joint
+        stack = [(self.root, False)]  # iterative post-order: deep trees do not recurse
+        while stack:
+            name, done = stack.pop()
+            if done:
+                moves[name] = any(j.type != "fixed" or moves[j.child] for j in self.child_joints[name])
+            elif name not in moves:
+                stack.append((name, True))
+                stack.extend((j.child, False) for j in self.child_joints[name])
         link, end = self.root, None
         while True:
             onward = [j for j in self.child_joints[link] if j.type != "fixed" or moves[j.child]]

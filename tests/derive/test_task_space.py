@@ -15,6 +15,7 @@ from helpers import REPO, normalized_error, random_states, robot_path
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference
 from symdyn.cli import main
+from symdyn.cli.verify import TASK_REGULAR
 from symdyn.emit.cgen import generate_c
 from symdyn.model.outputs import TASK_OUTPUTS, default_outputs
 from symdyn.model.robot import TASKS
@@ -50,9 +51,7 @@ def regular_states(robot, ref, count, seed=3):
     numbers (the error of either side grows as the pivots shrink)."""
     states = []
     for q, qd, _, _ in random_states(robot.dof, 10 * count, seed):
-        Minv, J, _ = ref._task_terms(q)
-        A = J @ Minv @ J.T
-        if np.min(np.diag(np.linalg.cholesky(A)) ** 2 / np.diag(A)) > 1e-3:
+        if ref.task_pivot_ratio(q) > TASK_REGULAR:
             states.append((q, qd))
         if len(states) == count:
             return states
