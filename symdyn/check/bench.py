@@ -116,6 +116,11 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
                           f"{'it a value' if len(names) == 1 else 'them values'} under 'parameters:')")
     n = robot.dof
     name = robot.name
+    if robot.is_tree:  # Lagrange-Euler and the Jacobian form are written for serial chains
+        skipped = [v for v in variants if VARIANT_METHODS.get(v, "newton-euler") != "newton-euler"]
+        variants = [v for v in variants if v not in skipped]
+        if skipped:
+            progress(f"{name}: a kinematic tree: {', '.join(skipped)} skipped (serial chains only)")
     progress(f"{name}: 50-digit reference at {count} states")
     reference = MpReference(robot)
     states = _states(n, count)

@@ -113,9 +113,14 @@ def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: 
     import pinocchio as pin
 
     # constant transform from the parent joint frame to this joint frame (the first: the base)
-    placement = np.array([_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
+    base = np.array([_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
+    root = parent
+    after: list[np.ndarray] = []  # per link: the transform from its joint frame to its children's
+    ids: list[int] = []
     body = np.eye(4)
     for k, row in enumerate(links):
+        up = robot.parent_indices[k]
+        parent, placement = (root, base) if up < 0 else (ids[up], after[up])
         placement = placement @ row["fixed"]
         if robot.convention == "general":
             joint_placement = placement @ row["origin"]
@@ -147,9 +152,9 @@ def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: 
         link_inertia = pin.Inertia(row["mass"], row["com"].copy(), inertia_com)
         body_se3 = pin.SE3(body[:3, :3].copy(), body[:3, 3].copy())
         model.appendBodyToJoint(joint_id, body_se3.act(link_inertia), pin.SE3.Identity())
-        parent = joint_id
-        placement = next_placement
-    return parent, body
+        ids.append(joint_id)
+        after.append(next_placement)
+    return ids[-1], body
 
 
 def build_closed_loop_model(robot, armature: float = 0.0):
@@ -510,7 +515,10 @@ class UrdfReference(PinocchioReference):
         self.pin = pin
         text, renamed = _pinocchio_urdf(str(path), quarter_turns)
         full = pin.buildModelFromXML(text) if text is not None else pin.buildModelFromUrdf(str(path))
-        if tip is None:  # the only leaf link (symdyn refuses a branching file without a tip)
+        if tip is None and _whole_tree(str(path)):  # symdyn reads the whole tree: so does the reference
+            self._whole(full)
+            return
+        if tip is None:  # the only leaf link, or the end of the one chain of moving joints
             tip = _only_leaf(str(path))
         body = pin.FrameType.BODY  # links by name and type
         if not full.existFrame(renamed.get(tip, tip), body):
@@ -534,6 +542,19 @@ class UrdfReference(PinocchioReference):
         self._tool = self.model.getFrameId(renamed.get(tool or tip, tool or tip), body)
         self.actuated = list(range(self.model.nv))  # URDF joints are all actuated
         self.world_to_base = pin.SE3.Identity()  # symdyn's base frame is the root link's
+
+    def _whole(self, model) -> None:
+        """Compare with Pinocchio's model of the whole file (a tree: no tool frame)."""
+        self.model = model
+        self.data = model.createData()
+        self.continuous = [model.joints[j].nq == 2 for j in range(1, model.njoints)]
+        self.damping = np.array(model.damping, dtype=float)
+        self.coulomb = np.array(model.friction, dtype=float)
+        self.armature = np.array(model.armature, dtype=float)
+        self._tool = None
+        self.actuated = list(range(model.nv))
+        self.world_to_base = self.pin.SE3.Identity()
+        self.joint_names = list(model.names)[1:]
 
     @property
     def tool_frame(self) -> int:
@@ -589,6 +610,12 @@ def _pinocchio_urdf(path: str, tolerance: float | None) -> tuple[str | None, dic
     if not changed and not renamed:
         return None, {}
     return ET.tostring(root, encoding="unicode"), renamed
+
+
+def _whole_tree(path: str) -> bool:
+    from ..model.urdf import reads_as_tree
+    with open(path, encoding="utf-8") as handle:
+        return reads_as_tree(handle.read(), path)
 
 
 def _only_leaf(path: str) -> str:

@@ -100,8 +100,9 @@ class MpReference:
     def _frames(self, q):
         """World poses of each joint frame (z = joint axis) and each link frame."""
         joints, links = [], []
-        current = self.ctx.eye(4)
+        parents = self.robot.parent_indices
         for k, row in enumerate(self.links):
+            current = self.ctx.eye(4) if parents[k] < 0 else links[parents[k]]
             angle = row["theta"] + (q[k] if row["revolute"] else 0)
             offset = row["d"] + (0 if row["revolute"] else q[k])
             current = current * row["fixed"]
@@ -123,7 +124,6 @@ class MpReference:
                 link = joint
             joints.append(joint)
             links.append(link)
-            current = link
         return joints, links
 
     @staticmethod
@@ -142,12 +142,13 @@ class MpReference:
         q, qd, qdd = ([self._mp(v) for v in x] for x in (q, qd, qdd))
         joints, links = self._frames(q)
         zero = ctx.matrix([0, 0, 0])
-        omega, omegad = zero, zero
-        accel = -self.g_vector if gravity else zero  # acceleration of the previous body's origin
-        previous_origin = zero
+        base = (zero, zero, -self.g_vector if gravity else zero, zero)
+        parents = self.robot.parent_indices
         cross = self._cross
-        data = []
+        data, moving = [], []
         for k, row in enumerate(self.links):
+            # the parent body's angular velocity and acceleration, and its origin's acceleration
+            omega, omegad, accel, previous_origin = base if parents[k] < 0 else moving[parents[k]]
             z = self._col(joints[k], 2)
             axis_point = self._col(joints[k], 3)
             origin = self._col(links[k], 3)
@@ -170,20 +171,21 @@ class MpReference:
             F = row["mass"] * a_com
             N = inertia * omegad_new + cross(omega_new, inertia * omega_new)
             data.append((z, axis_point, origin, com, F, N))
-            omega, omegad, accel, previous_origin = omega_new, omegad_new, accel_new, origin
+            moving.append((omega_new, omegad_new, accel_new, origin))
         tau = [ctx.mpf(0)] * self.n
-        f_next, n_next, next_origin = zero, zero, None
+        wrench = [None] * self.n  # (force, moment about the link origin) each body gets from its joint
         for k in reversed(range(self.n)):
             z, axis_point, origin, com, F, N = data[k]
-            moment = N + cross(com, F) + n_next
-            if next_origin is not None:
-                moment = moment + cross(next_origin - origin, f_next)
-            force = F + f_next
+            force, moment = F, N + cross(com, F)
+            for c in self.robot.children(k):  # what the bodies hanging on this one take from it
+                force_c, moment_c = wrench[c]
+                force = force + force_c
+                moment = moment + moment_c + cross(data[c][2] - origin, force_c)
             if self.links[k]["revolute"]:
                 tau[k] = self._dot(z, moment + cross(origin - axis_point, force))
             else:
                 tau[k] = self._dot(z, force)
-            f_next, n_next, next_origin = force, moment, origin
+            wrench[k] = (force, moment)
         return tau
 
     def _friction(self, qd, qdd=None):

@@ -73,7 +73,7 @@ def run(args) -> int:
     for sym, nominal in zip(robot.parameters, robot.nominal):
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
-    eqs = derive_cached(robot, args.method, with_requirements(functions), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision),
+    eqs = derive_cached(robot, args.method, with_requirements(functions), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision, robot),
                          parameters=args.parameters)
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:

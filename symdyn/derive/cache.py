@@ -78,6 +78,8 @@ def robot_fingerprint(robot) -> str:
     parts = [robot.name, robot.convention, sp.srepr(tuple(robot.gravity)),
              sp.srepr(robot.parameters), repr(robot.runtime_names),
              sp.srepr(tuple(robot.base_matrix())), sp.srepr(tuple(robot.tool_matrix())), repr(robot.task_rows)]
+    if robot.parents:  # a tree (a chain's fingerprint is as it was)
+        parts.append("parents " + repr(robot.parents))
     for link in robot.links:
         parts.append(link.joint + ("" if link.actuated else " passive"))
         parts.append(sp.srepr(link.expressions()))

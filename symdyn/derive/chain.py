@@ -42,6 +42,15 @@ class Chain:
         return self.robot.dof
 
     @property
+    def parents(self) -> tuple[int, ...]:
+        """Per joint, its parent joint (-1: the base); ``(-1, 0, 1, ...)`` for a serial chain."""
+        return self.robot.parent_indices
+
+    def children(self, i: int) -> tuple[int, ...]:
+        """The joints whose links hang on link ``i`` (-1: on the base), in order."""
+        return self.robot.children(i)
+
+    @property
     def gravity(self) -> sp.Matrix:
         return sp.Matrix(self.robot.base_gravity)  # base frame (the world rotated by base)
 

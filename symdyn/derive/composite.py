@@ -150,26 +150,34 @@ def _link_inertia(chain: Chain, i: int) -> BodyInertia:
 
 
 def _composite_inertias(chain: Chain) -> list[BodyInertia]:
-    """Ic_j for j = 1..n: links j..n as one body, about the origin of joint frame J_j."""
+    """Ic_j for j = 1..n: link j and every link that hangs on it (links j..n of a chain) as one
+    body, about the origin of joint frame J_j."""
     b = chain.builder
     n = chain.n
-    # constant pose of J_{j+1}'s pre-motion frame in J_j: Post_j Pre_{j+1}
-    between = _between(chain)
     composite: list[BodyInertia | None] = [None] * n
     for j in reversed(range(n)):
         own = _link_inertia(chain, j)
-        if j == n - 1:
+        children = chain.children(j)
+        if not children:
             composite[j] = BodyInertia(own.mass, b.vector(f"Ic{j + 1}h", own.first_moment),
                                        named_symmetric(b, f"Ic{j + 1}J", own.rotational))
             continue
-        child = transform_inertia(b, composite[j + 1], chain.motions[j + 1], f"Iq{j + 2}")
-        child = transform_inertia(b, child, between[j], f"Ib{j + 2}")
-        composite[j] = add_inertia(b, own, child, f"Ic{j + 1}")
+        total = own
+        for c in children:
+            child = transform_inertia(b, composite[c], chain.motions[c], f"Iq{c + 1}")
+            child = transform_inertia(b, child, _between(chain, c), f"Ib{c + 1}")
+            hint = f"Ic{j + 1}" if c == children[-1] else f"Ic{j + 1}_{c + 1}"
+            total = add_inertia(b, total, child, hint)
+        composite[j] = total
     return composite
 
 
-def _between(chain: Chain) -> list[sp.Matrix]:
-    return [sp.Matrix(chain.geometry[j].post) * sp.Matrix(chain.geometry[j + 1].pre) for j in range(chain.n - 1)]
+def _between(chain: Chain, c: int) -> sp.Matrix:
+    """The constant pose of joint c's pre-motion frame in its parent's joint frame: ``Post_p Pre_c``
+    (``Pre_c`` for a joint on the base)."""
+    parent = chain.parents[c]
+    pre = sp.Matrix(chain.geometry[c].pre)
+    return pre if parent < 0 else sp.Matrix(chain.geometry[parent].post) * pre
 
 
 def _unit_momentum(body: BodyInertia, revolute: bool) -> tuple[sp.Matrix, sp.Matrix]:
@@ -217,9 +225,11 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
     n = chain.n
     links = chain.robot.links
     if projected is None:
-        projected = n >= PROJECTED_FROM_DOF
+        projected = n >= PROJECTED_FROM_DOF and not chain.robot.is_tree
+    if projected and chain.robot.is_tree:
+        raise ValueError("the projected form of the mass matrix is written for serial chains")
     composite = _composite_inertias(chain)
-    between = _between(chain)
+    between = [_between(chain, j + 1) for j in range(n - 1)] if projected else []
     D = sp.zeros(n, n)
     if projected:
         # one forward sweep: the pose of J_k in J_1, then S_k and F_k right away, so that no
@@ -257,9 +267,12 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
     for j in range(n):
         force = _unit_momentum(composite[j], links[j].is_revolute)
         D[j, j] = (force[1] if links[j].is_revolute else force[0])[2]
-        for i in reversed(range(j)):
-            k = i + 1
+        # carried towards the base through each ancestor i of j (joint k is the next one on the
+        # way to j); entries of joints on different branches stay exact zeros, never computed
+        k = j
+        for i in chain.robot.ancestors(j):
             force = transform_force(b, force, chain.motions[k], f"F{j + 1}q{k + 1}")
-            force = transform_force(b, force, between[i], f"F{j + 1}b{k + 1}")
+            force = transform_force(b, force, _between(chain, k), f"F{j + 1}b{k + 1}")
             D[i, j] = D[j, i] = (force[1] if links[i].is_revolute else force[0])[2]
+            k = i
     return D, ()

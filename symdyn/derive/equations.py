@@ -56,7 +56,7 @@ from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
-                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, default_outputs, spec,
+                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, default_outputs, spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
@@ -192,6 +192,26 @@ class Equations:
         return NumericEquations(self)
 
 
+def check_tree_request(robot: Robot, method: str, wanted, fd_method: str, parameters: str) -> None:
+    """Refuse, in one line, what is not derived for kinematic trees: another method than
+    Newton-Euler, the articulated-body forward dynamics, the base-parameter form and the
+    outputs of a single tool or chain (kinematics, task space, regressors, reaction map)."""
+    where = robot.source or robot.name
+    if method != "newton-euler":
+        raise SymdynError(f"{where}: {method} is written for serial chains; this robot is a kinematic tree "
+                          "(links with 'parent:'): use newton-euler")
+    if fd_method != "ldlt":
+        raise SymdynError(f"{where}: the articulated-body forward dynamics is written for serial chains; a kinematic "
+                          "tree's forward dynamics is the L^T D L factorization of its mass matrix (--fd-method ldlt)")
+    if parameters != "standard":
+        raise SymdynError(f"{where}: the base-parameter form is written for serial chains (this robot is a tree)")
+    other = [name for name in wanted if name not in TREE_OUTPUTS]
+    if other:
+        raise SymdynError(f"{where}: {', '.join(other)} {'is' if len(other) == 1 else 'are'} not available for a "
+                          f"kinematic tree (links with 'parent:'), which has no single tool; available: "
+                          f"{', '.join(TREE_OUTPUTS)}")
+
+
 def normalize_method(method: str) -> str:
     key = method.lower().replace("_", "-")
     if key not in METHOD_ALIASES:
@@ -223,8 +243,9 @@ def _subtree_scales(robot: Robot, values) -> np.ndarray:
     out = np.zeros(len(links))
     for j in range(len(links)):
         total = number(links[j].armature)
-        for k in range(j, len(links)):
-            distance = sum(reach[j:k + 1]) + sum(number(c) for c in links[k].com)
+        for k in robot.subtree(j):
+            path = [k, *robot.ancestors(k)]
+            distance = sum(reach[i] for i in path[:path.index(j) + 1]) + sum(number(c) for c in links[k].com)
             total += number(links[k].mass) * distance ** 2 + sum(number(x) for x in links[k].inertia[:3])
         out[j] = total
     return out
@@ -314,14 +335,16 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
                       "an armature, or leave forward_dynamics out")
 
 
+def _identically_zero_pivot(j: int):
+    raise SymdynError(f"forward dynamics: pivot {j + 1} of the mass matrix is identically 0 "
+                      f"(joint {j + 1} moves no inertia); give the link inertia or an armature, "
+                      "or leave forward_dynamics out")
+
+
 def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> tuple[sp.Matrix, tuple[tuple[sp.Expr, sp.Expr], ...]]:
     """Solve M x = rhs for symmetric positive definite M with an unrolled LDL^T (n divisions);
     returns the solution (n x 1) and the n pairs (pivot d_j, diagonal entry M_jj)."""
-    def identically_zero(j):
-        raise SymdynError(f"forward dynamics: pivot {j + 1} of the mass matrix is identically 0 "
-                          f"(joint {j + 1} moves no inertia); give the link inertia or an armature, "
-                          "or leave forward_dynamics out")
-    factorization = ldlt.factor(b, M, "ldl", identically_zero)
+    factorization = ldlt.factor(b, M, "ldl", _identically_zero_pivot)
     x = ldlt.solve(b, factorization, rhs, "ldl_y", "qdd{i}_fd")
     return sp.Matrix(x), factorization.pivots
 
@@ -417,7 +440,7 @@ def _coriolis(d: _Derivation) -> sp.Matrix:
 def _coriolis_matrix(d: _Derivation) -> sp.Matrix:
     if d.le is not None:
         return d.le.coriolis_matrix(d.chain.qd)
-    if d.jne is not None:
+    if d.jne is not None or d.robot.is_tree:
         return _derivative_coriolis_matrix(d)
     if d.n >= CORIOLIS_RECURSION_FROM_DOF:
         return _recursive_coriolis_matrix(d)
@@ -501,6 +524,11 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
         return qdd
     rhs = sp.Matrix(chain.tau) - d.get("fd_bias") - d.static_friction
     rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
+    if robot.is_tree:
+        d.report("forward_dynamics (L^T D L of the tree's mass matrix: no fill-in)")
+        factorization = ldlt.factor_tree(b, M, chain.parents, "ltl", _identically_zero_pivot)
+        d.pivots = factorization.pivots
+        return sp.Matrix(ldlt.solve_tree(b, factorization, rhs, "ltl_y", "qdd{i}_fd"))
     qdd, d.pivots = _ldlt_solve(b, M, rhs)
     if d.n >= LOOPED_SOLVE_FROM_DOF:
         d.fd_system = (sp.ImmutableMatrix(M), sp.ImmutableMatrix(rhs), d.mass_factors)
@@ -647,6 +675,8 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     wanted = default_outputs(robot) if outputs is None else tuple(outputs)
     for name in wanted:
         spec(name)  # a ValueError for an unknown name
+    if robot.is_tree:
+        check_tree_request(robot, method, wanted, fd_method, parameters)
     start = time.perf_counter()
 
     def report(part: str) -> None:

@@ -78,3 +78,72 @@ def solve(b, f: Factorization, rhs, forward_hint: str, back_hint: str) -> list[s
     (``{forward_hint}{i}``, ``{back_hint}`` with ``{i}`` replaced by the 1-based row)."""
     y = forward_substitute(b, f, rhs, forward_hint)
     return back_substitute(b, f, [y[i] * f.inv[i] for i in range(f.size)], back_hint)
+
+
+@dataclass(frozen=True)
+class TreeFactorization:
+    """``M = L^T diag(d) L`` of a symmetric n x n ``M`` whose nonzero off-diagonal entries are
+    those of joints on one path to the base (a kinematic tree's mass matrix, joints numbered
+    so that each comes after its parent): L is unit lower triangular with ``L_ki`` nonzero only
+    for ancestors i of k, so the factorization fills in nothing (Featherstone's LTDL, Rigid
+    Body Dynamics Algorithms, section 6.5).  ``L`` holds the named entries, ``d``, ``inv`` and
+    ``diagonal`` as :class:`Factorization`'s."""
+
+    L: dict
+    d: tuple
+    inv: tuple
+    diagonal: tuple
+    parents: tuple
+
+    @property
+    def pivots(self) -> tuple[tuple[sp.Expr, sp.Expr], ...]:
+        """``(d_j, M_jj)`` per joint j, in joint order."""
+        return tuple(zip(self.d, self.diagonal))
+
+    def ancestors(self, k: int):
+        i = self.parents[k]
+        while i >= 0:
+            yield i
+            i = self.parents[i]
+
+
+def factor_tree(b, M: sp.Matrix, parents, hint: str = "ltl",
+                on_zero: Callable[[int], None] | None = None) -> TreeFactorization:
+    """The unrolled ``L^T D L`` factorization of a tree's symmetric ``M`` (``parents[k]``: joint
+    k's parent, -1 for the base, each below its joint), from the last joint to the first; named
+    in ``b`` as ``{hint}_d{k}``, ``{hint}_inv{k}``, ``{hint}_L{k}_{i}`` (1-based).
+    ``on_zero(k)`` (0-based) is called when pivot k is identically zero (it should raise)."""
+    n = M.shape[0]
+    work = {(i, j): M[i, j] for i in range(n) for j in range(i + 1)}  # lower triangle, updated
+    f = TreeFactorization({}, (), (), tuple(M[j, j] for j in range(n)), tuple(parents))
+    d: list = [sp.S.Zero] * n
+    inv: list = [sp.S.Zero] * n
+    for k in reversed(range(n)):
+        if work[k, k] == 0 and on_zero is not None:
+            on_zero(k)
+        d[k] = b.define(f"{hint}_d{k + 1}", work[k, k])
+        inv[k] = b.define(f"{hint}_inv{k + 1}", 1 / d[k])
+        path = list(f.ancestors(k))
+        for i in path:
+            f.L[k, i] = b.define(f"{hint}_L{k + 1}_{i + 1}", work[k, i] * inv[k])
+        for pos, i in enumerate(path):  # M_ij -= L_ki d_k L_kj for i, j ancestors of k, j <= i
+            for j in path[pos:]:
+                work[i, j] = work[i, j] - f.L[k, i] * d[k] * f.L[k, j]
+    return TreeFactorization(f.L, tuple(d), tuple(inv), f.diagonal, f.parents)
+
+
+def solve_tree(b, f: TreeFactorization, rhs, forward_hint: str, back_hint: str) -> list[sp.Expr]:
+    """``x`` with ``M x = rhs`` for ``M = L^T diag(d) L`` (:func:`factor_tree`): ``L^T y = rhs``
+    from the leaves to the base (entries named ``{forward_hint}{i}``), then ``L x = y / d`` from
+    the base out (``back_hint`` with ``{i}`` replaced by the 1-based row)."""
+    n = len(f.d)
+    y = [sp.sympify(v) for v in rhs]
+    for k in reversed(range(n)):
+        y[k] = b.define(f"{forward_hint}{k + 1}", y[k])
+        for i in f.ancestors(k):
+            y[i] = y[i] - f.L[k, i] * y[k]
+    x: list = [sp.S.Zero] * n
+    for k in range(n):
+        x[k] = b.define(back_hint.format(i=k + 1),
+                        y[k] * f.inv[k] - sp.Add(*[f.L[k, i] * x[i] for i in f.ancestors(k)]))
+    return x

@@ -137,8 +137,8 @@ def _link_frames(chain: Chain, joint_frames: bool) -> list[_LinkFrame]:
         if not joint_frames:
             frames.append(_LinkFrame(chain.transforms[i], pre, post, com, inertia))
             continue
-        if i > 0:
-            pre = sp.Matrix(chain.geometry[i - 1].post) * pre
+        if chain.parents[i] >= 0:
+            pre = sp.Matrix(chain.geometry[chain.parents[i]].post) * pre
         R, t = post[:3, :3], post[:3, 3]
         frames.append(_LinkFrame((pre * chain.motions[i]).applyfunc(sp.expand), pre.applyfunc(sp.expand), sp.eye(4),
                                  (R * com + t).applyfunc(sp.expand), (R * inertia * R.T).applyfunc(sp.expand)))
@@ -177,9 +177,12 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
         joint_frames = not textbook and parameters is None
     frames = _link_frames(chain, joint_frames)
     states: list[LinkState] = []
-    U = None  # U of the previous link (None: textbook form, or a link at rest)
+    base_state = (omega, omegad, vd, None)
+    moving: list[tuple] = []  # per link: (omega, omegad, vd, U) in its frame, for its children
     for i, link in enumerate(robot.links):
         k = i + 1
+        # the state of the link this one hangs on (U: None in the textbook form, or at rest)
+        omega, omegad, vd, U = base_state if chain.parents[i] < 0 else moving[chain.parents[i]]
         frame = frames[i]
         T = frame.pose
         R = T[:3, :3]
@@ -224,46 +227,52 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             N = b.vector(f"N{k}{tag}", inertia * omegad_i + cross_nonzero(omega_i, Iw)
                          + cross_nonzero(moment, vd_i))
         states.append(LinkState(omega_i, omegad_i, vd_i, abar, F, N))
-        omega, omegad, vd = omega_i, omegad_i, vd_i
+        moving.append((omega_i, omegad_i, vd_i, U))
 
-    f_next = sp.zeros(3, 1)
-    n_next = sp.zeros(3, 1)
-    joint_moment_next = None  # n_{i+1} + r2_{i+1} x f_{i+1}: link i+1's moment about its joint point
+    # n_c + r2_c x f_c: link c's moment about its joint point (revolute joints), per link
+    joint_moments: dict[int, sp.Matrix] = {}
     for i in reversed(range(robot.dof)):
         k = i + 1
         st = states[i]
         link = robot.links[i]
         s = frames[i].com if parameters is None else sp.zeros(3, 1)  # N_i is about O_i then
-        if i + 1 < robot.dof:
-            T_next = frames[i + 1].pose
-            f_rot = b.vector(f"Rf{k}{tag}", T_next[:3, :3] * f_next)
-            if joint_moment_next is not None and not textbook:
-                # p_{i+1} = r1_{i+1} + R_{i+1} r2_{i+1} for a revolute joint, so
-                # R n + p x (R f) = R (n + r2 x f) + r1 x (R f): the joint moment link i+1's
-                # torque already needed, and no product with q_{i+1}'s sine and cosine
-                r1_next = frames[i + 1].pre[:3, 3]
-                moment_next = T_next[:3, :3] * joint_moment_next + cross_nonzero(r1_next, f_rot)
-            else:
-                n_rot = T_next[:3, :3] * n_next
-                moment_next = n_rot + cross_nonzero(T_next[:3, 3], f_rot)
-        else:
-            f_rot = sp.zeros(3, 1)
-            moment_next = sp.zeros(3, 1)
-        st.f = b.vector(f"f{k}{tag}", st.F + f_rot)
-        st.n = b.vector(f"n{k}{tag}", st.N + cross_nonzero(s, st.F) + moment_next)
+        f_children, moment_children = _children_wrench(b, frames, states, joint_moments, chain.children(i),
+                                                       f"{k}{tag}", textbook)
+        st.f = b.vector(f"f{k}{tag}", st.F + f_children)
+        st.n = b.vector(f"n{k}{tag}", st.N + cross_nonzero(s, st.F) + moment_children)
         z = frames[i].axis
-        joint_moment_next = None
         if link.is_revolute:
             r2 = frames[i].r2
             moment = st.n + cross_nonzero(r2, st.f)
-            if i > 0 and not textbook and not r2.is_zero_matrix:
+            if chain.parents[i] >= 0 and not textbook and not r2.is_zero_matrix:
                 moment = b.vector(f"nJ{k}{tag}", moment)
-            joint_moment_next = moment
+            joint_moments[i] = moment
             st.tau = b.define(f"tau{k}{tag}", (z.T * moment)[0])
         else:
             st.tau = b.define(f"tau{k}{tag}", (z.T * st.f)[0])
-        f_next, n_next = st.f, st.n
     return states
+
+
+def _children_wrench(b, frames: list[_LinkFrame], states: list[LinkState], joint_moments: dict, children,
+                     hint: str, textbook: bool) -> tuple[sp.Matrix, sp.Matrix]:
+    """The force and the moment (about this link's origin) that the links hanging on it exert
+    on it, in its frame: ``sum_c R_c f_c`` and ``sum_c R_c n_c + p_c x (R_c f_c)`` over its
+    children c (zero for a leaf; one term on a serial chain).  ``R_c f_c`` is named
+    ``Rf{hint}`` (``Rf{hint}_{c}`` with several children)."""
+    f_sum, moment_sum = sp.zeros(3, 1), sp.zeros(3, 1)
+    for c in children:
+        T = frames[c].pose
+        name = f"Rf{hint}" if len(children) == 1 else f"Rf{hint}_{c + 1}"
+        f_rot = b.vector(name, T[:3, :3] * states[c].f)
+        if c in joint_moments and not textbook:
+            # p_c = r1_c + R_c r2_c for a revolute joint, so R n + p x (R f) = R (n + r2 x f) +
+            # r1 x (R f): the joint moment link c's torque already needed, and no product with
+            # q_c's sine and cosine
+            moment = T[:3, :3] * joint_moments[c] + cross_nonzero(frames[c].pre[:3, 3], f_rot)
+        else:
+            moment = T[:3, :3] * states[c].n + cross_nonzero(T[:3, 3], f_rot)
+        f_sum, moment_sum = f_sum + f_rot, moment_sum + moment
+    return f_sum, moment_sum
 
 
 def joint_forces(chain: Chain, qd, qdd, gravity, tag: str, parameters=None) -> sp.Matrix:

@@ -320,6 +320,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
              "distinct in their first 31 characters, all that C99 guarantees a linker to compare; "
              "a shorter robot name is safer with old toolchains")
     robot = eqs.robot
+    parents = robot.parent_indices
     context = {
         "prefix": prefix,
         "guard": f"{prefix.upper()}_DYNAMICS_H",
@@ -327,7 +328,8 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
         "method": eqs.method + {"aba": "; forward dynamics by the articulated-body algorithm",
-                                "ldlt": "; forward dynamics by LDL^T of D"}.get(eqs.fd_method, "")
+                                "ldlt": "; forward dynamics by L^T D L of the tree's D" if robot.is_tree
+                                else "; forward dynamics by LDL^T of D"}.get(eqs.fd_method, "")
         + ("; inverse dynamics in the base parameters" if eqs.parameter_form == "base"
            and "inverse_dynamics" in functions else ""),
         "precision": precision,
@@ -339,7 +341,11 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
                        for k, (s, v) in enumerate(zip(robot.parameters, robot.nominal))],
         "constants": constant_rows(robot, locked),
         "fixed_transforms": robot.tool_fixed is not None or any(link.fixed is not None for link in robot.links),
-        "joints": [(k + 1, link.name, link.joint, link.actuated) for k, link in enumerate(robot.links)],
+        "joints": [(k + 1, link.name, link.joint, link.actuated,
+                    "" if not robot.is_tree else ", on the base" if parents[k] < 0
+                    else f", on joint {parents[k] + 1} ({robot.links[parents[k]].name})")
+                   for k, link in enumerate(robot.links)],
+        "tree": robot.is_tree,
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
         "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,

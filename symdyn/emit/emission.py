@@ -186,7 +186,11 @@ def constant_rows(robot, locked=()) -> list[str]:
         rows.append("runtime parameters (inputs in p, not folded): "
                     + "; ".join(f"p[{k}] = {s.name}" for k, s in enumerate(robot.parameters)))
     for k, link in enumerate(robot.links):
-        rows += link_constant_rows(link, k + 1, robot.convention)
+        link_rows = link_constant_rows(link, k + 1, robot.convention)
+        if robot.is_tree:  # a tree: where each link hangs (the robot file's parent field)
+            up = robot.parent_indices[k]
+            link_rows.insert(1, "  parent = " + ("base" if up < 0 else robot.links[up].name))
+        rows += link_rows
     return rows
 
 

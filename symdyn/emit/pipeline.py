@@ -96,11 +96,12 @@ class GenerateConfig:
         return os.path.basename(self.path)
 
 
-def default_fd_method(precision: str) -> str:
+def default_fd_method(precision: str, robot=None) -> str:
     """How forward dynamics is solved unless asked: LDL^T of D in double (fewer operations,
     faster on the bundled arms), the articulated-body algorithm in float (about twice as
-    accurate there: chain12 3e-5 against 6e-5; docs/benchmarks.md)."""
-    return "aba" if precision == "float" else "ldlt"
+    accurate there: chain12 3e-5 against 6e-5; docs/benchmarks.md); a kinematic tree's
+    ``robot`` always by the L^T D L factorization of its mass matrix ("ldlt")."""
+    return "aba" if precision == "float" and not getattr(robot, "is_tree", False) else "ldlt"
 
 
 def parse_functions(text, robot=None) -> tuple[str, ...]:
@@ -170,7 +171,7 @@ def choose_fd_method(config: GenerateConfig, progress=None) -> GenerateConfig:
     from .cgen import build_function
     robot, options = config.robot, config.options
     if options.fd_method or config.precision != "double" or "forward_dynamics" not in config.functions \
-            or robot.dof < AUTO_FD_FROM_DOF:
+            or robot.dof < AUTO_FD_FROM_DOF or robot.is_tree:
         return config
     if robot.dof >= AUTO_FD_ABA_FROM_DOF:
         note = (f"forward dynamics by the articulated-body algorithm (O(n) operations; from {AUTO_FD_ABA_FROM_DOF} "
@@ -310,7 +311,7 @@ def configure(path, options: GenerateOptions = _UNSET, loaded=None) -> GenerateC
     else:
         functions, precision, notes = functions, options.precision or "double", ()
     return GenerateConfig(path=path, robot=robot, scene=scene, kind=kind, options=options, functions=functions,
-                          precision=precision, fd_method=options.fd_method or default_fd_method(precision),
+                          precision=precision, fd_method=options.fd_method or default_fd_method(precision, robot),
                           notes=notes)
 
 

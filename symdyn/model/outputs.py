@@ -280,9 +280,17 @@ def spec(name: str) -> OutputSpec:
         raise ValueError(f"unknown output {name!r}; known: {', '.join(ALL_OUTPUTS)}") from None
 
 
+#: the outputs of a kinematic tree (links with ``parent:``): its joint-space dynamics (the
+#: others are about one tool, or written for serial chains)
+TREE_OUTPUTS = tuple(s.name for s in SPECS if s.default and not s.kinematic)
+
+
 def default_outputs(robot) -> tuple[str, ...]:
     """What is derived and generated when nothing is asked for: :data:`OUTPUTS`, the reaction
-    map when the robot has passive joints, and the task-space outputs when it names a task."""
+    map when the robot has passive joints, and the task-space outputs when it names a task;
+    for a kinematic tree, :data:`TREE_OUTPUTS`."""
+    if getattr(robot, "is_tree", False):
+        return TREE_OUTPUTS
     return (OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
             + (TASK_OUTPUTS if getattr(robot, "task", None) is not None else ()))
 

@@ -45,7 +45,7 @@ TASKS = {"pose": (0, 1, 2, 3, 4, 5), "position": (0, 1, 2), "orientation": (3, 4
 #: the name of each row of the tool Jacobian (world axes at the tool origin)
 JACOBIAN_ROWS = ("linear x", "linear y", "linear z", "angular x", "angular y", "angular z")
 ANGLE_UNITS = ("radians", "degrees")
-LINK_KEYS = ("name", "joint", "a", "alpha", "d", "theta", "origin", "axis", "mass", "com", "inertia",
+LINK_KEYS = ("name", "parent", "joint", "a", "alpha", "d", "theta", "origin", "axis", "mass", "com", "inertia",
              "armature", "damping", "coulomb", "limits", "actuated")
 DH_KEYS = ("a", "alpha", "d", "theta")
 GENERAL_KEYS = ("origin", "axis")
@@ -213,6 +213,37 @@ class Robot:
     #: the task of the task-space functions, as rows of the tool Jacobian (0-2 linear x, y, z,
     #: 3-5 angular), or None when the file names none (they then use the whole pose)
     task: tuple[int, ...] | None = None
+    #: per link, the index (0-based) of the link it hangs on, -1 for the base; empty for a serial
+    #: chain (each link on the one before it), which every chain keeps so that its description,
+    #: and everything derived from it, is unchanged
+    parents: tuple[int, ...] = ()
+
+    @property
+    def parent_indices(self) -> tuple[int, ...]:
+        """Per link, the index of its parent link (-1: the base): ``(-1, 0, 1, ...)`` for a chain."""
+        return self.parents or tuple(range(-1, len(self.links) - 1))
+
+    @property
+    def is_tree(self) -> bool:
+        """Whether some link hangs on another than the one before it (a kinematic tree)."""
+        return any(p != k - 1 for k, p in enumerate(self.parents))
+
+    def children(self, index: int) -> tuple[int, ...]:
+        """The links that hang on link ``index`` (-1: on the base), in file order."""
+        return tuple(k for k, p in enumerate(self.parent_indices) if p == index)
+
+    def ancestors(self, index: int) -> tuple[int, ...]:
+        """The links between link ``index`` and the base, nearest first (not ``index`` itself)."""
+        out, parents = [], self.parent_indices
+        k = parents[index]
+        while k >= 0:
+            out.append(k)
+            k = parents[k]
+        return tuple(out)
+
+    def subtree(self, index: int) -> tuple[int, ...]:
+        """Link ``index`` and every link that hangs on it, directly or not, in file order."""
+        return tuple(k for k in range(index, len(self.links)) if k == index or index in self.ancestors(k))
 
     @property
     def task_rows(self) -> tuple[int, ...]:
@@ -652,6 +683,7 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
         reader.fail("the chain is empty: give at least one link", None, "links")
     names_seen: set = set()
     links = tuple(reader.read_link(k, raw, names_seen) for k, raw in enumerate(links_raw))
+    parents = read_parents(reader, links_raw, links)
     runtime_syms = list(reader.runtime.values())
     placements = [e for p in (base, tool) if p is not None for e in p.expressions()]
     used = set().union(*(e.free_symbols for link in links for e in link.expressions()),
@@ -664,7 +696,34 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
         name=name, convention=convention, gravity=tuple(sp.sympify(g) for g in gravity),
         links=links, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
         source=path, source_hash=source_hash, base=base, tool=tool, task=task,
-        runtime_names=tuple(s.name for s in runtime_syms if s in used))
+        runtime_names=tuple(s.name for s in runtime_syms if s in used),
+        parents=parents)
+
+
+def read_parents(reader: RobotFileReader, links_raw: list, links: tuple[Link, ...]) -> tuple[int, ...]:
+    """The links' ``parent:`` fields as indices (-1: ``base``); ``()`` when every link hangs on
+    the one before it (a serial chain, the default).  A parent must be ``base`` or the name of
+    an earlier link, so that the file lists every link after the one it hangs on."""
+    index = {link.name: k for k, link in enumerate(links)}
+    parents = []
+    for k, (raw, link) in enumerate(zip(links_raw, links)):
+        label = f"link {k + 1} ('{link.name}')"
+        name = raw.get("parent", links[k - 1].name if k > 0 else "base")
+        if name == "base":
+            parents.append(-1)
+            continue
+        if not isinstance(name, str):
+            reader.fail(f"expected the name of an earlier link or 'base', got {describe(name)}", label, "parent")
+        if name not in index:
+            close = difflib.get_close_matches(name, list(index) + ["base"], n=1, cutoff=0.6)
+            hint = f"; did you mean '{close[0]}'?" if close else ""
+            reader.fail(f"no link named {describe(name)}{hint}", label, "parent")
+        if index[name] >= k:
+            reader.fail(f"'{name}' comes {'at' if index[name] == k else 'after'} this link in the file: list every "
+                        "link after the link it hangs on", label, "parent")
+        parents.append(index[name])
+    chain = tuple(range(-1, len(links) - 1))
+    return () if tuple(parents) == chain else tuple(parents)
 
 
 def task_rows(raw, fail) -> tuple[int, ...]:

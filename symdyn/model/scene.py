@@ -172,6 +172,9 @@ def lock_joints(robot: Robot, locked: dict[int, sp.Expr]) -> Robot:
     """The robot with the joints ``locked`` (0-based index -> value) removed: each locked link is
     merged into the nearest moving link before it (or into the ground), and the constant
     transforms are carried to the next moving link."""
+    if robot.is_tree:
+        raise SymdynError(f"{robot.source}: a scene cannot lock joints of a kinematic tree (links with 'parent:') yet; "
+                          "give the locked joints' links as fixed parts of their parent in the robot file")
     pending = sp.eye(4)  # from the last kept link's frame to the current frame
     kept: list[Link] = []
     for i, link in enumerate(robot.links):
@@ -326,7 +329,8 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     if payload is not None:
         carrier, last = robot.links[-1], robot.links[-2]
         m, c, inertia = merge_bodies(*_body(last), *_body(carrier))
-        robot = replace(robot, links=robot.links[:-2] + (_with_body(last, m, c, inertia),))
+        robot = replace(robot, links=robot.links[:-2] + (_with_body(last, m, c, inertia),),
+                        parents=robot.parents[:-1] if robot.is_tree else ())
         notes.append(f"payload: mass {carrier.mass}, com ({', '.join(map(str, carrier.com))}) in the frame of "
                      f"link {robot.dof} ({last.name}), merged into that link")
     degrees = robot_doc.get("angles") == "degrees"

@@ -656,6 +656,12 @@ def _robot_name(name: str) -> str:
 # The document
 
 
+def reads_as_tree(text: str, path: str) -> bool:
+    """Whether :func:`read_urdf` without a tip reads this URDF as its whole tree (its moving
+    joints branch)."""
+    return _branches(_Reader(text, path, False))
+
+
 def default_tip(text: str, path: str) -> str:
     """The link a URDF's chain ends at when no tip is given: the only leaf, or the link of the
     last moving joint when the moving joints form one chain and the other leaves hang on fixed
@@ -674,25 +680,23 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
     keep every rpy angle as written (default: angles within :data:`QUARTER_TOLERANCE` of a
     multiple of pi/2 are taken as that multiple, so that zeros fold)."""
     urdf = _Reader(text, path, exact_angles)
-    tip = urdf.tip(tip)
-    chain = urdf.chain(tip)
-    on_chain = {j.name for j in chain}
-    for joint in chain:
-        if joint.type in ("floating", "planar"):
-            urdf.fail(f"a {joint.type} joint is on the chain from {describe(urdf.root)} to {describe(tip)}: "
-                      "only revolute, continuous, prismatic and fixed joints can be", urdf.where(joint), "type")
-        if joint.type != "fixed" and joint.element.find("mimic") is not None:
-            urdf.fail(f"a mimic joint (<mimic>) is on the chain from {describe(urdf.root)} to {describe(tip)}: "
-                      "symdyn gives every joint its own coordinate", urdf.where(joint), "mimic")
-    moving = [j for j in chain if j.type != "fixed"]
-    if not moving:
-        urdf.fail(f"no moving joint (revolute, continuous or prismatic) on the chain from {describe(urdf.root)} "
-                  f"to {describe(tip)}")
-
     name = _robot_name(urdf.robot_name)
     if name != urdf.robot_name:
         urdf.warn(f"{describe(urdf.robot_name)} renamed '{name}' (robot names: a-z, 0-9 and '_', at most "
                   f"{MAX_NAME} characters)", None, "robot name")
+    if tip is None and _branches(urdf):
+        if tool is not None:
+            urdf.fail("--tool needs a chain: this file's moving joints branch (give --tip LINK to choose one chain)")
+        return read_tree(urdf, name)
+    tip = urdf.tip(tip)
+    chain = urdf.chain(tip)
+    on_chain = {j.name for j in chain}
+    for joint in chain:
+        _check_moving(urdf, joint, f"on the chain from {describe(urdf.root)} to {describe(tip)}")
+    moving = [j for j in chain if j.type != "fixed"]
+    if not moving:
+        urdf.fail(f"no moving joint (revolute, continuous or prismatic) on the chain from {describe(urdf.root)} "
+                  f"to {describe(tip)}")
 
     notes = [f"read from URDF {display_path(os.path.basename(path))}: chain {one_line(urdf.root, 60)} -> "
              f"{one_line(tip, 60)}, "
@@ -747,36 +751,8 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
                 fixed_merged.append(joint.name)
             absorb(joint.child, pending)
             continue
-        where = urdf.where(joint)
-        if all(j.origin.is_identity for j in pending_joints):
-            origin = {"xyz": list(joint.origin.texts["xyz"]), "rpy": list(joint.origin.texts["rpy"])}
-        else:
-            origin = (pending * joint.origin.frame).texts()
-        axis = urdf.numbers(joint.element.find("axis"), "xyz", 3, "1 0 0", where, "axis xyz")
-        if all(v == 0 for v, _ in axis):
-            urdf.fail("the axis is zero: give a direction such as \"0 0 1\"", where, "axis xyz")
-        link_name = _link_name(joint.name, taken)
-        taken.add(link_name)
-        if link_name != joint.name:
-            urdf.warn(f"renamed '{link_name}' (link names: letters, digits and '_', at most {MAX_NAME} "
-                      "characters, distinct)", where, "name")
-        entry = {"name": link_name, "joint": "prismatic" if joint.type == "prismatic" else "revolute",
-                 "origin": origin, "axis": [t for _, t in axis]}
-        extra = {}
-        element = joint.element.find("dynamics")
-        if element is not None:
-            for attribute, key in (("damping", "damping"), ("friction", "coulomb")):
-                if element.get(attribute) is not None:
-                    extra[key] = urdf.numbers(element, attribute, 1, None, where, f"dynamics {attribute}")[0][1]
-                    dynamics = True
-        element = joint.element.find("limit")
-        limits = {}
-        if element is not None:
-            for key in ("lower", "upper", "velocity", "effort"):
-                if element.get(key) is not None and not (joint.type == "continuous" and key in ("lower", "upper")):
-                    limits[key] = urdf.numbers(element, key, 1, None, where, f"limit {key}")[0][1]
-        if limits:
-            extra["limits"] = limits
+        entry, extra = _joint_entry(urdf, joint, pending, pending_joints, taken)
+        dynamics = dynamics or any(key in extra for key in ("damping", "coulomb"))
         links.append((entry, extra))
         bodies.append(_EMPTY)
         pending, pending_joints = Frame(), []
@@ -823,6 +799,125 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
                   f"({_kg(mass)} kg) {into}")
         notes.append(f"off the chain, locked at 0 and {into}: joints {_plain(names)}")
     if dynamics:
+        notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
+    if urdf.snapped:
+        notes.append(f"rpy angles within {QUARTER_TOLERANCE:g} rad of a multiple of pi/2 taken as that multiple "
+                     f"(--exact-angles keeps them as written): {_plain(urdf.snapped)}")
+    return doc, notes
+
+
+def _joint_entry(urdf: _Reader, joint: _Joint, pending: Frame, pending_joints: list, taken: set) -> tuple[dict, dict]:
+    """The robot-file link of a moving URDF joint: ``(entry, extra)``, the name, joint type,
+    origin (after the fixed joints ``pending_joints`` that lead to it from the moving link
+    above, whose composed frame is ``pending``) and axis; then damping, Coulomb friction and
+    limits where the file gives them.  The link name is made valid and distinct (``taken``)."""
+    where = urdf.where(joint)
+    if all(j.origin.is_identity for j in pending_joints):
+        origin = {"xyz": list(joint.origin.texts["xyz"]), "rpy": list(joint.origin.texts["rpy"])}
+    else:
+        origin = (pending * joint.origin.frame).texts()
+    axis = urdf.numbers(joint.element.find("axis"), "xyz", 3, "1 0 0", where, "axis xyz")
+    if all(v == 0 for v, _ in axis):
+        urdf.fail("the axis is zero: give a direction such as \"0 0 1\"", where, "axis xyz")
+    link_name = _link_name(joint.name, taken)
+    taken.add(link_name)
+    if link_name != joint.name:
+        urdf.warn(f"renamed '{link_name}' (link names: letters, digits and '_', at most {MAX_NAME} "
+                  "characters, distinct)", where, "name")
+    entry = {"name": link_name, "joint": "prismatic" if joint.type == "prismatic" else "revolute",
+             "origin": origin, "axis": [t for _, t in axis]}
+    extra = {}
+    element = joint.element.find("dynamics")
+    if element is not None:
+        for attribute, key in (("damping", "damping"), ("friction", "coulomb")):
+            if element.get(attribute) is not None:
+                extra[key] = urdf.numbers(element, attribute, 1, None, where, f"dynamics {attribute}")[0][1]
+    element = joint.element.find("limit")
+    limits = {}
+    if element is not None:
+        for key in ("lower", "upper", "velocity", "effort"):
+            if element.get(key) is not None and not (joint.type == "continuous" and key in ("lower", "upper")):
+                limits[key] = urdf.numbers(element, key, 1, None, where, f"limit {key}")[0][1]
+    if limits:
+        extra["limits"] = limits
+    return entry, extra
+
+
+def _check_moving(urdf: _Reader, joint: _Joint, what: str) -> None:
+    """Refuse a floating or planar joint, and a mimic joint, where the dynamics need it
+    (``what``: where it is, for the message)."""
+    if joint.type in ("floating", "planar"):
+        urdf.fail(f"a {joint.type} joint is {what}: only revolute, continuous, prismatic and fixed joints can be",
+                  urdf.where(joint), "type")
+    if joint.type != "fixed" and joint.element.find("mimic") is not None:
+        urdf.fail(f"a mimic joint (<mimic>) is {what}: symdyn gives every joint its own coordinate and does not "
+                  "couple two joints (remove the <mimic> element to give this joint its own coordinate, or choose a "
+                  "chain without it with --tip LINK)", urdf.where(joint), "mimic")
+
+
+def _branches(urdf: _Reader) -> bool:
+    """Whether the moving joints lie on more than one branch (a tree the chain reading refuses
+    without a tip)."""
+    leaves = [name for name in urdf.links if not urdf.child_joints[name]]
+    return (len(leaves) > 1 and urdf.moving_chain_end() is None
+            and any(j.type != "fixed" for j in urdf.joints.values()))
+
+
+def read_tree(urdf: _Reader, name: str) -> tuple[dict, list[str]]:
+    """The robot document of a URDF's whole tree: one link per moving joint, numbered as
+    Pinocchio's URDF reader numbers them (depth first from the root link, the joints of each
+    link in the order of their names), each with ``parent:`` the link of the moving joint above
+    it; links on fixed joints are merged into the moving link above them (or left out with the
+    ground)."""
+    entries: list[tuple[dict, dict]] = []
+    bodies: list[_Body] = []
+    parents: list[int] = []
+    ground, ground_links, merged = _EMPTY, [], []
+    taken: set = set()
+
+    def visit(link: str, owner: int, frame: Frame, fixed_path: list) -> list:
+        """Merge ``link`` (at ``frame`` in the owner's frame) into its owner; its joints to visit next."""
+        nonlocal ground
+        body = urdf.body(link).moved(frame)
+        if owner < 0:
+            ground = ground.plus(body)
+            ground_links.append(link)
+        else:
+            bodies[owner] = bodies[owner].plus(body)
+        return [(j, owner, frame, fixed_path) for j in sorted(urdf.child_joints[link], key=lambda j: j.name)]
+
+    pending = visit(urdf.root, -1, Frame(), [])[::-1]
+    while pending:  # iterative depth-first walk: deep trees do not recurse
+        joint, owner, frame, fixed_path = pending.pop()
+        if joint.type == "fixed":
+            if owner >= 0 and not urdf.body(joint.child).is_empty:
+                merged.append(joint.name)
+            pending.extend(visit(joint.child, owner, frame * joint.origin.frame, fixed_path + [joint])[::-1])
+            continue
+        _check_moving(urdf, joint, "in the tree")
+        entries.append(_joint_entry(urdf, joint, frame, fixed_path, taken))
+        bodies.append(_EMPTY)
+        parents.append(owner)
+        pending.extend(visit(joint.child, len(entries) - 1, Frame(), [])[::-1])
+
+    doc = {"format": FORMAT_VERSION, "name": name, "convention": "general", "gravity": [0, 0, "-9.81"], "links": []}
+    for k, ((entry, extra), body, parent) in enumerate(zip(entries, bodies, parents)):
+        up = {} if parent == k - 1 else {"parent": "base" if parent < 0 else entries[parent][0]["name"]}
+        doc["links"].append({"name": entry["name"], **up, **{key: v for key, v in entry.items() if key != "name"},
+                             **body.fields(), **extra})
+    on_base = sum(1 for p in parents if p < 0)
+    notes = [f"read from URDF {display_path(os.path.basename(urdf.path))}: the whole tree from "
+             f"{one_line(urdf.root, 60)}, {len(entries)} moving joints, {on_base} on the root link; joints numbered as "
+             "Pinocchio's URDF reader numbers them (depth first, each link's joints in the order of their names)"]
+    moving = [j for j in urdf.joints.values() if j.type != "fixed"]
+    continuous = [j.name for j in moving if j.type == "continuous"]
+    if continuous:
+        notes.append(f"continuous joints read as revolute (the angle is the coordinate): {_plain(continuous)}")
+    if merged:
+        notes.append(f"fixed joints merged (child inertia added to the moving link above): {_plain(merged)}")
+    if ground.mass != 0:
+        notes.append(f"fixed to the ground, inertia left out ({_kg(ground.mass)} kg): links {_plain(ground_links)}")
+    if any(key in extra for _, extra in entries for key in ("damping", "coulomb")):
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
     if urdf.snapped:
         notes.append(f"rpy angles within {QUARTER_TOLERANCE:g} rad of a multiple of pi/2 taken as that multiple "

@@ -1,0 +1,145 @@
+"""Kinematic trees (links with ``parent:``, URDFs whose moving joints branch): every joint-space
+function against Pinocchio, the mass matrix's sparsity, and what is refused for trees."""
+
+from __future__ import annotations
+
+import os
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+import symdyn
+from helpers import REPO, TOL, random_states
+from symdyn.check.cbuild import build_and_load
+from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare
+from symdyn.check.reference import MpReference
+from symdyn.emit.cgen import generate_c
+from symdyn.model.errors import SymdynError, SymdynWarning
+from symdyn.model.outputs import TREE_OUTPUTS
+
+HAND_TREE = str(REPO / "examples" / "trees" / "torso_two_arms.yaml")
+
+
+def example_robot_data(relative: str) -> str:
+    import sysconfig
+    path = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share", "example-robot-data", "robots",
+                        relative)
+    if not os.path.exists(path):
+        pytest.fail("the example-robot-data wheel is missing: pip install -e '.[test]'")
+    return path
+
+
+@pytest.fixture(scope="module")
+def hand_tree():
+    robot = symdyn.load(HAND_TREE)
+    return robot, symdyn.derive(robot)
+
+
+def _cross_branch_pairs(robot) -> set:
+    """(i, j) of joints neither of which is an ancestor of the other."""
+    n = robot.dof
+    return {(i, j) for i in range(n) for j in range(n)
+            if i != j and i not in robot.ancestors(j) and j not in robot.ancestors(i)}
+
+
+def test_yaml_tree_with_dh_placements_agrees_with_pinocchio(hand_tree, tmp_path):
+    """The hand-written tree (a torso turning two DH arms, one with a prismatic joint; armature,
+    damping and Coulomb friction on some joints): every function at 50 states against Pinocchio
+    (the model built joint by joint with each joint's parent), numerically and in compiled C; and
+    the 50-digit reference, an independent recursion over the same parents, against Pinocchio."""
+    robot, eqs = hand_tree
+    assert robot.parents == (-1, 0, 1, 2, 0, 4, 5) and set(eqs.output_names) == set(TREE_OUTPUTS)
+    reference = PinocchioReference(robot)
+    states = random_states(robot.dof, 50, seed=5)
+    errors = compare(eqs.numeric, reference, states, TREE_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
+    files = generate_c(eqs, TREE_OUTPUTS, "double")
+    lib = build_and_load(files, robot.name, robot.dof, 0, workdir=str(tmp_path))
+    errors = compare(lib, reference, states, TREE_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
+    precise = MpReference(robot)
+    errors = compare(precise, reference, states[:3], ("inverse_dynamics", "mass_matrix", "forward_dynamics"))
+    assert all(e <= 1e-12 for e in errors.values()), errors
+
+
+def test_mass_matrix_entries_across_branches_are_exact_zeros_not_computed(hand_tree):
+    """The two arms' joints (3 x 3 pairs each way) have D_ij = 0 exactly, written as constants;
+    every other entry is computed, and nonzero at a random state unless it is zero exactly."""
+    robot, eqs = hand_tree
+    D = eqs.mass_matrix
+    zeros = {(i, j) for i in range(robot.dof) for j in range(robot.dof) if D[i, j] == 0}
+    # (l_wrist slides along l_elbow's axis: D[2, 3] = 0 too, a zero of the geometry, not of the tree)
+    assert _cross_branch_pairs(robot) <= zeros and len(_cross_branch_pairs(robot)) == 18
+    values = eqs.numeric.mass_matrix(np.random.default_rng(2).uniform(-2, 2, robot.dof))
+    assert np.all(np.abs(values[[i for i, _ in sorted(zeros)], [j for _, j in sorted(zeros)]]) == 0)
+    assert np.count_nonzero(values) == robot.dof ** 2 - len(zeros)
+    source = generate_c(eqs, ["mass_matrix"], "double")[f"{robot.name}_dynamics.c"]
+    constant = {int(k) for k in re.findall(r"\bD\[(\d+)\] = 0\.0;", source)}
+    copies = dict((int(a), int(b)) for a, b in re.findall(r"\bD\[(\d+)\] = D\[(\d+)\];", source))
+    n = robot.dof
+    assert {i * n + j for i, j in zeros if i < j} <= constant  # the upper triangle: constants
+    assert all(copies[i * n + j] in constant for i, j in zeros if i > j)  # the lower: copies of them
+
+
+@pytest.mark.parametrize("relative", ["solo_description/robots/solo12.urdf",
+                                      "anymal_b_simple_description/robots/anymal.urdf",
+                                      "talos_data/robots/talos_reduced.urdf"],
+                         ids=["solo12", "anymal", "talos_reduced"])
+def test_whole_urdf_trees_agree_with_pinocchio_urdf_parser(relative):
+    """A quadruped (four legs on the base), ANYmal (links named as their joints) and TALOS's
+    reduced humanoid (32 joints: legs, torso, arms, head) read whole, with a fixed base, against
+    Pinocchio's own reading of the same file: the joint order is Pinocchio's, every function
+    agrees at 50 states, and the mass matrix has exact zeros across branches."""
+    path = example_robot_data(relative)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", SymdynWarning)
+        robot = symdyn.load(path)
+    reference = UrdfReference(path)
+    assert robot.is_tree and [link.name for link in robot.links] == reference.joint_names
+    eqs = symdyn.derive(robot)
+    errors = compare(eqs.numeric, reference, random_states(robot.dof, 50, seed=9), TREE_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
+    D = eqs.mass_matrix
+    assert _cross_branch_pairs(robot) <= {(i, j) for i in range(robot.dof) for j in range(robot.dof) if D[i, j] == 0}
+
+
+def test_tree_fields_are_checked_and_what_trees_lack_is_refused(tmp_path):
+    """``parent:`` names an earlier link or ``base`` (a misspelt name gets did-you-mean); a tree
+    refuses, in one line each, Lagrange-Euler, the articulated-body forward dynamics and the
+    single-tool functions."""
+    text = open(HAND_TREE).read()
+    for bad, expected in ((text.replace("parent: torso\n    joint: revolute\n    a: 0.1\n    alpha: pi/2",
+                                        "parent: torsoo\n    joint: revolute\n    a: 0.1\n    alpha: pi/2"),
+                           ["link 2 ('l_shoulder')", "field 'parent'", "no link named 'torsoo'", "did you mean 'torso'?"]),
+                          (text.replace("parent: torso\n    joint: revolute\n    a: 0.1\n    alpha: -pi/2",
+                                        "parent: r_wrist\n    joint: revolute\n    a: 0.1\n    alpha: -pi/2"),
+                           ["link 5 ('r_shoulder')", "'r_wrist' comes after this link"]),
+                          (text.replace("    parent: torso", "    parent: [torso]", 1),
+                           ["field 'parent'", "expected the name of an earlier link or 'base'"])):
+        assert bad != text
+        path = tmp_path / "bad.yaml"
+        path.write_text(bad)
+        with pytest.raises(SymdynError) as caught:
+            symdyn.load(str(path))
+        message = str(caught.value)
+        assert all(part in message for part in expected) and "\n" not in message, message
+    robot = symdyn.load(HAND_TREE)
+    for kwargs, expected in (({"method": "lagrange-euler"}, "use newton-euler"),
+                             ({"fd_method": "aba"}, "--fd-method ldlt"),
+                             ({"outputs": ["jacobian"]}, "jacobian is not available for a kinematic tree")):
+        with pytest.raises(SymdynError, match=re.escape(expected)):
+            symdyn.derive(robot, **kwargs)
+
+
+def test_cli_on_a_tree(tmp_path, capsys):
+    """generate and verify take a tree; derive says in one line that its printout is for chains."""
+    from symdyn.cli import main
+    assert main(["generate", HAND_TREE, "--out", str(tmp_path), "--functions", "gravity,forward_dynamics",
+                 "--quiet"]) == 0
+    header = (tmp_path / "twoarms_dynamics.h").read_text()
+    assert "5: r_shoulder, revolute, on joint 1 (torso)" in header and "L^T D L of the tree's D" in header
+    assert main(["derive", HAND_TREE, "--out", str(tmp_path / "tree.md")]) == 1
+    err = capsys.readouterr().err.strip()
+    assert "kinematic tree" in err and len(err.splitlines()) == 1 and not (tmp_path / "tree.md").exists()
