@@ -95,14 +95,25 @@ def build_model(robot: Robot, values: Mapping | None = None):
     model = pin.Model()
     model.name = robot.name
     model.gravity.linear = np.array([_value(g, "gravity") for g in robot.gravity])
-    parent, body = _add_chain(model, robot, links)
-    model.armature = np.array([row["armature"] for row in links])
+    root, base_rows = 0, []
+    if robot.floating:  # Pinocchio's free-flyer carrying the base body
+        root = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "root_joint")
+        model.addJointFrame(root, -1)
+        body = robot.base_inertia
+        xx, yy, zz, xy, xz, yz = (_value(c, "base_body inertia") for c in body.inertia)
+        model.appendBodyToJoint(root, pin.Inertia(_value(body.mass, "base_body mass"),
+                                                  np.array([_value(c, "base_body com") for c in body.com]),
+                                                  np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])),
+                                pin.SE3.Identity())
+        base_rows = [0.0] * 6
+    parent, body = _add_chain(model, robot, links, parent=root)
+    model.armature = np.array(base_rows + [row["armature"] for row in links])
     tool = body @ np.array([_value(c, "tool") for c in robot.tool_matrix()]).reshape(4, 4)
     model.addFrame(pin.Frame("tool", parent, pin.SE3(tool[:3, :3].copy(), tool[:3, 3].copy()),
                              pin.FrameType.OP_FRAME))
-    info = {"damping": np.array([row["damping"] for row in links]),
+    info = {"damping": np.array(base_rows + [row["damping"] for row in links]),
             "last_body": body,  # pose of the last link frame in its joint frame
-            "coulomb": np.array([row["coulomb"] for row in links])}
+            "coulomb": np.array(base_rows + [row["coulomb"] for row in links])}
     return model, info
 
 
@@ -510,12 +521,14 @@ class UrdfReference(PinocchioReference):
     """
 
     def __init__(self, path: str, tip: str | None = None, tool: str | None = None,
-                 quarter_turns: float | None = None):
+                 quarter_turns: float | None = None, floating_base: bool = False):
         import pinocchio as pin
         self.pin = pin
+        self.floating = floating_base
         text, renamed = _pinocchio_urdf(str(path), quarter_turns)
-        full = pin.buildModelFromXML(text) if text is not None else pin.buildModelFromUrdf(str(path))
-        if tip is None and _whole_tree(str(path)):  # symdyn reads the whole tree: so does the reference
+        root = [pin.JointModelFreeFlyer()] if floating_base else []
+        full = pin.buildModelFromXML(text, *root) if text is not None else pin.buildModelFromUrdf(str(path), *root)
+        if floating_base or (tip is None and _whole_tree(str(path))):  # the whole tree, as symdyn reads it
             self._whole(full)
             return
         if tip is None:  # the only leaf link, or the end of the one chain of moving joints
@@ -554,16 +567,20 @@ class UrdfReference(PinocchioReference):
         self._tool = None
         self.actuated = list(range(model.nv))
         self.world_to_base = self.pin.SE3.Identity()
-        self.joint_names = list(model.names)[1:]
+        self.joint_names = list(model.names)[2 if self.floating else 1:]
+        if self.floating:
+            self.continuous = self.continuous[1:]
 
     @property
     def tool_frame(self) -> int:
         return self._tool
 
     def configuration(self, q) -> np.ndarray:
-        """Pinocchio's configuration vector for symdyn's joint angles ``q``."""
-        out = []
-        for value, continuous in zip(np.asarray(q, dtype=float), self.continuous):
+        """Pinocchio's configuration vector for symdyn's joint angles ``q`` (a floating base's 7
+        coordinates first, as they are)."""
+        q = np.asarray(q, dtype=float)
+        out = list(q[:7]) if self.floating else []
+        for value, continuous in zip(q[7:] if self.floating else q, self.continuous):
             out.extend([np.cos(value), np.sin(value)] if continuous else [value])
         return np.array(out)
 

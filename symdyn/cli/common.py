@@ -41,6 +41,10 @@ def add_urdf_options(parser) -> None:
     parser.add_argument("--tool", metavar="LINK", default=None,
                         help="URDF input: a link rigidly attached to the last moving link whose frame is the "
                              "tool frame (default: the tip link's frame)")
+    parser.add_argument("--floating-base", action="store_true",
+                        help="URDF input: the whole tree on a free-floating root link (a free-flyer joint with "
+                             "Pinocchio's conventions: q = [position, quaternion x y z w, joints], v = [linear, "
+                             "angular velocity in the base frame, joint rates])")
     parser.add_argument("--exact-angles", action="store_true",
                         help="URDF input: keep rpy angles as written (default: an angle within 1e-9 rad of a "
                              "multiple of pi/2, such as 1.57079632679, is taken as that multiple so that zeros "
@@ -66,7 +70,8 @@ def load_robot(path, args, parallel: bool = False):
     with ``parallel``, a platform robot file gives ``(ParallelRobot, None)``."""
     from ..model.scene import load_input
     return load_input(path, getattr(args, "tip", None), getattr(args, "tool", None),
-                      getattr(args, "exact_angles", False), parallel=parallel)
+                      getattr(args, "exact_angles", False), parallel=parallel,
+                      floating_base=getattr(args, "floating_base", False))
 
 
 def check_size(robot, args, path) -> None:

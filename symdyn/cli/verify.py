@@ -57,6 +57,7 @@ def run(args) -> int:
     except ImportError:
         raise SymdynError("symdyn verify needs Pinocchio: pip install 'symdyn[verify]' (the pin package)") from None
     from ..check.pinocchio_model import PinocchioReference, UrdfReference, compare
+    from ..check.states import random_state
     from ..model.scene import is_urdf
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
@@ -77,7 +78,7 @@ def run(args) -> int:
                          parameters=args.parameters)
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
-        lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, workdir,
+        lib = build_and_load(files, robot.name, robot.nv, len(robot.parameters), precision, workdir,
                              actuated=len(robot.actuated_joints), task=len(robot.task_rows))
         lib.base_columns = len(eqs.base_parameters)
         regressors = [f for f in functions if f in ("regressor", "base_regressor")]
@@ -88,7 +89,8 @@ def run(args) -> int:
             snapped = not args.exact_angles and any("multiple of pi/2" in note for note in robot.notes)
             try:
                 with _stderr_silenced():  # urdfdom prints its complaints on the process's stderr
-                    ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None)
+                    ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None,
+                                        floating_base=robot.floating)
                 reading = "Pinocchio's own URDF parser" + (
                     " (near-quarter-turn rpy angles made exact, as symdyn reads them; --exact-angles "
                     "keeps them as written)" if snapped else "")
@@ -101,11 +103,9 @@ def run(args) -> int:
         else:
             ref = PinocchioReference(robot, values)
             reading = "a Pinocchio model of symdyn's reading"
-        n = robot.dof
         states = []
         for _ in range(args.states):
-            state = [rng.uniform(-np.pi, np.pi, n), rng.uniform(-2, 2, n), rng.uniform(-5, 5, n),
-                     rng.uniform(-20, 20, n)]
+            state = random_state(robot, rng)
             if precision != "double":  # judge the arithmetic, not the rounding of the inputs
                 state = [x.astype(np.float32).astype(float) for x in state]
             states.append(state)
@@ -117,7 +117,8 @@ def run(args) -> int:
             errors.update(compare(lib, ref, regular, task, p) if regular else {f: float("nan") for f in task})
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
     form = "; inverse dynamics in the base parameters" if args.parameters == "base" else ""
-    print(f"symdyn verify {args.robot}: {robot.dof} joints, {args.method}{form}, {precision}, "
+    print(f"symdyn verify {args.robot}: {robot.dof} joints{' on a floating base' if robot.floating else ''}, "
+          f"{args.method}{form}, {precision}, "
           f"{args.states} random states, tolerance {tolerance:g}, against {reading}")
     if task:
         print(f"(task-space functions: compared at the {len(regular)} of the {args.states} states whose task is away "

@@ -80,6 +80,8 @@ def robot_fingerprint(robot) -> str:
              sp.srepr(tuple(robot.base_matrix())), sp.srepr(tuple(robot.tool_matrix())), repr(robot.task_rows)]
     if robot.parents:  # a tree (a chain's fingerprint is as it was)
         parts.append("parents " + repr(robot.parents))
+    if robot.floating:
+        parts.append("floating " + sp.srepr(robot.base_inertia.expressions()))
     for link in robot.links:
         parts.append(link.joint + ("" if link.actuated else " passive"))
         parts.append(sp.srepr(link.expressions()))
@@ -391,7 +393,7 @@ def _build(robot, method: str, wanted: tuple[str, ...], fields: dict) -> Equatio
             or tuple(o[0] if isinstance(o, tuple) and len(o) == 2 else None for o in outputs) != wanted \
             or not all(isinstance(m, sp.ImmutableMatrix) for _, m in outputs):
         return None
-    q, qd, qdd, tau = joint_symbols(robot.dof)
+    q, qd, qdd, tau = joint_symbols(robot.nq, robot.nv)
     try:
         return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau, **fields)
     except TypeError:

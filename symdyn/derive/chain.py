@@ -50,34 +50,66 @@ class Chain:
         """The joints whose links hang on link ``i`` (-1: on the base), in order."""
         return self.robot.children(i)
 
+    #: a floating base's rotation (3x3, base frame in the world) from its quaternion, normalized
+    base_rotation: sp.Matrix | None = None
+
     @property
     def gravity(self) -> sp.Matrix:
+        """Gravity (m/s^2) in the base frame: the world's rotated by the base placement, or by
+        the floating base's orientation (``R^T g``, in terms of the quaternion's symbols)."""
+        if self.base_rotation is not None:
+            return (self.base_rotation.T * sp.Matrix(self.robot.gravity)).applyfunc(sp.expand)
         return sp.Matrix(self.robot.base_gravity)  # base frame (the world rotated by base)
+
+    @property
+    def joint_q(self) -> tuple[sp.Symbol, ...]:
+        """The joints' coordinates (q after a floating base's 7)."""
+        return self.q[7:] if self.robot.floating else self.q
+
+    def joint_part(self, values) -> list:
+        """The joints' entries of an nv-vector (after a floating base's 6)."""
+        return list(values[6:] if self.robot.floating else values)
+
+    def base_part(self, values) -> list:
+        """A floating base's 6 entries of an nv-vector (linear, then angular), else []."""
+        return list(values[:6]) if self.robot.floating else []
+
+
+def _quaternion_rotation(builder: ProgramBuilder, x, y, z, w) -> sp.Matrix:
+    """The rotation of the quaternion (x, y, z, w) divided by its norm (any nonzero quaternion;
+    q and -q give the same): ``I + 2 k [...]`` with ``k = 1 / (x^2 + y^2 + z^2 + w^2)``, 3x3."""
+    k = builder.define("qn_k", 2 / (x * x + y * y + z * z + w * w), force=True)
+    return sp.Matrix([[1 - k * (y * y + z * z), k * (x * y - z * w), k * (x * z + y * w)],
+                      [k * (x * y + z * w), 1 - k * (x * x + z * z), k * (y * z - x * w)],
+                      [k * (x * z - y * w), k * (y * z + x * w), 1 - k * (x * x + y * y)]])
 
 
 def make_chain(robot: Robot, prefix: str = "_") -> Chain:
-    q, qd, qdd, tau = joint_symbols(robot.dof)
+    q, qd, qdd, tau = joint_symbols(robot.nq, robot.nv)
     builder = ProgramBuilder(prefix)
+    base_rotation = _quaternion_rotation(builder, *q[3:7]) if robot.floating else None
+    joint_q = q[7:] if robot.floating else q
     geometry, transforms, motions, trig, joint_trig = [], [], [], {}, []
     for i, link in enumerate(robot.links):
         geo = joint_geometry(link, robot.convention)
         cos_sin = None
         if link.is_revolute:
-            angle = link.theta + q[i]
+            angle = link.theta + joint_q[i]
             if link.theta == 0:
                 c = builder.define(f"c{i + 1}", sp.cos(angle), force=True)
                 s = builder.define(f"s{i + 1}", sp.sin(angle), force=True)
             else:
                 # cos(theta + q) = cos(theta) cos(q) - sin(theta) sin(q): the sum theta + q is
                 # never rounded, so large |q| (1e4 rad) loses no accuracy in float or double
-                cq = builder.define(f"cq{i + 1}", sp.cos(q[i]), force=True)
-                sq = builder.define(f"sq{i + 1}", sp.sin(q[i]), force=True)
+                cq = builder.define(f"cq{i + 1}", sp.cos(joint_q[i]), force=True)
+                sq = builder.define(f"sq{i + 1}", sp.sin(joint_q[i]), force=True)
                 c = builder.define(f"c{i + 1}", sp.cos(link.theta) * cq - sp.sin(link.theta) * sq, force=True)
                 s = builder.define(f"s{i + 1}", sp.sin(link.theta) * cq + sp.cos(link.theta) * sq, force=True)
             trig[c], trig[s] = sp.cos(angle), sp.sin(angle)
             cos_sin = (c, s)
         joint_trig.append(cos_sin or ())
         geometry.append(geo)
-        motions.append(joint_motion(link, q[i], cos_sin))
+        motions.append(joint_motion(link, joint_q[i], cos_sin))
         transforms.append(sp.Matrix(geo.pre) * motions[-1] * sp.Matrix(geo.post))
-    return Chain(robot, q, qd, qdd, tau, builder, geometry, transforms, motions, trig, tuple(joint_trig))
+    return Chain(robot, q, qd, qdd, tau, builder, geometry, transforms, motions, trig, tuple(joint_trig),
+                 base_rotation)

@@ -189,6 +189,37 @@ def _unit_momentum(body: BodyInertia, revolute: bool) -> tuple[sp.Matrix, sp.Mat
     return body.mass * ez, body.first_moment.cross(ez)
 
 
+def _with_floating_base(chain: Chain, composite: list[BodyInertia], D: sp.Matrix, to_base: list) -> sp.Matrix:
+    """The mass matrix of a floating-base robot, (6 + n) x (6 + n), from the joints' block ``D``:
+    the whole robot's composite inertia (m, h, J) about the base origin in the base frame gives
+    the base block ``[[m 1, -[h x]], [[h x], J]]`` (linear velocity first, as Pinocchio's
+    free-flyer), and each joint's column of it is its composite body's unit momentum in the base
+    frame (``to_base``: force, then moment about the base origin)."""
+    b = chain.builder
+    body = chain.robot.base_inertia
+    com = sp.Matrix(body.com)
+    J = sp.Matrix(body.inertia_matrix) + body.mass * ((com.T * com)[0] * sp.eye(3) - com * com.T)
+    total = BodyInertia(body.mass, (body.mass * com).applyfunc(_cancel), J.applyfunc(_cancel))
+    for c in chain.children(-1):
+        child = transform_inertia(b, composite[c], chain.motions[c], f"Iq{c + 1}")
+        child = transform_inertia(b, child, _between(chain, c), f"Ib{c + 1}")
+        total = add_inertia(b, total, child, "Ic0" if c == chain.children(-1)[-1] else f"Ic0_{c + 1}")
+    n = D.shape[0]
+    out = sp.zeros(6 + n, 6 + n)
+    h = total.first_moment
+    hx = sp.Matrix([[0, -h[2], h[1]], [h[2], 0, -h[0]], [-h[1], h[0], 0]])
+    out[:3, :3] = total.mass * sp.eye(3)
+    out[:3, 3:6] = -hx
+    out[3:6, :3] = hx
+    out[3:6, 3:6] = total.rotational
+    out[6:, 6:] = D
+    for j, (f, moment) in enumerate(to_base):
+        for r in range(3):
+            out[r, 6 + j] = out[6 + j, r] = f[r]
+            out[3 + r, 6 + j] = out[6 + j, 3 + r] = moment[r]
+    return out
+
+
 #: Chains with at least this many joints get D by the projected form (see :func:`mass_matrix`):
 #: on generic chains (benchmarks/long_chains.py) the propagated form is faster at 12 joints
 #: (645 against 722 ns, gcc -O2), the projected one from about 16 (18: 1364 against 1454 ns;
@@ -264,6 +295,7 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
                 D[i, k] = D[k, i] = sp.expand((omega.T * moment)[0] + (v.T * f)[0])
         factors = (tuple(tuple(omega) + tuple(v) for omega, v in motion[:-1]), tuple(momenta))
         return D, factors
+    to_base: list = []  # per joint, its composite body's unit momentum in the floating base's frame
     for j in range(n):
         force = _unit_momentum(composite[j], links[j].is_revolute)
         D[j, j] = (force[1] if links[j].is_revolute else force[0])[2]
@@ -275,4 +307,10 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
             force = transform_force(b, force, _between(chain, k), f"F{j + 1}b{k + 1}")
             D[i, j] = D[j, i] = (force[1] if links[i].is_revolute else force[0])[2]
             k = i
+        if chain.robot.floating:  # on to the base frame: the base's rows (force, then moment)
+            force = transform_force(b, force, chain.motions[k], f"F{j + 1}q{k + 1}")
+            force = transform_force(b, force, _between(chain, k), f"F{j + 1}b0")
+            to_base.append(force)
+    if chain.robot.floating:
+        return _with_floating_base(chain, composite, D, to_base), ()
     return D, ()

@@ -56,7 +56,7 @@ from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
-                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, default_outputs, spec,
+                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, FLOATING_OUTPUTS, default_outputs, spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
@@ -133,7 +133,13 @@ class Equations:
 
     @property
     def n(self) -> int:
-        return self.robot.dof
+        """Entries of qd, qdd and tau (the joints, and a floating base's 6): the outputs' size."""
+        return self.robot.nv
+
+    @property
+    def nq(self) -> int:
+        """Entries of q (the joints, and a floating base's 7)."""
+        return self.robot.nq
 
     @property
     def parameters(self) -> tuple[sp.Symbol, ...]:
@@ -205,6 +211,10 @@ def check_tree_request(robot: Robot, method: str, wanted, fd_method: str, parame
                           "tree's forward dynamics is the L^T D L factorization of its mass matrix (--fd-method ldlt)")
     if parameters != "standard":
         raise SymdynError(f"{where}: the base-parameter form is written for serial chains (this robot is a tree)")
+    if robot.floating and "coriolis_matrix" in wanted:
+        raise SymdynError(f"{where}: coriolis_matrix is not available for a floating base yet: its velocities are "
+                          "not the rates of coordinates, and the Coriolis matrix Pinocchio's computeCoriolisMatrix "
+                          f"returns for them is not (1/2) dh/dv; available: {', '.join(FLOATING_OUTPUTS)}")
     other = [name for name in wanted if name not in TREE_OUTPUTS]
     if other:
         raise SymdynError(f"{where}: {', '.join(other)} {'is' if len(other) == 1 else 'are'} not available for a "
@@ -220,8 +230,16 @@ def normalize_method(method: str) -> str:
 
 
 def friction_terms(robot: Robot, qd, qdd) -> sp.Matrix:
-    return sp.Matrix([link.armature * qdd[i] + link.damping * qd[i] + link.coulomb * sp.sign(qd[i])
-                      for i, link in enumerate(robot.links)])
+    """Armature, viscous and Coulomb friction of each joint (nv x 1: a floating base's 6 rows
+    have none)."""
+    base = 6 if robot.floating else 0
+    return sp.Matrix([0] * base + [link.armature * qdd[base + i] + link.damping * qd[base + i]
+                                   + link.coulomb * sp.sign(qd[base + i]) for i, link in enumerate(robot.links)])
+
+
+def armature_matrix(robot: Robot) -> sp.Matrix:
+    """diag(armature), nv x nv (zero on a floating base's rows)."""
+    return sp.diag(*([0] * (6 if robot.floating else 0) + [link.armature for link in robot.links]))
 
 
 #: forward dynamics in double reports a singular mass matrix where a pivot d_j <= PIVOT_RTOL * M_jj
@@ -387,8 +405,8 @@ class _Derivation:
         self.robot, self.method, self.need, self.fd_method, self.parameters = robot, method, need, fd_method, parameters
         self.report = report
         self.chain = chain = make_chain(robot)
-        self.b, self.n = chain.builder, chain.n
-        self.zero = [sp.S.Zero] * chain.n
+        self.b, self.n = chain.builder, robot.nv
+        self.zero = [sp.S.Zero] * robot.nv
         self.friction = friction_terms(robot, chain.qd, chain.qdd)
         self.values: dict[str, sp.Matrix] = {}
         self.mass_factors: tuple = ()
@@ -515,9 +533,10 @@ def _tool(d: _Derivation) -> sp.Matrix:
 
 def _forward_dynamics(d: _Derivation) -> sp.Matrix:
     robot, chain, b = d.robot, d.chain, d.b
-    M = d.get("mass_matrix") + sp.diag(*[link.armature for link in robot.links])
+    M = d.get("mass_matrix") + armature_matrix(robot)
     d.report("forward_dynamics (LDL^T solve)")
-    check_not_singular(robot, b.build(), M)
+    if not robot.floating:  # (a floating base's block is regular whenever the robot has a mass)
+        check_not_singular(robot, b.build(), M)
     if d.fd_method == "aba":
         d.report("forward_dynamics (articulated-body algorithm)")
         qdd, d.pivots = articulated_body_fd(chain, chain.tau, d.static_friction)
@@ -526,7 +545,10 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
     rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
     if robot.is_tree:
         d.report("forward_dynamics (L^T D L of the tree's mass matrix: no fill-in)")
-        factorization = ldlt.factor_tree(b, M, chain.parents, "ltl", _identically_zero_pivot)
+        parents = chain.parents
+        if robot.floating:  # the base's 6 coordinates first, as a chain (its block is dense)
+            parents = (-1, 0, 1, 2, 3, 4) + tuple(5 if p < 0 else p + 6 for p in parents)
+        factorization = ldlt.factor_tree(b, M, parents, "ltl", _identically_zero_pivot)
         d.pivots = factorization.pivots
         return sp.Matrix(ldlt.solve_tree(b, factorization, rhs, "ltl_y", "qdd{i}_fd"))
     qdd, d.pivots = _ldlt_solve(b, M, rhs)
@@ -538,7 +560,7 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
 def _task(d: _Derivation) -> sp.Matrix:
     """Every task-space output, derived together (:mod:`symdyn.derive.task_space`)."""
     robot = d.robot
-    M = d.get("mass_matrix") + sp.diag(*[link.armature for link in robot.links])
+    M = d.get("mass_matrix") + armature_matrix(robot)
     J, jdot, h, c = d.get("jacobian"), d.get("jacobian_dot_qd"), d.get("coriolis"), d.get("gravity")
     d.report("task space (LDL^T of M, J M^-1 J^T and its LDL^T)")
 

@@ -14,10 +14,12 @@ from ..model.geometry import joint_geometry, joint_motion, rot_z
 from ..model.robot import Robot
 
 
-def joint_symbols(n: int) -> tuple[tuple[sp.Symbol, ...], ...]:
-    """Real symbols (q, qd, qdd, tau), each a tuple q1..qn (rad or m, per s, per s^2, N m or N)."""
-    make = lambda base: tuple(sp.Symbol(f"{base}{k + 1}", real=True) for k in range(n))
-    return make("q"), make("qd"), make("qdd"), make("tau")
+def joint_symbols(n: int, nv: int | None = None) -> tuple[tuple[sp.Symbol, ...], ...]:
+    """Real symbols (q, qd, qdd, tau), each a tuple q1..qn (rad or m, per s, per s^2, N m or N);
+    ``nv``: qd, qdd and tau have that many instead (a floating base: n = nq = nv + 1)."""
+    make = lambda base, count: tuple(sp.Symbol(f"{base}{k + 1}", real=True) for k in range(count))
+    nv = n if nv is None else nv
+    return make("q", n), make("qd", nv), make("qdd", nv), make("tau", nv)
 
 
 def link_transform(robot: Robot, i: int, q: sp.Expr, cos_sin=None) -> sp.Matrix:

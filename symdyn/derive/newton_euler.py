@@ -147,7 +147,8 @@ def _link_frames(chain: Chain, joint_frames: bool) -> list[_LinkFrame]:
 
 def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
               gravity: sp.Matrix, tag: str, parameters: Sequence[sp.Expr] | None = None,
-              textbook: bool = False, joint_frames: bool | None = None) -> list[LinkState]:
+              textbook: bool = False, joint_frames: bool | None = None,
+              base_wrench: list | None = None) -> list[LinkState]:
     """Run Table 3.2 for the given joint rates/accelerations and gravity vector (base frame).
 
     Returns each link's state; ``state.tau`` is the joint force without friction or armature.
@@ -167,17 +168,32 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
     ``joint_frames`` (default: unless ``textbook`` or ``parameters``) runs the recursion in
     the joint frames J_i instead of the link frames (:func:`_link_frames`); the torques are the
     same, the link states are then in J_i.
+
+    A floating base (``chain.robot.floating``): ``qd`` and ``qdd`` hold the base's 6 entries
+    first (Pinocchio's free-flyer: linear then angular velocity of the base in its own frame, and
+    their rates, the spatial acceleration), then the joints'; the base starts the recursion with
+    that motion (its origin's classical acceleration ``a + omega x v - g``), its own inertia
+    (``base_inertia``) takes part, and ``base_wrench`` (a list) receives ``(f, n)``: the force
+    and the moment about the base origin (base frame) that move the base as asked, the base's
+    rows of the generalized forces.
     """
     b = chain.builder
     robot = chain.robot
     omega = sp.zeros(3, 1)
     omegad = sp.zeros(3, 1)
     vd = -sp.Matrix(gravity)
+    base_qd, base_qdd = chain.base_part(qd), chain.base_part(qdd)
+    qd, qdd = chain.joint_part(qd), chain.joint_part(qdd)
+    U = None
+    if robot.floating:
+        omega, omegad = sp.Matrix(base_qd[3:]), sp.Matrix(base_qdd[3:])
+        vd = b.vector(f"vd0{tag}", sp.Matrix(base_qdd[:3]) + cross_nonzero(omega, sp.Matrix(base_qd[:3])) + vd)
+        U = None if textbook else _acceleration_operator(b, omega, omegad, f"U0{tag}")
     if joint_frames is None:
         joint_frames = not textbook and parameters is None
     frames = _link_frames(chain, joint_frames)
     states: list[LinkState] = []
-    base_state = (omega, omegad, vd, None)
+    base_state = (omega, omegad, vd, U)
     moving: list[tuple] = []  # per link: (omega, omegad, vd, U) in its frame, for its children
     for i, link in enumerate(robot.links):
         k = i + 1
@@ -250,7 +266,28 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             st.tau = b.define(f"tau{k}{tag}", (z.T * moment)[0])
         else:
             st.tau = b.define(f"tau{k}{tag}", (z.T * st.f)[0])
+    if robot.floating:
+        wrench = _floating_base_wrench(b, chain, frames, states, joint_moments, base_state, tag, textbook)
+        if base_wrench is not None:
+            base_wrench.extend(wrench)
     return states
+
+
+def _floating_base_wrench(b, chain: Chain, frames, states, joint_moments, base_state, tag: str, textbook: bool):
+    """``(f, n)`` on a floating base: its own ``m (a + U c)`` and ``I_c omegad + omega x I_c omega
+    + c x F`` (about its origin), and what the links on it take from it; base frame."""
+    omega, omegad, vd, U = base_state
+    body = chain.robot.base_inertia
+    com = sp.Matrix(body.com)
+    relative = _relative_acceleration(b, U, omega, omegad, com, f"ws0{tag}")
+    F = b.vector(f"F0{tag}", body.mass * (relative + vd))
+    inertia = sp.Matrix(body.inertia_matrix)
+    Iw = b.vector(f"Iw0{tag}", inertia * omega)
+    N = inertia * omegad + cross_nonzero(omega, Iw)
+    f_children, moment_children = _children_wrench(b, frames, states, joint_moments, chain.children(-1),
+                                                   f"0{tag}", textbook)
+    return (b.vector(f"f0{tag}", F + f_children),
+            b.vector(f"n0{tag}", N + cross_nonzero(com, F) + moment_children))
 
 
 def _children_wrench(b, frames: list[_LinkFrame], states: list[LinkState], joint_moments: dict, children,
@@ -278,5 +315,6 @@ def _children_wrench(b, frames: list[_LinkFrame], states: list[LinkState], joint
 def joint_forces(chain: Chain, qd, qdd, gravity, tag: str, parameters=None) -> sp.Matrix:
     """Column of joint forces/torques (n x 1) of one recursion, without friction and armature
     (``parameters``: standard parameters instead of the links' own, see :func:`recursion`)."""
-    states = recursion(chain, qd, qdd, gravity, tag, parameters)
-    return sp.Matrix([st.tau for st in states])
+    base: list = []
+    states = recursion(chain, qd, qdd, gravity, tag, parameters, base_wrench=base)
+    return sp.Matrix([*(e for part in base for e in part), *(st.tau for st in states)])

@@ -92,11 +92,12 @@ class NumericEquations:
     def _call(self, name, args, p, matrix: bool = False):
         """Check the arguments and evaluate ``name``; a one-column result is returned as a vector
         unless ``matrix``."""
-        n, m = self.eqs.n, len(self.eqs.parameters)
+        m = len(self.eqs.parameters)
         for label, value in zip(OUTPUT_INPUTS[name], args):
-            size = np.size(value)
+            size, n = np.size(value), len(getattr(self.eqs, label))
             if size != n:
-                raise ValueError(f"{name}: {label} has {size} entries, expected {n} (one per joint)")
+                raise ValueError(f"{name}: {label} has {size} entries, expected {n} "
+                                 f"({'one per joint' if n == self.eqs.robot.dof else 'as the header lays out'})")
         if m and (p is None or np.size(p) != m):
             given = "none" if p is None else f"{np.size(p)}"
             raise ValueError(f"{name}: p has {given} entries, expected {m} "

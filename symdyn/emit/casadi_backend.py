@@ -40,6 +40,14 @@ INPUT_DOCS = {
     "tau": "joint torques/forces (N m or N)",
     "p": "runtime parameters, in the order of robot.parameters",
 }
+#: a floating base's inputs (Pinocchio's free-flyer first, then the joints)
+FLOATING_INPUT_DOCS = {
+    **INPUT_DOCS,
+    "q": "NQ = N + 1: base position (m), quaternion x, y, z, w (normalized inside), joint positions",
+    "qd": "base linear and angular velocity (base frame; m/s, rad/s), joint velocities",
+    "qdd": "their derivatives (the base's spatial acceleration in its frame), joint accelerations",
+    "tau": "force (N) and moment (N m) on the base in its frame, joint torques/forces",
+}
 
 _UNARY = {sp.sin: ca.sin, sp.cos: ca.cos, sp.tan: ca.tan, sp.exp: ca.exp, sp.log: ca.log,
           sp.Abs: ca.fabs, sp.sign: ca.sign}
@@ -120,7 +128,7 @@ def _inputs_for(eqs: Equations, groups: Iterable[str]):
     env: dict[sp.Symbol, ca.SX] = {}
     symbols, names = [], []
     for group in groups:
-        sym = ca.SX.sym(group, eqs.n)
+        sym = ca.SX.sym(group, len(getattr(eqs, group)))
         for k, s in enumerate(getattr(eqs, group)):
             env[s] = sym[k]
         symbols.append(sym)
@@ -278,7 +286,8 @@ def casadi_files(eqs: Equations, functions: Iterable[str] | None = None, casadi_
         combined_inputs=[combined.name_in(k) for k in range(combined.n_in())],
         files=[(f"{fn.name()}.casadi", signature_text(fn)) for fn in [combined] + single],
         casadi_c=casadi_c,
-        input_docs=[(k, v) for k, v in INPUT_DOCS.items() if k != "p" or robot.parameters],
+        input_docs=[(k, v) for k, v in (FLOATING_INPUT_DOCS if robot.floating else INPUT_DOCS).items()
+                    if k != "p" or robot.parameters],
         parameters=[(k, s.name, "runtime parameter" if s.name in robot.runtime_names else "free symbol",
                      (repr(float(v)) if v is not None else None))
                     for k, (s, v) in enumerate(zip(robot.parameters, robot.nominal))])

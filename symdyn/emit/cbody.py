@@ -39,6 +39,12 @@ class BodyContext:
     real: str
     n: int
     rtol: float
+    #: entries of each input that has not ``n`` (a floating base's q: n + 1)
+    sizes: dict = field(default_factory=dict)
+
+    def size(self, group: str) -> int:
+        """The entries of input ``group``."""
+        return self.sizes.get(group, self.n)
 
 
 @dataclass
@@ -200,7 +206,8 @@ class BodyWriter:
             self.lines.append(f"{ctx.prefix}_vint all_ok = ({self.vreal}){{0.0}} == 0.0; /* every lane true */")
             limit, _ = _limit(ctx.internal, ctx.scalar)  # a lane whose input is NaN or infinite: the scalar function's 2
             self.lines.append("all_ok &= " + "\n        & ".join(
-                f"({name}[{i}] <= {limit}) & ({name}[{i}] >= -{limit})" for name in plan.inputs for i in range(ctx.n)) + ";")
+                f"({name}[{i}] <= {limit}) & ({name}[{i}] >= -{limit})" for name in plan.inputs
+                for i in range(ctx.size(name))) + ";")
         if plan.gram:
             size = 6 * (plan.gram[1] - 1)
             self._declare([("mass_s", size), ("mass_f", size)])
@@ -240,12 +247,16 @@ class BodyWriter:
         """Forward dynamics first checks its inputs: a NaN or infinite q, qd or tau returns 2
         (not finite) before anything is computed, rather than a NaN pivot's 1 (singular)."""
         limit, fabs = ("FLT_MAX", "fabsf") if self.ctx.scalar == "float" else ("DBL_MAX", "fabs")
-        tests = "\n            || ".join(f"!({fabs}({name}[i]) <= {limit})" for name in self.plan.inputs)
-        self.lines += [f"for (int i = 0; i < {self.ctx.n}; ++i) {{",
-                       f"    if ({tests}) {{",
-                       "        return 2; /* an input is NaN or infinite */",
-                       "    }",
-                       "}"]
+        by_size: dict[int, list[str]] = {}  # one loop per array length
+        for name in self.plan.inputs:
+            by_size.setdefault(self.ctx.size(name), []).append(name)
+        for size, names in by_size.items():
+            tests = "\n            || ".join(f"!({fabs}({name}[i]) <= {limit})" for name in names)
+            self.lines += [f"for (int i = 0; i < {size}; ++i) {{",
+                           f"    if ({tests}) {{",
+                           "        return 2; /* an input is NaN or infinite */",
+                           "    }",
+                           "}"]
 
     def _count(self, expr) -> None:
         self.ops += count_operations(expr)

@@ -33,6 +33,18 @@ ARG_DOCS = {
     "tau": "joint torques/forces, N (N m or N)",
     "p": "runtime parameters, NP, in the order listed above",
 }
+#: the arguments' documentation for a floating base (Pinocchio's free-flyer layout)
+FLOATING_ARG_DOCS = {
+    **ARG_DOCS,
+    "q": "configuration, NQ = NV + 1: the base position in the world (m), its orientation as a quaternion x, y, z, "
+         "w (any nonzero scale: it is normalized; q and -q are the same pose), then the joint positions (rad or m)",
+    "qd": "velocity, NV: the base's linear velocity (m/s) and angular velocity (rad/s), both in the base frame, "
+          "then the joint velocities (rad/s or m/s)",
+    "qdd": "acceleration, NV: the derivative of qd (the base's spatial acceleration in its frame, m/s^2 and "
+           "rad/s^2), then the joint accelerations",
+    "tau": "generalized forces, NV: the force (N) and moment (N m, about the base origin) on the base, in the base "
+           "frame (zero for a robot in flight), then the joint torques/forces",
+}
 
 #: precisions of the generated C: double, float (float all the way: no double operation, for
 #: single-precision FPUs), mixed (float arguments, forward dynamics computed in double inside)
@@ -184,9 +196,11 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                              {sym for sym, _ in reduced.statements})
     context = BodyContext(prefix=prefix, names=names, angles=angles, internal=internal, scalar=scalar,
                           local_type=real if internal == scalar else internal, real=real, n=eqs.n,
-                          rtol=pivot_rtol(internal))  # checked in the arithmetic the pivots are computed in
+                          rtol=pivot_rtol(internal),  # checked in the arithmetic the pivots are computed in
+                          sizes={"q": eqs.nq} if eqs.nq != eqs.n else {})
     body = write_body(plan, reduced, context)
-    args = [(f"const {real} *", group, ARG_DOCS[group], False) for group in plan.inputs]
+    docs = FLOATING_ARG_DOCS if eqs.robot.floating else ARG_DOCS
+    args = [(f"const {real} *", group, docs[group], False) for group in plan.inputs]
     if eqs.parameters:
         args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
     args += [(f"{real} *", argument.name, argument.doc, True)
@@ -330,11 +344,14 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "method": eqs.method + {"aba": "; forward dynamics by the articulated-body algorithm",
                                 "ldlt": "; forward dynamics by L^T D L of the tree's D" if robot.is_tree
                                 else "; forward dynamics by LDL^T of D"}.get(eqs.fd_method, "")
+        + ("; floating base (free-flyer)" if robot.floating else "")
         + ("; inverse dynamics in the base parameters" if eqs.parameter_form == "base"
            and "inverse_dynamics" in functions else ""),
         "precision": precision,
         "real": scalar_type(precision),
-        "dof": robot.dof,
+        "dof": eqs.n,
+        "nq": eqs.nq,
+        "floating": robot.floating,
         "convention": robot.convention,
         "parameters": [(k, s.name, "runtime parameter" if v is not None else "runtime parameter, no nominal value",
                         (repr(float(v)) if v is not None else None), parameter_uses(robot, s))

@@ -39,7 +39,14 @@ _RESERVED_NAME = re.compile(r"(q|qd|qdd|qdot|qddot|tau|p|cse)[0-9]*\Z|(c|s)[0-9]
 _RESERVED_WORDS = frozenset({"pi", "e", "E", "I", "sin", "cos", "sqrt"})
 _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any case
 
-TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "tool", "task", "parameters", "links")
+TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "base_body", "tool", "task", "parameters",
+            "links")
+#: the fields of ``base_body:`` (the free-floating base's own inertia)
+BODY_KEYS = ("mass", "com", "inertia")
+#: the free-flyer's coordinates, before the joints' (Pinocchio's): position, quaternion (x, y, z, w)
+FREE_FLYER_Q = ("x", "y", "z", "qx", "qy", "qz", "qw")
+#: and its velocities: the base's linear velocity and angular velocity, both in the base frame
+FREE_FLYER_V = ("vx", "vy", "vz", "wx", "wy", "wz")
 #: the named tasks of ``task:`` (rows of the tool Jacobian: 0-2 linear x, y, z, 3-5 angular)
 TASKS = {"pose": (0, 1, 2, 3, 4, 5), "position": (0, 1, 2), "orientation": (3, 4, 5)}
 #: the name of each row of the tool Jacobian (world axes at the tool origin)
@@ -176,6 +183,31 @@ class Link:
 
 
 @dataclass(frozen=True)
+class Body:
+    """A rigid body's inertia: mass (kg), centre of mass (m) and inertia about it (kg m^2, xx yy zz
+    xy xz yz), in the body's frame: the free-floating base's (``base_body:``)."""
+
+    mass: sp.Expr
+    com: tuple[sp.Expr, sp.Expr, sp.Expr]
+    inertia: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr]
+
+    @property
+    def inertia_matrix(self) -> sp.ImmutableMatrix:
+        xx, yy, zz, xy, xz, yz = self.inertia
+        return sp.ImmutableMatrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+    def expressions(self) -> tuple[sp.Expr, ...]:
+        return (self.mass, *self.com, *self.inertia)
+
+    def subs(self, mapping) -> "Body":
+        return Body(*(tuple(sp.sympify(e).xreplace(mapping) for e in part) if isinstance(part, tuple)
+                      else sp.sympify(part).xreplace(mapping) for part in (self.mass, self.com, self.inertia)))
+
+
+ZERO_BODY = Body(sp.S.Zero, (sp.S.Zero,) * 3, (sp.S.Zero,) * 6)
+
+
+@dataclass(frozen=True)
 class Robot:
     """A serial chain described by its DH table and inertial parameters.
 
@@ -217,6 +249,27 @@ class Robot:
     #: chain (each link on the one before it), which every chain keeps so that its description,
     #: and everything derived from it, is unchanged
     parents: tuple[int, ...] = ()
+    #: True for a free-floating base (``base: floating``): a free-flyer joint before the links,
+    #: with Pinocchio's conventions (q: position, quaternion x y z w, then the joints; v: the
+    #: base's linear and angular velocity in the base frame, then the joint rates)
+    floating: bool = False
+    #: the floating base's own inertia in the base frame (``base_body:``; zero when not given)
+    base_body: Body | None = None
+
+    @property
+    def nv(self) -> int:
+        """Velocity coordinates: the joints, and 6 for a floating base (entries of qd, qdd, tau)."""
+        return self.dof + (6 if self.floating else 0)
+
+    @property
+    def nq(self) -> int:
+        """Configuration coordinates: the joints, and 7 for a floating base (its quaternion has 4)."""
+        return self.dof + (7 if self.floating else 0)
+
+    @property
+    def base_inertia(self) -> Body:
+        """The floating base's inertia (zero when none was given)."""
+        return self.base_body or ZERO_BODY
 
     @property
     def parent_indices(self) -> tuple[int, ...]:
@@ -225,8 +278,9 @@ class Robot:
 
     @property
     def is_tree(self) -> bool:
-        """Whether some link hangs on another than the one before it (a kinematic tree)."""
-        return any(p != k - 1 for k, p in enumerate(self.parents))
+        """Whether some link hangs on another than the one before it (a kinematic tree), or the
+        base floats (the functions of a tree then apply)."""
+        return self.floating or any(p != k - 1 for k, p in enumerate(self.parents))
 
     def children(self, index: int) -> tuple[int, ...]:
         """The links that hang on link ``index`` (-1: on the base), in file order."""
@@ -310,6 +364,7 @@ class Robot:
             gravity=tuple(sp.sympify(g).xreplace(mapping) for g in self.gravity),
             links=tuple(link.subs(mapping) for link in self.links),
             base=None if self.base is None else self.base.subs(mapping),
+            base_body=None if self.base_body is None else self.base_body.subs(mapping),
             tool=None if self.tool is None else self.tool.subs(mapping),
             tool_fixed=None if self.tool_fixed is None else tuple(sp.sympify(c).xreplace(mapping)
                                                                     for c in self.tool_fixed),
@@ -543,6 +598,19 @@ class RobotFileReader:
         return Link(name=name, joint=joint, mass=mass, com=com, inertia=inertia, limits=limits,
                     actuated=actuated, **geometry, **extras)
 
+    def body(self, raw: Any) -> Body:
+        """``base_body: {mass, com, inertia}``: the floating base's inertia in the base frame."""
+        label, fld = None, "base_body"
+        self.check_mapping(raw, BODY_KEYS, label, fld, "expected a mapping {mass, com, inertia}")
+        mass = self.number(raw.get("mass", 0), label, f"{fld}.mass")
+        if mass.is_number and mass < 0:
+            self.fail(f"mass must not be negative, got {float(mass):g}", label, f"{fld}.mass")
+        com = self.vector(raw.get("com", [0, 0, 0]), 3, label, f"{fld}.com")
+        if "inertia" not in raw and mass != 0:
+            self.warn("a mass but no inertia: a point mass is assumed (write 'inertia: 0' to say so)", label,
+                      f"{fld}.inertia")
+        return Body(mass, com, self.read_inertia(raw.get("inertia", 0), "base_body"))
+
     def check_mapping(self, raw: Any, allowed: tuple[str, ...], label: str | None, fld: str, expected: str) -> None:
         """``raw`` is a mapping whose keys are all in ``allowed`` (``expected``: the error when it
         is not a mapping)."""
@@ -669,7 +737,13 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     reader.read_angles(doc)
     reader.convention = convention
     reader.read_parameters(doc.get("parameters"))
-    base = reader.placement(doc["base"], None, "base") if "base" in doc else None
+    floating = doc.get("base") == "floating"
+    if isinstance(doc.get("base"), str) and not floating:
+        reader.fail(f"expected 'floating' or a placement {{xyz, rpy}}, got {describe(doc['base'])}", None, "base")
+    base = reader.placement(doc["base"], None, "base") if "base" in doc and not floating else None
+    base_body = reader.body(doc["base_body"]) if "base_body" in doc else None
+    if base_body is not None and not floating:
+        reader.fail("a base body needs 'base: floating' (a fixed base's inertia does not move)", None, "base_body")
     tool = reader.placement(doc["tool"], None, "tool") if "tool" in doc else None
     task = task_rows(doc["task"], lambda message: reader.fail(message, None, "task")) if "task" in doc else None
     gravity = (reader.vector(doc["gravity"], 3, None, "gravity") if "gravity" in doc
@@ -685,7 +759,7 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     links = tuple(reader.read_link(k, raw, names_seen) for k, raw in enumerate(links_raw))
     parents = read_parents(reader, links_raw, links)
     runtime_syms = list(reader.runtime.values())
-    placements = [e for p in (base, tool) if p is not None for e in p.expressions()]
+    placements = [e for p in (base, tool, base_body) if p is not None for e in p.expressions()]
     used = set().union(*(e.free_symbols for link in links for e in link.expressions()),
                        *(sp.sympify(g).free_symbols for g in (*gravity, *placements)))
     parameters = tuple(runtime_syms)
@@ -697,7 +771,7 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
         links=links, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
         source=path, source_hash=source_hash, base=base, tool=tool, task=task,
         runtime_names=tuple(s.name for s in runtime_syms if s in used),
-        parents=parents)
+        parents=parents, floating=floating, base_body=base_body)
 
 
 def read_parents(reader: RobotFileReader, links_raw: list, links: tuple[Link, ...]) -> tuple[int, ...]:

@@ -55,7 +55,7 @@ def is_urdf(path) -> bool:
 
 
 def read_robot_document(path: str, tip: str | None = None, tool: str | None = None,
-                        option: str = "--tip/--tool", exact_angles: bool = False):
+                        option: str = "--tip/--tool", exact_angles: bool = False, floating_base: bool = False):
     """``(document, raw bytes, notes)`` of a robot file: a YAML/JSON robot file (or scene) as
     parsed, or a URDF turned into the format's general form (:mod:`symdyn.model.urdf`;
     ``tip``/``tool`` name its tip and tool links, ``exact_angles`` keeps near-quarter-turn rpy
@@ -64,8 +64,10 @@ def read_robot_document(path: str, tip: str | None = None, tool: str | None = No
     text = decode_text(raw, path)
     if is_urdf(path):
         from .urdf import read_urdf
-        doc, notes = read_urdf(text, path, tip=tip, tool=tool, exact_angles=exact_angles)
+        doc, notes = read_urdf(text, path, tip=tip, tool=tool, exact_angles=exact_angles, floating_base=floating_base)
         return doc, raw, tuple(notes)
+    if floating_base:
+        raise RobotFileError(path, "--floating-base applies to URDF files only (a robot file says 'base: floating')")
     if tip is not None or tool is not None:
         raise RobotFileError(path, f"{option} apply to URDF files only (a robot file names its tool with 'tool:')")
     if exact_angles:
@@ -74,13 +76,13 @@ def read_robot_document(path: str, tip: str | None = None, tool: str | None = No
 
 
 def load_input(path: str, tip: str | None = None, tool: str | None = None, exact_angles: bool = False,
-               parallel: bool = False):
+               parallel: bool = False, floating_base: bool = False):
     """A robot file, a URDF or a scene (told apart by a top-level ``scene`` key), read once:
     returns ``(robot, scene or None)``.  ``tip``/``tool``/``exact_angles``: how to read a URDF
     (:func:`symdyn.model.urdf.read_urdf`).  ``parallel``: a platform robot file (``kind:
     parallel``) gives its :class:`symdyn.model.parallel.ParallelRobot` (else it is refused)."""
     path = os.fspath(path)
-    doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles)
+    doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles, floating_base=floating_base)
     if parallel:
         from .parallel import from_document as parallel_document, is_parallel_document
         if is_parallel_document(doc):
@@ -106,11 +108,13 @@ def input_files(path: str) -> list[str]:
     return paths
 
 
-def load(path, tip: str | None = None, tool: str | None = None, exact_angles: bool = False) -> Robot:
+def load(path, tip: str | None = None, tool: str | None = None, exact_angles: bool = False,
+         floating_base: bool = False) -> Robot:
     """The robot of a robot file, a URDF (``tip``/``tool``: its tip and tool links;
-    ``exact_angles``: rpy angles as written, see :func:`symdyn.model.urdf.read_urdf`) or a
-    scene (``symdyn.load``): a scene's specialized robot."""
-    return load_input(os.fspath(path), tip, tool, exact_angles)[0]
+    ``exact_angles``: rpy angles as written; ``floating_base``: the whole tree on a free root
+    link; see :func:`symdyn.model.urdf.read_urdf`) or a scene (``symdyn.load``): a scene's
+    specialized robot."""
+    return load_input(os.fspath(path), tip, tool, exact_angles, floating_base=floating_base)[0]
 
 
 def _payload_names(payload) -> set[str]:

@@ -670,7 +670,7 @@ def default_tip(text: str, path: str) -> str:
 
 
 def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None,
-              exact_angles: bool = False) -> tuple[dict, list[str]]:
+              exact_angles: bool = False, floating_base: bool = False) -> tuple[dict, list[str]]:
     """The robot document (``convention: general``, see ``docs/urdf.md``) of the chain of a URDF
     from its root link to ``tip`` (default: the only leaf), and notes saying what was merged,
     locked or left out.  ``tool``: a link rigidly attached to the last moving link whose frame is
@@ -678,12 +678,20 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
     file's content, ``path`` names it in messages.  Problems raise :class:`RobotFileError` (one
     line); doubtful readings give a :func:`~symdyn.model.errors.warn` line.  ``exact_angles``:
     keep every rpy angle as written (default: angles within :data:`QUARTER_TOLERANCE` of a
-    multiple of pi/2 are taken as that multiple, so that zeros fold)."""
+    multiple of pi/2 are taken as that multiple, so that zeros fold).  ``floating_base``: the
+    whole tree on a free-floating root link (:func:`read_tree`; no tip or tool then)."""
     urdf = _Reader(text, path, exact_angles)
     name = _robot_name(urdf.robot_name)
     if name != urdf.robot_name:
         urdf.warn(f"{describe(urdf.robot_name)} renamed '{name}' (robot names: a-z, 0-9 and '_', at most "
                   f"{MAX_NAME} characters)", None, "robot name")
+    if floating_base:
+        if tip is not None or tool is not None:
+            urdf.fail("--floating-base reads the whole tree on its free root link: --tip and --tool do not apply")
+        if not any(j.type != "fixed" for j in urdf.joints.values()):
+            urdf.fail("no moving joint (revolute, continuous or prismatic): a floating base needs one (a single "
+                      "free body's dynamics is its Newton-Euler equations)")
+        return read_tree(urdf, name, floating=True)
     if tip is None and _branches(urdf):
         if tool is not None:
             urdf.fail("--tool needs a chain: this file's moving joints branch (give --tip LINK to choose one chain)")
@@ -863,12 +871,13 @@ def _branches(urdf: _Reader) -> bool:
             and any(j.type != "fixed" for j in urdf.joints.values()))
 
 
-def read_tree(urdf: _Reader, name: str) -> tuple[dict, list[str]]:
+def read_tree(urdf: _Reader, name: str, floating: bool = False) -> tuple[dict, list[str]]:
     """The robot document of a URDF's whole tree: one link per moving joint, numbered as
     Pinocchio's URDF reader numbers them (depth first from the root link, the joints of each
     link in the order of their names), each with ``parent:`` the link of the moving joint above
     it; links on fixed joints are merged into the moving link above them (or left out with the
-    ground)."""
+    ground; with ``floating``, they make the free-floating base: ``base: floating`` and its
+    ``base_body``)."""
     entries: list[tuple[dict, dict]] = []
     bodies: list[_Body] = []
     parents: list[int] = []
@@ -900,7 +909,11 @@ def read_tree(urdf: _Reader, name: str) -> tuple[dict, list[str]]:
         parents.append(owner)
         pending.extend(visit(joint.child, len(entries) - 1, Frame(), [])[::-1])
 
-    doc = {"format": FORMAT_VERSION, "name": name, "convention": "general", "gravity": [0, 0, "-9.81"], "links": []}
+    doc = {"format": FORMAT_VERSION, "name": name, "convention": "general", "gravity": [0, 0, "-9.81"]}
+    if floating:
+        doc["base"] = "floating"
+        doc["base_body"] = ground.fields()
+    doc["links"] = []
     for k, ((entry, extra), body, parent) in enumerate(zip(entries, bodies, parents)):
         up = {} if parent == k - 1 else {"parent": "base" if parent < 0 else entries[parent][0]["name"]}
         doc["links"].append({"name": entry["name"], **up, **{key: v for key, v in entry.items() if key != "name"},
@@ -915,7 +928,10 @@ def read_tree(urdf: _Reader, name: str) -> tuple[dict, list[str]]:
         notes.append(f"continuous joints read as revolute (the angle is the coordinate): {_plain(continuous)}")
     if merged:
         notes.append(f"fixed joints merged (child inertia added to the moving link above): {_plain(merged)}")
-    if ground.mass != 0:
+    if floating:
+        notes.append(f"floating base (a free-flyer joint on {one_line(urdf.root, 60)}, Pinocchio's conventions), "
+                     f"{_kg(ground.mass)} kg: links {_plain(ground_links)}")
+    elif ground.mass != 0:
         notes.append(f"fixed to the ground, inertia left out ({_kg(ground.mass)} kg): links {_plain(ground_links)}")
     if any(key in extra for _, extra in entries for key in ("damping", "coulomb")):
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")

@@ -15,6 +15,7 @@ from helpers import REPO, TOL, random_states
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare
 from symdyn.check.reference import MpReference
+from symdyn.check.states import random_state
 from symdyn.emit.cgen import generate_c
 from symdyn.model.errors import SymdynError, SymdynWarning
 from symdyn.model.outputs import TREE_OUTPUTS
@@ -83,26 +84,29 @@ def test_mass_matrix_entries_across_branches_are_exact_zeros_not_computed(hand_t
     assert all(copies[i * n + j] in constant for i, j in zeros if i > j)  # the lower: copies of them
 
 
-@pytest.mark.parametrize("relative", ["solo_description/robots/solo12.urdf",
-                                      "anymal_b_simple_description/robots/anymal.urdf",
-                                      "talos_data/robots/talos_reduced.urdf"],
-                         ids=["solo12", "anymal", "talos_reduced"])
-def test_whole_urdf_trees_agree_with_pinocchio_urdf_parser(relative):
-    """A quadruped (four legs on the base), ANYmal (links named as their joints) and TALOS's
-    reduced humanoid (32 joints: legs, torso, arms, head) read whole, with a fixed base, against
-    Pinocchio's own reading of the same file: the joint order is Pinocchio's, every function
-    agrees at 50 states, and the mass matrix has exact zeros across branches."""
+@pytest.mark.parametrize("relative, floating", [("solo_description/robots/solo12.urdf", False),
+                                                ("anymal_b_simple_description/robots/anymal.urdf", False),
+                                                ("talos_data/robots/talos_reduced.urdf", True)],
+                         ids=["solo12", "anymal", "talos_reduced_floating"])
+def test_whole_urdf_trees_agree_with_pinocchio_urdf_parser(relative, floating):
+    """A quadruped (four legs on the base) and ANYmal (links named as their joints) with a fixed
+    base, and TALOS's reduced humanoid (32 joints: legs, torso, arms, head) on a floating base
+    (38 velocities), read whole, against Pinocchio's own reading of the same file: the joint
+    order is Pinocchio's, every function agrees at 50 states, and the mass matrix has exact
+    zeros across branches."""
     path = example_robot_data(relative)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", SymdynWarning)
-        robot = symdyn.load(path)
-    reference = UrdfReference(path)
+        robot = symdyn.load(path, floating_base=floating)
+    reference = UrdfReference(path, floating_base=floating)
     assert robot.is_tree and [link.name for link in robot.links] == reference.joint_names
     eqs = symdyn.derive(robot)
-    errors = compare(eqs.numeric, reference, random_states(robot.dof, 50, seed=9), TREE_OUTPUTS)
+    rng = np.random.default_rng(9)
+    errors = compare(eqs.numeric, reference, [random_state(robot, rng) for _ in range(50)], eqs.output_names)
     assert all(e <= TOL for e in errors.values()), errors
-    D = eqs.mass_matrix
-    assert _cross_branch_pairs(robot) <= {(i, j) for i in range(robot.dof) for j in range(robot.dof) if D[i, j] == 0}
+    D, base = eqs.mass_matrix, 6 if floating else 0
+    zeros = {(i, j) for i in range(robot.dof) for j in range(robot.dof) if D[base + i, base + j] == 0}
+    assert _cross_branch_pairs(robot) <= zeros
 
 
 def test_tree_fields_are_checked_and_what_trees_lack_is_refused(tmp_path):
@@ -143,3 +147,67 @@ def test_cli_on_a_tree(tmp_path, capsys):
     assert main(["derive", HAND_TREE, "--out", str(tmp_path / "tree.md")]) == 1
     err = capsys.readouterr().err.strip()
     assert "kinematic tree" in err and len(err.splitlines()) == 1 and not (tmp_path / "tree.md").exists()
+
+
+SOLO = "solo_description/robots/solo12.urdf"
+
+
+def test_floating_base_quadruped_agrees_with_pinocchio_free_flyer(tmp_path):
+    """solo12.urdf with --floating-base against Pinocchio's buildModelFromUrdf(path,
+    JointModelFreeFlyer()): q has 19 entries (position, quaternion x y z w, 12 joints), v 18;
+    every function at 50 states, numerically and in compiled C.  The same pose with the
+    quaternion negated or scaled gives the same numbers (it is normalized); a zero quaternion
+    makes forward dynamics return 2 (not finite) and write nothing."""
+    path = example_robot_data(SOLO)
+    robot = symdyn.load(path, floating_base=True)
+    assert (robot.nq, robot.nv, robot.floating) == (19, 18, True)
+    reference = UrdfReference(path, floating_base=True)
+    assert reference.model.nq == 19 and [link.name for link in robot.links] == reference.joint_names
+    eqs = symdyn.derive(robot)
+    functions = [f for f in TREE_OUTPUTS if f != "coriolis_matrix"]
+    assert eqs.output_names == tuple(functions)
+    rng = np.random.default_rng(4)
+    states = [random_state(robot, rng) for _ in range(50)]
+    errors = compare(eqs.numeric, reference, states, functions)
+    assert all(e <= TOL for e in errors.values()), errors
+    lib = build_and_load(generate_c(eqs, functions, "double"), robot.name, robot.nv, 0, workdir=str(tmp_path))
+    errors = compare(lib, reference, states, functions)
+    assert all(e <= TOL for e in errors.values()), errors
+    for q, qd, qdd, tau in states[:5]:
+        for factor in (-1.0, 3.7, -0.02):
+            other = np.concatenate([q[:3], factor * q[3:7], q[7:]])
+            for name, args in (("inverse_dynamics", (qd, qdd)), ("mass_matrix", ()), ("forward_dynamics", (qd, tau))):
+                mine, same = getattr(lib, name)(q, *args), getattr(lib, name)(other, *args)
+                assert np.allclose(same, mine, rtol=1e-13, atol=1e-13 * np.max(np.abs(mine))), (name, factor)
+    q, qd, _, tau = states[0]
+    zero = np.concatenate([q[:3], np.zeros(4), q[7:]])
+    status, qdd = lib.forward_dynamics_checked(zero, qd, tau, qdd=np.full(robot.nv, 7.0))
+    assert status == 2 and np.all(qdd == 7.0)
+
+
+def test_floating_base_robot_file_and_its_checks(tmp_path):
+    """A robot file with 'base: floating' and 'base_body' (a satellite with two DH arms, one
+    with a prismatic joint; armature and friction) agrees with Pinocchio's free-flyer model of
+    it, in orbit and under gravity; 'base_body' without a floating base, and a base that is
+    neither a placement nor 'floating', are refused in one line."""
+    path = REPO / "examples" / "trees" / "space_robot.yaml"
+    text = path.read_text()
+    heavy = tmp_path / "grounded.yaml"
+    heavy.write_text(text.replace("gravity: [0, 0, 0]", "gravity: [0.3, -1.2, -9.81]"))
+    for source in (path, heavy):
+        robot = symdyn.load(str(source))
+        assert (robot.nq, robot.nv, robot.parents) == (13, 12, (-1, 0, 1, -1, 3, 4))
+        eqs = symdyn.derive(robot)
+        rng = np.random.default_rng(8)
+        states = [random_state(robot, rng) for _ in range(50)]
+        errors = compare(eqs.numeric, PinocchioReference(robot), states, eqs.output_names)
+        assert all(e <= TOL for e in errors.values()), (source, errors)
+    for bad, expected in ((text.replace("base: floating\n", ""), ["field 'base_body'", "needs 'base: floating'"]),
+                          (text.replace("base: floating", "base: free"), ["field 'base'", "expected 'floating'"])):
+        bad_path = tmp_path / "bad.yaml"
+        bad_path.write_text(bad)
+        with pytest.raises(SymdynError) as caught:
+            symdyn.load(str(bad_path))
+        assert all(part in str(caught.value) for part in expected) and "\n" not in str(caught.value)
+    with pytest.raises(SymdynError, match="coriolis_matrix is not available for a floating base"):
+        symdyn.derive(symdyn.load(str(path)), outputs=["coriolis_matrix"])
