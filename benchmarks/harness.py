@@ -106,7 +106,12 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "kinematics": (("framePlacementJacobian",), "KIN")}
 #: parts of Pinocchio's side in a source of their own (benchmarks/harness_pinocchio_task.cpp,
 #: harness_pinocchio_kin.cpp), so that adding them leaves the cached objects of the others valid
-OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocchio_kin.cpp"}
+OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocchio_kin.cpp",
+                    "FLOAT": "harness_pinocchio_floating.cpp"}
+#: a floating base's Pinocchio calls that read q as nq numbers (benchmarks/harness_pinocchio_floating.cpp,
+#: part FLOAT), in place of these; the peer and the cross-check keep the original names
+FLOATING_VARIANTS = {"rnea": "rneaFF", "nonLinearEffects": "nonLinearEffectsFF", "aba_local": "abaFF_local",
+                     "aba_world": "abaFF_world"}
 #: the Pinocchio functions the CasADi peer has (benchmarks/harness_peer.cpp); the others are
 #: timed without a peer column
 PEER_VARIANTS = ("rnea", "computeGeneralizedGravity", "nonLinearEffects", "computeCoriolisMatrix", "crba_local",
@@ -267,6 +272,7 @@ class Case:
     peer_difference: float = 0.0  # the largest relative difference of the cross-checks
     precision: str = "double"
     generate_seconds: float = 0.0  # derivation and emission (through symdyn's cache unless use_cache=False)
+    nq: int = 0  # entries of q (0: dof; a floating base has dof + 1)
 
     @property
     def source(self) -> str:
@@ -323,13 +329,16 @@ def side_suffix(variant: str) -> str:
 
 def cases_header(case: Case, peer: bool) -> str:
     """harness_cases.h for benchmarks/harness_main.c."""
-    lines = [f"#define N {case.dof}", f"#define HARNESS_OUT_SIZE {case.dof * case.dof + 8 * case.dof + 64}",
+    lines = [f"#define N {case.dof}", f"#define NQ {case.nq or case.dof}",
+             f"#define HARNESS_OUT_SIZE {case.dof * case.dof + 8 * case.dof + 64}",
              f'#include "{case.prefix}_dynamics.h"']
+    floating = bool(case.nq) and case.nq != case.dof
+    pin_name = (lambda v: FLOATING_VARIANTS.get(v, v)) if floating else (lambda v: v)  # noqa: E731
     for function in case.functions:  # the parts in their own sources, declared here
-        if PINOCCHIO[function][1] in OWN_SOURCE_PARTS:
-            for variant in PINOCCHIO[function][0]:
+        for variant in PINOCCHIO[function][0]:
+            if PINOCCHIO[function][1] in OWN_SOURCE_PARTS or pin_name(variant) != variant:
                 arguments = ", ".join(f"const double *{a.lower()}" for a in PINOCCHIO_ARGUMENTS[variant].split(", "))
-                lines.append(f"void pin_{variant}({arguments}, double *out);")
+                lines.append(f"void pin_{pin_name(variant)}({arguments}, double *out);")
     if case.precision == "float":
         lines.append("#define SYMDYN_FLOAT 1")
     result = "OUTF[0]" if case.precision == "float" else "OUT[0]"
@@ -338,7 +347,7 @@ def cases_header(case: Case, peer: bool) -> str:
         call = f"{case.prefix}_{function}({symdyn_arguments(function, case.dof, case.precision)})"
         cases.append(f"X({function}, symdyn, {call}, {result})")
         for variant in PINOCCHIO[function][0]:
-            pin_call = f"pin_{variant}({PINOCCHIO_ARGUMENTS[variant]}, OUT)"
+            pin_call = f"pin_{pin_name(variant)}({PINOCCHIO_ARGUMENTS[variant]}, OUT)"
             cases.append(f"X({function}, pinocchio{side_suffix(variant)}, {pin_call}, OUT[0])")
             if peer and variant in PEER_VARIANTS:
                 arguments = (PINOCCHIO_ARGUMENTS[variant].split(", ") + ["0", "0"])[:3]
@@ -354,12 +363,18 @@ def cases_header(case: Case, peer: bool) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_states(path: str, dof: int, count: int, seed: int) -> None:
+def write_states(path: str, dof: int, count: int, seed: int, robot=None) -> None:
     """``count`` seeded random states as four blocks of count x dof doubles: q in [-pi, pi], qd in
-    [-2, 2], qdd in [-5, 5], tau in [-20, 20]."""
+    [-2, 2], qdd in [-5, 5], tau in [-20, 20]; for a floating-base ``robot`` the q block is
+    count x nq (base position in [-1, 1] m, a uniformly random unit quaternion, joints)."""
     rng = np.random.default_rng(seed)
-    blocks = [rng.uniform(-np.pi, np.pi, (count, dof)), rng.uniform(-2, 2, (count, dof)),
-              rng.uniform(-5, 5, (count, dof)), rng.uniform(-20, 20, (count, dof))]
+    if robot is not None and robot.floating:
+        from symdyn.check.states import random_configuration
+        first = np.array([random_configuration(robot, rng) for _ in range(count)])
+    else:
+        first = rng.uniform(-np.pi, np.pi, (count, dof))
+    blocks = [first.ravel(), rng.uniform(-2, 2, (count, dof)).ravel(),
+              rng.uniform(-5, 5, (count, dof)).ravel(), rng.uniform(-20, 20, (count, dof)).ravel()]
     np.concatenate(blocks).astype("<f8").tofile(path)
 
 
@@ -387,9 +402,10 @@ def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, see
         with open(os.path.join(folder, name), "wb") as handle:
             handle.write(data)
     prefix = next(name[:-len("_dynamics.h")] for name in files if name.endswith("_dynamics.h"))
-    case = Case(f"{robot.name} (n={robot.dof})", prefix, robot.dof, folder, tuple(functions),
+    label = f"{robot.name} (n={robot.dof}{', floating base' if robot.floating else ''})"
+    case = Case(label, prefix, robot.nv, folder, tuple(functions),
                 files[f"{prefix}_dynamics.h"].decode(), precision=config.precision,
-                generate_seconds=generate_seconds)
+                generate_seconds=generate_seconds, nq=robot.nq)
     model, _ = build_model(robot)
     model.saveToText(os.path.join(folder, "model.txt"))
     if peer:
@@ -405,7 +421,7 @@ def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, see
     case.sizes = {side: os.path.getsize(os.path.join(folder, name))
                   for side, name in (("symdyn", f"{prefix}_dynamics.c"), ("peer", "peer.c"))
                   if os.path.exists(os.path.join(folder, name))}
-    write_states(os.path.join(folder, "states.bin"), robot.dof, states, seed)
+    write_states(os.path.join(folder, "states.bin"), robot.nv, states, seed, robot)
     with open(os.path.join(folder, "harness_cases.h"), "w") as handle:
         handle.write(cases_header(case, peer))
     return case
@@ -525,6 +541,8 @@ def run(specs, functions=FUNCTIONS, processes: int = 5, passes: int = 15, states
         base = workdir or scratch
         cases = [prepare_case(str(spec), functions, os.path.join(base, f"{k}-{spec}"), peer, states, seed,
                               generate_options) for k, spec in enumerate(specs)]
+        if any(case.nq != case.dof for case in cases):  # a floating base: Pinocchio's calls that read nq
+            pending.update({(fs, "FLOAT"): pool.submit(pinocchio_part, "FLOAT", FLAG_SETS[fs]) for fs in flag_sets})
         objects = {fs: {part: future.result() for (f, part), future in pending.items() if f == fs} for fs in flag_sets}
         programs = {(k, fs): build_program(case, fs, peer, objects[fs]) for k, case in enumerate(cases)
                     for fs in flag_sets}

@@ -1,8 +1,9 @@
 /* The timing driver of benchmarks/harness.py.
  *
  * Usage: harness STATES.bin MODEL.txt PASSES
- *   STATES.bin: S states of N joints as doubles, four blocks of S x N (q, qd, qdd, tau), the same
- *   arrays for every side; MODEL.txt: the Pinocchio model (pinocchio::Model::saveToText).
+ *   STATES.bin: S states as doubles, four blocks: S x NQ (q), then S x N (qd, qdd, tau), the same
+ *   arrays for every side (NQ = N unless the robot has a floating base: N + 1); MODEL.txt: the
+ *   Pinocchio model (pinocchio::Model::saveToText).
  *
  * harness_cases.h (written by harness.py for one robot) includes the code under test and lists
  * the cases as X(function, side, call, result), the call reading the state through Q, QD, QDD,
@@ -30,14 +31,14 @@ static double *q, *qd, *qdd, *tau, *OUT, *other;
 static volatile double sink;
 #ifdef SYMDYN_FLOAT
 static float *qf, *qdf, *qddf, *tauf, *OUTF;
-#define FLOAT_STATE const float *QF = qf + k * N, *QDF = qdf + k * N, *QDDF = qddf + k * N, *TAUF = tauf + k * N; \
+#define FLOAT_STATE const float *QF = qf + k * NQ, *QDF = qdf + k * N, *QDDF = qddf + k * N, *TAUF = tauf + k * N; \
     (void)QF; (void)QDF; (void)QDDF; (void)TAUF;
 
 static void float_states(void) {
     long i;
-    qf = malloc(sizeof(float) * 4 * S * N);
-    for (i = 0; i < 4 * S * N; ++i) qf[i] = (float)q[i];
-    qdf = qf + S * N;
+    qf = malloc(sizeof(float) * S * (NQ + 3 * N));
+    for (i = 0; i < S * (NQ + 3 * N); ++i) qf[i] = (float)q[i];
+    qdf = qf + S * NQ;
     qddf = qdf + S * N;
     tauf = qddf + S * N;
     OUTF = calloc(HARNESS_OUT_SIZE, sizeof(float));
@@ -73,7 +74,7 @@ static void peer_workspace(void) {
 #define X(fn, side, call, result) static double pass_##fn##_##side(void) { \
     double acc = 0.0, t0 = cpu_ns(), t1; long k; \
     for (k = 0; k < S; ++k) { \
-        const double *Q = q + k * N, *QD = qd + k * N, *QDD = qdd + k * N, *TAU = tau + k * N; \
+        const double *Q = q + k * NQ, *QD = qd + k * N, *QDD = qdd + k * N, *TAU = tau + k * N; \
         FLOAT_STATE (void)Q; (void)QD; (void)QDD; (void)TAU; call; acc += result; } \
     t1 = cpu_ns(); sink += acc; return (t1 - t0) / S; }
 HARNESS_CASES(X)
@@ -109,12 +110,12 @@ static int read_states(const char *path) {
     fseek(f, 0, SEEK_END);
     bytes = ftell(f);
     fseek(f, 0, SEEK_SET);
-    S = bytes / (long)(4 * N * sizeof(double));
-    if (S < 1 || bytes != S * 4 * N * (long)sizeof(double)) { fclose(f); return 0; }
+    S = bytes / (long)((NQ + 3 * N) * sizeof(double));
+    if (S < 1 || bytes != S * (NQ + 3 * N) * (long)sizeof(double)) { fclose(f); return 0; }
     q = malloc(bytes);
     if (fread(q, 1, bytes, f) != (size_t)bytes) { fclose(f); return 0; }
     fclose(f);
-    qd = q + S * N;
+    qd = q + S * NQ;
     qdd = qd + S * N;
     tau = qdd + S * N;
     return 1;
@@ -125,7 +126,11 @@ int main(int argc, char **argv) {
     double *times;
     if (argc != 4) { fprintf(stderr, "usage: %s STATES.bin MODEL.txt PASSES\n", argv[0]); return 2; }
     if (!read_states(argv[1])) { fprintf(stderr, "cannot read %d-joint states from %s\n", N, argv[1]); return 2; }
-    if (pin_load(argv[2]) != N) { fprintf(stderr, "%s is not a %d-joint model with nq = nv\n", argv[2], N); return 2; }
+    /* pin_load gives nv when nq = nv, else -1 (a floating base: NQ = N + 1 here) */
+    if (pin_load(argv[2]) != (NQ == N ? N : -1)) {
+        fprintf(stderr, "%s is not a model with nq = %d, nv = %d\n", argv[2], NQ, N);
+        return 2;
+    }
     passes = atoi(argv[3]);
     OUT = calloc(HARNESS_OUT_SIZE, sizeof(double));
 #ifdef SYMDYN_FLOAT

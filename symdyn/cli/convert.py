@@ -53,16 +53,17 @@ def add_parser(sub) -> None:
 def run(args) -> int:
     path = args.robot
     if is_urdf(path):
-        doc, raw, notes = read_robot_document(path, args.tip, args.tool, exact_angles=args.exact_angles)
+        doc, raw, notes = read_robot_document(path, args.tip, args.tool, exact_angles=args.exact_angles,
+                                              floating_base=args.floating_base)
         robot = from_document(doc, path, hashlib.sha256(raw).hexdigest())  # the document must read back
         if args.to == "yaml":
             text = document_to_yaml(doc, _yaml_header(path, raw, args, notes))
         else:
             text = robot_to_urdf(replace(robot, notes=tuple(notes)))
     else:
-        if args.tip is not None or args.tool is not None or args.exact_angles:
-            raise SymdynError(f"{display_path(path)}: --tip, --tool and --exact-angles apply to URDF input only (a robot "
-                              "file names its tool with 'tool:')")
+        if args.tip is not None or args.tool is not None or args.exact_angles or args.floating_base:
+            raise SymdynError(f"{display_path(path)}: --tip, --tool, --exact-angles and --floating-base apply to URDF "
+                              "input only (a robot file names its tool with 'tool:' and says 'base: floating')")
         if args.to == "yaml":
             raise SymdynError(f"{display_path(path)} is a robot file already: --to yaml converts a URDF "
                               "(.urdf); use --to urdf to write this robot as URDF")
@@ -83,7 +84,8 @@ def run(args) -> int:
 
 def _yaml_header(path: str, raw: bytes, args, notes) -> list[str]:
     options = "".join(f" --{name} {one_line(value, 60)}" for name, value in (("tip", args.tip), ("tool", args.tool))
-                      if value is not None) + (" --exact-angles" if args.exact_angles else "")
+                      if value is not None) + (" --exact-angles" if args.exact_angles else "") \
+        + (" --floating-base" if args.floating_base else "")
     lines = [f"Converted by symdyn {__version__} from {display_path(os.path.basename(path))} "
              f"(sha256 {hashlib.sha256(raw).hexdigest()})",
              f"with: symdyn convert {display_path(os.path.basename(path))} --to yaml{options}",

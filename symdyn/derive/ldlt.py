@@ -126,9 +126,9 @@ def factor_tree(b, M: sp.Matrix, parents, hint: str = "ltl",
         path = list(f.ancestors(k))
         for i in path:
             f.L[k, i] = b.define(f"{hint}_L{k + 1}_{i + 1}", work[k, i] * inv[k])
-        for pos, i in enumerate(path):  # M_ij -= L_ki d_k L_kj for i, j ancestors of k, j <= i
+        for pos, i in enumerate(path):  # M_ij -= L_ki d_k L_kj = M_ki L_kj (the entry before scaling)
             for j in path[pos:]:
-                work[i, j] = work[i, j] - f.L[k, i] * d[k] * f.L[k, j]
+                work[i, j] = work[i, j] - work[k, i] * f.L[k, j]
     return TreeFactorization(f.L, tuple(d), tuple(inv), f.diagonal, f.parents)
 
 

@@ -78,6 +78,19 @@ def _unique(name: str, taken: set) -> str:
     return name
 
 
+def _inertial(body, frame, what: str) -> list[str]:
+    """The ``<inertial>`` lines of a link's (or the base body's) mass, centre of mass and inertia
+    given in the frame placed at ``frame`` (4x4) in the URDF link's frame; none for no mass."""
+    if body.mass == 0 and all(v == 0 for v in body.inertia):
+        return []
+    place = sp.Matrix(frame)
+    place[:3, 3] = frame[:3, :3] * sp.Matrix(body.com) + frame[:3, 3]
+    xx, yy, zz, xy, xz, yz = (_number(v, f"{what} inertia") for v in body.inertia)
+    return ["    <inertial>", f"      {_origin(place, what)}", f'      <mass value="{_number(body.mass, what)}"/>',
+            f'      <inertia ixx="{xx}" ixy="{xy}" ixz="{xz}" iyy="{yy}" iyz="{yz}" izz="{zz}"/>',
+            "    </inertial>"]
+
+
 def robot_to_urdf(robot: Robot) -> str:
     """The URDF text of ``robot`` (any convention).  Runtime parameters take their nominal
     values; a parameter without one raises :class:`SymdynError`.  Armature (not expressible in
@@ -105,9 +118,17 @@ def robot_to_urdf(robot: Robot) -> str:
     for note in robot.notes:
         lines.append(_comment(f"Note: {note}"))
     lines.append(f'<robot name="{robot.name}">')
-    lines.append('  <link name="world"/>')
     joint_names = {link.name for link in robot.links}
     parent = "world"
+    if robot.floating:  # the root link is the floating base: URDF cannot say it floats
+        lines.append("  " + _comment("The base floats (base: floating): read this file with --floating-base "
+                                     "(Pinocchio: buildModelFromUrdf(path, JointModelFreeFlyer()))."))
+        lines.append('  <link name="base">')
+        lines += _inertial(robot.base_inertia, sp.eye(4), "base_body")
+        lines.append("  </link>")
+        parent = "base"
+    else:
+        lines.append('  <link name="world"/>')
     if robot.base is not None:
         name = _unique("base_joint", joint_names)
         lines += [f'  <joint name="{name}" type="fixed">',
@@ -115,10 +136,12 @@ def robot_to_urdf(robot: Robot) -> str:
                   '    <parent link="world"/>', '    <child link="base"/>', "  </joint>",
                   '  <link name="base"/>']
         parent = "base"
-    post = sp.eye(4)  # the previous link's frame in the previous URDF link frame
-    armature, passive = [], []
+    root, post = parent, sp.eye(4)  # the parent link's frame in its URDF link frame
+    armature, passive, placed = [], [], []  # placed: each link's (URDF link, post)
     for k, link in enumerate(robot.links):
         what = f"link {k + 1} ('{link.name}')"
+        up = robot.parent_indices[k]
+        parent, post = (root, sp.eye(4)) if up < 0 else placed[up]
         fixed = sp.eye(4) if link.fixed is None else sp.Matrix(4, 4, list(link.fixed))
         if robot.convention == "general":
             origin = post * fixed * sp.Matrix(link.origin.matrix())
@@ -154,20 +177,16 @@ def robot_to_urdf(robot: Robot) -> str:
                                           "attribute"))
         lines.append("  </joint>")
         lines.append(f'  <link name="{child}">')
-        if link.mass != 0 or any(v != 0 for v in link.inertia):
-            place = sp.Matrix(body)
-            place[:3, 3] = body[:3, :3] * sp.Matrix(link.com) + body[:3, 3]
-            xx, yy, zz, xy, xz, yz = (_number(v, f"{what} inertia") for v in link.inertia)
-            lines += ["    <inertial>", f"      {_origin(place, what)}",
-                      f'      <mass value="{_number(link.mass, what)}"/>',
-                      f'      <inertia ixx="{xx}" ixy="{xy}" ixz="{xz}" iyy="{yy}" iyz="{yz}" izz="{zz}"/>',
-                      "    </inertial>"]
+        lines += _inertial(link, body, what)
         lines.append("  </link>")
-        parent, post = child, body
-    name = _unique("tool_joint", joint_names)
-    lines += [f'  <joint name="{name}" type="fixed">', f"    {_origin(post * sp.Matrix(robot.tool_matrix()), 'tool')}",
-              f'    <parent link="{parent}"/>', '    <child link="tool"/>', "  </joint>",
-              '  <link name="tool"/>', "</robot>", ""]
+        placed.append((child, body))
+    if not robot.is_tree:
+        parent, post = placed[-1]
+        name = _unique("tool_joint", joint_names)
+        lines += [f'  <joint name="{name}" type="fixed">',
+                  f"    {_origin(post * sp.Matrix(robot.tool_matrix()), 'tool')}",
+                  f'    <parent link="{parent}"/>', '    <child link="tool"/>', "  </joint>", '  <link name="tool"/>']
+    lines += ["</robot>", ""]
     if armature:
         warn(f"{source}: armature of {', '.join(armature[:6])}{' ...' if len(armature) > 6 else ''} is left "
              "out of the URDF (URDF has no rotor inertia; the values are in comments)")

@@ -36,6 +36,8 @@ URDFS = [
     # three leaves, two of them (ee_link, tool0) and the ROS "base" frame on fixed joints only:
     # the chain ends at the last moving joint's link without --tip
     ("ur10", "ur_description/urdf/ur10_robot.urdf", None, None),
+    # SO-101 whole: its gripper jaw is the last joint of its one chain of moving joints (no --tip)
+    ("so101", "so_arm_description/urdf/so101.urdf", None, None),
 ]
 
 _DERIVED = {}
