@@ -199,3 +199,91 @@ def coriolis_matrix(chain: Chain) -> tuple[sp.Matrix, CoriolisFactors]:
     b = chain.builder
     C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}_{k + 1}", sp.expand(factors.entry(i, k))))
     return C, factors
+
+
+class _BaseBody:
+    """The floating base's body for :func:`_body` (its inertia as a link's)."""
+
+    def __init__(self, robot):
+        body = robot.base_inertia
+        self.mass, self.com, self.inertia_matrix = body.mass, body.com, body.inertia_matrix
+
+
+def tree_coriolis_matrix(chain: Chain) -> sp.Matrix:
+    """C (nv x nv) of a kinematic tree or a floating base by the same sums as
+    :func:`coriolis_factors`, in the base frame at this instant (an inertial frame; moments about
+    the base origin): the bodies joints i and k both move are the subtree of the later one, so
+    ``C[i, k] = S_i . F_k`` when i is k or on the way to it, ``g_i . dS_k + e_i . S_k`` when k is
+    on the way to i, and 0 for joints on different branches (not computed).  A floating base is
+    a 6-column joint under every other one, its columns ``[0; e_a]`` (linear velocity) and
+    ``[e_a; 0]`` (angular), fixed in the base body (``dS = v_base x S``); within its block every
+    entry is ``S_a . F_b`` (one body, one composite)."""
+    b, robot = chain.builder, chain.robot
+    n, parents = chain.n, chain.parents
+    base = 6 if robot.floating else 0
+    poses, velocities = [], []
+    S, dS = [], []
+    base_velocity = sp.zeros(6, 1)
+    if robot.floating:
+        for a in range(6):  # Pinocchio's free-flyer: linear velocity first, then angular
+            column = sp.zeros(6, 1)
+            column[3 + a if a < 3 else a - 3] = 1
+            S.append(column)
+        base_velocity = b.vector("cv0", sum((S[a] * chain.qd[a] for a in range(6)), sp.zeros(6, 1)))
+        dS = [b.vector(f"cdS0_{a + 1}", cross_motion(base_velocity, S[a]).applyfunc(sp.expand)) for a in range(6)]
+    for i, geometry in enumerate(chain.geometry):
+        j = i + 1
+        parent_pose = sp.eye(4) if parents[i] < 0 else poses[parents[i]]
+        joint_frame = parent_pose * sp.Matrix(geometry.pre)
+        if joint_frame != sp.eye(4):
+            joint_frame = named_pose(b, f"cP{j}", joint_frame)
+        moved = named_pose(b, f"cM{j}", joint_frame * chain.motions[i])
+        poses.append(named_pose(b, f"cA0{j}", moved * sp.Matrix(geometry.post)))
+        axis, point = sp.Matrix(joint_frame[:3, 2]).applyfunc(sp.expand), sp.Matrix(joint_frame[:3, 3])
+        if robot.links[i].is_revolute:
+            subspace = list(axis) + list(cross(point, axis))
+        else:
+            subspace = [0, 0, 0] + list(axis)
+        S.append(b.vector(f"cS{j}", [sp.expand(e) for e in subspace]))
+        above = base_velocity if parents[i] < 0 else velocities[parents[i]]
+        velocities.append(b.vector(f"cv{j}", above + S[base + i] * chain.qd[base + i]))
+        dS.append(b.vector(f"cdS{j}", cross_motion(velocities[i], S[base + i]).applyfunc(sp.expand)))
+    composite: list = [None] * n
+    F, g, e = [None] * (base + n), [None] * (base + n), [None] * (base + n)
+
+    def factors(k: int, body, j: str) -> None:
+        half = b.vector(f"cSh{j}", (S[k] / 2).applyfunc(sp.expand))
+        half_rate = b.vector(f"cBr{j}", body.rate_times(half).applyfunc(sp.expand))
+        half_cross = b.vector(f"cBx{j}", cross_force(half, body.momentum).applyfunc(sp.expand))
+        F[k] = b.vector(f"cF{j}", (body.times(dS[k]) + half_rate + half_cross).applyfunc(sp.expand))
+        g[k] = b.vector(f"cg{j}", body.times(S[k]).applyfunc(sp.expand))
+        e[k] = b.vector(f"ce{j}", (half_rate - half_cross).applyfunc(sp.expand))
+
+    for i in reversed(range(n)):
+        j = i + 1
+        body = _body(b, j, robot.links[i], poses[i][:3, :3], poses[i][:3, 3], velocities[i])
+        for c in chain.children(i):
+            body = body + composite[c]
+        composite[i] = _named_body(b, f"cC{j}", body) if chain.children(i) else body
+        factors(base + i, composite[i], str(j))
+    if robot.floating:
+        body = _body(b, 0, _BaseBody(robot), sp.eye(3), sp.zeros(3, 1), base_velocity)
+        for c in chain.children(-1):
+            body = body + composite[c]
+        whole = _named_body(b, "cC0", body)
+        for a in range(6):
+            factors(a, whole, f"0_{a + 1}")
+    ancestors = [set() for _ in range(base + n)]
+    for i in range(n):
+        ancestors[base + i] = {base + p for p in chain.robot.ancestors(i)} | set(range(base))
+    C = sp.zeros(base + n, base + n)
+    for i in range(base + n):
+        for k in range(base + n):
+            if i == k or i in ancestors[k] or (i < base and k < base):
+                entry = _dot(S[i], F[k])
+            elif k in ancestors[i]:
+                entry = _dot(g[i], dS[k]) + _dot(e[i], S[k])
+            else:
+                continue  # joints on different branches: exactly zero
+            C[i, k] = b.define(f"C{i + 1}_{k + 1}", sp.expand(entry))
+    return C

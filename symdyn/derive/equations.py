@@ -51,12 +51,13 @@ from .regressor import regressor as regressor_matrix
 from .chain import make_chain
 from .composite import mass_matrix_factored
 from .coriolis import coriolis_matrix as recursive_coriolis_matrix
+from .coriolis import tree_coriolis_matrix
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
-                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, FLOATING_OUTPUTS, default_outputs, spec,
+                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, default_outputs, spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
@@ -211,10 +212,6 @@ def check_tree_request(robot: Robot, method: str, wanted, fd_method: str, parame
                           "tree's forward dynamics is the L^T D L factorization of its mass matrix (--fd-method ldlt)")
     if parameters != "standard":
         raise SymdynError(f"{where}: the base-parameter form is written for serial chains (this robot is a tree)")
-    if robot.floating and "coriolis_matrix" in wanted:
-        raise SymdynError(f"{where}: coriolis_matrix is not available for a floating base yet: its velocities are "
-                          "not the rates of coordinates, and the Coriolis matrix Pinocchio's computeCoriolisMatrix "
-                          f"returns for them is not (1/2) dh/dv; available: {', '.join(FLOATING_OUTPUTS)}")
     other = [name for name in wanted if name not in TREE_OUTPUTS]
     if other:
         raise SymdynError(f"{where}: {', '.join(other)} {'is' if len(other) == 1 else 'are'} not available for a "
@@ -458,7 +455,10 @@ def _coriolis(d: _Derivation) -> sp.Matrix:
 def _coriolis_matrix(d: _Derivation) -> sp.Matrix:
     if d.le is not None:
         return d.le.coriolis_matrix(d.chain.qd)
-    if d.jne is not None or d.robot.is_tree:
+    if d.robot.is_tree:
+        d.report("coriolis_matrix (the tree's recursion over its subtrees)")
+        return tree_coriolis_matrix(d.chain)
+    if d.jne is not None:
         return _derivative_coriolis_matrix(d)
     if d.n >= CORIOLIS_RECURSION_FROM_DOF:
         return _recursive_coriolis_matrix(d)

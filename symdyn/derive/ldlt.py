@@ -124,7 +124,8 @@ def factor_tree(b, M: sp.Matrix, parents, hint: str = "ltl",
         d[k] = b.define(f"{hint}_d{k + 1}", work[k, k])
         inv[k] = b.define(f"{hint}_inv{k + 1}", 1 / d[k])
         path = list(f.ancestors(k))
-        for i in path:
+        for i in path:  # the entry before scaling is named: every update below reuses it
+            work[k, i] = b.define(f"{hint}_M{k + 1}_{i + 1}", work[k, i])
             f.L[k, i] = b.define(f"{hint}_L{k + 1}_{i + 1}", work[k, i] * inv[k])
         for pos, i in enumerate(path):  # M_ij -= L_ki d_k L_kj = M_ki L_kj (the entry before scaling)
             for j in path[pos:]:

@@ -280,20 +280,15 @@ def spec(name: str) -> OutputSpec:
         raise ValueError(f"unknown output {name!r}; known: {', '.join(ALL_OUTPUTS)}") from None
 
 
-#: the outputs of a kinematic tree (links with ``parent:``): its joint-space dynamics (the
-#: others are about one tool, or written for serial chains)
+#: the outputs of a kinematic tree (links with ``parent:``) or a floating base: its joint-space
+#: dynamics (the others are about one tool, or written for serial chains)
 TREE_OUTPUTS = tuple(s.name for s in SPECS if s.default and not s.kinematic)
-#: and of a floating base: the Coriolis matrix is left out (in the base's velocities, which are no
-#: coordinates' rates, Pinocchio's C is not the derivative of h that symdyn would emit)
-FLOATING_OUTPUTS = tuple(name for name in TREE_OUTPUTS if name != "coriolis_matrix")
 
 
 def default_outputs(robot) -> tuple[str, ...]:
     """What is derived and generated when nothing is asked for: :data:`OUTPUTS`, the reaction
     map when the robot has passive joints, and the task-space outputs when it names a task;
     for a kinematic tree, :data:`TREE_OUTPUTS`."""
-    if getattr(robot, "floating", False):
-        return FLOATING_OUTPUTS
     if getattr(robot, "is_tree", False):
         return TREE_OUTPUTS
     return (OUTPUTS + (("reaction_map",) if robot.passive_joints else ())

@@ -163,7 +163,8 @@ SOLO = "solo_description/robots/solo12.urdf"
 def test_floating_base_quadruped_agrees_with_pinocchio_free_flyer(tmp_path):
     """solo12.urdf with --floating-base against Pinocchio's buildModelFromUrdf(path,
     JointModelFreeFlyer()): q has 19 entries (position, quaternion x y z w, 12 joints), v 18;
-    every function at 50 states, numerically and in compiled C.  The same pose with the
+    every function (the Coriolis matrix too: Pinocchio's, in the base's velocities) at 50 states,
+    numerically and in compiled C.  The same pose with the
     quaternion negated or scaled gives the same numbers (it is normalized); a zero quaternion
     makes forward dynamics return 2 (not finite) and write nothing."""
     path = example_robot_data(SOLO)
@@ -172,7 +173,7 @@ def test_floating_base_quadruped_agrees_with_pinocchio_free_flyer(tmp_path):
     reference = UrdfReference(path, floating_base=True)
     assert reference.model.nq == 19 and [link.name for link in robot.links] == reference.joint_names
     eqs = symdyn.derive(robot)
-    functions = [f for f in TREE_OUTPUTS if f != "coriolis_matrix"]
+    functions = TREE_OUTPUTS
     assert eqs.output_names == tuple(functions)
     rng = np.random.default_rng(4)
     states = [random_state(robot, rng) for _ in range(50)]
@@ -196,8 +197,8 @@ def test_floating_base_quadruped_agrees_with_pinocchio_free_flyer(tmp_path):
 def test_floating_base_robot_file_and_its_checks(tmp_path):
     """A robot file with 'base: floating' and 'base_body' (a satellite with two DH arms, one
     with a prismatic joint; armature and friction) agrees with Pinocchio's free-flyer model of
-    it, in orbit and under gravity; 'base_body' without a floating base, and a base that is
-    neither a placement nor 'floating', are refused in one line."""
+    it, in orbit and under gravity, every function; 'base_body' without a floating base, and a
+    base that is neither a placement nor 'floating', are refused in one line."""
     path = REPO / "examples" / "trees" / "space_robot.yaml"
     text = path.read_text()
     heavy = tmp_path / "grounded.yaml"
@@ -217,8 +218,6 @@ def test_floating_base_robot_file_and_its_checks(tmp_path):
         with pytest.raises(SymdynError) as caught:
             symdyn.load(str(bad_path))
         assert all(part in str(caught.value) for part in expected) and "\n" not in str(caught.value)
-    with pytest.raises(SymdynError, match="coriolis_matrix is not available for a floating base"):
-        symdyn.derive(symdyn.load(str(path)), outputs=["coriolis_matrix"])
 
 
 def test_dual_arm_baxter_without_its_mimic_tags(tmp_path):
