@@ -114,6 +114,9 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
         raise SymdynError(f"{robot.source}: bench needs numbers, but {', '.join(names)} "
                           f"{'has' if len(names) == 1 else 'have'} no value (give "
                           f"{'it a value' if len(names) == 1 else 'them values'} under 'parameters:')")
+    if robot.floating:
+        raise SymdynError(f"{robot.source}: symdyn bench's 50-digit reference is written for fixed bases; time a floating "
+                          "base with benchmarks/harness.py (against Pinocchio's C++) and check it with symdyn verify")
     n = robot.dof
     name = robot.name
     if robot.is_tree:  # Lagrange-Euler and the Jacobian form are written for serial chains

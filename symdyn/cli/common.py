@@ -37,7 +37,8 @@ DEFAULT_MAX_MEMORY_GB = 8.0
 def add_urdf_options(parser) -> None:
     """--tip, --tool and --exact-angles: how a URDF input is read."""
     parser.add_argument("--tip", metavar="LINK", default=None,
-                        help="URDF input: the link the chain ends at (needed when the tree has several leaves)")
+                        help="URDF input: the link the chain ends at (default: the only leaf, the end of the one "
+                             "chain of moving joints, or else the whole tree)")
     parser.add_argument("--tool", metavar="LINK", default=None,
                         help="URDF input: a link rigidly attached to the last moving link whose frame is the "
                              "tool frame (default: the tip link's frame)")

@@ -173,6 +173,13 @@ def constant_rows(robot, locked=()) -> list[str]:
     robot the scene read) and where they went, the passive joints, the runtime parameters (names,
     not folded) and every link's fields (:func:`link_constant_rows`)."""
     rows = [f"gravity = {_vector(robot.gravity)}", _placement("base", robot.base), _placement("tool", robot.tool)]
+    if robot.floating:  # (no placement: the base's pose is in q)
+        body = robot.base_inertia
+        rows[1:3] = ["base: floating (Pinocchio's free-flyer)",
+                     f"  base_body: mass = {constant_text(body.mass)}; com = {_vector(body.com)}",
+                     f"  base_body: inertia = {_vector(body.inertia)}"]
+    elif robot.is_tree:  # a tree has no tool frame
+        rows = rows[:2]
     if robot.tool_fixed is not None:
         rows += _matrix_rows("tool.fixed", robot.tool_fixed)
     if locked:

@@ -26,7 +26,7 @@ from .inputs import decode_text, load_yaml, read_input
 from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, task_rows
 
 SCENE_VERSION = 1
-SCENE_KEYS = ("scene", "robot", "tip", "tool", "task", "exact_angles", "name", "functions", "precision", "lock", "payload",
+SCENE_KEYS = ("scene", "robot", "tip", "tool", "task", "exact_angles", "floating_base", "name", "functions", "precision", "lock", "payload",
               "runtime", "values")
 PAYLOAD_KEYS = ("mass", "com", "inertia")
 NAME_TOKEN = re.compile(r"(?<![0-9.])\b[A-Za-z_][A-Za-z0-9_]*")
@@ -236,11 +236,13 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     for fld, value in (("tip", tip), ("tool", tool)):
         if value is not None and not isinstance(value, str):
             _fail(path, f"expected a link name of the URDF, not {describe(value)}", fld)
-    exact_angles = doc.get("exact_angles", False)
-    if not isinstance(exact_angles, bool):
-        _fail(path, "expected true or false", "exact_angles")
+    exact_angles, floating_base = doc.get("exact_angles", False), doc.get("floating_base", False)
+    for fld, value in (("exact_angles", exact_angles), ("floating_base", floating_base)):
+        if not isinstance(value, bool):
+            _fail(path, "expected true or false", fld)
     try:
-        robot_doc, robot_raw, robot_notes = read_robot_document(robot_path, tip, tool, "tip: and tool:", exact_angles)
+        robot_doc, robot_raw, robot_notes = read_robot_document(robot_path, tip, tool, "tip: and tool:", exact_angles,
+                                                                floating_base)
     except RobotFileError as exc:
         raise RobotFileError(path, f"robot file {display_path(doc['robot'])}: {exc.reason}", field="robot") from None
     # The robot file must be valid as it is before the scene changes anything in it (its own

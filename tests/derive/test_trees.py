@@ -274,3 +274,19 @@ def test_trees_convert_to_urdf_and_back(tmp_path):
             expected = mine.inverse_dynamics(q, qd, qdd)[index]
             found = theirs.inverse_dynamics(q[qindex], qd[index], qdd[index])
             assert np.allclose(found, expected, rtol=1e-9, atol=1e-9 * np.max(np.abs(expected)))
+
+
+def test_scene_of_a_urdf_on_a_floating_base(tmp_path):
+    """A scene's 'floating_base: true' reads its URDF as --floating-base does (and must be true
+    or false); a scene may not lock joints of a tree."""
+    path = example_robot_data(SOLO)
+    scene = tmp_path / "solo.yaml"
+    scene.write_text(f"scene: 1\nrobot: {path}\nfloating_base: true\nfunctions: [gravity]\n")
+    robot = symdyn.load(str(scene))
+    assert robot.floating and (robot.nq, robot.nv) == (19, 18)
+    scene.write_text(f"scene: 1\nrobot: {path}\nfloating_base: yes please\n")
+    with pytest.raises(SymdynError, match="floating_base.*expected true or false"):
+        symdyn.load(str(scene))
+    scene.write_text(f"scene: 1\nrobot: {HAND_TREE}\nlock: {{l_elbow: 0.3}}\n")
+    with pytest.raises(SymdynError, match="cannot lock joints of a kinematic tree"):
+        symdyn.load(str(scene))
