@@ -53,9 +53,23 @@ def platform(request, regenerated):
     for cm in constraints:
         models.append(cm)
         datas.append(cm.createData())
-    casadi = parallel_casadi_functions(derive_parallel(robot))
+    # the CasADi functions (a derivation of their own: 10-20 s) are made on first use, by the
+    # worker that runs a test that needs them
+    casadi = _Lazy(lambda: parallel_casadi_functions(derive_parallel(robot)))
     return dict(robot=robot, lib=lib, casadi=casadi, ref=ParallelReference(robot), model=model,
                 data=model.createData(), models=models, datas=datas, info=info)
+
+
+class _Lazy:
+    """A mapping made by ``make()`` when an item is first asked for."""
+
+    def __init__(self, make):
+        self.make, self.value = make, None
+
+    def __getitem__(self, key):
+        if self.value is None:
+            self.value = self.make()
+        return self.value[key]
 
 
 def _pose(p, R):
