@@ -13,16 +13,11 @@ _EQUATIONS = {}
 
 @pytest.fixture(scope="session")
 def derived():
-    """derived(name, method) -> Equations, derived once per test session and shared between the
-    workers through symdyn's derivation cache (the one generate uses; entries are keyed by the
-    derivation code's and the robot's fingerprints, and tests/derive/test_cache.py checks that a
-    cached derivation is the derivation)."""
-    from symdyn.derive.cache import derive_cached
-
+    """derived(name, method) -> Equations, derived once per test session."""
     def get(name, method="newton-euler"):
         key = (name, method)
         if key not in _EQUATIONS:
-            _EQUATIONS[key] = derive_cached(symdyn.load(robot_path(name)), method)
+            _EQUATIONS[key] = symdyn.derive(symdyn.load(robot_path(name)), method)
         return _EQUATIONS[key]
     return get
 
