@@ -57,12 +57,12 @@ def test_coriolis_recursion_agrees_with_pinocchio(name):
     assert _recursion_error(symdyn.load(robot_path(name)), 8) < TOL
 
 
-@pytest.mark.parametrize("n", [12, 24, 48])
+@pytest.mark.parametrize("n", [12, 24, pytest.param(48, marks=pytest.mark.slow)])
 def test_coriolis_recursion_on_generic_chains(n, generic):
     assert _recursion_error(generic(n), 4) < TOL
 
 
-@pytest.mark.parametrize("n", [12, 24, 48])
+@pytest.mark.parametrize("n", [12, 24, pytest.param(48, marks=pytest.mark.slow)])
 def test_articulated_body_on_generic_chains(n, generic):
     robot = generic(n)
     eqs = symdyn.derive(robot, outputs=["forward_dynamics"], fd_method="aba")

@@ -93,7 +93,8 @@ def test_mass_matrix_entries_across_branches_are_exact_zeros_not_computed(hand_t
 
 
 @pytest.mark.parametrize("relative, floating", [("anymal_b_simple_description/robots/anymal.urdf", False),
-                                                ("talos_data/robots/talos_reduced.urdf", True)],
+                                                pytest.param("talos_data/robots/talos_reduced.urdf", True,
+                                                             marks=pytest.mark.slow)],
                          ids=["anymal", "talos_reduced_floating"])
 def test_whole_urdf_trees_agree_with_pinocchio_urdf_parser(relative, floating):
     """A quadruped, ANYmal (four legs on the base, links named as their joints), with a fixed

@@ -37,7 +37,8 @@ def regenerated(tmp_path_factory):
     return out
 
 
-@pytest.fixture(scope="module", params=sorted(PLATFORMS))
+@pytest.fixture(scope="module", params=[pytest.param(name, marks=pytest.mark.slow) if name == "sru_platform" else name
+                                        for name in sorted(PLATFORMS)])
 def platform(request, regenerated):
     from symdyn.check.cbuild import build_platform
     from symdyn.check.parallel_reference import ParallelReference
