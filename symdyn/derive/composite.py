@@ -28,7 +28,7 @@ import sympy as sp
 
 from .chain import Chain
 from .program import ProgramBuilder
-from .spatial import named_symmetric
+from .spatial import named_symmetric, skew
 
 
 @dataclass(frozen=True)
@@ -133,15 +133,21 @@ def _cancel(expr):
     return sp.cancel(expr) if has_division else expr
 
 
-def _link_inertia(chain: Chain, i: int) -> BodyInertia:
-    """Link i's inertia about the origin of its joint frame (constant)."""
-    link = chain.robot.links[i]
-    m = link.mass
-    s = sp.Matrix(link.com)
-    J = sp.Matrix(link.inertia_matrix) + m * ((s.T * s)[0] * sp.eye(3) - s * s.T)
+def _about_origin(body) -> BodyInertia:
+    """A link's (or a floating base's) inertia about the origin of the frame its centre of mass
+    and inertia are given in (``body``: ``mass``, ``com``, ``inertia_matrix``)."""
+    m = body.mass
+    s = sp.Matrix(body.com)
+    J = sp.Matrix(body.inertia_matrix) + m * ((s.T * s)[0] * sp.eye(3) - s * s.T)
     # m s and the inertia about the origin are polynomial in the parameters even when the COM
     # is not (a merged runtime payload has c = (m1 c1 + m2 c2) / (m1 + m2)): cancel the division
-    body = BodyInertia(m, (m * s).applyfunc(_cancel), J.applyfunc(_cancel))
+    return BodyInertia(m, (m * s).applyfunc(_cancel), J.applyfunc(_cancel))
+
+
+def _link_inertia(chain: Chain, i: int) -> BodyInertia:
+    """Link i's inertia about the origin of its joint frame (constant)."""
+    body = _about_origin(chain.robot.links[i])
+    m = body.mass
     post = sp.Matrix(chain.geometry[i].post)
     R, p = post[:3, :3], post[:3, 3]
     h = R * body.first_moment
@@ -162,14 +168,20 @@ def _composite_inertias(chain: Chain) -> list[BodyInertia]:
             composite[j] = BodyInertia(own.mass, b.vector(f"Ic{j + 1}h", own.first_moment),
                                        named_symmetric(b, f"Ic{j + 1}J", own.rotational))
             continue
-        total = own
-        for c in children:
-            child = transform_inertia(b, composite[c], chain.motions[c], f"Iq{c + 1}")
-            child = transform_inertia(b, child, _between(chain, c), f"Ib{c + 1}")
-            hint = f"Ic{j + 1}" if c == children[-1] else f"Ic{j + 1}_{c + 1}"
-            total = add_inertia(b, total, child, hint)
-        composite[j] = total
+        composite[j] = _with_children(chain, own, composite, children, f"Ic{j + 1}")
     return composite
+
+
+def _with_children(chain: Chain, own: BodyInertia, composite: list, children, hint: str) -> BodyInertia:
+    """``own`` plus the composite inertias of ``children`` (each moved into the parent's joint
+    frame by its motion and its constant placement), named ``{hint}`` (``{hint}_{c}`` on the
+    way)."""
+    b, total = chain.builder, own
+    for c in children:
+        child = transform_inertia(b, composite[c], chain.motions[c], f"Iq{c + 1}")
+        child = transform_inertia(b, child, _between(chain, c), f"Ib{c + 1}")
+        total = add_inertia(b, total, child, hint if c == children[-1] else f"{hint}_{c + 1}")
+    return total
 
 
 def _between(chain: Chain, c: int) -> sp.Matrix:
@@ -195,19 +207,10 @@ def _with_floating_base(chain: Chain, composite: list[BodyInertia], D: sp.Matrix
     the base block ``[[m 1, -[h x]], [[h x], J]]`` (linear velocity first, as Pinocchio's
     free-flyer), and each joint's column of it is its composite body's unit momentum in the base
     frame (``to_base``: force, then moment about the base origin)."""
-    b = chain.builder
-    body = chain.robot.base_inertia
-    com = sp.Matrix(body.com)
-    J = sp.Matrix(body.inertia_matrix) + body.mass * ((com.T * com)[0] * sp.eye(3) - com * com.T)
-    total = BodyInertia(body.mass, (body.mass * com).applyfunc(_cancel), J.applyfunc(_cancel))
-    for c in chain.children(-1):
-        child = transform_inertia(b, composite[c], chain.motions[c], f"Iq{c + 1}")
-        child = transform_inertia(b, child, _between(chain, c), f"Ib{c + 1}")
-        total = add_inertia(b, total, child, "Ic0" if c == chain.children(-1)[-1] else f"Ic0_{c + 1}")
+    total = _with_children(chain, _about_origin(chain.robot.base_inertia), composite, chain.children(-1), "Ic0")
     n = D.shape[0]
     out = sp.zeros(6 + n, 6 + n)
-    h = total.first_moment
-    hx = sp.Matrix([[0, -h[2], h[1]], [h[2], 0, -h[0]], [-h[1], h[0], 0]])
+    hx = skew(total.first_moment)
     out[:3, :3] = total.mass * sp.eye(3)
     out[:3, 3:6] = -hx
     out[3:6, :3] = hx

@@ -154,13 +154,20 @@ def coriolis_factors(chain: Chain) -> CoriolisFactors:
         # register allocation fast on long chains
         body = _body(b, j, *bodies[i])
         composite = body if composite is None else _named_body(b, f"cC{j}", body + composite)
-        half = b.vector(f"cSh{j}", (S[i] / 2).applyfunc(sp.expand))
-        half_rate = b.vector(f"cBr{j}", composite.rate_times(half).applyfunc(sp.expand))
-        half_cross = b.vector(f"cBx{j}", cross_force(half, composite.momentum).applyfunc(sp.expand))
-        F[i] = b.vector(f"cF{j}", (composite.times(dS[i]) + half_rate + half_cross).applyfunc(sp.expand))
-        g[i] = b.vector(f"cg{j}", composite.times(S[i]).applyfunc(sp.expand))
-        e[i] = b.vector(f"ce{j}", (half_rate - half_cross).applyfunc(sp.expand))
+        F[i], g[i], e[i] = _joint_factors(b, S[i], dS[i], composite, str(j))
     return CoriolisFactors(tuple(S), tuple(dS), tuple(F), tuple(g), tuple(e))
+
+
+def _joint_factors(b, S: sp.Matrix, dS: sp.Matrix, composite: "_Body", hint: str):
+    """``(F, g, e)`` of one joint (see the module docstring) from its axis ``S``, the axis's rate
+    ``dS`` and the composite of the bodies it moves; named ``cF{hint}``, ``cg{hint}``,
+    ``ce{hint}`` (the halves of ``B S``, from ``S / 2``, shared by F and e)."""
+    half = b.vector(f"cSh{hint}", (S / 2).applyfunc(sp.expand))
+    half_rate = b.vector(f"cBr{hint}", composite.rate_times(half).applyfunc(sp.expand))
+    half_cross = b.vector(f"cBx{hint}", cross_force(half, composite.momentum).applyfunc(sp.expand))
+    return (b.vector(f"cF{hint}", (composite.times(dS) + half_rate + half_cross).applyfunc(sp.expand)),
+            b.vector(f"cg{hint}", composite.times(S).applyfunc(sp.expand)),
+            b.vector(f"ce{hint}", (half_rate - half_cross).applyfunc(sp.expand)))
 
 
 def _body(b, j: int, link, R: sp.Matrix, origin: sp.Matrix, velocity: sp.Matrix) -> _Body:
@@ -199,14 +206,6 @@ def coriolis_matrix(chain: Chain) -> tuple[sp.Matrix, CoriolisFactors]:
     b = chain.builder
     C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}_{k + 1}", sp.expand(factors.entry(i, k))))
     return C, factors
-
-
-class _BaseBody:
-    """The floating base's body for :func:`_body` (its inertia as a link's)."""
-
-    def __init__(self, robot):
-        body = robot.base_inertia
-        self.mass, self.com, self.inertia_matrix = body.mass, body.com, body.inertia_matrix
 
 
 def tree_coriolis_matrix(chain: Chain) -> sp.Matrix:
@@ -251,28 +250,20 @@ def tree_coriolis_matrix(chain: Chain) -> sp.Matrix:
     composite: list = [None] * n
     F, g, e = [None] * (base + n), [None] * (base + n), [None] * (base + n)
 
-    def factors(k: int, body, j: str) -> None:
-        half = b.vector(f"cSh{j}", (S[k] / 2).applyfunc(sp.expand))
-        half_rate = b.vector(f"cBr{j}", body.rate_times(half).applyfunc(sp.expand))
-        half_cross = b.vector(f"cBx{j}", cross_force(half, body.momentum).applyfunc(sp.expand))
-        F[k] = b.vector(f"cF{j}", (body.times(dS[k]) + half_rate + half_cross).applyfunc(sp.expand))
-        g[k] = b.vector(f"cg{j}", body.times(S[k]).applyfunc(sp.expand))
-        e[k] = b.vector(f"ce{j}", (half_rate - half_cross).applyfunc(sp.expand))
-
     for i in reversed(range(n)):
         j = i + 1
         body = _body(b, j, robot.links[i], poses[i][:3, :3], poses[i][:3, 3], velocities[i])
         for c in chain.children(i):
             body = body + composite[c]
         composite[i] = _named_body(b, f"cC{j}", body) if chain.children(i) else body
-        factors(base + i, composite[i], str(j))
+        F[base + i], g[base + i], e[base + i] = _joint_factors(b, S[base + i], dS[base + i], composite[i], str(j))
     if robot.floating:
-        body = _body(b, 0, _BaseBody(robot), sp.eye(3), sp.zeros(3, 1), base_velocity)
+        body = _body(b, 0, robot.base_inertia, sp.eye(3), sp.zeros(3, 1), base_velocity)
         for c in chain.children(-1):
             body = body + composite[c]
         whole = _named_body(b, "cC0", body)
         for a in range(6):
-            factors(a, whole, f"0_{a + 1}")
+            F[a], g[a], e[a] = _joint_factors(b, S[a], dS[a], whole, f"0_{a + 1}")
     ancestors = [set() for _ in range(base + n)]
     for i in range(n):
         ancestors[base + i] = {base + p for p in chain.robot.ancestors(i)} | set(range(base))

@@ -33,7 +33,7 @@ import sympy as sp
 
 from .chain import make_chain
 from .articulated_body import accelerations, reaction_map, sweeps
-from .equations import friction_terms, normalize_method, derive
+from .equations import armature_matrix, friction_terms, normalize_method, derive
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler, q_operator, pseudo_inertia
 from .newton_euler import recursion
@@ -442,7 +442,7 @@ def task_section(robot: Robot, notation: _Notation, progress=None) -> Section:
     eqs = derive(robot, "newton-euler", ["mass_matrix", "coriolis", "gravity", "jacobian", "jacobian_dot_qd"],
                  progress=progress)
     trig = lambda M: sp.Matrix(notation.to_trig_symbols(eqs.program, sp.Matrix(M)))  # noqa: E731
-    D = trig(eqs.mass_matrix) + sp.diag(*[link.armature for link in robot.links])
+    D = trig(eqs.mass_matrix) + armature_matrix(robot)
     h, c = trig(eqs.coriolis), trig(eqs.gravity)
     J = trig(eqs.jacobian)[list(rows), :]
     jdot = trig(eqs.jacobian_dot_qd)[list(rows), :]

@@ -225,13 +225,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             vd_i = b.vector(f"vd{k}{tag}", Rt * vd + relative
                             + 2 * cross_nonzero(omega_i, z * qd[i]) + z * qdd[i])
         if parameters is None:
-            s = frame.com
-            relative = _relative_acceleration(b, U, omega_i, omegad_i, s, f"ws{k}{tag}")
-            abar = b.vector(f"a{k}{tag}", relative + vd_i)
-            F = b.vector(f"F{k}{tag}", link.mass * abar)
-            inertia = frame.inertia
-            Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
-            N = b.vector(f"N{k}{tag}", inertia * omegad_i + cross_nonzero(omega_i, Iw))
+            abar, F, N = _body_forces(b, U, omega_i, omegad_i, vd_i, link.mass, frame.com, frame.inertia, f"{k}{tag}")
         else:
             m, mx, my, mz, ixx, ixy, iyy, ixz, iyz, izz = parameters[PER_LINK * i:PER_LINK * i + 10]
             moment = sp.Matrix([mx, my, mz])
@@ -273,17 +267,27 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
     return states
 
 
+def _body_forces(b, U, omega: sp.Matrix, omegad: sp.Matrix, vd: sp.Matrix, mass, com: sp.Matrix, inertia: sp.Matrix,
+                 hint: str) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    """``(abar, F, N)`` of one body moving with (omega, omegad) and origin acceleration ``vd``:
+    the centre of mass's acceleration ``abar = vd + omegad x s + omega x (omega x s)``, the
+    force ``F = m abar`` and the moment about the centre of mass ``N = I omegad + omega x I
+    omega``; named ``a{hint}``, ``F{hint}``, ``Iw{hint}``, ``N{hint}``."""
+    relative = _relative_acceleration(b, U, omega, omegad, com, f"ws{hint}")
+    abar = b.vector(f"a{hint}", relative + vd)
+    F = b.vector(f"F{hint}", mass * abar)
+    Iw = b.vector(f"Iw{hint}", inertia * omega)
+    N = b.vector(f"N{hint}", inertia * omegad + cross_nonzero(omega, Iw))
+    return abar, F, N
+
+
 def _floating_base_wrench(b, chain: Chain, frames, states, joint_moments, base_state, tag: str, textbook: bool):
     """``(f, n)`` on a floating base: its own ``m (a + U c)`` and ``I_c omegad + omega x I_c omega
     + c x F`` (about its origin), and what the links on it take from it; base frame."""
     omega, omegad, vd, U = base_state
     body = chain.robot.base_inertia
     com = sp.Matrix(body.com)
-    relative = _relative_acceleration(b, U, omega, omegad, com, f"ws0{tag}")
-    F = b.vector(f"F0{tag}", body.mass * (relative + vd))
-    inertia = sp.Matrix(body.inertia_matrix)
-    Iw = b.vector(f"Iw0{tag}", inertia * omega)
-    N = inertia * omegad + cross_nonzero(omega, Iw)
+    _, F, N = _body_forces(b, U, omega, omegad, vd, body.mass, com, sp.Matrix(body.inertia_matrix), f"0{tag}")
     f_children, moment_children = _children_wrench(b, frames, states, joint_moments, chain.children(-1),
                                                    f"0{tag}", textbook)
     return (b.vector(f"f0{tag}", F + f_children),

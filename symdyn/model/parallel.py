@@ -27,7 +27,7 @@ import sympy as sp
 from .errors import describe, one_line
 from .geometry import numeric_pose
 from .inputs import decode_text, load_yaml, read_input
-from .robot import DEFAULT_GRAVITY, MAX_NAME, ROBOT_NAME_PATTERN, Placement, Robot, RobotFileReader
+from .robot import DEFAULT_GRAVITY, MAX_NAME, ROBOT_NAME_PATTERN, Body, Placement, Robot, RobotFileReader
 
 #: the value of the top-level ``kind`` field of a parallel robot file
 KIND = "parallel"
@@ -45,22 +45,9 @@ LEG_JOINTS = 6
 
 
 @dataclass(frozen=True)
-class Platform:
+class Platform(Body):
     """The moving platform's inertial data: mass (kg), centre of mass (m, in the platform frame
     P) and inertia about the centre of mass in P's axes (kg m^2; ``xx, yy, zz, xy, xz, yz``)."""
-
-    mass: sp.Expr
-    com: tuple[sp.Expr, sp.Expr, sp.Expr]
-    inertia: tuple[sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr, sp.Expr]
-
-    @property
-    def inertia_matrix(self) -> sp.ImmutableMatrix:
-        """3x3 inertia tensor about the COM, in P's axes (kg m^2)."""
-        xx, yy, zz, xy, xz, yz = self.inertia
-        return sp.ImmutableMatrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-
-    def expressions(self) -> tuple[sp.Expr, ...]:
-        return (self.mass, *self.com, *self.inertia)
 
 
 @dataclass(frozen=True)

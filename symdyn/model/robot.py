@@ -185,7 +185,7 @@ class Link:
 @dataclass(frozen=True)
 class Body:
     """A rigid body's inertia: mass (kg), centre of mass (m) and inertia about it (kg m^2, xx yy zz
-    xy xz yz), in the body's frame: the free-floating base's (``base_body:``)."""
+    xy xz yz), in the body's frame: the free-floating base's (``base_body:``), a platform's."""
 
     mass: sp.Expr
     com: tuple[sp.Expr, sp.Expr, sp.Expr]
@@ -193,6 +193,7 @@ class Body:
 
     @property
     def inertia_matrix(self) -> sp.ImmutableMatrix:
+        """3x3 inertia tensor about the COM, in the body's axes (kg m^2)."""
         xx, yy, zz, xy, xz, yz = self.inertia
         return sp.ImmutableMatrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
 
@@ -200,7 +201,7 @@ class Body:
         return (self.mass, *self.com, *self.inertia)
 
     def subs(self, mapping) -> "Body":
-        return Body(*(tuple(sp.sympify(e).xreplace(mapping) for e in part) if isinstance(part, tuple)
+        return type(self)(*(tuple(sp.sympify(e).xreplace(mapping) for e in part) if isinstance(part, tuple)
                       else sp.sympify(part).xreplace(mapping) for part in (self.mass, self.com, self.inertia)))
 
 
