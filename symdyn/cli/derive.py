@@ -125,10 +125,6 @@ def _serial_text(args, robot):
     if args.pose or args.twist or args.qdd:
         raise SymdynError("--pose, --twist and --qdd apply to platform robots (kind: parallel) only")
     check_size(robot, args, args.robot)
-    if robot.is_tree:
-        raise SymdynError(f"{args.robot}: a kinematic tree (links with 'parent:'): the printed derivation follows the "
-                          "tables of a serial chain (link i on link i-1) and is not written for trees yet; symdyn "
-                          "generate, verify and bench take the tree (--tip LINK prints one chain of a URDF)")
     closed = {"auto": None, "closed": True, "named": False}[args.form]
     if closed and robot.dof > CLOSED_FORM_MAX_DOF:
         raise SymdynError(f"{args.robot}: --form closed expands every quantity in the joint variables, which does not "

@@ -33,7 +33,7 @@ import sympy as sp
 
 from .chain import make_chain
 from .articulated_body import accelerations, reaction_map, sweeps
-from .equations import armature_matrix, friction_terms, normalize_method, derive
+from .equations import armature_matrix, check_tree_request, friction_terms, normalize_method, derive
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler, q_operator, pseudo_inertia
 from .newton_euler import recursion
@@ -221,10 +221,25 @@ class _Notation:
 
     def __init__(self, chain):
         self.chain = chain
-        self.q = chain.q
+        self.q = tuple(chain.joint_q)
         self.qdot = tuple(sp.Symbol(f"qdot{k + 1}", real=True) for k in range(chain.n))
         self.qddot = tuple(sp.Symbol(f"qddot{k + 1}", real=True) for k in range(chain.n))
-        self.to_display = dict(zip(chain.qd, self.qdot)) | dict(zip(chain.qdd, self.qddot))
+        #: a floating base's display symbols: velocity (v_0, omega_0), its rate (a_0, alpha_0),
+        #: both in the base frame, and the quaternion (qx, qy, qz, qw); () on a fixed base
+        self.base_rates, self.base_accelerations, self.quaternion = (), (), ()
+        self.to_display = {}
+        if chain.robot.floating:
+            axes = [(name, a) for name in ("v", "omega") for a in AXES]
+            self.base_rates = tuple(sp.Symbol(f"{name}_0{a}", real=True) for name, a in axes)
+            self.base_accelerations = tuple(sp.Symbol(f"{'a' if name == 'v' else 'alpha'}_0{a}", real=True)
+                                            for name, a in axes)
+            self.quaternion = tuple(sp.Symbol(f"q{a}", real=True) for a in "xyzw")
+            # the joints' coordinates are shown as q_1..q_n, printed as q1..qn are (the
+            # configuration's symbols q1..q7 are the base's position and quaternion)
+            names = [sp.Symbol(f"q_{k + 1}", real=True) for k in range(chain.n)]
+            self.to_display = dict(zip(chain.q[3:7], self.quaternion)) | dict(zip(self.q, names))
+        self.to_display |= (dict(zip(chain.qd, self.base_rates + self.qdot))
+                            | dict(zip(chain.qdd, self.base_accelerations + self.qddot)))
         self.shorthand: dict[sp.Symbol, sp.Expr] = {}
         self._taken = {s.name for s in chain.robot.parameters}
         # the joints' trig symbols of the derivation: _c_i = cos(theta_i + q_i), _s_i
@@ -250,7 +265,7 @@ class _Notation:
             name = prefix.upper() + name[1:] if name[0] == prefix else name + "_"
         sym = sp.Symbol(name, real=True)
         links = self.chain.robot.links
-        self.shorthand[sym] = func(sp.Add(*[self.q[j] + links[j].theta for j in joints]))
+        self.shorthand[sym] = func(sp.Add(*[self.q[j] + links[j].theta for j in joints])).xreplace(self.to_display)
         return sym
 
     def shorten(self, expr: sp.Expr) -> sp.Expr:
@@ -269,8 +284,9 @@ class _Notation:
         return expr.replace(is_short, short)
 
     def collect(self, expr: sp.Expr) -> sp.Expr:
-        rates = list(self.qdot)
-        monomials = list(self.qddot) + [a * b for a, b in itertools.combinations_with_replacement(rates, 2)]
+        rates = list(self.base_rates) + list(self.qdot)
+        monomials = list(self.base_accelerations) + list(self.qddot)
+        monomials += [a * b for a, b in itertools.combinations_with_replacement(rates, 2)]
         monomials += rates
         collected = sp.collect(sp.expand(expr), monomials, evaluate=False)
         total = sp.S.Zero
@@ -491,6 +507,10 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     short text as each step starts (the closed form of a 3-joint robot takes seconds to minutes).
     """
     key = str(method).lower().replace("_", "-")
+    if robot.is_tree:
+        check_tree_request(robot, "newton-euler" if key in ABA_ALIASES else normalize_method(key),
+                           ["mass_matrix", "coriolis", "gravity"] + ["base_regressor"] * base_parameters
+                           + ["task_mass_matrix"] * task, "aba" if key in ABA_ALIASES else "ldlt", "standard")
     if key in ABA_ALIASES:
         if steps not in STEPS:
             raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
@@ -523,7 +543,7 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     where = tuple(item for item in named if item[0].name.startswith("xi_")) + tuple(where)
     sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
                                         Quantity("c", (), results[2]))))
-    joint = tuple(zip(notation.qdot, chain.qd)) + tuple(zip(notation.qddot, chain.qdd))
+    joint = tuple((shown, sym) for sym, shown in notation.to_display.items())
     return _with_task(_with_base_parameters(Derivation(
         robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
         where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
@@ -689,7 +709,9 @@ def _newton_euler_steps(chain, notation: _Notation, steps: str, closed: bool, re
     sections: list[Section] = []
     named: tuple = ()
     report("the recursion")
-    states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "", textbook=True)
+    base_motion, base_wrench = [], []
+    states = recursion(chain, chain.qd, chain.qdd, chain.gravity, "", textbook=True,
+                       base_motion=base_motion, base_wrench=base_wrench)
     program = chain.builder.build()
     namer = None if closed else _Namer(program, notation)
     if steps == "all":
@@ -703,9 +725,15 @@ def _newton_euler_steps(chain, notation: _Notation, steps: str, closed: bool, re
                     for a in range(3):
                         namer.name(vec[a], sp.Symbol(f"{name}_{i + 1}{AXES[a]}", real=True))
                 namer.name(st.tau, sp.Symbol(f"tau{i + 1}", real=True))
+            # a floating base: its origin's acceleration and the wrench that moves it
+            for vec, name in zip(base_motion[2:] + base_wrench if chain.robot.floating else [], ("vdot", "f", "n")):
+                for a in range(3):
+                    namer.name(vec[a], sp.Symbol(f"{name}_0{AXES[a]}", real=True))
 
         show = _shower(_closed_valuer(chain, notation) if closed else None, namer)
         forward_q, backward_q = [], []
+        if chain.robot.floating:
+            forward_q.append(Quantity("vdot", (0,), show(base_motion[2])))
         for i, st in enumerate(states):
             report(f"forward recursion, link {i + 1}" + (" in closed form" if closed else ""))
             for attr, kind, _ in fields:
@@ -716,6 +744,8 @@ def _newton_euler_steps(chain, notation: _Notation, steps: str, closed: bool, re
             for attr, kind, _ in backward:
                 backward_q.append(Quantity(kind, (i + 1,), show(getattr(st, attr))))
             backward_q.append(Quantity("tau", (i + 1,), show(st.tau)))
+        if base_wrench:
+            backward_q += [Quantity("f", (0,), show(base_wrench[0])), Quantity("n", (0,), show(base_wrench[1]))]
         if namer is not None:
             named = namer.definitions(notation.trig)
         sections.append(Section("ne_forward", tuple(forward_q)))

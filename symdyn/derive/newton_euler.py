@@ -148,7 +148,7 @@ def _link_frames(chain: Chain, joint_frames: bool) -> list[_LinkFrame]:
 def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
               gravity: sp.Matrix, tag: str, parameters: Sequence[sp.Expr] | None = None,
               textbook: bool = False, joint_frames: bool | None = None,
-              base_wrench: list | None = None) -> list[LinkState]:
+              base_wrench: list | None = None, base_motion: list | None = None) -> list[LinkState]:
     """Run Table 3.2 for the given joint rates/accelerations and gravity vector (base frame).
 
     Returns each link's state; ``state.tau`` is the joint force without friction or armature.
@@ -175,7 +175,8 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
     that motion (its origin's classical acceleration ``a + omega x v - g``), its own inertia
     (``base_inertia``) takes part, and ``base_wrench`` (a list) receives ``(f, n)``: the force
     and the moment about the base origin (base frame) that move the base as asked, the base's
-    rows of the generalized forces.
+    rows of the generalized forces; ``base_motion`` (a list) receives the base's ``(omega,
+    omegad, vd)``, the motion the links start from (base frame).
     """
     b = chain.builder
     robot = chain.robot
@@ -194,6 +195,8 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
     frames = _link_frames(chain, joint_frames)
     states: list[LinkState] = []
     base_state = (omega, omegad, vd, U)
+    if base_motion is not None:
+        base_motion.extend((omega, omegad, vd))
     moving: list[tuple] = []  # per link: (omega, omegad, vd, U) in its frame, for its children
     for i, link in enumerate(robot.links):
         k = i + 1

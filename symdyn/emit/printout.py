@@ -96,19 +96,20 @@ _NAMES = {
 }
 
 
-def quantity_name(kind: str, indices: tuple[int, ...], fmt: str) -> str:
-    """The name of a quantity in the notes' notation (LaTeX for latex/markdown, else Unicode)."""
+def quantity_name(kind: str, indices: tuple[int, ...], fmt: str, parent: int | None = None) -> str:
+    """The name of a quantity in the notes' notation (LaTeX for latex/markdown, else Unicode);
+    ``parent``: the link the first index's link hangs on (a tree; default the one before)."""
     latex, text = _NAMES[kind]
+    before = (indices[0] - 1 if parent is None else parent) if indices else ""
     sep = "," if any(i >= 10 for i in indices) else ""
     keys = dict(zip("ijkm", [str(i) for i in indices]))
     if sep and len(indices) > 1:
         keys = dict(zip("ijkm", [str(indices[0])] + [sep + str(i) for i in indices[1:]]))
     if fmt == "text":
         up = dict(zip("IJKM", [k.translate(_SUB) for k in keys.values()]))
-        return text.format(P=str(indices[0] - 1).translate(_SUP) if indices else "",
-                           P_=str(indices[0] - 1).translate(_SUB) if indices else "",
+        return text.format(P=str(before).translate(_SUP), P_=str(before).translate(_SUB),
                            S=str(indices[0]).translate(_SUP) if indices else "", **up)
-    return latex.format(p=indices[0] - 1 if indices else "", **keys)
+    return latex.format(p=before, **keys)
 
 
 #: significant digits of the printed numbers (``symdyn derive --digits``); the derivation is exact
@@ -332,9 +333,11 @@ class _Printer:
         return texlayout.width(f"{name} = {self.latex(value)}") > self.width
 
 
-def _items(printer: _Printer, fmt: str, kind: str, indices, value):
-    """[(name, lines)] for one quantity: a wide matrix is shown entry by entry."""
-    name = quantity_name(kind, indices, fmt)
+def _items(printer: _Printer, fmt: str, kind: str, indices, value, parents=()):
+    """[(name, lines)] for one quantity: a wide matrix is shown entry by entry; ``parents``:
+    a tree's parent of each link (0-based, -1 the base), for the link matrices' names."""
+    parent = parents[indices[0] - 1] + 1 if kind == "link_transform" and parents else None
+    name = quantity_name(kind, indices, fmt, parent)
     if printer.is_wide(value, name):
         rows, cols = value.shape
         out = []
@@ -375,7 +378,7 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
             progress(f"{robot.name}: printing section {number} of {len(derivation.sections)}")
         items = []
         for q in section.quantities:
-            items.extend(_items(printer, fmt, q.kind, q.indices, q.value))
+            items.extend(_items(printer, fmt, q.kind, q.indices, q.value, robot.parent_indices))
         sections.append({"kind": section.kind, "items": items})
     symbol = (lambda s: sp.pretty(s, use_unicode=True)) if fmt == "text" else sp.latex
     shorthand = [(symbol(s), printer.value(meaning)) for s, meaning in derivation.shorthand]
@@ -409,5 +412,10 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
         "placements": placements,
         "dh": dh, "sections": sections, "shorthand": shorthand, "where": where,
         "revolute": [link.is_revolute for link in robot.links], "digits": digits,
+        # a tree: (link, parent) 1-based, 0 the base; a floating base: its body
+        "parents": [(k + 1, p + 1) for k, p in enumerate(robot.parent_indices)] if robot.is_tree else [],
+        "floating": robot.floating,
+        "base_mass": printer.value(robot.base_inertia.mass) if robot.floating else "",
+        "base_com": ", ".join(printer.value(c) for c in robot.base_inertia.com) if robot.floating else "",
     }
     return template_environment().get_template(TEMPLATES[fmt]).render(**context)

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import os
 import re
+import shutil
+import subprocess
 import warnings
 from dataclasses import replace
 
@@ -146,15 +148,64 @@ def test_tree_fields_are_checked_and_what_trees_lack_is_refused(tmp_path):
 
 
 def test_cli_on_a_tree(tmp_path, capsys):
-    """generate and verify take a tree; derive says in one line that its printout is for chains."""
+    """generate takes a tree; derive prints its Newton-Euler recursion (the link matrices named
+    after each link's parent) and refuses, in one line, the methods written for chains."""
     from symdyn.cli import main
     assert main(["generate", HAND_TREE, "--out", str(tmp_path), "--functions", "gravity,forward_dynamics",
                  "--quiet"]) == 0
     header = (tmp_path / "twoarms_dynamics.h").read_text()
     assert "5: r_shoulder, revolute, on joint 1 (torso)" in header and "L^T D L of the tree's D" in header
-    assert main(["derive", HAND_TREE, "--out", str(tmp_path / "tree.md")]) == 1
-    err = capsys.readouterr().err.strip()
-    assert "kinematic tree" in err and len(err.splitlines()) == 1 and not (tmp_path / "tree.md").exists()
+    assert main(["derive", HAND_TREE, "--out", str(tmp_path / "tree.txt"), "--quiet"]) == 0
+    text = (tmp_path / "tree.txt").read_text()
+    assert "¹A₅ =" in text and "⁴A₅" not in text and "p(5) = 1" in text
+    for method, expected in (("aba", "--fd-method ldlt"), ("lagrange-euler", "use newton-euler")):
+        assert main(["derive", HAND_TREE, "--method", method, "--out", str(tmp_path / "no.md"), "--quiet"]) == 1
+        err = capsys.readouterr().err.strip()
+        assert expected in err and len(err.splitlines()) == 1 and not (tmp_path / "no.md").exists()
+
+
+@pytest.mark.parametrize("path", [HAND_TREE, str(REPO / "examples" / "trees" / "space_robot.yaml")],
+                         ids=["fixed", "floating"])
+def test_printed_tree_derivation_equals_pinocchio(path, tmp_path):
+    """The printed Newton-Euler derivation of a tree (and of a floating base under gravity: the
+    base's acceleration v0dot, force f0 and moment n0), every named quantity resolved: tau_i of
+    the backward recursion (with the base's f0, n0: Pinocchio's first six rows) and D, h, c as
+    printed, at seeded states against Pinocchio."""
+    import sympy as sp
+    from symdyn.derive.derivation import derive_steps
+    from symdyn.derive.numeric import compile_function
+    text = open(path).read()
+    if "gravity: [0, 0, 0]" in text:  # the satellite, on the ground: the base's R^T g enters
+        path = tmp_path / "grounded.yaml"
+        path.write_text(text.replace("gravity: [0, 0, 0]", "gravity: [0.3, -1.2, -9.81]"))
+    robot = symdyn.load(str(path))
+    d = derive_steps(robot, "newton-euler")
+    reference = PinocchioReference(robot)
+    eqs = symdyn.derive(robot, outputs=["gravity"])
+    inputs = [eqs.q, eqs.qd, eqs.qdd]
+    program = d.program()
+    rows = [d.quantity("tau", i + 1) for i in range(robot.dof)]
+    if robot.floating:
+        rows = list(d.quantity("f", 0)) + list(d.quantity("n", 0)) + rows
+    taus = compile_function(inputs, program, sp.Matrix(rows))
+    results = {k: compile_function(inputs, program, sp.Matrix(d.quantity(k))) for k in ("D", "h", "c")}
+    rng = np.random.default_rng(12)
+    for _ in range(5):
+        q, qd, qdd, _ = random_state(robot, rng)
+        args = (q, qd, qdd)
+        friction = reference.friction(qd) + reference.armature * qdd
+        for mine, theirs in ((taus(*args).ravel(), reference.inverse_dynamics(q, qd, qdd) - friction),
+                             (results["D"](*args), reference.mass_matrix(q)),
+                             (results["h"](*args).ravel(), reference.coriolis(q, qd)),
+                             (results["c"](*args).ravel(), reference.gravity(q))):
+            np.testing.assert_allclose(mine, theirs, rtol=1e-9, atol=1e-9)
+    if robot.floating and shutil.which("pdflatex"):  # the base's paragraph and quantities typeset
+        from symdyn.emit.printout import render
+        (tmp_path / "tree.tex").write_text(render(d, "latex", source_name="grounded.yaml"))
+        result = subprocess.run(["pdflatex", "-interaction=nonstopmode", "-halt-on-error", "tree.tex"],
+                                cwd=tmp_path, capture_output=True, text=True, timeout=120)
+        assert result.returncode == 0, result.stdout[-2000:]
+        assert "Overfull \\hbox" not in (tmp_path / "tree.log").read_text(errors="replace")
 
 
 SOLO = "solo_description/robots/solo12.urdf"
