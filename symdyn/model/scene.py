@@ -174,38 +174,60 @@ def _body(link: Link):
 
 def lock_joints(robot: Robot, locked: dict[int, sp.Expr]) -> Robot:
     """The robot with the joints ``locked`` (0-based index -> value) removed: each locked link is
-    merged into the nearest moving link before it (or into the ground), and the constant
-    transforms are carried to the next moving link."""
-    if robot.is_tree:
-        raise SymdynError(f"{robot.source}: a scene cannot lock joints of a kinematic tree (links with 'parent:') yet; "
-                          "give the locked joints' links as fixed parts of their parent in the robot file")
-    pending = sp.eye(4)  # from the last kept link's frame to the current frame
+    merged into its nearest moving ancestor (or into a floating base's body, or the ground), and
+    the links that hang on it hang on that ancestor, the constant transforms carried to them.
+    On a serial chain the ancestor is the moving link before it."""
+    parents = robot.parent_indices
     kept: list[Link] = []
+    kept_parents: list[int] = []
+    new_index: dict[int, int] = {}  # kept link (old index) -> its index in ``kept``
+    # locked link -> (the index in ``kept`` of its nearest moving ancestor, -1 the base; the
+    # transform from that ancestor's frame to the locked link's frame)
+    carried: dict[int, tuple[int, sp.Matrix]] = {}
+    base_body = robot.base_body
     for i, link in enumerate(robot.links):
+        p = parents[i]
+        anchor, before = carried[p] if p in carried else (new_index.get(p, -1), sp.eye(4))
         if i in locked:
-            pending = pending * _transform(robot, link, locked[i])
-            if kept:
-                R, t = pending[:3, :3], pending[:3, 3]
-                m2, c2, I2 = _body(link)
-                m1, c1, I1 = _body(kept[-1])
-                m, c, inertia = merge_bodies(m1, c1, I1, m2, R * c2 + t, R * I2 * R.T)
-                kept[-1] = _with_body(kept[-1], m, c, inertia)
+            pending = before * _transform(robot, link, locked[i])
+            carried[i] = (anchor, pending)
+            R, t = pending[:3, :3], pending[:3, 3]
+            m2, c2, I2 = _body(link)
+            if anchor >= 0:
+                m, c, inertia = merge_bodies(*_body(kept[anchor]), m2, R * c2 + t, R * I2 * R.T)
+                kept[anchor] = _with_body(kept[anchor], m, c, inertia)
+            elif robot.floating:  # into the free base's own body
+                body = robot.base_inertia
+                m, c, inertia = merge_bodies(body.mass, sp.Matrix(body.com), sp.Matrix(body.inertia_matrix),
+                                             m2, R * c2 + t, R * I2 * R.T)
+                base_body = _with_body(body, m, c, inertia)
             continue
-        fixed = pending * (sp.Matrix(4, 4, list(link.fixed)) if link.fixed is not None else sp.eye(4))
+        fixed = before * (sp.Matrix(4, 4, list(link.fixed)) if link.fixed is not None else sp.eye(4))
         fixed = fixed.applyfunc(_tidy)
+        new_index[i] = len(kept)
         kept.append(replace(link, fixed=None if fixed == sp.eye(4) else tuple(fixed)))
-        pending = sp.eye(4)
+        kept_parents.append(anchor)
     if not kept:
         raise SymdynError("a scene must leave at least one joint free")
     tool_fixed = robot.tool_fixed
-    if pending != sp.eye(4):  # the last joints are locked: the tool rides on the last free link
+    last = len(robot.links) - 1
+    if last in carried and carried[last][1] != sp.eye(4):  # the last joint is locked: the tool rides on its moving ancestor
+        anchor, pending = carried[last]
+        chain = not robot.floating and all(p == k - 1 for k, p in enumerate(kept_parents))
+        if anchor != len(kept) - 1 and chain and (robot.tool is not None or tool_fixed is not None):
+            raise SymdynError(f"{robot.source}: locking link {last + 1} ({robot.links[last].name}) leaves the tool, "
+                              "given in the last link's frame, on a link that is not the last free one; lock "
+                              "fewer joints or drop the tool from the robot file")
         previous = sp.eye(4) if tool_fixed is None else sp.Matrix(4, 4, list(tool_fixed))
         tool_fixed = tuple((pending * previous).applyfunc(_tidy))
-    return _drop_unused(replace(robot, links=tuple(kept), tool_fixed=tool_fixed))
+    tree = robot.floating or any(p != k - 1 for k, p in enumerate(kept_parents))
+    return _drop_unused(replace(robot, links=tuple(kept), tool_fixed=tool_fixed,
+                                parents=tuple(kept_parents) if tree else (), base_body=base_body))
 
 
 def _drop_unused(robot: Robot) -> Robot:
     used = set().union(*(e.free_symbols for link in robot.links for e in link.expressions()),
+                       *(sp.sympify(e).free_symbols for e in robot.base_inertia.expressions()),
                        *(sp.sympify(g).free_symbols for g in (*robot.gravity, *robot.base_matrix(),
                                                              *robot.tool_matrix())))
     keep = [(s, v) for s, v in zip(robot.parameters, robot.nominal) if s in used]

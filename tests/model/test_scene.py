@@ -163,3 +163,74 @@ def test_scene_errors_name_the_file_and_field(tmp_path, capsys):
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and needle in err, (label, err)
     assert not (tmp_path / "out").exists() or not list((tmp_path / "out").iterdir())
+
+
+class _Reduced:
+    """Pinocchio's buildReducedModel of a robot's model (symdyn's notation, as PinocchioReference:
+    the mass matrix without armature, friction in inverse and forward dynamics)."""
+
+    def __init__(self, full, locked: dict[int, float], kept_robot):
+        import pinocchio as pin
+        self.pin = pin
+        model, _ = build_model(full)
+        first = 2 if full.floating else 1  # Pinocchio's joint id of link 1 (root_joint, universe)
+        q_ref = pin.neutral(model)
+        for k, v in locked.items():
+            q_ref[(7 if full.floating else 0) + k - 1] = v
+        self.model = pin.buildReducedModel(model, [first + k - 1 for k in locked], q_ref)
+        self.data = self.model.createData()
+        base = 6 if full.floating else 0
+        self.damping = np.r_[np.zeros(base), [float(l.damping) for l in kept_robot.links]]
+        self.coulomb = np.r_[np.zeros(base), [float(l.coulomb) for l in kept_robot.links]]
+        self.armature = np.array(self.model.armature)
+
+    def friction(self, qd):
+        return self.damping * qd + self.coulomb * np.sign(qd)
+
+    def mass_matrix(self, q):
+        M = self.pin.crba(self.model, self.data, q)
+        return np.triu(M) + np.triu(M, 1).T - np.diag(self.armature)
+
+    def gravity(self, q):
+        return self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
+
+    def coriolis(self, q, qd):
+        return self.pin.nonLinearEffects(self.model, self.data, q, qd).copy() - self.gravity(q)
+
+    def inverse_dynamics(self, q, qd, qdd):
+        return self.pin.rnea(self.model, self.data, q, qd, qdd).copy() + self.friction(qd)
+
+    def forward_dynamics(self, q, qd, tau):
+        return self.pin.aba(self.model, self.data, q, qd, tau - self.friction(qd)).copy()
+
+
+@pytest.mark.parametrize("robot_file, locked, parents", [
+    ("examples/trees/torso_two_arms.yaml", {3: 0.4, 5: -0.6}, (-1, 0, 1, 0, 3)),
+    ("examples/trees/space_robot.yaml", {1: 0.5, 6: 0.1}, (-1, 0, -1, 2))], ids=["fixed", "floating"])
+def test_locking_joints_of_a_tree_agrees_with_pinocchio_reduced_model(tmp_path, robot_file, locked, parents):
+    """A scene locking joints of a kinematic tree: a locked link merges into its nearest moving
+    ancestor (a floating base's body for link 1 of the satellite; its gravity turned on), the links
+    on it hang on that ancestor; every joint-space function at 20 states against Pinocchio's
+    buildReducedModel of the full model, and the compiled C of inverse dynamics and the mass
+    matrix."""
+    from symdyn.check.pinocchio_model import compare
+    from symdyn.check.states import random_state
+    from symdyn.emit.cgen import generate_c
+    text = (REPO / robot_file).read_text().replace("gravity: [0, 0, 0]", "gravity: [0.3, -1.2, -9.81]")
+    (tmp_path / "robot.yaml").write_text(text)
+    lock = ", ".join(f"{k}: {v}" for k, v in locked.items())
+    scene = load_scene(_scene_file(tmp_path, f"scene: 1\nrobot: robot.yaml\nlock: {{{lock}}}\n"))
+    full = symdyn.load(str(tmp_path / "robot.yaml"))
+    robot = scene.robot
+    assert robot.dof == full.dof - len(locked) and robot.parent_indices == parents
+    reference = _Reduced(full, locked, robot)
+    eqs = symdyn.derive(robot)
+    rng = np.random.default_rng(21)
+    states = [random_state(robot, rng) for _ in range(20)]
+    functions = ("inverse_dynamics", "mass_matrix", "coriolis", "gravity", "forward_dynamics")
+    errors = compare(eqs.numeric, reference, states, functions)
+    assert all(e <= TOL for e in errors.values()), errors
+    compiled = ("inverse_dynamics", "mass_matrix")
+    lib = build_and_load(generate_c(eqs, compiled, "double"), robot.name, robot.nv, 0, workdir=str(tmp_path))
+    errors = compare(lib, reference, states, compiled)
+    assert all(e <= TOL for e in errors.values()), errors
