@@ -22,8 +22,15 @@ OTHER_METHOD_STATES = 20
 PARTIAL = {("chain12", "lagrange-euler"): ("mass_matrix", "gravity")}
 
 
-@pytest.mark.parametrize("method", ["newton-euler", "lagrange-euler", "jacobian-newton-euler"])
-@pytest.mark.parametrize("name", ROBOTS)
+#: (robot, method) pairs run with -m slow only: the other methods on the 7- and 12-joint robots
+#: (3-9 s each; the same methods run on every smaller arm, and the default method on these)
+SLOW = {(name, method) for name in ("chain12", "iiwa14", "panda")
+        for method in ("lagrange-euler", "jacobian-newton-euler")}
+
+
+@pytest.mark.parametrize("name,method", [
+    pytest.param(name, method, marks=[pytest.mark.slow] if (name, method) in SLOW else [], id=f"{name}-{method}")
+    for method in ("newton-euler", "lagrange-euler", "jacobian-newton-euler") for name in ROBOTS])
 def test_agrees_with_pinocchio(derived, name, method):
     if (name, method) in PARTIAL:
         import symdyn

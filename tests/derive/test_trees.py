@@ -336,7 +336,7 @@ def test_trees_convert_to_urdf_and_back(tmp_path):
 
 def test_scene_of_a_urdf_on_a_floating_base(tmp_path):
     """A scene's 'floating_base: true' reads its URDF as --floating-base does (and must be true
-    or false); a scene may not lock joints of a tree."""
+    or false), and may lock joints of the tree (their correctness: tests/model/test_scene.py)."""
     path = example_robot_data(SOLO)
     scene = tmp_path / "solo.yaml"
     scene.write_text(f"scene: 1\nrobot: {path}\nfloating_base: true\nfunctions: [gravity]\n")
@@ -345,6 +345,10 @@ def test_scene_of_a_urdf_on_a_floating_base(tmp_path):
     scene.write_text(f"scene: 1\nrobot: {path}\nfloating_base: yes please\n")
     with pytest.raises(SymdynError, match="floating_base.*expected true or false"):
         symdyn.load(str(scene))
-    scene.write_text(f"scene: 1\nrobot: {HAND_TREE}\nlock: {{l_elbow: 0.3}}\n")
-    with pytest.raises(SymdynError, match="cannot lock joints of a kinematic tree"):
-        symdyn.load(str(scene))
+    scene.write_text(f"scene: 1\nrobot: {path}\nfloating_base: true\nlock: {{FL_KFE: -1.2, HR_KFE: 1.2}}\n")
+    locked = symdyn.load(str(scene))
+    names = [link.name for link in robot.links]
+    assert (locked.nq, locked.nv) == (17, 16) and locked.floating
+    assert [link.name for link in locked.links] == [n for n in names if n not in ("FL_KFE", "HR_KFE")]
+    # the feet's parents are now the hip-flexion joints (the knees' links merged into them)
+    assert locked.parent_indices[:4] == (-1, 0, -1, 2)

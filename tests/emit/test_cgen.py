@@ -353,6 +353,7 @@ def test_clang_weverything(tmp_path, monkeypatch):
         (folder / "user.c").write_text(f'#include "{header}"\nint symdyn_user_unit(void);\n'
                                        "int symdyn_user_unit(void) { return 0; }\n")
         for source in [name for name in files if name.endswith(".c")] + ["user.c"]:
-            result = subprocess.run([clang, *CLANG_EVERYTHING, "-O1", "-c", str(folder / source), "-o", os.devnull],
+            # clang's warnings come from its front end (no optimization-dependent ones as in gcc)
+            result = subprocess.run([clang, *CLANG_EVERYTHING, "-fsyntax-only", str(folder / source)],
                                     capture_output=True, text=True)
             assert result.returncode == 0, f"{case}/{source}:\n{result.stderr[-3000:]}"

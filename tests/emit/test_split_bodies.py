@@ -81,6 +81,7 @@ def test_split_bodies_compile_without_warnings(puma, tmp_path, monkeypatch, comp
             if header_only:
                 target = folder / "main.c"
                 target.write_text('#include "puma560_dynamics.h"\nint main(void) { return 0; }\n')
-            run = subprocess.run([compiler, *flags, "-O2", "-c", str(target), "-o", str(folder / "out.o")],
-                                 capture_output=True, text=True)
+            # gcc warns after optimizing (-O2); clang's warnings come from its front end
+            build = ["-fsyntax-only"] if compiler == "clang" else ["-O2", "-c", "-o", str(folder / "out.o")]
+            run = subprocess.run([compiler, *flags, *build, str(target)], capture_output=True, text=True)
             assert run.returncode == 0, (precision, header_only, run.stderr[:2000])
