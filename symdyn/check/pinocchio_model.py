@@ -423,6 +423,25 @@ class PinocchioReference:
     def forward_dynamics(self, q, qd, tau):
         return self.pin.aba(self.model, self.data, q, qd, tau - self.friction(qd)).copy()
 
+    # the whole robot's centre of mass and centroidal momentum (world axes; Pinocchio's
+    # functions of the same names, each on its own)
+    def center_of_mass(self, q):
+        return self.pin.centerOfMass(self.model, self.data, q).copy()
+
+    def center_of_mass_jacobian(self, q):
+        return self.pin.jacobianCenterOfMass(self.model, self.data, q).copy()
+
+    def center_of_mass_bias(self, q, qd):
+        self.pin.centerOfMass(self.model, self.data, q, qd, np.zeros(self.model.nv))
+        return self.data.acom[0].copy()
+
+    def centroidal_momentum_matrix(self, q):
+        return self.pin.ccrba(self.model, self.data, q, np.zeros(self.model.nv)).copy()
+
+    def centroidal_bias(self, q, qd):
+        return self.pin.computeCentroidalMomentumTimeVariation(self.model, self.data, q, qd,
+                                                               np.zeros(self.model.nv)).vector.copy()
+
     def base_wrench(self, q, qd, tau_actuated):
         """The wrench ``[n; f]`` the base exerts on body 1 (moment about the base origin first,
         base axes) when the actuated joints apply ``tau_actuated`` and the passive ones nothing:

@@ -126,13 +126,14 @@ def run(args) -> int:
     if regressors:
         print(f"({', '.join(regressors)}: checked as torques, Y pi and Yb beta with this file's parameters, "
               "against inverse dynamics)")
-    print(f"{'function':<18} {'normalized error':>16}  status")
+    width = max([18] + [len(name) for name in functions])
+    print(f"{'function':<{width}} {'normalized error':>16}  status")
     failed = False
     for name in functions:
         err = errors[name]
         ok = bool(np.isfinite(err) and err <= tolerance)
         failed |= not ok
-        print(f"{name:<18} {err:>16.3e}  {'ok' if ok else 'FAIL'}")
+        print(f"{name:<{width}} {err:>16.3e}  {'ok' if ok else 'FAIL'}")
     return 1 if failed else 0
 
 

@@ -155,7 +155,7 @@ def _link_inertia(chain: Chain, i: int) -> BodyInertia:
     return BodyInertia(m, (h + m * p).applyfunc(sp.expand), J.applyfunc(sp.expand))
 
 
-def _composite_inertias(chain: Chain) -> list[BodyInertia]:
+def composite_inertias(chain: Chain) -> list[BodyInertia]:
     """Ic_j for j = 1..n: link j and every link that hangs on it (links j..n of a chain) as one
     body, about the origin of joint frame J_j."""
     b = chain.builder
@@ -192,7 +192,7 @@ def _between(chain: Chain, c: int) -> sp.Matrix:
     return pre if parent < 0 else sp.Matrix(chain.geometry[parent].post) * pre
 
 
-def _unit_momentum(body: BodyInertia, revolute: bool) -> tuple[sp.Matrix, sp.Matrix]:
+def unit_momentum(body: BodyInertia, revolute: bool) -> tuple[sp.Matrix, sp.Matrix]:
     """(f, n): momentum of ``body`` for a unit motion of the joint whose axis is the z axis of
     the frame the body's inertia is given in (f in N s per unit rate, n about the origin)."""
     ez = sp.Matrix([0, 0, 1])
@@ -201,13 +201,19 @@ def _unit_momentum(body: BodyInertia, revolute: bool) -> tuple[sp.Matrix, sp.Mat
     return body.mass * ez, body.first_moment.cross(ez)
 
 
+def whole_robot_inertia(chain: Chain, composite: list[BodyInertia]) -> BodyInertia:
+    """Every link, and a floating base's body, as one rigid body about the base origin (base
+    frame), from the composite inertias of the joints on the base."""
+    return _with_children(chain, _about_origin(chain.robot.base_inertia), composite, chain.children(-1), "Ic0")
+
+
 def _with_floating_base(chain: Chain, composite: list[BodyInertia], D: sp.Matrix, to_base: list) -> sp.Matrix:
     """The mass matrix of a floating-base robot, (6 + n) x (6 + n), from the joints' block ``D``:
     the whole robot's composite inertia (m, h, J) about the base origin in the base frame gives
     the base block ``[[m 1, -[h x]], [[h x], J]]`` (linear velocity first, as Pinocchio's
     free-flyer), and each joint's column of it is its composite body's unit momentum in the base
     frame (``to_base``: force, then moment about the base origin)."""
-    total = _with_children(chain, _about_origin(chain.robot.base_inertia), composite, chain.children(-1), "Ic0")
+    total = whole_robot_inertia(chain, composite)
     n = D.shape[0]
     out = sp.zeros(6 + n, 6 + n)
     hx = skew(total.first_moment)
@@ -262,7 +268,7 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
         projected = n >= PROJECTED_FROM_DOF and not chain.robot.is_tree
     if projected and chain.robot.is_tree:
         raise ValueError("the projected form of the mass matrix is written for serial chains")
-    composite = _composite_inertias(chain)
+    composite = composite_inertias(chain)
     between = [_between(chain, j + 1) for j in range(n - 1)] if projected else []
     D = sp.zeros(n, n)
     if projected:
@@ -287,7 +293,7 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
                 motion.append((axis, b.vector(f"S{k + 1}v", point.cross(axis).applyfunc(sp.expand))))
             else:
                 motion.append((sp.zeros(3, 1), axis))
-            local = _unit_momentum(composite[k], links[k].is_revolute)
+            local = unit_momentum(composite[k], links[k].is_revolute)
             D[k, k] = (local[1] if links[k].is_revolute else local[0])[2]
             if k == 0:
                 continue
@@ -300,7 +306,7 @@ def mass_matrix_factored(chain: Chain, projected: bool | None = None) -> tuple[s
         return D, factors
     to_base: list = []  # per joint, its composite body's unit momentum in the floating base's frame
     for j in range(n):
-        force = _unit_momentum(composite[j], links[j].is_revolute)
+        force = unit_momentum(composite[j], links[j].is_revolute)
         D[j, j] = (force[1] if links[j].is_revolute else force[0])[2]
         # carried towards the base through each ancestor i of j (joint k is the next one on the
         # way to j); entries of joints on different branches stay exact zeros, never computed

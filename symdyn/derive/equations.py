@@ -57,7 +57,8 @@ from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
-                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, default_outputs, spec,
+                             OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
+                             CENTROIDAL_OUTPUTS, default_outputs, spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
@@ -65,6 +66,7 @@ from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
 from .tool import tool_kinematics
+from .centroidal import centroidal_quantities
 
 #: how inverse dynamics is written: in the robot's standard parameters, or in its base parameters
 PARAMETER_FORMS = ("standard", "base")
@@ -212,11 +214,11 @@ def check_tree_request(robot: Robot, method: str, wanted, fd_method: str, parame
                           "tree's forward dynamics is the L^T D L factorization of its mass matrix (--fd-method ldlt)")
     if parameters != "standard":
         raise SymdynError(f"{where}: the base-parameter form is written for serial chains (this robot is a tree)")
-    other = [name for name in wanted if name not in TREE_OUTPUTS]
+    other = [name for name in wanted if name not in TREE_AVAILABLE]
     if other:
         raise SymdynError(f"{where}: {', '.join(other)} {'is' if len(other) == 1 else 'are'} not available for a "
                           f"kinematic tree (links with 'parent:'), which has no single tool; available: "
-                          f"{', '.join(TREE_OUTPUTS)}")
+                          f"{', '.join(TREE_AVAILABLE)}")
 
 
 def normalize_method(method: str) -> str:
@@ -531,6 +533,15 @@ def _tool(d: _Derivation) -> sp.Matrix:
     return d.values[kinematic[0]]
 
 
+def _centroidal(d: _Derivation) -> sp.Matrix:
+    """Every centre-of-mass and centroidal output needed, derived together (they share the
+    link poses and the subtree sums)."""
+    wanted = [name for name in CENTROIDAL_OUTPUTS if name in d.need]
+    d.report("centre of mass and centroidal momentum")
+    d.values.update(centroidal_quantities(d.chain, wanted))
+    return d.values[wanted[0]]
+
+
 def _forward_dynamics(d: _Derivation) -> sp.Matrix:
     robot, chain, b = d.robot, d.chain, d.b
     M = d.get("mass_matrix") + armature_matrix(robot)
@@ -658,6 +669,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     **{name: _tool for name in KINEMATIC_OUTPUTS},
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, **{name: _task for name in TASK_OUTPUTS},
+    **{name: _centroidal for name in CENTROIDAL_OUTPUTS},
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")
 

@@ -24,7 +24,7 @@ from .emission import banner_fields, comment_text, constant_rows, source_label, 
 from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
-from ..model.outputs import ALL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS
+from ..model.outputs import ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -304,6 +304,13 @@ def _base_parameters(eqs: Equations):
     return rows
 
 
+def _total_mass(robot) -> str | None:
+    """The robot's total mass (every link, and a floating base's body) as a C literal, or None
+    when it depends on runtime parameters."""
+    total = sp.sympify(sum((link.mass for link in robot.links), robot.base_inertia.mass if robot.floating else 0))
+    return repr(float(total)) if total.is_number else None
+
+
 def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
                source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = (),
                progress=None, size_report=None, batch: bool = False, locked=()) -> dict[str, str]:
@@ -363,6 +370,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
                     else f", on joint {parents[k] + 1} ({robot.links[parents[k]].name})")
                    for k, link in enumerate(robot.links)],
         "tree": robot.is_tree,
+        "total_mass": _total_mass(robot) if any(f in CENTROIDAL_OUTPUTS for f in functions) else None,
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
         "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,

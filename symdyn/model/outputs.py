@@ -229,6 +229,31 @@ SPECS: tuple[OutputSpec, ...] = (
         (OutputArgument("Jbar", "dynamically consistent inverse Jbar = M^-1 J^T Lambda, N*M row-major: tau = J^T F "
                                 "+ (1 - J^T Jbar^T) tau0 leaves the tool's acceleration to F"),),
         default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
+    OutputSpec(
+        "center_of_mass", "com", ("q",), lambda d: (3, 1), "3", "m",
+        "Centre of mass of the whole robot (every link, and a floating base's body) in the world, as Pinocchio's centerOfMass.",
+        (OutputArgument("com", "centre of mass c = sum(m_i c_i) / m in the world, 3 (m)"),),
+        default=False),
+    OutputSpec(
+        "center_of_mass_jacobian", "Jcom", ("q",), lambda d: (3, d.dof), "3 x N", "m/s per unit qd",
+        "Jacobian of the centre of mass, c-dot = Jcom qd, world axes (Pinocchio's jacobianCenterOfMass).",
+        (OutputArgument("Jcom", "centre-of-mass Jacobian, 3*N row-major, world axes: c-dot = Jcom qd (m/s)"),),
+        default=False),
+    OutputSpec(
+        "center_of_mass_bias", "acom", ("q", "qd"), lambda d: (3, 1), "3", "m/s^2",
+        "Jcom-dot qd: the centre of mass's acceleration at zero accelerations, so that c-ddot = Jcom qdd + Jcom-dot qd, world axes.",
+        (OutputArgument("acom", "Jcom-dot times qd, 3: the centre of mass's acceleration at qdd = 0 (m/s^2), world axes"),),
+        default=False),
+    OutputSpec(
+        "centroidal_momentum_matrix", "Ag", ("q",), lambda d: (6, d.dof), "6 x N", "kg m/s and kg m^2/s per unit qd",
+        "Centroidal momentum matrix A_G (Orin's): the momentum about the centre of mass h_G = A_G qd, linear rows first, world axes (Pinocchio's ccrba).",
+        (OutputArgument("Ag", "centroidal momentum matrix, 6*N row-major: rows 0-2 map qd to the linear momentum m c-dot (kg m/s), rows 3-5 to the angular momentum about the centre of mass (kg m^2/s), world axes"),),
+        default=False),
+    OutputSpec(
+        "centroidal_bias", "dhg", ("q", "qd"), lambda d: (6, 1), "6", "N and N m",
+        "A_G-dot qd: the rate of the centroidal momentum at zero accelerations, so that h_G-dot = A_G qdd + A_G-dot qd, world axes (Pinocchio's computeCentroidalMomentumTimeVariation at zero acceleration).",
+        (OutputArgument("dhg", "A_G-dot times qd, 6: the rate of the linear momentum (N, rows 0-2) and of the angular momentum about the centre of mass (N m, rows 3-5) at qdd = 0, world axes"),),
+        default=False),
 )
 
 #: every output by name, in the order generated code and documentation list them
@@ -283,6 +308,14 @@ def spec(name: str) -> OutputSpec:
 #: the outputs of a kinematic tree (links with ``parent:``) or a floating base: its joint-space
 #: dynamics (the others are about one tool, or written for serial chains)
 TREE_OUTPUTS = tuple(s.name for s in SPECS if s.default and not s.kinematic)
+
+#: the centre of mass and the centroidal momentum (derived together; when asked for)
+CENTROIDAL_OUTPUTS = ("center_of_mass", "center_of_mass_jacobian", "center_of_mass_bias",
+                      "centroidal_momentum_matrix", "centroidal_bias")
+
+#: what a kinematic tree or a floating base can have derived: its joint-space dynamics and the
+#: whole robot's centre of mass and centroidal momentum
+TREE_AVAILABLE = TREE_OUTPUTS + CENTROIDAL_OUTPUTS
 
 
 def default_outputs(robot) -> tuple[str, ...]:
