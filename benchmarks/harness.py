@@ -103,10 +103,16 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "forward_kinematics": (("framePlacement",), "KIN"),
              "jacobian": (("frameJacobian",), "KIN"),
              "jacobian_dot_qd": (("frameClassicalAcceleration",), "KIN"),
-             "kinematics": (("framePlacementJacobian",), "KIN")}
+             "kinematics": (("framePlacementJacobian",), "KIN"),
+             "center_of_mass": (("centerOfMass",), "CENT"),
+             "center_of_mass_jacobian": (("jacobianCenterOfMass",), "CENT"),
+             "center_of_mass_bias": (("centerOfMassBias",), "CENT"),
+             "centroidal_momentum_matrix": (("ccrba",), "CENT"),
+             "centroidal_bias": (("centroidalBias",), "CENT")}
 #: parts of Pinocchio's side in a source of their own (benchmarks/harness_pinocchio_task.cpp,
 #: harness_pinocchio_kin.cpp), so that adding them leaves the cached objects of the others valid
 OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocchio_kin.cpp",
+                    "CENT": "harness_pinocchio_centroidal.cpp",
                     "FLOAT": "harness_pinocchio_floating.cpp"}
 #: a floating base's Pinocchio calls that read q as nq numbers (benchmarks/harness_pinocchio_floating.cpp,
 #: part FLOAT), in place of these; the peer and the cross-check keep the original names
@@ -120,7 +126,8 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "computeCoriolisMatrix": "Q, QD", "crba_local": "Q", "crba_world": "Q",
                        "aba_local": "Q, QD, TAU", "aba_world": "Q, QD, TAU", "taskSpace": "Q, QD",
                        "framePlacement": "Q", "frameJacobian": "Q", "frameClassicalAcceleration": "Q, QD",
-                       "framePlacementJacobian": "Q"}
+                       "framePlacementJacobian": "Q", "centerOfMass": "Q", "jacobianCenterOfMass": "Q",
+                       "centerOfMassBias": "Q, QD", "ccrba": "Q, QD", "centroidalBias": "Q, QD"}
 STATE_ARRAYS = {"q": "Q", "qd": "QD", "qdd": "QDD", "tau": "TAU"}
 #: Pinocchio's headers need these with the pin wheel's Boost (its joint visitors take more
 #: arguments than Boost's default limits allow)
