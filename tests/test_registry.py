@@ -3,6 +3,7 @@ and CasADi, compiled and called, timed and verified against Pinocchio, so that n
 half-added."""
 
 import dataclasses
+import re
 import shutil
 import subprocess
 
@@ -21,7 +22,7 @@ from symdyn.emit.cgen import generate_c
 from symdyn.model.outputs import (ALL_OUTPUTS, COMBINED_SPECS, OUTPUTS, SPECS, Dimensions, default_outputs,
                                   functions_help, with_requirements)
 from symdyn.model.outputs import REGISTRY
-from symdyn.model.robot import TASKS
+from symdyn.model.robot import TASKS, NamedFrame, Placement
 
 #: passive joints (a nontrivial reaction map) and a numeric geometry (base parameters)
 ROBOT = "pendulum_leg"
@@ -33,12 +34,16 @@ TASK = "orientation"
 @pytest.fixture(scope="module")
 def everything(tmp_path_factory):
     """(robot, Equations of every output, compiled library, generated files)."""
-    robot = dataclasses.replace(symdyn.load(robot_path(ROBOT)), task=TASKS[TASK])
+    loaded = symdyn.load(robot_path(ROBOT))
+    # two frames: the last link's own, and one fixed in link 2 away from its origin
+    frames = (NamedFrame(loaded.links[-1].name, loaded.dof - 1),
+              NamedFrame("offset", 1, tuple(Placement((0.1, -0.2, 0.3), (0.4, 0.5, 0.6)).matrix())))
+    robot = dataclasses.replace(loaded, task=TASKS[TASK], frames=frames)
     eqs = symdyn.derive(robot, outputs=ALL_OUTPUTS)
     files = generate_c(eqs, ALL_OUTPUTS)
     workdir = tmp_path_factory.mktemp("registry")
     lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), workdir=str(workdir),
-                         actuated=len(robot.actuated_joints), task=len(robot.task_rows))
+                         actuated=len(robot.actuated_joints), task=len(robot.task_rows), frames=len(robot.frames))
     lib.base_columns = len(eqs.base_parameters)
     return robot, eqs, lib, files, workdir
 
@@ -79,7 +84,8 @@ def test_every_output_derived_emitted_and_called(everything):
     """Each registered output: its derived matrix has the registered shape, and the compiled C
     function returns the numbers the numpy evaluation of the same equations gives."""
     robot, eqs, lib, files, _ = everything
-    dims = Dimensions(robot.dof, len(robot.actuated_joints), len(eqs.base_parameters), len(robot.task_rows))
+    dims = Dimensions(robot.dof, len(robot.actuated_joints), len(eqs.base_parameters), len(robot.task_rows),
+                      len(robot.frames))
     rng = np.random.default_rng(5)
     state = {g: rng.uniform(-1, 1, robot.dof) for g in ("q", "qd", "qdd", "tau")}
     for spec in SPECS:
@@ -122,7 +128,7 @@ def test_every_output_can_be_timed(everything):
     robot, _, _, files, workdir = everything
     names = list(ALL_OUTPUTS) + [c.name for c in COMBINED_SPECS]
     harness = workdir / "bench.c"
-    harness.write_text(symdyn_harness(robot.name, robot.dof, names))
+    harness.write_text(symdyn_harness(robot.name, robot.dof, names, frames=len(robot.frames)))
     result = subprocess.run([find_compiler(), "-std=c99", "-Wall", "-Werror", "-O0", str(harness),
                              str(workdir / f"{robot.name}_dynamics.c"), "-o", str(workdir / "bench"), "-lm"],
                             capture_output=True, text=True)
@@ -133,7 +139,9 @@ def test_every_output_verified(capsys, tmp_path):
     """symdyn verify compares every registered output with Pinocchio (regressors as torques)."""
     pytest.importorskip("pinocchio")
     path = tmp_path / f"{ROBOT}.yaml"
-    path.write_text(open(robot_path(ROBOT)).read() + f"task: {TASK}\n")
+    text = open(robot_path(ROBOT)).read() + f"task: {TASK}\n"
+    last = re.findall(r"- name: (\w+)", text)[-1]
+    path.write_text(text + f"frames: [{last}, {{name: offset, link: {last}, xyz: [0.1, -0.2, 0.3], rpy: [0.4, 0.5, 0.6]}}]\n")
     code = main(["verify", str(path), "--functions", ",".join(ALL_OUTPUTS), "--states", "4"])
     out = capsys.readouterr().out
     assert code == 0, out

@@ -165,8 +165,9 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
             files = generate_c(eqs, fns, precision)
             folder = os.path.join(workdir, f"{name}-{variant}")
             os.makedirs(folder, exist_ok=True)
-            lib = build_and_load(files, name, n, 0, precision, folder)
-            timings = time_generated(files, name, n, fns, precision, folder)
+            frames = len(eqs.robot.frames)
+            lib = build_and_load(files, name, n, 0, precision, folder, frames=frames)
+            timings = time_generated(files, name, n, fns, precision, folder, frames=frames)
             for f in fns:
                 results.append(Result(name, variant, f, timings[f], _c_ops(eqs, f, precision),
                                       error_of(getattr(lib, f), f, precision == "float")))

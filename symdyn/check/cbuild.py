@@ -45,6 +45,7 @@ class CompiledDynamics:
         self.actuated = dof if actuated is None else actuated
         self.base_columns = 0  # set by callers of base_regressor (the number of base parameters)
         self.task = 6  # rows of the task of the task-space functions (build_and_load sets it)
+        self.frames = 0  # frames of the frame functions (build_and_load sets it)
         single = precision in ("float", "mixed")
         self.ctype = ctypes.c_float if single else ctypes.c_double
         self.dtype = np.float32 if single else np.float64
@@ -101,7 +102,7 @@ class CompiledDynamics:
 
 
 def _dims(lib, columns=None) -> Dimensions:
-    return Dimensions(lib.n, lib.actuated, columns or lib.base_columns, lib.task)
+    return Dimensions(lib.n, lib.actuated, columns or lib.base_columns, lib.task, lib.frames)
 
 
 def _compiled_method(spec):
@@ -147,9 +148,10 @@ for _combined in COMBINED_SPECS:
 
 
 def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, precision: str = "double",
-                   workdir: str | None = None, actuated: int | None = None, task: int = 6) -> CompiledDynamics:
+                   workdir: str | None = None, actuated: int | None = None, task: int = 6,
+                   frames: int = 0) -> CompiledDynamics:
     """Write generated ``files`` to ``workdir`` (a new temporary directory by default), compile and load
-    (``task``: rows of the task-space functions' task)."""
+    (``task``: rows of the task-space functions' task; ``frames``: frames of the frame functions)."""
     workdir = workdir or tempfile.mkdtemp(prefix="symdyn_")
     for name, text in files.items():
         with open(os.path.join(workdir, name), "w") as handle:
@@ -157,6 +159,7 @@ def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, 
     lib = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir)
     compiled = CompiledDynamics(lib, prefix, dof, n_params, precision, actuated)
     compiled.task = task
+    compiled.frames = frames
     return compiled
 
 

@@ -106,21 +106,32 @@ def build_model(robot: Robot, values: Mapping | None = None):
                                                   np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])),
                                 pin.SE3.Identity())
         base_rows = [0.0] * 6
-    parent, body = _add_chain(model, robot, links, parent=root)
+    placed: list = []  # per link: (its joint id, the pose of its link frame in that joint's frame)
+    parent, body = _add_chain(model, robot, links, parent=root, placed=placed)
     model.armature = np.array(base_rows + [row["armature"] for row in links])
     tool = body @ np.array([_value(c, "tool") for c in robot.tool_matrix()]).reshape(4, 4)
     model.addFrame(pin.Frame("tool", parent, pin.SE3(tool[:3, :3].copy(), tool[:3, 3].copy()),
                              pin.FrameType.OP_FRAME))
+    for frame in robot.frames:  # the frame functions' frames, by name
+        local = np.array([_value(c, f"frame {frame.name}") for c in frame.matrix()]).reshape(4, 4)
+        if frame.link >= 0:
+            joint, at = placed[frame.link]
+        else:  # on the base: the floating base's joint, or the world at the base placement
+            joint, at = root, np.eye(4) if robot.floating else np.array(
+                [_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
+        pose = at @ local
+        model.addFrame(pin.Frame(f"frame_{frame.name}", joint, pin.SE3(pose[:3, :3].copy(), pose[:3, 3].copy()),
+                                 pin.FrameType.OP_FRAME))
     info = {"damping": np.array(base_rows + [row["damping"] for row in links]),
             "last_body": body,  # pose of the last link frame in its joint frame
             "coulomb": np.array(base_rows + [row["coulomb"] for row in links])}
     return model, info
 
 
-def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: str = ""):
+def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: str = "", placed: list | None = None):
     """Add the robot's joints and link inertias to ``model`` below joint ``parent`` (the robot's
     base placement relative to it); returns ``(last joint id, pose of the last link frame in
-    that joint's frame)``."""
+    that joint's frame)``; ``placed`` (a list) receives each link's pair."""
     import pinocchio as pin
 
     # constant transform from the parent joint frame to this joint frame (the first: the base)
@@ -165,6 +176,8 @@ def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: 
         model.appendBodyToJoint(joint_id, body_se3.act(link_inertia), pin.SE3.Identity())
         ids.append(joint_id)
         after.append(next_placement)
+        if placed is not None:
+            placed.append((joint_id, body))
     return ids[-1], body
 
 
@@ -422,6 +435,31 @@ class PinocchioReference:
 
     def forward_dynamics(self, q, qd, tau):
         return self.pin.aba(self.model, self.data, q, qd, tau - self.friction(qd)).copy()
+
+    # the frames' kinematics (world axes at each frame's origin: LOCAL_WORLD_ALIGNED), stacked
+    def _frame_ids(self):
+        return [self.model.getFrameId(name) for name in self.model_frames()]
+
+    def model_frames(self) -> list[str]:
+        """The model's frames of the frame functions, in their order."""
+        return [f.name for f in self.model.frames if f.name.startswith("frame_")]
+
+    def frame_poses(self, q):
+        self.pin.framesForwardKinematics(self.model, self.data, q)
+        return np.vstack([self.data.oMf[i].homogeneous for i in self._frame_ids()])
+
+    def frame_jacobians(self, q):
+        self.pin.computeJointJacobians(self.model, self.data, q)
+        self.pin.updateFramePlacements(self.model, self.data)
+        return np.vstack([self.pin.getFrameJacobian(self.model, self.data, i, self.pin.LOCAL_WORLD_ALIGNED)
+                          for i in self._frame_ids()])
+
+    def frame_jacobian_dot_v(self, q, qd):
+        self.pin.forwardKinematics(self.model, self.data, q, qd, np.zeros(self.model.nv))
+        self.pin.updateFramePlacements(self.model, self.data)
+        return np.concatenate([self.pin.getFrameClassicalAcceleration(self.model, self.data, i,
+                                                                       self.pin.LOCAL_WORLD_ALIGNED).vector
+                               for i in self._frame_ids()])
 
     # the whole robot's centre of mass and centroidal momentum (world axes; Pinocchio's
     # functions of the same names, each on its own)

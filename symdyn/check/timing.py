@@ -46,21 +46,22 @@ def parse(text):
     return {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+) ([\d.]+)$", text, re.M)}
 
 
-def call_arguments(function: str, dof: int, base_parameters: int = 0, task: int = 6) -> tuple[str, list[str], int]:
+def call_arguments(function: str, dof: int, base_parameters: int = 0, task: int = 6,
+                   frames: int = 0) -> tuple[str, list[str], int]:
     """The harness's arguments of ``NAME_<function>`` before ``p`` and its output arrays: the
     inputs (state k; tau is read from the qdd array), then every output argument at its own
     offset in ``out`` (the first at ``out``); and the numbers the outputs take."""
     parts = COMBINED.get(function, (function,))
-    dims = Dimensions(dof, dof, base_parameters or dof, task)
+    dims = Dimensions(dof, dof, base_parameters or dof, task, frames)
     inputs = ", ".join(f"{'qdd' if g == 'tau' else g}[k]" for g in function_inputs(function))
     sizes = [rows * cols for part in parts for _, (rows, cols) in REGISTRY[part].argument_shapes(dims)]
     offsets = [sum(sizes[:k]) for k in range(len(sizes))]
     return inputs, [("out" if offset == 0 else f"out + {offset}") for offset in offsets], sum(sizes)
 
 
-def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", parameters=()) -> str:
+def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", parameters=(), frames: int = 0) -> str:
     """A C program timing symdyn's generated ``prefix_<function>`` (``parameters``: the values
-    of its runtime parameters, passed as ``p``)."""
+    of its runtime parameters, passed as ``p``; ``frames``: the robot's frames)."""
     real = "double" if precision == "double" else "float"
     includes = f'#define REAL {real}\n#include "{prefix}_dynamics.h"'
     extra = ""
@@ -69,7 +70,7 @@ def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", 
         extra = ", p"
     body, out_size = "", 1
     for f in functions:
-        inputs, outputs, size = call_arguments(f, dof)
+        inputs, outputs, size = call_arguments(f, dof, frames=frames)
         out_size = max(out_size, size)
         body += f'    TIME("{f}", {prefix}_{f}({inputs}{extra}, {", ".join(outputs)}));\n'
     includes += f"\n#define OUT_SIZE {out_size}"
@@ -77,7 +78,7 @@ def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", 
 
 
 def time_generated(files: dict[str, str], prefix: str, dof: int, functions, precision: str, workdir: str,
-                   parameters=()) -> dict[str, float]:
+                   parameters=(), frames: int = 0) -> dict[str, float]:
     """Write symdyn's generated ``files`` to ``workdir``, compile them with the timing harness
     (-O3 -march=native) and return ``{function: ns per call}``."""
     from .cbuild import find_compiler
@@ -86,7 +87,7 @@ def time_generated(files: dict[str, str], prefix: str, dof: int, functions, prec
             handle.write(text)
     harness = os.path.join(workdir, "bench.c")
     with open(harness, "w") as handle:
-        handle.write(symdyn_harness(prefix, dof, functions, precision, parameters))
+        handle.write(symdyn_harness(prefix, dof, functions, precision, parameters, frames))
     exe = os.path.join(workdir, "bench")
     subprocess.run([find_compiler(), "-O3", "-march=native", "-std=c99", "-w", harness,
                     os.path.join(workdir, f"{prefix}_dynamics.c"), "-o", exe, "-lm"], check=True)

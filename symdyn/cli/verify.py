@@ -79,7 +79,8 @@ def run(args) -> int:
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.nv, len(robot.parameters), precision, workdir,
-                             actuated=len(robot.actuated_joints), task=len(robot.task_rows))
+                             actuated=len(robot.actuated_joints), task=len(robot.task_rows),
+                             frames=len(robot.frames))
         lib.base_columns = len(eqs.base_parameters)
         regressors = [f for f in functions if f in ("regressor", "base_regressor")]
         if regressors:  # checked as torques: Y pi and Y_b beta against the reference's inverse dynamics

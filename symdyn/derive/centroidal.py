@@ -34,52 +34,13 @@ from ..model.errors import SymdynError
 from .chain import Chain
 from .newton_euler import recursion
 from .composite import composite_inertias, unit_momentum, whole_robot_inertia
+from .poses import tree_poses, world_placement
 
 from ..model.outputs import CENTROIDAL_OUTPUTS  # noqa: F401 (the outputs this module derives)
 
 
 def _named(b, hint: str, exprs) -> sp.Matrix:
     return b.vector(hint, [sp.expand(e) for e in exprs])
-
-
-def _named_pose(b, hint: str, pose: sp.Matrix) -> sp.Matrix:
-    """``pose`` (4x4 homogeneous) with its rotation and translation entries named."""
-    out = sp.eye(4)
-    for r in range(3):
-        for c in range(4):
-            out[r, c] = b.define(f"{hint}_{r}{c}", sp.expand(pose[r, c]))
-    return out
-
-
-def tree_poses(chain: Chain) -> tuple[list[sp.Matrix], list[sp.Matrix]]:
-    """``(joint_frames, link_frames)``: each joint frame J_i (its axis z, after its motion) and
-    each link frame in the base frame, 4x4, named as they are composed along the tree (parents
-    first): the parent's link frame times the constant placement ``Pre_i`` (named: the product
-    with the joint's rotation about z then costs 4 multiplications a row), the joint's motion,
-    then ``Post_i``."""
-    b = chain.builder
-    joints: list[sp.Matrix] = []
-    links: list[sp.Matrix] = []
-    for i in range(chain.n):
-        parent = chain.parents[i]
-        geo = chain.geometry[i]
-        placed = sp.Matrix(geo.pre) if parent < 0 else _named_pose(b, f"Tp{i + 1}", links[parent] * sp.Matrix(geo.pre))
-        joint = _named_pose(b, f"Tj{i + 1}", placed * chain.motions[i])
-        post = sp.Matrix(geo.post)
-        joints.append(joint)
-        links.append(joint if post == sp.eye(4) else _named_pose(b, f"Tb{i + 1}", joint * post))
-    return joints, links
-
-
-def _world(chain: Chain) -> tuple[sp.Matrix, sp.Matrix]:
-    """(R, p): the base frame's orientation and origin in the world (the floating base's pose
-    from q, its quaternion normalized; the fixed base's placement)."""
-    if chain.robot.floating:
-        b = chain.builder
-        R = sp.Matrix(3, 3, lambda r, c: b.define(f"Rw_{r}{c}", sp.expand(chain.base_rotation[r, c])))
-        return R, sp.Matrix(chain.q[:3])
-    base = sp.Matrix(chain.robot.base_matrix())
-    return base[:3, :3], base[:3, 3]
 
 
 def _rotate(b, hint: str, R: sp.Matrix, v: sp.Matrix) -> sp.Matrix:
@@ -101,7 +62,7 @@ def centroidal_quantities(chain: Chain, wanted) -> dict[str, sp.Matrix]:
     for i, link in enumerate(links):
         R, p = poses[i][:3, :3], poses[i][:3, 3]
         first += link.mass * (R * sp.Matrix(link.com) + p)
-    R_w, p_w = _world(chain)
+    R_w, p_w = world_placement(chain)
     first = _named(b, "hG", first)
     com_base = _named(b, "Gb", first / total)
     result: dict[str, sp.Matrix] = {}

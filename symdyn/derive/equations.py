@@ -58,7 +58,7 @@ from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
-                             CENTROIDAL_OUTPUTS, default_outputs, spec,
+                             CENTROIDAL_OUTPUTS, FRAME_OUTPUTS, default_outputs, spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
@@ -67,6 +67,7 @@ from .numeric import NumericEquations, compile_function
 from .task_space import task_space
 from .tool import tool_kinematics
 from .centroidal import centroidal_quantities
+from .frames import frame_kinematics
 
 #: how inverse dynamics is written: in the robot's standard parameters, or in its base parameters
 PARAMETER_FORMS = ("standard", "base")
@@ -542,6 +543,14 @@ def _centroidal(d: _Derivation) -> sp.Matrix:
     return d.values[wanted[0]]
 
 
+def _frames(d: _Derivation) -> sp.Matrix:
+    """Every frame output needed, derived together (they share the link poses)."""
+    wanted = [name for name in FRAME_OUTPUTS if name in d.need]
+    d.report("frame kinematics")
+    d.values.update(frame_kinematics(d.chain, wanted))
+    return d.values[wanted[0]]
+
+
 def _forward_dynamics(d: _Derivation) -> sp.Matrix:
     robot, chain, b = d.robot, d.chain, d.b
     M = d.get("mass_matrix") + armature_matrix(robot)
@@ -669,6 +678,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     **{name: _tool for name in KINEMATIC_OUTPUTS},
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, **{name: _task for name in TASK_OUTPUTS},
+    **{name: _frames for name in FRAME_OUTPUTS},
     **{name: _centroidal for name in CENTROIDAL_OUTPUTS},
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")

@@ -24,7 +24,7 @@ from .emission import banner_fields, comment_text, constant_rows, source_label, 
 from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
-from ..model.outputs import ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS
+from ..model.outputs import ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -371,6 +371,9 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
                    for k, link in enumerate(robot.links)],
         "tree": robot.is_tree,
         "total_mass": _total_mass(robot) if any(f in CENTROIDAL_OUTPUTS for f in functions) else None,
+        "frames": ([(k, frame.name, "the base" if frame.link < 0 else f"link {frame.link + 1} ({robot.links[frame.link].name})",
+                     "its own frame" if frame.pose is None else "fixed in it")
+                    for k, frame in enumerate(robot.frames)] if any(f in FRAME_OUTPUTS for f in functions) else []),
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
         "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,

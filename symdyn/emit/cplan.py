@@ -91,7 +91,8 @@ class ReducedPlan:
 
 def dimensions(eqs: Equations) -> Dimensions:
     """The sizes the outputs of ``eqs`` depend on."""
-    return Dimensions(eqs.n, len(eqs.robot.actuated_joints), len(eqs.base_parameters), len(eqs.robot.task_rows))
+    return Dimensions(eqs.n, len(eqs.robot.actuated_joints), len(eqs.base_parameters), len(eqs.robot.task_rows),
+                      len(eqs.robot.frames))
 
 
 def _factor_targets(motions, momenta, size: int) -> list[Target]:

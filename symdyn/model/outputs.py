@@ -34,6 +34,8 @@ class Dimensions:
     base_parameters: int = 0
     #: rows of the task (the task-space functions' M): 6 for the tool's pose (the default)
     task: int = 6
+    #: frames of the frame functions (``frames:``)
+    frames: int = 0
 
     @property
     def na(self) -> int:
@@ -230,6 +232,21 @@ SPECS: tuple[OutputSpec, ...] = (
                                 "+ (1 - J^T Jbar^T) tau0 leaves the tool's acceleration to F"),),
         default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
     OutputSpec(
+        "frame_poses", "T", ("q",), lambda d: (4 * d.frames, 4), "K x 4 x 4", "m",
+        "Poses of the frames listed above in the world, each a homogeneous transform (Pinocchio's framesForwardKinematics, oMf).",
+        (OutputArgument("T", "poses of the K frames in the world, K*4*4 row-major: frame k's [R p; 0 0 0 1] at T + 16 k (p in m)"),),
+        default=False),
+    OutputSpec(
+        "frame_jacobians", "J", ("q",), lambda d: (6 * d.frames, d.dof), "K x 6 x N", "m/s and rad/s per unit qd",
+        "Geometric Jacobians of the frames listed above, world axes at each frame's origin (Pinocchio's getFrameJacobian, LOCAL_WORLD_ALIGNED).",
+        (OutputArgument("J", "frame Jacobians, K*6*N row-major: frame k's 6 x N block at J + 6 N k, rows 0-2 map qd to its origin's linear velocity (m/s), rows 3-5 to its angular velocity (rad/s), world axes"),),
+        default=False),
+    OutputSpec(
+        "frame_jacobian_dot_v", "a", ("q", "qd"), lambda d: (6 * d.frames, 1), "6 K", "m/s^2 and rad/s^2",
+        "J-dot qd of each frame listed above: its classical acceleration at zero accelerations, world axes (Pinocchio's getFrameClassicalAcceleration, LOCAL_WORLD_ALIGNED).",
+        (OutputArgument("a", "J-dot times qd, K*6: frame k's origin's classical linear acceleration (m/s^2) then its angular acceleration (rad/s^2) at qdd = 0, at a + 6 k, world axes"),),
+        default=False),
+    OutputSpec(
         "center_of_mass", "com", ("q",), lambda d: (3, 1), "3", "m",
         "Centre of mass of the whole robot (every link, and a floating base's body) in the world, as Pinocchio's centerOfMass.",
         (OutputArgument("com", "centre of mass c = sum(m_i c_i) / m in the world, 3 (m)"),),
@@ -264,6 +281,9 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
     CombinedSpec("kinematics", ("forward_kinematics", "jacobian"),
                  "Pose and Jacobian of the tool in one call: the same results as NAME_forward_kinematics and "
                  "NAME_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls)."),
+    CombinedSpec("frame_kinematics", ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v"),
+                 "Poses, Jacobians and J-dot qd of the frames in one call: the same results as NAME_frame_poses, "
+                 "NAME_frame_jacobians and NAME_frame_jacobian_dot_v, sharing their sin/cos and link poses."),
     CombinedSpec("task_space", ("task_mass_matrix", "task_bias", "task_gravity", "task_inverse"),
                  "Task-space dynamics of the tool in one call, F = Lambda xdd + mu + Gx: Lambda, mu and Gx as "
                  "NAME_task_mass_matrix, NAME_task_bias and NAME_task_gravity, and Jbar as NAME_task_inverse, "
@@ -313,19 +333,23 @@ TREE_OUTPUTS = tuple(s.name for s in SPECS if s.default and not s.kinematic)
 CENTROIDAL_OUTPUTS = ("center_of_mass", "center_of_mass_jacobian", "center_of_mass_bias",
                       "centroidal_momentum_matrix", "centroidal_bias")
 
-#: what a kinematic tree or a floating base can have derived: its joint-space dynamics and the
-#: whole robot's centre of mass and centroidal momentum
-TREE_AVAILABLE = TREE_OUTPUTS + CENTROIDAL_OUTPUTS
+#: the frame functions (the robot's ``frames:``; by default when it lists frames)
+FRAME_OUTPUTS = ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v")
+
+#: what a kinematic tree or a floating base can have derived: its joint-space dynamics, its
+#: frames' kinematics and the whole robot's centre of mass and centroidal momentum
+TREE_AVAILABLE = TREE_OUTPUTS + FRAME_OUTPUTS + CENTROIDAL_OUTPUTS
 
 
 def default_outputs(robot) -> tuple[str, ...]:
     """What is derived and generated when nothing is asked for: :data:`OUTPUTS`, the reaction
     map when the robot has passive joints, and the task-space outputs when it names a task;
     for a kinematic tree, :data:`TREE_OUTPUTS`."""
+    frames = FRAME_OUTPUTS if getattr(robot, "frames", ()) else ()
     if getattr(robot, "is_tree", False):
-        return TREE_OUTPUTS
+        return TREE_OUTPUTS + frames
     return (OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
-            + (TASK_OUTPUTS if getattr(robot, "task", None) is not None else ()))
+            + (TASK_OUTPUTS if getattr(robot, "task", None) is not None else ()) + frames)
 
 
 def function_inputs(name: str) -> tuple[str, ...]:
@@ -355,10 +379,11 @@ def in_order(names: Iterable[str]) -> tuple[str, ...]:
 
 
 def output_shape(name: str, n: int, actuated: int | None = None, base_parameters: int = 0,
-                 task: int = 6) -> tuple[int, int]:
+                 task: int = 6, frames: int = 0) -> tuple[int, int]:
     """Rows and columns of an output for a robot of ``n`` joints (``actuated`` of them actuated,
-    default all; ``base_parameters`` columns of the base regressor; ``task`` rows of the task)."""
-    return spec(name).shape(Dimensions(n, actuated, base_parameters, task))
+    default all; ``base_parameters`` columns of the base regressor; ``task`` rows of the task;
+    ``frames`` frames of the frame functions)."""
+    return spec(name).shape(Dimensions(n, actuated, base_parameters, task, frames))
 
 
 def functions_help() -> str:

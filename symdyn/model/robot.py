@@ -40,7 +40,9 @@ _RESERVED_WORDS = frozenset({"pi", "e", "E", "I", "sin", "cos", "sqrt"})
 _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any case
 
 TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "base_body", "tool", "task", "parameters",
-            "links")
+            "frames", "links")
+#: the fields of a frame fixed in a link (``frames:`` entries written as mappings)
+FRAME_KEYS = ("name", "link", "xyz", "rpy")
 #: the fields of ``base_body:`` (the free-floating base's own inertia)
 BODY_KEYS = ("mass", "com", "inertia")
 #: the free-flyer's coordinates, before the joints' (Pinocchio's): position, quaternion (x, y, z, w)
@@ -209,6 +211,20 @@ ZERO_BODY = Body(sp.S.Zero, (sp.S.Zero,) * 3, (sp.S.Zero,) * 6)
 
 
 @dataclass(frozen=True)
+class NamedFrame:
+    """A frame fixed in a link (or in the base) whose pose, Jacobian and J-dot v the frame
+    functions give: ``link`` the link's index (0-based, -1 the base), ``pose`` the frame in that
+    link's frame (16 numbers, row-major 4x4), or None for the link's own frame."""
+
+    name: str
+    link: int
+    pose: tuple[sp.Expr, ...] | None = None
+
+    def matrix(self) -> sp.Matrix:
+        return sp.eye(4) if self.pose is None else sp.Matrix(4, 4, list(self.pose))
+
+
+@dataclass(frozen=True)
 class Robot:
     """A serial chain described by its DH table and inertial parameters.
 
@@ -256,6 +272,8 @@ class Robot:
     floating: bool = False
     #: the floating base's own inertia in the base frame (``base_body:``; zero when not given)
     base_body: Body | None = None
+    #: the frames of the frame functions (``frames:``), in their order
+    frames: tuple[NamedFrame, ...] = ()
 
     @property
     def nv(self) -> int:
@@ -759,6 +777,7 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     names_seen: set = set()
     links = tuple(reader.read_link(k, raw, names_seen) for k, raw in enumerate(links_raw))
     parents = read_parents(reader, links_raw, links)
+    frames = read_frames(reader, doc["frames"], links) if "frames" in doc else ()
     runtime_syms = list(reader.runtime.values())
     placements = [e for p in (base, tool, base_body) if p is not None for e in p.expressions()]
     used = set().union(*(e.free_symbols for link in links for e in link.expressions()),
@@ -772,7 +791,48 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
         links=links, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
         source=path, source_hash=source_hash, base=base, tool=tool, task=task,
         runtime_names=tuple(s.name for s in runtime_syms if s in used),
-        parents=parents, floating=floating, base_body=base_body)
+        parents=parents, floating=floating, base_body=base_body, frames=frames)
+
+
+def _did_you_mean(name: Any, names) -> str:
+    close = difflib.get_close_matches(name, list(names), n=1, cutoff=0.6) if isinstance(name, str) else []
+    return f"; did you mean '{close[0]}'?" if close else ""
+
+
+def read_frames(reader: RobotFileReader, raw: Any, links: tuple[Link, ...]) -> tuple[NamedFrame, ...]:
+    """``frames:``: a list of link names (each link's own frame) and of frames fixed in a link,
+    ``{name, link, xyz, rpy}`` (``link``: a link's name or ``base``; the placement in numbers)."""
+    if not isinstance(raw, list) or not raw:
+        reader.fail("expected a list of link names and {name, link, xyz, rpy} frames", None, "frames")
+    index = {link.name: k for k, link in enumerate(links)}
+    out: list[NamedFrame] = []
+    for k, item in enumerate(raw):
+        fld = f"frames[{k}]"
+        if isinstance(item, str):
+            if item not in index:
+                reader.fail(f"no link named {describe(item)}{_did_you_mean(item, index)} (a frame given by name "
+                            "is a link's own frame; a frame elsewhere is {name, link, xyz, rpy})", None, fld)
+            out.append(NamedFrame(item, index[item]))
+            continue
+        reader.check_mapping(item, FRAME_KEYS, None, fld, "expected a link name or a mapping {name, link, xyz, rpy}")
+        name, link = item.get("name"), item.get("link")
+        if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", name):
+            reader.fail(f"expected a name of letters, digits and '_' (at most 64), not {describe(name)}", None,
+                        f"{fld}.name")
+        if name in index:
+            reader.fail(f"{describe(name)} is the name of a link (whose own frame it would hide): choose another",
+                        None, f"{fld}.name")
+        if link != "base" and link not in index:
+            reader.fail(f"no link named {describe(link)}{_did_you_mean(link, index)} (or 'base')", None, f"{fld}.link")
+        placement = reader.placement({key: item[key] for key in PLACEMENT_KEYS if key in item}, None, fld)
+        if any(sp.sympify(v).free_symbols for v in placement.expressions()):
+            reader.fail("a frame's placement takes numbers (no parameter names)", None, fld)
+        out.append(NamedFrame(name, -1 if link == "base" else index[link], tuple(placement.matrix())))
+    names = [frame.name for frame in out]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        reader.fail(f"frame {describe(twice[0])} is listed twice", None, "frames")
+    return tuple(out)
 
 
 def read_parents(reader: RobotFileReader, links_raw: list, links: tuple[Link, ...]) -> tuple[int, ...]:

@@ -221,8 +221,16 @@ def lock_joints(robot: Robot, locked: dict[int, sp.Expr]) -> Robot:
         previous = sp.eye(4) if tool_fixed is None else sp.Matrix(4, 4, list(tool_fixed))
         tool_fixed = tuple((pending * previous).applyfunc(_tidy))
     tree = robot.floating or any(p != k - 1 for k, p in enumerate(kept_parents))
+    frames = []  # a frame on a locked link rides on that link's moving ancestor
+    for frame in robot.frames:
+        if frame.link in carried:
+            anchor, pending = carried[frame.link]
+            frames.append(replace(frame, link=anchor, pose=tuple((pending * frame.matrix()).applyfunc(_tidy))))
+        else:
+            frames.append(replace(frame, link=new_index.get(frame.link, -1)))
     return _drop_unused(replace(robot, links=tuple(kept), tool_fixed=tool_fixed,
-                                parents=tuple(kept_parents) if tree else (), base_body=base_body))
+                                parents=tuple(kept_parents) if tree else (), base_body=base_body,
+                                frames=tuple(frames)))
 
 
 def _drop_unused(robot: Robot) -> Robot:

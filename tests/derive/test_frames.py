@@ -1,0 +1,111 @@
+"""Named frames (a robot file's ``frames:``): frame_poses, frame_jacobians and
+frame_jacobian_dot_v against Pinocchio's framesForwardKinematics, getFrameJacobian and
+getFrameClassicalAcceleration (LOCAL_WORLD_ALIGNED) on a serial arm on a placed base, a kinematic
+tree and a floating base, numpy and compiled C; and the field's errors."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import symdyn
+from helpers import REPO, TOL
+from symdyn.check.cbuild import build_and_load
+from symdyn.check.pinocchio_model import PinocchioReference, compare
+from symdyn.check.states import random_state
+from symdyn.emit.cgen import generate_c
+from symdyn.model.errors import SymdynError
+from symdyn.model.outputs import FRAME_OUTPUTS
+
+#: robot file -> the frames added to it: a link's own frame, frames fixed in links (rotated and
+#: offset), a frame on the base
+CASES = {
+    "tests/data/general_arm.yaml": "  - flange\n  - {name: tip, link: slide, xyz: [0.1, 0.2, 0.3], rpy: [1, 2, 3]}\n"
+                                   "  - {name: fixture, link: base, xyz: [0.5, 0, 0]}\n",
+    "examples/trees/torso_two_arms.yaml": "  - l_wrist\n  - {name: r_grip, link: r_wrist, xyz: [0.02, -0.01, 0.12], "
+                                          "rpy: [0.3, -0.2, 1.1]}\n  - {name: chest, link: torso, xyz: [0.1, 0.05, 0.3]}\n",
+    "examples/trees/space_robot.yaml": "  - l_wrist\n  - {name: r_grip, link: r_slide, xyz: [0.02, -0.01, 0.12], "
+                                       "rpy: [0.3, -0.2, 1.1]}\n  - {name: antenna, link: base, xyz: [0.1, 0.3, 0.7], "
+                                       "rpy: [0.2, 0.5, 0]}\n",
+}
+
+
+def _with_frames(tmp_path, source: str, frames: str) -> str:
+    text = (REPO / source).read_text().replace("gravity: [0, 0, 0]", "gravity: [0.3, -1.2, -9.81]")
+    assert "\nlinks:\n" in text
+    path = tmp_path / "robot.yaml"
+    path.write_text(text.replace("\nlinks:\n", f"\nframes:\n{frames}links:\n", 1))
+    return str(path)
+
+
+@pytest.mark.parametrize("source", sorted(CASES), ids=lambda path: path.rsplit("/", 1)[-1][:-5])
+def test_frames_agree_with_pinocchio(tmp_path, source):
+    """Every frame output at 50 states in numpy and in the C of frame_kinematics (the three in
+    one call, equal to the single functions up to rounding); the frames are the default outputs' last ones."""
+    robot = symdyn.load(_with_frames(tmp_path, source, CASES[source]))
+    assert len(robot.frames) == 3
+    eqs = symdyn.derive(robot)
+    assert eqs.output_names[-3:] == FRAME_OUTPUTS
+    reference = PinocchioReference(robot)
+    rng = np.random.default_rng(7)
+    states = [random_state(robot, rng) for _ in range(50)]
+    errors = compare(eqs.numeric, reference, states, FRAME_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
+    files = generate_c(eqs, FRAME_OUTPUTS + ("frame_kinematics",), "double")
+    header = files[f"{robot.name}_dynamics.h"]
+    assert f"#define {robot.name}_NFRAMES 3" in header
+    lib = build_and_load(files, robot.name, robot.nv, 0, workdir=str(tmp_path), frames=3)
+    errors = compare(lib, reference, states, FRAME_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
+    q, qd, _, _ = states[0]
+    for together, alone in zip(lib.frame_kinematics(q, qd),
+                               (lib.frame_poses(q), lib.frame_jacobians(q), lib.frame_jacobian_dot_v(q, qd))):
+        np.testing.assert_allclose(together, alone, rtol=0, atol=1e-14)  # the same up to rounding
+
+
+def test_frame_field_errors(tmp_path):
+    """Each mistake in ``frames:`` is refused in one line naming the file and the field; a robot
+    without frames cannot have the frame functions."""
+    source = "examples/trees/torso_two_arms.yaml"
+    for frames, expected in (("  - l_wirst\n", ["frames[0]", "did you mean 'l_wrist'?"]),
+                             ("  - {name: g, link: r_wirst}\n", ["frames[0].link", "did you mean 'r_wrist'?"]),
+                             ("  - {name: torso, link: base}\n", ["frames[0].name", "name of a link"]),
+                             ("  - {name: g, link: base, xyz: [m, 0, 0]}\n", ["frames[0]"]),
+                             ("  - {name: g, link: base, spin: 1}\n", ["frames[0].spin", "unknown key"]),
+                             ("  - l_wrist\n  - l_wrist\n", ["'l_wrist' is listed twice"])):
+        path = _with_frames(tmp_path, source, frames)
+        with pytest.raises(SymdynError) as caught:
+            symdyn.load(path)
+        message = str(caught.value)
+        assert all(part in message for part in expected) and "\n" not in message, (frames, message)
+    robot = symdyn.load(str(REPO / source))
+    with pytest.raises(SymdynError, match="the frame functions need frames") as caught:
+        symdyn.derive(robot, outputs=["frame_poses"])
+    assert "\n" not in str(caught.value)
+
+
+def test_frames_on_locked_links_ride_on_their_moving_ancestor(tmp_path):
+    """A scene locking joints of the tree: the frames keep their poses, Jacobians (the kept
+    joints' columns) and J-dot v, as the full robot gives them with the locked joints at their
+    values and at rest."""
+    source = "examples/trees/torso_two_arms.yaml"
+    path = _with_frames(tmp_path, source, CASES[source])
+    scene = tmp_path / "scene.yaml"
+    scene.write_text("scene: 1\nrobot: robot.yaml\nlock: {r_wrist: 0.4, l_elbow: -0.3}\n")
+    locked = symdyn.load(str(scene))
+    full = symdyn.load(path)
+    assert [f.name for f in locked.frames] == [f.name for f in full.frames]
+    kept = [k for k, link in enumerate(full.links) if link.name not in ("r_wrist", "l_elbow")]
+    mine = symdyn.derive(locked, outputs=FRAME_OUTPUTS).numeric
+    theirs = symdyn.derive(full, outputs=FRAME_OUTPUTS).numeric
+    rng = np.random.default_rng(4)
+    for _ in range(5):
+        q, qd = rng.uniform(-3, 3, locked.dof), rng.uniform(-2, 2, locked.dof)
+        qf, qdf = np.zeros(full.dof), np.zeros(full.dof)
+        qf[kept], qdf[kept] = q, qd
+        qf[[k for k, link in enumerate(full.links) if link.name == "r_wrist"]] = 0.4
+        qf[[k for k, link in enumerate(full.links) if link.name == "l_elbow"]] = -0.3
+        np.testing.assert_allclose(mine.frame_poses(q), theirs.frame_poses(qf), rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(mine.frame_jacobians(q), theirs.frame_jacobians(qf)[:, kept], rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(mine.frame_jacobian_dot_v(q, qd), theirs.frame_jacobian_dot_v(qf, qdf),
+                                   rtol=1e-12, atol=1e-12)
