@@ -438,11 +438,9 @@ class PinocchioReference:
 
     # the frames' kinematics (world axes at each frame's origin: LOCAL_WORLD_ALIGNED), stacked
     def _frame_ids(self):
-        return [self.model.getFrameId(name) for name in self.model_frames()]
-
-    def model_frames(self) -> list[str]:
-        """The model's frames of the frame functions, in their order."""
-        return [f.name for f in self.model.frames if f.name.startswith("frame_")]
+        """The model's frames of the frame functions, in their order (build_model names them
+        ``frame_NAME``)."""
+        return [k for k, f in enumerate(self.model.frames) if f.name.startswith("frame_")]
 
     def frame_poses(self, q):
         self.pin.framesForwardKinematics(self.model, self.data, q)
@@ -578,11 +576,12 @@ class UrdfReference(PinocchioReference):
     """
 
     def __init__(self, path: str, tip: str | None = None, tool: str | None = None,
-                 quarter_turns: float | None = None, floating_base: bool = False):
+                 quarter_turns: float | None = None, floating_base: bool = False, frames=None):
         import pinocchio as pin
         self.pin = pin
         self.floating = floating_base
         text, renamed = _pinocchio_urdf(str(path), quarter_turns)
+        self._frame_names = [renamed.get(name, name) for name in frames or ()]  # URDF links, by name
         root = [pin.JointModelFreeFlyer()] if floating_base else []
         full = pin.buildModelFromXML(text, *root) if text is not None else pin.buildModelFromUrdf(str(path), *root)
         if floating_base or (tip is None and _whole_tree(str(path))):  # the whole tree, as symdyn reads it
@@ -631,6 +630,10 @@ class UrdfReference(PinocchioReference):
     @property
     def tool_frame(self) -> int:
         return self._tool
+
+    def _frame_ids(self):
+        """The URDF links asked for as frames, Pinocchio's body frames of those names."""
+        return [self.model.getFrameId(name, self.pin.FrameType.BODY) for name in self._frame_names]
 
     def configuration(self, q) -> np.ndarray:
         """Pinocchio's configuration vector for symdyn's joint angles ``q`` (a floating base's 7

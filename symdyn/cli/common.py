@@ -46,6 +46,10 @@ def add_urdf_options(parser) -> None:
                         help="URDF input: the whole tree on a free-floating root link (a free-flyer joint with "
                              "Pinocchio's conventions: q = [position, quaternion x y z w, joints], v = [linear, "
                              "angular velocity in the base frame, joint rates])")
+    parser.add_argument("--frames", metavar="A,B,...", type=lambda text: [n.strip() for n in text.split(",") if n.strip()],
+                        help="the frames of the frame functions (poses, Jacobians, J-dot v), in order: URDF links "
+                             "(a foot merged by fixed joints too), or a robot file's links and the frames its "
+                             "'frames:' defines (in place of the file's list)")
     parser.add_argument("--exact-angles", action="store_true",
                         help="URDF input: keep rpy angles as written (default: an angle within 1e-9 rad of a "
                              "multiple of pi/2, such as 1.57079632679, is taken as that multiple so that zeros "
@@ -72,7 +76,7 @@ def load_robot(path, args, parallel: bool = False):
     from ..model.scene import load_input
     return load_input(path, getattr(args, "tip", None), getattr(args, "tool", None),
                       getattr(args, "exact_angles", False), parallel=parallel,
-                      floating_base=getattr(args, "floating_base", False))
+                      floating_base=getattr(args, "floating_base", False), frames=getattr(args, "frames", None))
 
 
 def check_size(robot, args, path) -> None:

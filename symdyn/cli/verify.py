@@ -91,7 +91,7 @@ def run(args) -> int:
             try:
                 with _stderr_silenced():  # urdfdom prints its complaints on the process's stderr
                     ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None,
-                                        floating_base=robot.floating)
+                                        floating_base=robot.floating, frames=getattr(args, "frames", None))
                 reading = "Pinocchio's own URDF parser" + (
                     " (near-quarter-turn rpy angles made exact, as symdyn reads them; --exact-angles "
                     "keeps them as written)" if snapped else "")

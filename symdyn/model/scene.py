@@ -26,7 +26,7 @@ from .inputs import decode_text, load_yaml, read_input
 from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, task_rows
 
 SCENE_VERSION = 1
-SCENE_KEYS = ("scene", "robot", "tip", "tool", "task", "exact_angles", "floating_base", "name", "functions", "precision", "lock", "payload",
+SCENE_KEYS = ("scene", "robot", "tip", "tool", "task", "exact_angles", "floating_base", "frames", "name", "functions", "precision", "lock", "payload",
               "runtime", "values")
 PAYLOAD_KEYS = ("mass", "com", "inertia")
 NAME_TOKEN = re.compile(r"(?<![0-9.])\b[A-Za-z_][A-Za-z0-9_]*")
@@ -55,16 +55,19 @@ def is_urdf(path) -> bool:
 
 
 def read_robot_document(path: str, tip: str | None = None, tool: str | None = None,
-                        option: str = "--tip/--tool", exact_angles: bool = False, floating_base: bool = False):
+                        option: str = "--tip/--tool", exact_angles: bool = False, floating_base: bool = False,
+                        frames: list[str] | None = None):
     """``(document, raw bytes, notes)`` of a robot file: a YAML/JSON robot file (or scene) as
     parsed, or a URDF turned into the format's general form (:mod:`symdyn.model.urdf`;
     ``tip``/``tool`` name its tip and tool links, ``exact_angles`` keeps near-quarter-turn rpy
-    angles as written)."""
+    angles as written).  ``frames``: the frames of the frame functions, by name (a URDF's
+    links; a robot file's links or the frames its ``frames:`` defines), in place of the file's."""
     raw = read_input(path)
     text = decode_text(raw, path)
     if is_urdf(path):
         from .urdf import read_urdf
-        doc, notes = read_urdf(text, path, tip=tip, tool=tool, exact_angles=exact_angles, floating_base=floating_base)
+        doc, notes = read_urdf(text, path, tip=tip, tool=tool, exact_angles=exact_angles, floating_base=floating_base,
+                               frames=frames)
         return doc, raw, tuple(notes)
     if floating_base:
         raise RobotFileError(path, "--floating-base applies to URDF files only (a robot file says 'base: floating')")
@@ -72,23 +75,28 @@ def read_robot_document(path: str, tip: str | None = None, tool: str | None = No
         raise RobotFileError(path, f"{option} apply to URDF files only (a robot file names its tool with 'tool:')")
     if exact_angles:
         raise RobotFileError(path, "exact angles apply to URDF files only (a scene of a URDF says 'exact_angles: true')")
-    return load_yaml(text, path), raw, ()
+    doc = load_yaml(text, path)
+    if frames and isinstance(doc, dict) and "scene" not in doc:
+        defined = {item.get("name"): item for item in doc.get("frames") or [] if isinstance(item, dict)}
+        doc["frames"] = [defined.get(name, name) for name in frames]  # links by name; the file checks them
+    return doc, raw, ()
 
 
 def load_input(path: str, tip: str | None = None, tool: str | None = None, exact_angles: bool = False,
-               parallel: bool = False, floating_base: bool = False):
+               parallel: bool = False, floating_base: bool = False, frames: list[str] | None = None):
     """A robot file, a URDF or a scene (told apart by a top-level ``scene`` key), read once:
     returns ``(robot, scene or None)``.  ``tip``/``tool``/``exact_angles``: how to read a URDF
     (:func:`symdyn.model.urdf.read_urdf`).  ``parallel``: a platform robot file (``kind:
     parallel``) gives its :class:`symdyn.model.parallel.ParallelRobot` (else it is refused)."""
     path = os.fspath(path)
-    doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles, floating_base=floating_base)
+    doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles, floating_base=floating_base,
+                                          frames=frames)
     if parallel:
         from .parallel import from_document as parallel_document, is_parallel_document
         if is_parallel_document(doc):
             return parallel_document(doc, path, hashlib.sha256(raw).hexdigest()), None
     if isinstance(doc, dict) and "scene" in doc:
-        scene = _build_scene(path, raw, doc)
+        scene = _build_scene(path, raw, doc, frames)
         return scene.robot, scene
     robot = from_document(doc, path, hashlib.sha256(raw).hexdigest())
     return (replace(robot, notes=notes) if notes else robot), None
@@ -109,12 +117,13 @@ def input_files(path: str) -> list[str]:
 
 
 def load(path, tip: str | None = None, tool: str | None = None, exact_angles: bool = False,
-         floating_base: bool = False) -> Robot:
+         floating_base: bool = False, frames: list[str] | None = None) -> Robot:
     """The robot of a robot file, a URDF (``tip``/``tool``: its tip and tool links;
     ``exact_angles``: rpy angles as written; ``floating_base``: the whole tree on a free root
     link; see :func:`symdyn.model.urdf.read_urdf`) or a scene (``symdyn.load``): a scene's
-    specialized robot."""
-    return load_input(os.fspath(path), tip, tool, exact_angles, floating_base=floating_base)[0]
+    specialized robot.  ``frames``: the frames of the frame functions by name (URDF links, a
+    robot file's links or the frames its ``frames:`` defines), in place of the file's."""
+    return load_input(os.fspath(path), tip, tool, exact_angles, floating_base=floating_base, frames=frames)[0]
 
 
 def _payload_names(payload) -> set[str]:
@@ -250,8 +259,9 @@ def load_scene(path: str) -> Scene:
     return _build_scene(path, raw, load_yaml(decode_text(raw, path), path, "scene file"))
 
 
-def _build_scene(path: str, raw: bytes, doc) -> Scene:
-    """The scene of a parsed scene document (``raw``: the file's bytes, for its hash)."""
+def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) -> Scene:
+    """The scene of a parsed scene document (``raw``: the file's bytes, for its hash);
+    ``frames`` (the command line's) in place of the scene's ``frames:``."""
     if not isinstance(doc, dict):
         _fail(path, "expected a mapping")
     for key in doc:
@@ -266,13 +276,17 @@ def _build_scene(path: str, raw: bytes, doc) -> Scene:
     for fld, value in (("tip", tip), ("tool", tool)):
         if value is not None and not isinstance(value, str):
             _fail(path, f"expected a link name of the URDF, not {describe(value)}", fld)
+    scene_frames = doc.get("frames")
+    if scene_frames is not None and (not isinstance(scene_frames, list) or not scene_frames
+                                     or not all(isinstance(n, str) for n in scene_frames)):
+        _fail(path, "expected a list of frame names (the robot's links, or the frames its file defines)", "frames")
     exact_angles, floating_base = doc.get("exact_angles", False), doc.get("floating_base", False)
     for fld, value in (("exact_angles", exact_angles), ("floating_base", floating_base)):
         if not isinstance(value, bool):
             _fail(path, "expected true or false", fld)
     try:
         robot_doc, robot_raw, robot_notes = read_robot_document(robot_path, tip, tool, "tip: and tool:", exact_angles,
-                                                                floating_base)
+                                                                floating_base, frames or scene_frames)
     except RobotFileError as exc:
         raise RobotFileError(path, f"robot file {display_path(doc['robot'])}: {exc.reason}", field="robot") from None
     # The robot file must be valid as it is before the scene changes anything in it (its own

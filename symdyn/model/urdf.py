@@ -407,6 +407,7 @@ class _Reader:
         if name is None:
             self.fail("the <robot> element has no name attribute")
         self.robot_name = name
+        self.link_of_joint: dict[str, str] = {}  # moving joint -> its link's name in the robot document
         self.links: dict[str, object] = {}
         self.joints: dict[str, _Joint] = {}
         self.bodies: dict[str, _Body] = {}
@@ -670,17 +671,59 @@ def default_tip(text: str, path: str) -> str:
 
 
 def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None,
-              exact_angles: bool = False, floating_base: bool = False) -> tuple[dict, list[str]]:
+              exact_angles: bool = False, floating_base: bool = False,
+              frames: list[str] | None = None) -> tuple[dict, list[str]]:
+    """:func:`read_chain_or_tree`, with ``frames`` (URDF link names, in order) as the
+    document's ``frames:``: each link's frame on the moving link it is rigidly attached to (a
+    link merged by fixed joints, such as a foot; or the child link of a moving joint, whose own
+    frame it is), or on the base."""
+    urdf = _Reader(text, path, exact_angles)
+    doc, notes = read_chain_or_tree(urdf, tip, tool, floating_base)
+    if frames:
+        doc["frames"] = _frame_entries(urdf, frames, {link["name"] for link in doc["links"]})
+    return doc, notes
+
+
+def _frame_entries(urdf: _Reader, names, link_names: set) -> list:
+    """The ``frames:`` entries of URDF links ``names``: the link's frame in the frame of the
+    moving link it hangs on through fixed joints (a moving joint off a chain read with a tip
+    counts at position 0, as it is locked there), or of the base (the root link)."""
+    entries, seen = [], set()
+    for name in names:
+        if name not in urdf.links:
+            urdf.fail(f"frame {describe(name)}: no link of that name in the file{_hint(name, urdf.links)}")
+        frame, link, owner = Frame(), name, "base"
+        while (joint := urdf.parent_joint.get(link)) is not None:
+            if joint.type != "fixed" and joint.name in urdf.link_of_joint:
+                owner = urdf.link_of_joint[joint.name]
+                break
+            frame = joint.origin.frame * frame
+            link = joint.parent
+        shown = _link_name(name, set())
+        if shown in link_names and not (shown == owner and frame.is_identity):
+            shown = _link_name(f"{shown}_frame", link_names)  # not to hide a link's own frame
+        if shown in seen:
+            urdf.fail(f"frame {describe(name)} is asked for twice")
+        seen.add(shown)
+        if shown == owner and frame.is_identity:
+            entries.append(shown)
+        else:
+            entries.append({"name": shown, "link": owner, **frame.texts()})
+    return entries
+
+
+def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None = None,
+                       floating_base: bool = False) -> tuple[dict, list[str]]:
     """The robot document (``convention: general``, see ``docs/urdf.md``) of the chain of a URDF
     from its root link to ``tip`` (default: the only leaf), and notes saying what was merged,
     locked or left out.  ``tool``: a link rigidly attached to the last moving link whose frame is
-    the tool frame (default: the tip's frame when fixed joints lead to it).  ``text`` is the
-    file's content, ``path`` names it in messages.  Problems raise :class:`RobotFileError` (one
-    line); doubtful readings give a :func:`~symdyn.model.errors.warn` line.  ``exact_angles``:
-    keep every rpy angle as written (default: angles within :data:`QUARTER_TOLERANCE` of a
-    multiple of pi/2 are taken as that multiple, so that zeros fold).  ``floating_base``: the
-    whole tree on a free-floating root link (:func:`read_tree`; no tip or tool then)."""
-    urdf = _Reader(text, path, exact_angles)
+    the tool frame (default: the tip's frame when fixed joints lead to it).  ``urdf`` is the
+    file as read (its path names it in messages; made with ``exact_angles``: keep every rpy
+    angle as written, else angles within :data:`QUARTER_TOLERANCE` of a multiple of pi/2 are
+    taken as that multiple, so that zeros fold).  Problems raise :class:`RobotFileError` (one
+    line); doubtful readings give a :func:`~symdyn.model.errors.warn` line.  ``floating_base``:
+    the whole tree on a free-floating root link (:func:`read_tree`; no tip or tool then)."""
+    path = urdf.path
     name = _robot_name(urdf.robot_name)
     if name != urdf.robot_name:
         urdf.warn(f"{describe(urdf.robot_name)} renamed '{name}' (robot names: a-z, 0-9 and '_', at most "
@@ -829,6 +872,7 @@ def _joint_entry(urdf: _Reader, joint: _Joint, pending: Frame, pending_joints: l
         urdf.fail("the axis is zero: give a direction such as \"0 0 1\"", where, "axis xyz")
     link_name = _link_name(joint.name, taken)
     taken.add(link_name)
+    urdf.link_of_joint[joint.name] = link_name
     if link_name != joint.name:
         urdf.warn(f"renamed '{link_name}' (link names: letters, digits and '_', at most {MAX_NAME} "
                   "characters, distinct)", where, "name")

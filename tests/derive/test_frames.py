@@ -109,3 +109,63 @@ def test_frames_on_locked_links_ride_on_their_moving_ancestor(tmp_path):
         np.testing.assert_allclose(mine.frame_jacobians(q), theirs.frame_jacobians(qf)[:, kept], rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(mine.frame_jacobian_dot_v(q, qd), theirs.frame_jacobian_dot_v(qf, qdf),
                                    rtol=1e-12, atol=1e-12)
+
+
+SOLO_FEET = ["FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT"]
+
+
+def test_solo12_feet_agree_with_pinocchio_urdf_parser(tmp_path, capsys):
+    """Solo-12's four feet (links merged by fixed joints into the lower legs) on the free-flyer,
+    against Pinocchio's own reading of the URDF (its body frames of the same names), at 50
+    states in numpy and C; the same through a scene's ``frames:`` and through ``symdyn verify
+    --frames``; a misspelt link gets did-you-mean."""
+    from symdyn.check.pinocchio_model import UrdfReference
+    from symdyn.cli import main
+    from test_trees import SOLO, example_robot_data
+    path = example_robot_data(SOLO)
+    robot = symdyn.load(path, floating_base=True, frames=SOLO_FEET)
+    assert [(f.name, robot.links[f.link].name) for f in robot.frames] == [
+        ("FL_FOOT", "FL_KFE"), ("FR_FOOT", "FR_KFE"), ("HL_FOOT", "HL_KFE"), ("HR_FOOT", "HR_KFE")]
+    eqs = symdyn.derive(robot, outputs=FRAME_OUTPUTS)
+    reference = UrdfReference(path, floating_base=True, frames=SOLO_FEET)
+    rng = np.random.default_rng(11)
+    states = [random_state(robot, rng) for _ in range(50)]
+    errors = compare(eqs.numeric, reference, states, FRAME_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
+    lib = build_and_load(generate_c(eqs, FRAME_OUTPUTS, "double"), robot.name, robot.nv, 0, workdir=str(tmp_path),
+                         frames=4)
+    errors = compare(lib, reference, states, FRAME_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
+    scene = tmp_path / "solo.yaml"
+    scene.write_text(f"scene: 1\nrobot: {path}\nfloating_base: true\nframes: [{', '.join(SOLO_FEET)}]\n")
+    assert symdyn.load(str(scene)).frames == robot.frames
+    assert main(["verify", path, "--floating-base", "--frames", ",".join(SOLO_FEET[:2]), "--functions",
+                 "frame_jacobians", "--states", "10"]) == 0
+    assert "frame_jacobians" in capsys.readouterr().out
+    with pytest.raises(SymdynError, match="did you mean 'FL_FOOT'"):
+        symdyn.load(path, floating_base=True, frames=["FL_FOTO"])
+
+
+def test_talos_feet_and_hands_agree_with_pinocchio_urdf_parser():
+    """TALOS reduced on the free-flyer: its soles and grippers' base links."""
+    from symdyn.check.pinocchio_model import UrdfReference
+    from test_trees import example_robot_data
+    path = example_robot_data("talos_data/robots/talos_reduced.urdf")
+    names = ["left_sole_link", "right_sole_link", "gripper_left_base_link", "gripper_right_base_link"]
+    robot = symdyn.load(path, floating_base=True, frames=names)
+    eqs = symdyn.derive(robot, outputs=FRAME_OUTPUTS)
+    rng = np.random.default_rng(12)
+    states = [random_state(robot, rng) for _ in range(50)]
+    errors = compare(eqs.numeric, UrdfReference(path, floating_base=True, frames=names), states, FRAME_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
+
+
+def test_command_line_frames_select_a_robot_files_frames(tmp_path):
+    """--frames (symdyn.load(frames=...)) picks from a robot file's links and its frames:, in the
+    order given."""
+    source = "examples/trees/torso_two_arms.yaml"
+    path = _with_frames(tmp_path, source, CASES[source])
+    robot = symdyn.load(path, frames=["chest", "r_elbow"])
+    assert [(f.name, f.link) for f in robot.frames] == [("chest", 0), ("r_elbow", 5)]
+    with pytest.raises(SymdynError, match="did you mean 'r_elbow'"):
+        symdyn.load(path, frames=["r_elbw"])
