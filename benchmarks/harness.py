@@ -104,6 +104,10 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "jacobian": (("frameJacobian",), "KIN"),
              "jacobian_dot_qd": (("frameClassicalAcceleration",), "KIN"),
              "kinematics": (("framePlacementJacobian",), "KIN"),
+             "frame_poses": (("framePoses",), "FRAMES"),
+             "frame_jacobians": (("frameJacobians",), "FRAMES"),
+             "frame_jacobian_dot_v": (("frameJacobianDotV",), "FRAMES"),
+             "frame_kinematics": (("frameKinematics",), "FRAMES"),
              "center_of_mass": (("centerOfMass",), "CENT"),
              "center_of_mass_jacobian": (("jacobianCenterOfMass",), "CENT"),
              "center_of_mass_bias": (("centerOfMassBias",), "CENT"),
@@ -112,7 +116,7 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
 #: parts of Pinocchio's side in a source of their own (benchmarks/harness_pinocchio_task.cpp,
 #: harness_pinocchio_kin.cpp), so that adding them leaves the cached objects of the others valid
 OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocchio_kin.cpp",
-                    "CENT": "harness_pinocchio_centroidal.cpp",
+                    "CENT": "harness_pinocchio_centroidal.cpp", "FRAMES": "harness_pinocchio_frames.cpp",
                     "FLOAT": "harness_pinocchio_floating.cpp"}
 #: a floating base's Pinocchio calls that read q as nq numbers (benchmarks/harness_pinocchio_floating.cpp,
 #: part FLOAT), in place of these; the peer and the cross-check keep the original names
@@ -127,7 +131,9 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "aba_local": "Q, QD, TAU", "aba_world": "Q, QD, TAU", "taskSpace": "Q, QD",
                        "framePlacement": "Q", "frameJacobian": "Q", "frameClassicalAcceleration": "Q, QD",
                        "framePlacementJacobian": "Q", "centerOfMass": "Q", "jacobianCenterOfMass": "Q",
-                       "centerOfMassBias": "Q, QD", "ccrba": "Q, QD", "centroidalBias": "Q, QD"}
+                       "centerOfMassBias": "Q, QD", "ccrba": "Q, QD", "centroidalBias": "Q, QD",
+                       "framePoses": "Q", "frameJacobians": "Q", "frameJacobianDotV": "Q, QD",
+                       "frameKinematics": "Q, QD"}
 STATE_ARRAYS = {"q": "Q", "qd": "QD", "qdd": "QDD", "tau": "TAU"}
 #: Pinocchio's headers need these with the pin wheel's Boost (its joint visitors take more
 #: arguments than Boost's default limits allow)
@@ -280,6 +286,7 @@ class Case:
     precision: str = "double"
     generate_seconds: float = 0.0  # derivation and emission (through symdyn's cache unless use_cache=False)
     nq: int = 0  # entries of q (0: dof; a floating base has dof + 1)
+    frames: int = 0  # frames of the frame functions
 
     @property
     def source(self) -> str:
@@ -316,14 +323,14 @@ def robot_file(spec: str, folder: str) -> str:
     raise SystemExit(f"no robot '{spec}' (robots/{spec}.yaml) and no such file")
 
 
-def symdyn_arguments(function: str, dof: int, precision: str = "double") -> str:
+def symdyn_arguments(function: str, dof: int, precision: str = "double", frames: int = 0) -> str:
     """The arguments of NAME_<function> in the harness: state arrays, then each output at its
     offset in OUT (float C: the float copies QF, ... and OUTF)."""
     from symdyn.model.outputs import COMBINED, REGISTRY, Dimensions, function_inputs
     suffix = "F" if precision == "float" else ""
     arguments, offset = [STATE_ARRAYS[name] + suffix for name in function_inputs(function)], 0
     for part in COMBINED.get(function, (function,)):
-        for _, (rows, cols) in REGISTRY[part].argument_shapes(Dimensions(dof, dof, dof)):
+        for _, (rows, cols) in REGISTRY[part].argument_shapes(Dimensions(dof, dof, dof, frames=frames)):
             arguments.append(f"OUT{suffix}" if offset == 0 else f"OUT{suffix} + {offset}")
             offset += rows * cols
     return ", ".join(arguments)
@@ -337,7 +344,7 @@ def side_suffix(variant: str) -> str:
 def cases_header(case: Case, peer: bool) -> str:
     """harness_cases.h for benchmarks/harness_main.c."""
     lines = [f"#define N {case.dof}", f"#define NQ {case.nq or case.dof}",
-             f"#define HARNESS_OUT_SIZE {case.dof * case.dof + 8 * case.dof + 64}",
+             f"#define HARNESS_OUT_SIZE {case.dof * case.dof + 8 * case.dof + 64 + case.frames * (22 + 6 * case.dof)}",
              f'#include "{case.prefix}_dynamics.h"']
     floating = bool(case.nq) and case.nq != case.dof
     pin_name = (lambda v: FLOATING_VARIANTS.get(v, v)) if floating else (lambda v: v)  # noqa: E731
@@ -351,7 +358,7 @@ def cases_header(case: Case, peer: bool) -> str:
     result = "OUTF[0]" if case.precision == "float" else "OUT[0]"
     cases, checks, peer_functions = [], [], []
     for function in case.functions:
-        call = f"{case.prefix}_{function}({symdyn_arguments(function, case.dof, case.precision)})"
+        call = f"{case.prefix}_{function}({symdyn_arguments(function, case.dof, case.precision, case.frames)})"
         cases.append(f"X({function}, symdyn, {call}, {result})")
         for variant in PINOCCHIO[function][0]:
             pin_call = f"pin_{pin_name(variant)}({PINOCCHIO_ARGUMENTS[variant]}, OUT)"
@@ -412,7 +419,7 @@ def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, see
     label = f"{robot.name} (n={robot.dof}{', floating base' if robot.floating else ''})"
     case = Case(label, prefix, robot.nv, folder, tuple(functions),
                 files[f"{prefix}_dynamics.h"].decode(), precision=config.precision,
-                generate_seconds=generate_seconds, nq=robot.nq)
+                generate_seconds=generate_seconds, nq=robot.nq, frames=len(robot.frames))
     model, _ = build_model(robot)
     model.saveToText(os.path.join(folder, "model.txt"))
     if peer:

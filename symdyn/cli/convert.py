@@ -54,7 +54,7 @@ def run(args) -> int:
     path = args.robot
     if is_urdf(path):
         doc, raw, notes = read_robot_document(path, args.tip, args.tool, exact_angles=args.exact_angles,
-                                              floating_base=args.floating_base)
+                                              floating_base=args.floating_base, frames=args.frames)
         robot = from_document(doc, path, hashlib.sha256(raw).hexdigest())  # the document must read back
         if args.to == "yaml":
             text = document_to_yaml(doc, _yaml_header(path, raw, args, notes))
