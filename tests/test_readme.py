@@ -34,6 +34,7 @@ def test_python_blocks_run_as_written(tmp_path):
     assert result.returncode == 0, result.stderr[-3000:]
 
 
+@pytest.mark.slow  # 30 s of pip install (CI installs the project in a fresh venv for the second line itself)
 def test_first_command_line_in_a_fresh_venv(tmp_path):
     """README line 1, verbatim, in a new venv and a copy of the project (nothing in the checkout
     changes).  Packages come from pip's cache or the registry, as for a user."""

@@ -186,6 +186,16 @@ def robot_to_urdf(robot: Robot) -> str:
         lines += [f'  <joint name="{name}" type="fixed">',
                   f"    {_origin(post * sp.Matrix(robot.tool_matrix()), 'tool')}",
                   f'    <parent link="{parent}"/>', '    <child link="tool"/>', "  </joint>", '  <link name="tool"/>']
+    link_names = {"world", "base", "tool"} | {child for child, _ in placed}
+    for frame in robot.frames:  # each a link on a fixed joint (read back with --frames NAME)
+        parent, post = (root, sp.eye(4)) if frame.link < 0 else placed[frame.link]
+        name = _unique(frame.name, link_names)
+        link_names.add(name)
+        lines += [f'  <joint name="{_unique(f"{name}_joint", joint_names)}" type="fixed">',
+                  f"    {_origin(post * frame.matrix(), f'frame {frame.name}')}",
+                  f'    <parent link="{parent}"/>', f'    <child link="{name}"/>', "  </joint>",
+                  "  " + _comment(f"frame {frame.name} of the frame functions (read it back with --frames {name})"),
+                  f'  <link name="{name}"/>']
     lines += ["</robot>", ""]
     if armature:
         warn(f"{source}: armature of {', '.join(armature[:6])}{' ...' if len(armature) > 6 else ''} is left "

@@ -12,7 +12,7 @@ import symdyn
 from helpers import REPO
 from symdyn.check.cbuild import WARNING_FLAGS
 from symdyn.cli import main
-from symdyn.model.outputs import COMBINED, OUTPUT_INPUTS, REGISTRY
+from symdyn.model.outputs import COMBINED, REGISTRY, function_inputs
 
 GCC = shutil.which("gcc")
 CLANG = shutil.which("clang")
@@ -29,7 +29,7 @@ COUNTS = (0, 1, 7, 1000)
 def signature(robot, eqs, name):
     """(input arrays with their sizes, output arrays with their sizes) of NAME_<name>_batch."""
     parts = COMBINED.get(name, (name,))
-    inputs = [(group, robot.dof) for group in OUTPUT_INPUTS[parts[0]]]
+    inputs = [(group, robot.dof) for group in function_inputs(name)]  # a combined function's: all its parts
     outputs = []
     for part in parts:  # the derived matrix's blocks, as the registry splits them
         matrix = eqs.output(part)
@@ -101,13 +101,20 @@ def batch_build(tmp_path_factory):
     out = tmp_path_factory.mktemp("batch")
     built = {}
     for case, path in CASES.items():
-        assert main(["generate", str(path), "--out", str(out / case), "--batch", "--quiet",
-                     "--functions", "inverse_dynamics,mass_matrix,coriolis,coriolis_matrix,gravity,forward_dynamics,"
-                     "forward_kinematics,jacobian,jacobian_dot_qd"]) == 0
-        robot = symdyn.load(str(path))
-        eqs = symdyn.derive(robot)
         names = ["inverse_dynamics", "mass_matrix", "coriolis", "coriolis_matrix", "gravity", "forward_dynamics",
-                 "forward_kinematics", "jacobian", "jacobian_dot_qd", "kinematics"]
+                 "forward_kinematics", "jacobian", "jacobian_dot_qd"]
+        if case == "general_arm":  # with two frames: the frame and centroidal functions too
+            text = path.read_text().replace("\nlinks:\n", "\nframes: [wrist, {name: grip, link: flange, xyz: [0, 0.02, "
+                                            "0.1], rpy: [0.1, 0, 0.4]}]\nlinks:\n", 1)
+            path = out / "general_arm_frames.yaml"
+            path.write_text(text)
+            names += ["frame_poses", "frame_jacobians", "frame_jacobian_dot_v", "center_of_mass",
+                      "center_of_mass_jacobian", "center_of_mass_bias", "centroidal_momentum_matrix", "centroidal_bias"]
+        assert main(["generate", str(path), "--out", str(out / case), "--batch", "--quiet",
+                     "--functions", ",".join(names)]) == 0
+        robot = symdyn.load(str(path))
+        eqs = symdyn.derive(robot, outputs=names)
+        names += ["kinematics"]  # (frame_kinematics has three outputs, more than this harness checks)
         (out / case / "check.c").write_text(harness(robot.name, robot, eqs, names, len(robot.parameters)))
         built[case] = (out / case, robot.name)
     return built

@@ -71,17 +71,16 @@ def test_split_bodies_compile_without_warnings(puma, tmp_path, monkeypatch, comp
     from test_cgen import CLANG_EVERYTHING
     flags = CLANG_EVERYTHING if compiler == "clang" else ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
     _, eqs = puma
-    for precision in ("double", "float"):
-        for header_only in (False, True):
-            folder = tmp_path / f"{precision}{int(header_only)}"
-            folder.mkdir()
-            for name, text in _split_files(eqs, monkeypatch, precision=precision, header_only=header_only).items():
-                (folder / name).write_text(text)
-            target = folder / "puma560_dynamics.c"
-            if header_only:
-                target = folder / "main.c"
-                target.write_text('#include "puma560_dynamics.h"\nint main(void) { return 0; }\n')
-            # gcc warns after optimizing (-O2); clang's warnings come from its front end
-            build = ["-fsyntax-only"] if compiler == "clang" else ["-O2", "-c", "-o", str(folder / "out.o")]
-            run = subprocess.run([compiler, *flags, *build, str(target)], capture_output=True, text=True)
-            assert run.returncode == 0, (precision, header_only, run.stderr[:2000])
+    for precision, header_only in (("double", False), ("float", True)):  # each form and each precision once
+        folder = tmp_path / f"{precision}{int(header_only)}"
+        folder.mkdir()
+        for name, text in _split_files(eqs, monkeypatch, precision=precision, header_only=header_only).items():
+            (folder / name).write_text(text)
+        target = folder / "puma560_dynamics.c"
+        if header_only:
+            target = folder / "main.c"
+            target.write_text('#include "puma560_dynamics.h"\nint main(void) { return 0; }\n')
+        # gcc warns after optimizing (-O2); clang's warnings come from its front end
+        build = ["-fsyntax-only"] if compiler == "clang" else ["-O2", "-c", "-o", str(folder / "out.o")]
+        run = subprocess.run([compiler, *flags, *build, str(target)], capture_output=True, text=True)
+        assert run.returncode == 0, (precision, header_only, run.stderr[:2000])
