@@ -195,3 +195,16 @@ def test_frames_survive_conversion_to_urdf(tmp_path):
         np.testing.assert_allclose(theirs.frame_jacobians(q), mine.frame_jacobians(q), rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(theirs.frame_jacobian_dot_v(q, qd), mine.frame_jacobian_dot_v(q, qd),
                                    rtol=1e-12, atol=1e-12)
+
+
+def test_bundled_arm_frames_agree_with_pinocchio():
+    """A bundled arm (robots/puma560.yaml) with frames chosen by name (symdyn.load(frames=...),
+    --frames): its wrist's and its last link's own frames, at 50 states."""
+    from helpers import robot_path
+    robot = symdyn.load(robot_path("puma560"), frames=["wrist_roll", "flange"])
+    assert [(f.name, f.link, f.pose) for f in robot.frames] == [("wrist_roll", 3, None), ("flange", 5, None)]
+    eqs = symdyn.derive(robot, outputs=FRAME_OUTPUTS)
+    rng = np.random.default_rng(13)
+    states = [random_state(robot, rng) for _ in range(50)]
+    errors = compare(eqs.numeric, PinocchioReference(robot), states, FRAME_OUTPUTS)
+    assert all(e <= TOL for e in errors.values()), errors
