@@ -136,10 +136,11 @@ class MpReference:
     def _dot(self, a, b):
         return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
-    def rigid(self, q, qd, qdd, gravity=True):
-        """Joint forces of the rigid bodies (no armature, no friction), mpmath values."""
+    def _motion(self, q, qd, qdd, gravity=True):
+        """The forward pass: ``(joints, links, data, moving)`` with per link ``data`` (axis,
+        axis point, origin, centre of mass from the origin, F = m a_c, N about the centre of
+        mass) and ``moving`` (omega, omegad, the origin's acceleration, the origin), base axes."""
         ctx = self.ctx
-        q, qd, qdd = ([self._mp(v) for v in x] for x in (q, qd, qdd))
         joints, links = self._frames(q)
         zero = ctx.matrix([0, 0, 0])
         base = (zero, zero, -self.g_vector if gravity else zero, zero)
@@ -172,6 +173,14 @@ class MpReference:
             N = inertia * omegad_new + cross(omega_new, inertia * omega_new)
             data.append((z, axis_point, origin, com, F, N))
             moving.append((omega_new, omegad_new, accel_new, origin))
+        return joints, links, data, moving
+
+    def rigid(self, q, qd, qdd, gravity=True):
+        """Joint forces of the rigid bodies (no armature, no friction), mpmath values."""
+        ctx = self.ctx
+        q, qd, qdd = ([self._mp(v) for v in x] for x in (q, qd, qdd))
+        _, _, data, _ = self._motion(q, qd, qdd, gravity)
+        cross = self._cross
         tau = [ctx.mpf(0)] * self.n
         wrench = [None] * self.n  # (force, moment about the link origin) each body gets from its joint
         for k in reversed(range(self.n)):
@@ -298,6 +307,112 @@ class MpReference:
         accel = accel + cross(omegad, r) + cross(omega, cross(omega, r))
         R = self.base[0:3, 0:3]
         return self._floats(list(R * accel) + list(R * omegad))
+
+    # Frames and the centre of mass (a fixed base: world = base placement * base frame)
+    def _path(self, link: int) -> tuple:
+        return ((link,) + self.robot.ancestors(link)) if link >= 0 else ()
+
+    def _point_jacobian(self, joints, point, link: int):
+        """(J_v, J_omega) of a point fixed in ``link``, base axes, 3 x n mpmath matrices each."""
+        Jv, Jw = self.ctx.zeros(3, self.n), self.ctx.zeros(3, self.n)
+        for j in self._path(link):
+            z, axis_point = self._col(joints[j], 2), self._col(joints[j], 3)
+            linear = self._cross(z, point - axis_point) if self.links[j]["revolute"] else z
+            for r in range(3):
+                Jv[r, j] = linear[r]
+                Jw[r, j] = z[r] if self.links[j]["revolute"] else 0
+        return Jv, Jw
+
+    def _frame_matrix(self, frame):
+        return self.ctx.matrix([[self._mpf(frame.matrix()[r, c]) for c in range(4)] for r in range(4)])
+
+    def _frame_placements(self, q):
+        joints, links = self._frames([self._mp(v) for v in q])
+        return joints, [(links[f.link] if f.link >= 0 else self.ctx.eye(4)) * self._frame_matrix(f)
+                        for f in self.robot.frames]
+
+    def frame_poses(self, q):
+        _, poses = self._frame_placements(q)
+        return np.vstack([np.array([[float((self.base * T)[r, c]) for c in range(4)] for r in range(4)])
+                          for T in poses])
+
+    def frame_jacobians(self, q):
+        joints, poses = self._frame_placements(q)
+        R = self.base[0:3, 0:3]
+        blocks = []
+        for frame, T in zip(self.robot.frames, poses):
+            Jv, Jw = self._point_jacobian(joints, self._col(T, 3), frame.link)
+            blocks.append(np.array([[float(x) for x in row] for row in (R * Jv).tolist() + (R * Jw).tolist()]))
+        return np.vstack(blocks)
+
+    def frame_jacobian_dot_v(self, q, qd):
+        q, qd = [self._mp(v) for v in q], [self._mp(v) for v in qd]
+        zero = [self.ctx.mpf(0)] * self.n
+        _, links, _, moving = self._motion(q, qd, zero, gravity=False)
+        R, cross, out = self.base[0:3, 0:3], self._cross, []
+        for frame in self.robot.frames:
+            if frame.link < 0:
+                out.extend([0.0] * 6)
+                continue
+            omega, omegad, accel, origin = moving[frame.link]
+            r = self._col(links[frame.link] * self._frame_matrix(frame), 3) - origin
+            linear = accel + cross(omegad, r) + cross(omega, cross(omega, r))
+            out.extend(self._floats(list(R * linear) + list(R * omegad)))
+        return np.array(out)
+
+    def _mass_data(self, q):
+        """(joints, per link (mass, centre of mass, inertia about it), total mass, centre of mass), base frame."""
+        joints, links = self._frames([self._mp(v) for v in q])
+        bodies = []
+        for row, T in zip(self.links, links):
+            R = T[0:3, 0:3]
+            bodies.append((row["mass"], self._col(T, 3) + R * row["com"], R * row["inertia"] * R.T))
+        total = sum((m for m, _, _ in bodies), self.ctx.mpf(0))
+        com = sum((m * c for m, c, _ in bodies), self.ctx.matrix([0, 0, 0])) / total
+        return joints, bodies, total, com
+
+    def center_of_mass(self, q):
+        _, _, _, com = self._mass_data(q)
+        return self._floats(list(self.base[0:3, 0:3] * com + self._col(self.base, 3)))
+
+    def _momentum_matrix(self, q):
+        joints, bodies, total, com = self._mass_data(q)
+        linear, angular = self.ctx.zeros(3, self.n), self.ctx.zeros(3, self.n)
+        for k, (m, c, inertia) in enumerate(bodies):
+            Jv, Jw = self._point_jacobian(joints, c, k)
+            linear += m * Jv
+            offset = c - com
+            skew = self.ctx.matrix([[0, -offset[2], offset[1]], [offset[2], 0, -offset[0]], [-offset[1], offset[0], 0]])
+            angular += inertia * Jw + m * skew * Jv
+        R = self.base[0:3, 0:3]
+        return R * linear, R * angular, total
+
+    def center_of_mass_jacobian(self, q):
+        linear, _, total = self._momentum_matrix(q)
+        return np.array([[float(x / total) for x in row] for row in linear.tolist()])
+
+    def centroidal_momentum_matrix(self, q):
+        linear, angular, _ = self._momentum_matrix(q)
+        return np.array([[float(x) for x in row] for row in linear.tolist() + angular.tolist()])
+
+    def _momentum_rates(self, q, qd):
+        q, qd = [self._mp(v) for v in q], [self._mp(v) for v in qd]
+        _, _, data, _ = self._motion(q, qd, [self.ctx.mpf(0)] * self.n, gravity=False)
+        _, bodies, total, com = self._mass_data(q)
+        force, moment = self.ctx.matrix([0, 0, 0]), self.ctx.matrix([0, 0, 0])
+        for (_, _, origin, offset, F, N) in data:
+            force += F
+            moment += N + self._cross(origin + offset - com, F)
+        R = self.base[0:3, 0:3]
+        return R * force, R * moment, total
+
+    def center_of_mass_bias(self, q, qd):
+        force, _, total = self._momentum_rates(q, qd)
+        return self._floats(list(force / total))
+
+    def centroidal_bias(self, q, qd):
+        force, moment, _ = self._momentum_rates(q, qd)
+        return self._floats(list(force) + list(moment))
 
     def condition_number(self, q) -> float:
         """2-norm condition number of D + diag(armature) at q."""

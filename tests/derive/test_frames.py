@@ -208,3 +208,22 @@ def test_bundled_arm_frames_agree_with_pinocchio():
     states = [random_state(robot, rng) for _ in range(50)]
     errors = compare(eqs.numeric, PinocchioReference(robot), states, FRAME_OUTPUTS)
     assert all(e <= TOL for e in errors.values()), errors
+
+
+def test_50_digit_reference_of_frames_and_centroidal_quantities(tmp_path):
+    """symdyn bench's reference (mpmath, 50 digits, its own forward pass over the tree) agrees
+    with Pinocchio on every frame and centroidal function (the hand tree with its frames), so that
+    bench measures their error; and symdyn's double C is within 1e-13 of it."""
+    from symdyn.check.reference import MpReference
+    from symdyn.model.outputs import CENTROIDAL_OUTPUTS
+    source = "examples/trees/torso_two_arms.yaml"
+    robot = symdyn.load(_with_frames(tmp_path, source, CASES[source]))
+    functions = FRAME_OUTPUTS + CENTROIDAL_OUTPUTS
+    rng = np.random.default_rng(17)
+    states = [random_state(robot, rng) for _ in range(3)]
+    precise = MpReference(robot)
+    errors = compare(precise, PinocchioReference(robot), states, functions)
+    assert all(e <= TOL for e in errors.values()), errors
+    eqs = symdyn.derive(robot, outputs=functions)
+    errors = compare(eqs.numeric, precise, states, functions)
+    assert all(e <= 1e-13 for e in errors.values()), errors
