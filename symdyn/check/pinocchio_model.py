@@ -420,6 +420,9 @@ class PinocchioReference:
     def gravity(self, q):
         return self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
 
+    def gravity_derivative(self, q):
+        return np.array(self.pin.computeGeneralizedGravityDerivatives(self.model, self.data, q)).copy()
+
     def coriolis(self, q, qd):
         gravity = self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
         return self.pin.nonLinearEffects(self.model, self.data, q, qd).copy() - gravity

@@ -543,6 +543,20 @@ def _centroidal(d: _Derivation) -> sp.Matrix:
     return d.values[wanted[0]]
 
 
+def _gravity_derivative(d: _Derivation) -> sp.Matrix:
+    """dc/dq (n x n), forward-mode derivatives of c's recursion by each joint coordinate (the
+    sin/cos of each joint angle differentiated into each other's symbols)."""
+    robot = d.robot
+    if robot.floating:
+        raise SymdynError(f"{robot.source or robot.name}: gravity_derivative is written for fixed bases (a floating "
+                          "base's derivative is taken in its velocity space, not in q's quaternion)")
+    c = d.get("gravity")
+    d.report("gravity_derivative (forward-mode, dc/dq)")
+    columns = differentiate(d.b.build(), c, list(d.chain.joint_q), d.b, "dg")
+    n = d.n
+    return sp.Matrix(n, n, lambda i, j: d.b.define(f"dG{i + 1}_{j + 1}", columns[j][i]))
+
+
 def _frames(d: _Derivation) -> sp.Matrix:
     """Every frame output needed, derived together (they share the link poses)."""
     wanted = [name for name in FRAME_OUTPUTS if name in d.need]
@@ -678,6 +692,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     **{name: _tool for name in KINEMATIC_OUTPUTS},
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, **{name: _task for name in TASK_OUTPUTS},
+    "gravity_derivative": _gravity_derivative,
     **{name: _frames for name in FRAME_OUTPUTS},
     **{name: _centroidal for name in CENTROIDAL_OUTPUTS},
 }

@@ -150,6 +150,9 @@ def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[
     results = []
     needed = program.needed_for(list(outputs))
     free = [rhs.free_symbols for _, rhs in needed]  # once for every variable
+    # the program's own sin/cos of a variable: d cos(x)/dx is minus the symbol of sin(x), not a
+    # new call (a joint angle's c_i, s_i)
+    trig = {rhs: sym for sym, rhs in needed if isinstance(rhs, (sp.sin, sp.cos)) and rhs.args[0].is_Symbol}
     for var in variables:
         deriv: dict[sp.Symbol, sp.Expr] = {}
 
@@ -165,6 +168,11 @@ def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[
         for (sym, rhs), symbols in zip(needed, free):
             if var not in symbols and deriv.keys().isdisjoint(symbols):
                 continue  # does not depend on var: no SymPy call (most of the chain for a distal joint)
+            if isinstance(rhs, (sp.sin, sp.cos)) and rhs.args[0] == var:
+                other = sp.sin(var) if isinstance(rhs, sp.cos) else sp.cos(var)
+                value = trig.get(other, other)
+                deriv[sym] = (-value if isinstance(rhs, sp.cos) else value) * scale
+                continue
             ds = d(rhs, symbols)
             if ds != 0:
                 deriv[sym] = builder.define(f"{hint}{sym.name.lstrip('_')}_d{var.name}", ds)

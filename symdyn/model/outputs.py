@@ -232,6 +232,11 @@ SPECS: tuple[OutputSpec, ...] = (
                                 "+ (1 - J^T Jbar^T) tau0 leaves the tool's acceleration to F"),),
         default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
     OutputSpec(
+        "gravity_derivative", "dc_dq", ("q",), lambda d: (d.dof, d.dof), "N x N", "N m or N per rad or m",
+        "Derivative of the gravity torques, dc/dq (gravity compensation gains, static stiffness; Pinocchio's computeGeneralizedGravityDerivatives), by forward-mode differentiation of c's recursion.",
+        (OutputArgument("dc_dq", "derivative of the gravity vector, N*N row-major: row i = c_i, column j = q_j"),),
+        default=False),
+    OutputSpec(
         "frame_poses", "T", ("q",), lambda d: (4 * d.frames, 4), "K x 4 x 4", "m",
         "Poses of the frames listed above in the world, each a homogeneous transform (Pinocchio's framesForwardKinematics, oMf).",
         (OutputArgument("T", "poses of the K frames in the world, K*4*4 row-major: frame k's [R p; 0 0 0 1] at T + 16 k (p in m)"),),
@@ -338,7 +343,7 @@ FRAME_OUTPUTS = ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v")
 
 #: what a kinematic tree or a floating base can have derived: its joint-space dynamics, its
 #: frames' kinematics and the whole robot's centre of mass and centroidal momentum
-TREE_AVAILABLE = TREE_OUTPUTS + FRAME_OUTPUTS + CENTROIDAL_OUTPUTS
+TREE_AVAILABLE = TREE_OUTPUTS + ("gravity_derivative",) + FRAME_OUTPUTS + CENTROIDAL_OUTPUTS
 
 
 def default_outputs(robot) -> tuple[str, ...]:
