@@ -420,6 +420,16 @@ class PinocchioReference:
     def gravity(self, q):
         return self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
 
+    def _rnea_derivatives(self, q, qd, qdd):
+        dq, dv, _ = self.pin.computeRNEADerivatives(self.model, self.data, q, qd, qdd)
+        return np.array(dq).copy(), np.array(dv).copy()
+
+    def inverse_dynamics_dq(self, q, qd, qdd):
+        return self._rnea_derivatives(q, qd, qdd)[0]
+
+    def inverse_dynamics_dqd(self, q, qd, qdd):
+        return self._rnea_derivatives(q, qd, qdd)[1] + np.diag(self.damping)
+
     def gravity_derivative(self, q):
         return np.array(self.pin.computeGeneralizedGravityDerivatives(self.model, self.data, q)).copy()
 

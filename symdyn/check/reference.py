@@ -231,6 +231,24 @@ class MpReference:
         zero = [0.0] * self.n
         return self._floats(self.rigid(q, zero, zero))
 
+    def _central(self, function, point, j):
+        """d function / d point_j by central differences at the reference's precision."""
+        step = self.ctx.mpf(10) ** (-(self.ctx.dps * 2 // 5))
+        up = [v + step if k == j else v for k, v in enumerate(point)]
+        down = [v - step if k == j else v for k, v in enumerate(point)]
+        return [(a - b) / (2 * step) for a, b in zip(function(up), function(down))]
+
+    def inverse_dynamics_dq(self, q, qd, qdd):
+        q, qd, qdd = ([self._mp(v) for v in x] for x in (q, qd, qdd))
+        columns = [self._central(lambda x: self.rigid(x, qd, qdd), q, j) for j in range(self.n)]
+        return np.array([[float(columns[j][i]) for j in range(self.n)] for i in range(self.n)])
+
+    def inverse_dynamics_dqd(self, q, qd, qdd):
+        q, qd, qdd = ([self._mp(v) for v in x] for x in (q, qd, qdd))
+        columns = [self._central(lambda x: self.rigid(q, x, qdd), qd, j) for j in range(self.n)]
+        return np.array([[float(columns[j][i] + (row["damping"] if i == j else 0)) for j in range(self.n)]
+                         for i, row in enumerate(self.links)])
+
     def gravity_derivative(self, q):
         """dc/dq by central differences at the reference's precision (step 1e-20 at 50 digits:
         the truncation error, about 1e-40, is far below double's resolution)."""

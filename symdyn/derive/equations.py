@@ -543,13 +543,35 @@ def _centroidal(d: _Derivation) -> sp.Matrix:
     return d.values[wanted[0]]
 
 
+def _fixed_base_only(d: _Derivation, name: str) -> None:
+    robot = d.robot
+    if robot.floating:
+        raise SymdynError(f"{robot.source or robot.name}: {name} is written for fixed bases (a floating base's "
+                          "derivative is taken in its velocity space, not in q's quaternion)")
+
+
+def _inverse_dynamics_derivatives(d: _Derivation) -> sp.Matrix:
+    """dtau/dq and dtau/dqd (n x n each): forward-mode derivatives of the rigid-body recursion
+    by each joint position and velocity, plus viscous damping on dtau/dqd's diagonal (Coulomb
+    friction's derivative is zero away from qd = 0)."""
+    _fixed_base_only(d, "the derivative of inverse dynamics")
+    chain, n, b = d.chain, d.n, d.b
+    rigid = d.forces(chain.qd, chain.qdd, chain.gravity, "")
+    d.report("inverse_dynamics derivatives (forward-mode, dtau/dq and dtau/dqd)")
+    program = b.build()
+    by_q = differentiate(program, rigid, list(chain.joint_q), b, "dq")
+    by_qd = differentiate(program, rigid, list(chain.qd), b, "dv")
+    damping = [link.damping for link in d.robot.links]
+    d.values["inverse_dynamics_dq"] = sp.Matrix(n, n, lambda i, j: b.define(f"dTq{i + 1}_{j + 1}", by_q[j][i]))
+    d.values["inverse_dynamics_dqd"] = sp.Matrix(n, n, lambda i, j: b.define(
+        f"dTv{i + 1}_{j + 1}", by_qd[j][i] + (damping[i] if i == j else 0)))
+    return d.values["inverse_dynamics_dq"]
+
+
 def _gravity_derivative(d: _Derivation) -> sp.Matrix:
     """dc/dq (n x n), forward-mode derivatives of c's recursion by each joint coordinate (the
     sin/cos of each joint angle differentiated into each other's symbols)."""
-    robot = d.robot
-    if robot.floating:
-        raise SymdynError(f"{robot.source or robot.name}: gravity_derivative is written for fixed bases (a floating "
-                          "base's derivative is taken in its velocity space, not in q's quaternion)")
+    _fixed_base_only(d, "gravity_derivative")
     c = d.get("gravity")
     d.report("gravity_derivative (forward-mode, dc/dq)")
     columns = differentiate(d.b.build(), c, list(d.chain.joint_q), d.b, "dg")
@@ -692,6 +714,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     **{name: _tool for name in KINEMATIC_OUTPUTS},
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, **{name: _task for name in TASK_OUTPUTS},
+    "inverse_dynamics_dq": _inverse_dynamics_derivatives, "inverse_dynamics_dqd": _inverse_dynamics_derivatives,
     "gravity_derivative": _gravity_derivative,
     **{name: _frames for name in FRAME_OUTPUTS},
     **{name: _centroidal for name in CENTROIDAL_OUTPUTS},

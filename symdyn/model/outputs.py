@@ -232,6 +232,17 @@ SPECS: tuple[OutputSpec, ...] = (
                                 "+ (1 - J^T Jbar^T) tau0 leaves the tool's acceleration to F"),),
         default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
     OutputSpec(
+        "inverse_dynamics_dq", "dtau_dq", ("q", "qd", "qdd"), lambda d: (d.dof, d.dof), "N x N", "N m or N per rad or m",
+        "Derivative of inverse dynamics by the joint positions, dtau/dq (Pinocchio's computeRNEADerivatives), by forward-mode differentiation of the Newton-Euler recursion.",
+        (OutputArgument("dtau_dq", "dtau/dq, N*N row-major: row i = tau_i, column j = q_j"),),
+        default=False),
+    OutputSpec(
+        "inverse_dynamics_dqd", "dtau_dqd", ("q", "qd", "qdd"), lambda d: (d.dof, d.dof), "N x N",
+        "N m s or N s per rad or m",
+        "Derivative of inverse dynamics by the joint velocities, dtau/dqd, viscous friction included (Coulomb friction's derivative is zero away from qd = 0, and is left out); dtau/dqdd is the mass matrix plus the armature.",
+        (OutputArgument("dtau_dqd", "dtau/dqd, N*N row-major: row i = tau_i, column j = qd_j (viscous damping on the diagonal)"),),
+        default=False),
+    OutputSpec(
         "gravity_derivative", "dc_dq", ("q",), lambda d: (d.dof, d.dof), "N x N", "N m or N per rad or m",
         "Derivative of the gravity torques, dc/dq (gravity compensation gains, static stiffness; Pinocchio's computeGeneralizedGravityDerivatives), by forward-mode differentiation of c's recursion.",
         (OutputArgument("dc_dq", "derivative of the gravity vector, N*N row-major: row i = c_i, column j = q_j"),),
@@ -286,6 +297,9 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
     CombinedSpec("kinematics", ("forward_kinematics", "jacobian"),
                  "Pose and Jacobian of the tool in one call: the same results as NAME_forward_kinematics and "
                  "NAME_jacobian, sharing their sin/cos and link poses (about half the cost of the two calls)."),
+    CombinedSpec("inverse_dynamics_derivatives", ("inverse_dynamics_dq", "inverse_dynamics_dqd"),
+                 "Both derivatives of inverse dynamics in one call, dtau/dq and dtau/dqd (as NAME_inverse_dynamics_dq "
+                 "and NAME_inverse_dynamics_dqd), sharing the recursion they differentiate."),
     CombinedSpec("frame_kinematics", ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v"),
                  "Poses, Jacobians and J-dot qd of the frames in one call: the same results as NAME_frame_poses, "
                  "NAME_frame_jacobians and NAME_frame_jacobian_dot_v, sharing their sin/cos and link poses."),
@@ -343,7 +357,8 @@ FRAME_OUTPUTS = ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v")
 
 #: what a kinematic tree or a floating base can have derived: its joint-space dynamics, its
 #: frames' kinematics and the whole robot's centre of mass and centroidal momentum
-TREE_AVAILABLE = TREE_OUTPUTS + ("gravity_derivative",) + FRAME_OUTPUTS + CENTROIDAL_OUTPUTS
+TREE_AVAILABLE = (TREE_OUTPUTS + ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_derivative") + FRAME_OUTPUTS
+                  + CENTROIDAL_OUTPUTS)
 
 
 def default_outputs(robot) -> tuple[str, ...]:
