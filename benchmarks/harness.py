@@ -104,6 +104,8 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "jacobian": (("frameJacobian",), "KIN"),
              "jacobian_dot_qd": (("frameClassicalAcceleration",), "KIN"),
              "kinematics": (("framePlacementJacobian",), "KIN"),
+             "inverse_dynamics_derivatives": (("rneaDerivatives",), "DERIV"),
+             "gravity_derivative": (("gravityDerivatives",), "DERIV"),
              "frame_poses": (("framePoses",), "FRAMES"),
              "frame_jacobians": (("frameJacobians",), "FRAMES"),
              "frame_jacobian_dot_v": (("frameJacobianDotV",), "FRAMES"),
@@ -117,6 +119,7 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
 #: harness_pinocchio_kin.cpp), so that adding them leaves the cached objects of the others valid
 OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocchio_kin.cpp",
                     "CENT": "harness_pinocchio_centroidal.cpp", "FRAMES": "harness_pinocchio_frames.cpp",
+                    "DERIV": "harness_pinocchio_derivatives.cpp",
                     "FLOAT": "harness_pinocchio_floating.cpp"}
 #: a floating base's Pinocchio calls that read q as nq numbers (benchmarks/harness_pinocchio_floating.cpp,
 #: part FLOAT), in place of these; the peer and the cross-check keep the original names
@@ -133,7 +136,7 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "framePlacementJacobian": "Q", "centerOfMass": "Q", "jacobianCenterOfMass": "Q",
                        "centerOfMassBias": "Q, QD", "ccrba": "Q, QD", "centroidalBias": "Q, QD",
                        "framePoses": "Q", "frameJacobians": "Q", "frameJacobianDotV": "Q, QD",
-                       "frameKinematics": "Q, QD"}
+                       "frameKinematics": "Q, QD", "rneaDerivatives": "Q, QD, QDD", "gravityDerivatives": "Q"}
 STATE_ARRAYS = {"q": "Q", "qd": "QD", "qdd": "QDD", "tau": "TAU"}
 #: Pinocchio's headers need these with the pin wheel's Boost (its joint visitors take more
 #: arguments than Boost's default limits allow)
@@ -344,7 +347,7 @@ def side_suffix(variant: str) -> str:
 def cases_header(case: Case, peer: bool) -> str:
     """harness_cases.h for benchmarks/harness_main.c."""
     lines = [f"#define N {case.dof}", f"#define NQ {case.nq or case.dof}",
-             f"#define HARNESS_OUT_SIZE {case.dof * case.dof + 8 * case.dof + 64 + case.frames * (22 + 6 * case.dof)}",
+             f"#define HARNESS_OUT_SIZE {3 * case.dof * case.dof + 8 * case.dof + 64 + case.frames * (22 + 6 * case.dof)}",
              f'#include "{case.prefix}_dynamics.h"']
     floating = bool(case.nq) and case.nq != case.dof
     pin_name = (lambda v: FLOATING_VARIANTS.get(v, v)) if floating else (lambda v: v)  # noqa: E731
