@@ -301,44 +301,32 @@ class MpReference:
         return np.array([[float(pose[r, c]) for c in range(4)] for r in range(4)])
 
     def jacobian(self, q):
-        joints, _, pose = self._tool_pose(q)
-        p = self._col(pose, 3)
-        J = np.zeros((6, self.n))
-        for j, row in enumerate(self.links):
-            frame = self.base * joints[j]
-            z, point = self._col(frame, 2), self._col(frame, 3)
-            linear = self._cross(z, p - point) if row["revolute"] else z
-            for r in range(3):
-                J[r, j] = float(linear[r])
-                J[3 + r, j] = float(z[r]) if row["revolute"] else 0.0
-        return J
+        joints, links, _ = self._tool_pose(q)
+        Jv, Jw = self._point_jacobian(joints, self._col(links[-1] * self.tool, 3), self.n - 1)
+        R = self.base[0:3, 0:3]
+        return np.array([[float(x) for x in row] for row in (R * Jv).tolist() + (R * Jw).tolist()])
 
     def jacobian_dot_qd(self, q, qd):
-        """Classical acceleration of the tool origin and angular acceleration at qdd = 0: a
+        """Classical acceleration of the tool origin and angular acceleration at qdd = 0: the
         forward pass of velocities and accelerations in base axes, then rotated to the world."""
-        joints, links, _ = self._tool_pose(q)
-        qd = [self._mp(v) for v in qd]
-        cross = self._cross
-        zero = self.ctx.matrix([0, 0, 0])
-        omega, omegad, accel, previous = zero, zero, zero, zero
-        for k, row in enumerate(self.links):
-            z, point, origin = self._col(joints[k], 2), self._col(joints[k], 3), self._col(links[k], 3)
-            if row["revolute"]:
-                r = point - previous
-                a_point = accel + cross(omegad, r) + cross(omega, cross(omega, r))
-                omega_new = omega + z * qd[k]
-                omegad_new = omegad + cross(omega, z * qd[k])
-                s = origin - point
-                accel = a_point + cross(omegad_new, s) + cross(omega_new, cross(omega_new, s))
-            else:
-                r = origin - previous
-                accel = accel + cross(omegad, r) + cross(omega, cross(omega, r)) + 2 * cross(omega, z * qd[k])
-                omega_new, omegad_new = omega, omegad
-            omega, omegad, previous = omega_new, omegad_new, origin
-        r = self._col(links[-1] * self.tool, 3) - previous
-        accel = accel + cross(omegad, r) + cross(omega, cross(omega, r))
-        R = self.base[0:3, 0:3]
-        return self._floats(list(R * accel) + list(R * omegad))
+        return self._bias_of_points(q, qd, [(self.n - 1, self.tool)])
+
+    def _bias_of_points(self, q, qd, points) -> np.ndarray:
+        """J-dot qd of frames fixed in links (``points``: (link, 4x4 pose in its frame), link -1
+        the base), stacked: each origin's classical acceleration and the angular acceleration at
+        qdd = 0, world axes."""
+        q, qd = [self._mp(v) for v in q], [self._mp(v) for v in qd]
+        _, links, _, moving = self._motion(q, qd, [self.ctx.mpf(0)] * self.n, gravity=False)
+        R, cross, out = self.base[0:3, 0:3], self._cross, []
+        for link, local in points:
+            if link < 0:  # fixed to the fixed base
+                out.extend([0.0] * 6)
+                continue
+            omega, omegad, accel, origin = moving[link]
+            r = self._col(links[link] * local, 3) - origin
+            linear = accel + cross(omegad, r) + cross(omega, cross(omega, r))
+            out.extend(self._floats(list(R * linear) + list(R * omegad)))
+        return np.array(out)
 
     # Frames and the centre of mass (a fixed base: world = base placement * base frame)
     def _path(self, link: int) -> tuple:
@@ -378,19 +366,7 @@ class MpReference:
         return np.vstack(blocks)
 
     def frame_jacobian_dot_v(self, q, qd):
-        q, qd = [self._mp(v) for v in q], [self._mp(v) for v in qd]
-        zero = [self.ctx.mpf(0)] * self.n
-        _, links, _, moving = self._motion(q, qd, zero, gravity=False)
-        R, cross, out = self.base[0:3, 0:3], self._cross, []
-        for frame in self.robot.frames:
-            if frame.link < 0:
-                out.extend([0.0] * 6)
-                continue
-            omega, omegad, accel, origin = moving[frame.link]
-            r = self._col(links[frame.link] * self._frame_matrix(frame), 3) - origin
-            linear = accel + cross(omegad, r) + cross(omega, cross(omega, r))
-            out.extend(self._floats(list(R * linear) + list(R * omegad)))
-        return np.array(out)
+        return self._bias_of_points(q, qd, [(f.link, self._frame_matrix(f)) for f in self.robot.frames])
 
     def _mass_data(self, q):
         """(joints, per link (mass, centre of mass, inertia about it), total mass, centre of mass), base frame."""

@@ -31,25 +31,21 @@ from __future__ import annotations
 import sympy as sp
 
 from ..model.errors import SymdynError
-from .chain import Chain
-from .newton_euler import recursion
-from .composite import composite_inertias, unit_momentum, whole_robot_inertia
-from .poses import tree_poses, world_placement
-
 from ..model.outputs import CENTROIDAL_OUTPUTS  # noqa: F401 (the outputs this module derives)
-
-
-def _named(b, hint: str, exprs) -> sp.Matrix:
-    return b.vector(hint, [sp.expand(e) for e in exprs])
+from .chain import Chain
+from .composite import composite_inertias, unit_momentum, whole_robot_inertia
+from .newton_euler import recursion
+from .poses import tree_poses, world_placement
+from .spatial import named_vector
 
 
 def _rotate(b, hint: str, R: sp.Matrix, v: sp.Matrix) -> sp.Matrix:
-    return v if R == sp.eye(3) else _named(b, hint, R * v)
+    return v if R == sp.eye(3) else named_vector(b, hint, R * v)
 
 
 def centroidal_quantities(chain: Chain, wanted) -> dict[str, sp.Matrix]:
     """The requested outputs (names from :data:`CENTROIDAL_OUTPUTS`) of ``chain``'s robot."""
-    robot, b, n = chain.robot, chain.builder, chain.n
+    robot, b = chain.robot, chain.builder
     links = robot.links
     base = robot.base_inertia if robot.floating else None
     total = sp.expand(sum((link.mass for link in links), base.mass if base is not None else sp.S.Zero))
@@ -63,8 +59,8 @@ def centroidal_quantities(chain: Chain, wanted) -> dict[str, sp.Matrix]:
         R, p = poses[i][:3, :3], poses[i][:3, 3]
         first += link.mass * (R * sp.Matrix(link.com) + p)
     R_w, p_w = world_placement(chain)
-    first = _named(b, "hG", first)
-    com_base = _named(b, "Gb", first / total)
+    first = named_vector(b, "hG", first)
+    com_base = named_vector(b, "Gb", first / total)
     result: dict[str, sp.Matrix] = {}
     if "center_of_mass" in wanted:
         result["center_of_mass"] = (R_w * com_base + p_w).applyfunc(sp.expand)
@@ -105,7 +101,7 @@ def _momentum_matrix(chain: Chain, frames, first: sp.Matrix, com: sp.Matrix) -> 
     for j, link in enumerate(robot.links):
         R, p = frames[j][:3, :3], frames[j][:3, 3]  # joint frame J_j in the base frame
         force, moment = unit_momentum(composite[j], link.is_revolute)
-        linear = _named(b, f"AGf{j + 1}", R * force)
+        linear = named_vector(b, f"AGf{j + 1}", R * force)
         columns.append((linear, R * moment + p.cross(linear)))
     A = sp.zeros(6, len(columns))
     for col, (linear, angular) in enumerate(columns):
@@ -125,7 +121,7 @@ def _momentum_rates(chain: Chain, poses, com: sp.Matrix) -> tuple[sp.Matrix, sp.
     force, moment = sp.zeros(3, 1), sp.zeros(3, 1)
     for i, st in enumerate(states):
         R, p = poses[i][:3, :3], poses[i][:3, 3]
-        F = _named(b, f"Fb{i + 1}", R * st.F)
+        F = named_vector(b, f"Fb{i + 1}", R * st.F)
         c = R * sp.Matrix(robot.links[i].com) + p
         force += F
         moment += R * st.N + (c - com).cross(F)
@@ -133,7 +129,7 @@ def _momentum_rates(chain: Chain, poses, com: sp.Matrix) -> tuple[sp.Matrix, sp.
         body = robot.base_inertia
         omega, omegad, vd = motion
         s, inertia = sp.Matrix(body.com), sp.Matrix(body.inertia_matrix)
-        F = _named(b, "Fb0", body.mass * (vd + omegad.cross(s) + omega.cross(omega.cross(s))))
+        F = named_vector(b, "Fb0", body.mass * (vd + omegad.cross(s) + omega.cross(omega.cross(s))))
         force += F
         moment += inertia * omegad + omega.cross(inertia * omega) + (s - com).cross(F)
-    return _named(b, "dhGfb", force), _named(b, "dhGnb", moment)
+    return named_vector(b, "dhGfb", force), named_vector(b, "dhGnb", moment)

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .chain import Chain
+from .poses import tree_poses
 from .spatial import cross, cross_force, cross_motion, named_pose, named_symmetric, skew
 
 
@@ -220,7 +221,7 @@ def tree_coriolis_matrix(chain: Chain) -> sp.Matrix:
     b, robot = chain.builder, chain.robot
     n, parents = chain.n, chain.parents
     base = 6 if robot.floating else 0
-    poses, velocities = [], []
+    velocities = []
     S, dS = [], []
     base_velocity = sp.zeros(6, 1)
     if robot.floating:
@@ -230,15 +231,12 @@ def tree_coriolis_matrix(chain: Chain) -> sp.Matrix:
             S.append(column)
         base_velocity = b.vector("cv0", sum((S[a] * chain.qd[a] for a in range(6)), sp.zeros(6, 1)))
         dS = [b.vector(f"cdS0_{a + 1}", cross_motion(base_velocity, S[a]).applyfunc(sp.expand)) for a in range(6)]
-    for i, geometry in enumerate(chain.geometry):
+    # each joint frame (its motion about or along its own z leaves the axis and, for a
+    # revolute joint, its point as they were) and link frame in the base frame
+    joints, poses = tree_poses(chain, ("cP", "cM", "cA0"))
+    for i in range(n):
         j = i + 1
-        parent_pose = sp.eye(4) if parents[i] < 0 else poses[parents[i]]
-        joint_frame = parent_pose * sp.Matrix(geometry.pre)
-        if joint_frame != sp.eye(4):
-            joint_frame = named_pose(b, f"cP{j}", joint_frame)
-        moved = named_pose(b, f"cM{j}", joint_frame * chain.motions[i])
-        poses.append(named_pose(b, f"cA0{j}", moved * sp.Matrix(geometry.post)))
-        axis, point = sp.Matrix(joint_frame[:3, 2]).applyfunc(sp.expand), sp.Matrix(joint_frame[:3, 3])
+        axis, point = sp.Matrix(joints[i][:3, 2]).applyfunc(sp.expand), sp.Matrix(joints[i][:3, 3])
         if robot.links[i].is_revolute:
             subspace = list(axis) + list(cross(point, axis))
         else:

@@ -22,11 +22,7 @@ from ..model.outputs import FRAME_OUTPUTS  # noqa: F401 (the outputs this module
 from .chain import Chain
 from .newton_euler import recursion
 from .poses import tree_poses, world_placement
-from .spatial import skew
-
-
-def _named(b, hint: str, exprs) -> sp.Matrix:
-    return b.vector(hint, [sp.expand(e) for e in exprs])
+from .spatial import named_pose, named_vector, skew
 
 
 def frame_kinematics(chain: Chain, wanted) -> dict[str, sp.Matrix]:
@@ -41,9 +37,7 @@ def frame_kinematics(chain: Chain, wanted) -> dict[str, sp.Matrix]:
     poses, origins = [], []
     for k, frame in enumerate(robot.frames):
         in_base = (links[frame.link] if frame.link >= 0 else sp.eye(4)) * frame.matrix()
-        pose = world * in_base
-        pose = sp.Matrix(4, 4, lambda r, c: b.define(f"Tf{k + 1}_{r}{c}", sp.expand(pose[r, c])) if r < 3
-                         else pose[r, c])
+        pose = named_pose(b, f"Tf{k + 1}", world * in_base)
         poses.append(pose)
         origins.append(pose[:3, 3])
     result: dict[str, sp.Matrix] = {}
@@ -68,9 +62,9 @@ def _jacobian(chain: Chain, joints, R_w: sp.Matrix, p_w: sp.Matrix, link: int, o
         J[:3, 3:6] = (-skew(origin - p_w) * R_w).applyfunc(sp.expand)
     path = ((link,) + robot.ancestors(link)) if link >= 0 else ()
     for j in path:
-        axis = _named(b, f"kw{j + 1}", R_w * joints[j][:3, 2])
+        axis = named_vector(b, f"kw{j + 1}", R_w * joints[j][:3, 2])
         if robot.links[j].is_revolute:
-            point = _named(b, f"pw{j + 1}", R_w * joints[j][:3, 3] + p_w)
+            point = named_vector(b, f"pw{j + 1}", R_w * joints[j][:3, 3] + p_w)
             J[:3, base + j] = axis.cross(origin - point).applyfunc(sp.expand)
             J[3:, base + j] = axis
         else:
@@ -97,5 +91,5 @@ def _bias(chain: Chain, links, R_w: sp.Matrix) -> sp.Matrix:
             continue
         linear = vd + omegad.cross(r) + omega.cross(omega.cross(r))
         rotation = R_w * R
-        rows += list(_named(b, f"af{k + 1}", rotation * linear)) + list(_named(b, f"alf{k + 1}", rotation * omegad))
+        rows += list(named_vector(b, f"af{k + 1}", rotation * linear)) + list(named_vector(b, f"alf{k + 1}", rotation * omegad))
     return sp.Matrix(rows)

@@ -7,34 +7,28 @@ from __future__ import annotations
 import sympy as sp
 
 from .chain import Chain
+from .spatial import named_pose
 
 
-def _named_pose(b, hint: str, pose: sp.Matrix) -> sp.Matrix:
-    """``pose`` (4x4 homogeneous) with its rotation and translation entries named."""
-    out = sp.eye(4)
-    for r in range(3):
-        for c in range(4):
-            out[r, c] = b.define(f"{hint}_{r}{c}", sp.expand(pose[r, c]))
-    return out
-
-
-def tree_poses(chain: Chain) -> tuple[list[sp.Matrix], list[sp.Matrix]]:
+def tree_poses(chain: Chain, hints: tuple[str, str, str] = ("Tp", "Tj", "Tb")) -> tuple[list[sp.Matrix], list[sp.Matrix]]:
     """``(joint_frames, link_frames)``: each joint frame J_i (its axis z, after its motion) and
     each link frame in the base frame, 4x4, named as they are composed along the tree (parents
     first): the parent's link frame times the constant placement ``Pre_i`` (named: the product
     with the joint's rotation about z then costs 4 multiplications a row), the joint's motion,
-    then ``Post_i``."""
+    then ``Post_i``; ``hints`` name the three stages (``{hint}{i}_{r}{c}``)."""
+    placed_hint, joint_hint, link_hint = hints
     b = chain.builder
     joints: list[sp.Matrix] = []
     links: list[sp.Matrix] = []
     for i in range(chain.n):
         parent = chain.parents[i]
         geo = chain.geometry[i]
-        placed = sp.Matrix(geo.pre) if parent < 0 else _named_pose(b, f"Tp{i + 1}", links[parent] * sp.Matrix(geo.pre))
-        joint = _named_pose(b, f"Tj{i + 1}", placed * chain.motions[i])
+        placed = (sp.Matrix(geo.pre) if parent < 0
+                  else named_pose(b, f"{placed_hint}{i + 1}", links[parent] * sp.Matrix(geo.pre)))
+        joint = named_pose(b, f"{joint_hint}{i + 1}", placed * chain.motions[i])
         post = sp.Matrix(geo.post)
         joints.append(joint)
-        links.append(joint if post == sp.eye(4) else _named_pose(b, f"Tb{i + 1}", joint * post))
+        links.append(joint if post == sp.eye(4) else named_pose(b, f"{link_hint}{i + 1}", joint * post))
     return joints, links
 
 

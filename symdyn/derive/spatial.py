@@ -76,6 +76,12 @@ def named_symmetric(builder, hint: str, M: sp.Matrix) -> sp.Matrix:
     return out
 
 
+def named_vector(builder, hint: str, exprs) -> sp.Matrix:
+    """A column of ``exprs``, each expanded and named in ``builder`` as ``{hint}_{k}``
+    (entries that fold to numbers stay numbers)."""
+    return builder.vector(hint, [sp.expand(e) for e in exprs])
+
+
 def named_pose(builder, hint: str, pose: sp.Matrix) -> sp.Matrix:
     """``pose`` (4 x 4 homogeneous) with its top three rows named in ``builder`` as
     ``{hint}_{r}{c}``, each entry expanded (entries that fold to numbers stay numbers)."""
