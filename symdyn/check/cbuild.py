@@ -12,7 +12,7 @@ import tempfile
 import numpy as np
 
 from ..model.errors import SymdynError
-from ..model.outputs import COMBINED, COMBINED_SPECS, REGISTRY, SPECS, TASK_OUTPUTS, Dimensions
+from ..model.outputs import COMBINED, COMBINED_SPECS, REGISTRY, SPECS, Dimensions, returns_status
 
 WARNING_FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror"]
 
@@ -76,10 +76,10 @@ class CompiledDynamics:
         return (int(code), outputs) if status else outputs
 
     def _outputs_of(self, name, parts, args, p, sizes):
-        """The flat outputs of ``NAME_<name>`` (writing ``parts``): a task-space function returns
-        a status and writes nothing on a nonzero one, so its outputs start as NaN (never silent
-        zeros)."""
-        if all(part in TASK_OUTPUTS for part in parts):
+        """The flat outputs of ``NAME_<name>`` (writing ``parts``): a function that returns a
+        status (task space, the inverse mass matrix, the forward-dynamics derivatives) writes
+        nothing on a nonzero one, so its outputs start as NaN (never silent zeros)."""
+        if returns_status(name):
             return self._call_outputs(name, args, p, sizes, status=True, fill=float("nan"))[1]
         return self._call_outputs(name, args, p, sizes)
 

@@ -433,6 +433,25 @@ class PinocchioReference:
     def gravity_derivative(self, q):
         return np.array(self.pin.computeGeneralizedGravityDerivatives(self.model, self.data, q)).copy()
 
+    def mass_matrix_inverse(self, q):
+        Minv = np.array(self.pin.computeMinverse(self.model, self.data, q))
+        return np.triu(Minv) + np.triu(Minv, 1).T
+
+    def _aba_derivatives(self, q, qd, tau):
+        """Pinocchio's computeABADerivatives at the torques less friction: ``(dqdd/dq,
+        dqdd/dv at those torques, M^-1)``."""
+        found = self.pin.computeABADerivatives(self.model, self.data, q, qd, tau - self.friction(qd))
+        dq, dv, Minv = (np.array(x).copy() for x in found)
+        return dq, dv, np.triu(Minv) + np.triu(Minv, 1).T
+
+    def forward_dynamics_dq(self, q, qd, tau):
+        return self._aba_derivatives(q, qd, tau)[0]
+
+    def forward_dynamics_dqd(self, q, qd, tau):
+        """dqdd/dqd with viscous friction: the torques less damping qd depend on qd too."""
+        _, dv, Minv = self._aba_derivatives(q, qd, tau)
+        return dv - Minv @ np.diag(self.damping)
+
     def coriolis(self, q, qd):
         gravity = self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
         return self.pin.nonLinearEffects(self.model, self.data, q, qd).copy() - gravity

@@ -279,17 +279,38 @@ class MpReference:
                 C[i, k] = float((hp[i] - hm[i]) / 4)
         return C
 
-    def forward_dynamics(self, q, qd, tau):
-        ctx = self.ctx
+    def _mass_with_armature(self, q):
+        M = self._mass_matrix_mp(q)
+        for k in range(self.n):
+            M[k, k] += self.links[k]["armature"]
+        return M
+
+    def _forward_mp(self, q, qd, tau):
+        """qdd (mpmath values) solving M qdd = tau - bias - friction by LU at the reference's precision."""
         n = self.n
-        D = self._mass_matrix_mp(q)
-        for k in range(n):
-            D[k, k] += self.links[k]["armature"]
         bias = self.rigid(q, qd, [0.0] * n)
         friction = self._friction(qd)
-        rhs = ctx.matrix([self._mp(tau[k]) - bias[k] - friction[k] for k in range(n)])
-        qdd = ctx.lu_solve(D, rhs)
-        return self._floats(qdd)
+        rhs = self.ctx.matrix([self._mp(tau[k]) - bias[k] - friction[k] for k in range(n)])
+        return list(self.ctx.lu_solve(self._mass_with_armature(q), rhs))
+
+    def forward_dynamics(self, q, qd, tau):
+        return self._floats(self._forward_mp(q, qd, tau))
+
+    def mass_matrix_inverse(self, q):
+        Minv = self.ctx.inverse(self._mass_with_armature(q))
+        return np.array([[float(Minv[i, j]) for j in range(self.n)] for i in range(self.n)])
+
+    def forward_dynamics_dq(self, q, qd, tau):
+        """dqdd/dq by central differences of forward dynamics at the reference's precision (not
+        by the implicit function theorem symdyn's code uses)."""
+        q, qd, tau = ([self._mp(v) for v in x] for x in (q, qd, tau))
+        columns = [self._central(lambda x: self._forward_mp(x, qd, tau), q, j) for j in range(self.n)]
+        return np.array([[float(columns[j][i]) for j in range(self.n)] for i in range(self.n)])
+
+    def forward_dynamics_dqd(self, q, qd, tau):
+        q, qd, tau = ([self._mp(v) for v in x] for x in (q, qd, tau))
+        columns = [self._central(lambda x: self._forward_mp(q, x, tau), qd, j) for j in range(self.n)]
+        return np.array([[float(columns[j][i]) for j in range(self.n)] for i in range(self.n)])
 
     # Kinematics of the tool frame, world axes (base placement * chain * tool)
     def _tool_pose(self, q):

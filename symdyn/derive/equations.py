@@ -58,7 +58,7 @@ from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
-                             CENTROIDAL_OUTPUTS, FRAME_OUTPUTS, default_outputs, spec,
+                             CENTROIDAL_OUTPUTS, FRAME_OUTPUTS, INVERSE_OUTPUTS, default_outputs, spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
@@ -128,12 +128,14 @@ class Equations:
     #: joint's angle theta_j + q_j (:func:`symdyn.derive.chain.make_chain`), ``()`` for a
     #: prismatic joint: what a consumer substitutes to give the joint angles another way
     joint_trig: tuple = ()
-    #: ``(pivot, diagonal entry, status)`` for every pivot the task-space outputs divide by, in
-    #: program order: the LDL^T of ``M = D + diag(armature)`` (status 1, checked at the pivot
-    #: tolerance) and the squared diagonal ``R_kk^2`` of the QR that factors ``J M^-1 J^T``
-    #: (status 3, checked at the header's ``NAME_TASK_RTOL``); empty when no task-space output
-    #: was derived
-    task_checks: tuple = ()
+    #: ``((outputs, checks), ...)``: for each group of outputs whose functions return a status
+    #: (:func:`symdyn.model.outputs.returns_status`), the ``(pivot, diagonal entry, status)`` of
+    #: every pivot they divide by, in program order.  The task-space outputs: the LDL^T of
+    #: ``M = D + diag(armature)`` (status 1, checked at the pivot tolerance) and the squared
+    #: diagonal ``R_kk^2`` of the QR that factors ``J M^-1 J^T`` (status 3, checked at the
+    #: header's ``NAME_TASK_RTOL``); the inverse mass matrix and the forward-dynamics
+    #: derivatives: the LDL^T of M (status 1).  Only groups with a derived output are listed.
+    checks: tuple = ()
 
     @property
     def n(self) -> int:
@@ -148,6 +150,16 @@ class Equations:
     @property
     def parameters(self) -> tuple[sp.Symbol, ...]:
         return self.robot.parameters
+
+    def checks_for(self, parts: Iterable[str]) -> tuple:
+        """The ``(pivot, diagonal entry, status)`` checks of a function writing ``parts``: those
+        of every group with one of them (:attr:`checks`), each once, in order."""
+        parts = set(parts)
+        found: list = []
+        for outputs, checks in self.checks:
+            if parts & set(outputs):
+                found += [c for c in checks if c not in found]
+        return tuple(found)
 
     def output(self, name: str) -> sp.ImmutableMatrix:
         for key, value in self.outputs:
@@ -413,8 +425,9 @@ class _Derivation:
         self.coriolis_factors: tuple = ()
         self.fd_system: tuple = ()
         self.pivots: tuple = ()
-        self.task_checks: tuple = ()
+        self.checks: list = []
         self.base: tuple = ()
+        self.mass_factorization = None
         self.jne = self.le = None
         if method == "jacobian-newton-euler":
             report("world-frame link quantities (k_i, d_i, h_i, I_i)")
@@ -424,8 +437,9 @@ class _Derivation:
             self.le = LagrangeEuler(chain)
 
     def get(self, name: str) -> sp.Matrix:
-        if name not in self.values:
-            self.values[name] = DERIVATIONS[name](self)
+        if name not in self.values:  # (a derivation that writes several outputs stores them itself)
+            value = DERIVATIONS[name](self)  # (which may replace self.values: read it after)
+            self.values.setdefault(name, value)
         return self.values[name]
 
     def forces(self, qd, qdd, gravity, tag: str) -> sp.Matrix:
@@ -579,6 +593,67 @@ def _gravity_derivative(d: _Derivation) -> sp.Matrix:
     return sp.Matrix(n, n, lambda i, j: d.b.define(f"dG{i + 1}_{j + 1}", columns[j][i]))
 
 
+def _mass_factorization(d: _Derivation):
+    """The factorization of ``M = D + diag(armature)`` the inverse and the forward-dynamics
+    derivatives share with forward dynamics (the same statements: LDL^T for a chain, L^T D L
+    following the parent array for a tree), checked once for a singular M."""
+    if d.mass_factorization is None:
+        robot, b = d.robot, d.b
+        M = d.get("mass_matrix") + armature_matrix(robot)
+        if "forward_dynamics" not in d.need:
+            check_not_singular(robot, b.build(), M)
+        if robot.is_tree:
+            d.mass_factorization = ldlt.factor_tree(b, M, d.chain.parents, "ltl", _identically_zero_pivot)
+        else:
+            d.mass_factorization = ldlt.factor(b, M, "ldl", _identically_zero_pivot)
+    return d.mass_factorization
+
+
+def _solve_mass(d: _Derivation, rhs, forward_hint: str, back_hint: str) -> list:
+    """``x`` with ``M x = rhs`` by the shared factorization (:func:`_mass_factorization`)."""
+    f = _mass_factorization(d)
+    solve = ldlt.solve_tree if d.robot.is_tree else ldlt.solve
+    return solve(d.b, f, rhs, forward_hint, back_hint)
+
+
+def _inverse_outputs(d: _Derivation) -> sp.Matrix:
+    """M^-1 and, when asked for, dqdd/dq = -M^-1 dtau/dq and dqdd/dqd = -M^-1 dtau/dqd, the
+    derivatives of inverse dynamics taken at the accelerations forward dynamics gives (held
+    constant while differentiating: the implicit function theorem on tau = ID(q, qd, qdd)).
+    M^-1 by solves of M x = e_j with the shared factorization, the lower triangle only (its
+    entries of rows above j are not needed, and are never emitted)."""
+    _fixed_base_only(d, "the inverse mass matrix and the forward-dynamics derivatives")
+    robot, chain, n, b = d.robot, d.chain, d.n, d.b
+    d.report("mass_matrix_inverse (solves with the factorization of M)")
+    f = _mass_factorization(d)
+    Minv = sp.zeros(n, n)
+    for j in range(n):
+        column = _solve_mass(d, [sp.S.One if i == j else sp.S.Zero for i in range(n)], f"mi{j + 1}_y",
+                             f"Minv{{i}}_{j + 1}")
+        for i in range(j, n):
+            Minv[i, j] = Minv[j, i] = column[i]
+    d.values["mass_matrix_inverse"] = Minv
+    d.checks.append((INVERSE_OUTPUTS, tuple((p, m, 1) for p, m in f.pivots)))
+    if not {"forward_dynamics_dq", "forward_dynamics_dqd"} & d.need:
+        return Minv
+    d.report("forward_dynamics derivatives (-M^-1 dtau/dq and -M^-1 dtau/dqd at qdd = forward dynamics)")
+    rhs = sp.Matrix(chain.tau) - d.get("fd_bias") - d.static_friction
+    rhs = [b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)]
+    qdd = [b.define(f"fdd{i + 1}", e, force=True) for i, e in enumerate(_solve_mass(d, rhs, "ldl_y", "qdd{i}_fd"))]
+    rigid = d.forces(chain.qd, qdd, chain.gravity, "fa")
+    program, held = b.build(), frozenset(qdd)
+    by_q = differentiate(program, rigid, list(chain.joint_q), b, "aq", held=held)
+    by_qd = differentiate(program, rigid, list(chain.qd), b, "av", held=held)
+    damping = [link.damping for link in robot.links]
+    dq = sp.Matrix(n, n, lambda i, j: by_q[j][i])
+    dqd = sp.Matrix(n, n, lambda i, j: by_qd[j][i] + (damping[i] if i == j else 0))
+    d.values["forward_dynamics_dq"] = sp.Matrix(n, n, lambda i, j: b.define(
+        f"dAq{i + 1}_{j + 1}", -sp.Add(*[Minv[i, k] * dq[k, j] for k in range(n)])))
+    d.values["forward_dynamics_dqd"] = sp.Matrix(n, n, lambda i, j: b.define(
+        f"dAv{i + 1}_{j + 1}", -sp.Add(*[Minv[i, k] * dqd[k, j] for k in range(n)])))
+    return Minv
+
+
 def _frames(d: _Derivation) -> sp.Matrix:
     """Every frame output needed, derived together (they share the link poses)."""
     wanted = [name for name in FRAME_OUTPUTS if name in d.need]
@@ -627,7 +702,8 @@ def _task(d: _Derivation) -> sp.Matrix:
     ts = task_space(d.b, M, J, jdot, h, c, robot.task_rows, identically_zero)
     check_task_regular(robot, d.b.build(), ts.task_pivots)
     d.values.update(ts.outputs())
-    d.task_checks = tuple((p, m, 1) for p, m in ts.mass.pivots) + tuple((p, m, 3) for p, m in ts.task_pivots)
+    d.checks.append((TASK_OUTPUTS, tuple((p, m, 1) for p, m in ts.mass.pivots)
+                     + tuple((p, m, 3) for p, m in ts.task_pivots)))
     return d.values[TASK_OUTPUTS[0]]
 
 
@@ -715,7 +791,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, **{name: _task for name in TASK_OUTPUTS},
     "inverse_dynamics_dq": _inverse_dynamics_derivatives, "inverse_dynamics_dqd": _inverse_dynamics_derivatives,
-    "gravity_derivative": _gravity_derivative,
+    "gravity_derivative": _gravity_derivative, **{name: _inverse_outputs for name in INVERSE_OUTPUTS},
     **{name: _frames for name in FRAME_OUTPUTS},
     **{name: _centroidal for name in CENTROIDAL_OUTPUTS},
 }
@@ -787,4 +863,5 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      coriolis_factors=d.coriolis_factors if "coriolis_matrix" in wanted else (),
                      fd_system=d.fd_system if "forward_dynamics" in wanted else (),
                      joint_trig=chain.joint_trig,
-                     task_checks=d.task_checks if any(name in wanted for name in TASK_OUTPUTS) else ())
+                     checks=tuple((outputs, checks) for outputs, checks in d.checks
+                                  if any(name in wanted for name in outputs)))

@@ -33,16 +33,18 @@ class Program:
     def symbols(self) -> tuple[sp.Symbol, ...]:
         return tuple(s for s, _ in self.assignments)
 
-    def needed_for(self, exprs: Iterable[sp.Expr]) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
-        """The assignments the given expressions depend on, in order (dead code removed)."""
+    def needed_for(self, exprs: Iterable[sp.Expr], leaves: frozenset = frozenset()) -> tuple[tuple[sp.Symbol, sp.Expr], ...]:
+        """The assignments the given expressions depend on, in order (dead code removed); the
+        symbols in ``leaves`` are taken as given (neither they nor what only they need are kept)."""
         needed: set[sp.Symbol] = set()
         for e in exprs:
             needed |= sp.sympify(e).free_symbols
+        needed -= leaves
         kept = []
         for sym, rhs in reversed(self.assignments):
             if sym in needed:
                 kept.append((sym, rhs))
-                needed |= rhs.free_symbols
+                needed |= rhs.free_symbols - leaves
         return tuple(reversed(kept))
 
     def expansion(self, exprs: Iterable[sp.Expr] | None = None) -> dict[sp.Symbol, sp.Expr]:
@@ -137,7 +139,8 @@ def _partial(expr: sp.Expr, s: sp.Symbol) -> sp.Expr:
 
 
 def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[sp.Symbol],
-                  builder: ProgramBuilder, hint: str, scale: sp.Expr = sp.S.One) -> list[sp.Matrix]:
+                  builder: ProgramBuilder, hint: str, scale: sp.Expr = sp.S.One,
+                  held: frozenset = frozenset()) -> list[sp.Matrix]:
     """Forward-mode derivatives of ``outputs`` with respect to each of ``variables``, times
     ``scale``.
 
@@ -145,10 +148,12 @@ def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[
     for the derivatives are added to ``builder``.  Returns one matrix (shape of ``outputs``)
     per variable.  ``scale`` is the variable's own derivative (d x / d x), so a constant factor folds
     into the recursion's constants instead of costing one multiplication per result (C = dh/dqd
-    / 2 with ``scale=1/2``; a power of two leaves every rounding unchanged).
+    / 2 with ``scale=1/2``; a power of two leaves every rounding unchanged).  The program's
+    symbols in ``held`` are held constant: partial derivatives at fixed values of them (the
+    accelerations of the forward-dynamics derivatives, dtau/dq at fixed qdd).
     """
     results = []
-    needed = program.needed_for(list(outputs))
+    needed = program.needed_for(list(outputs), held)
     free = [rhs.free_symbols for _, rhs in needed]  # once for every variable
     # the program's own sin/cos of a variable: d cos(x)/dx is minus the symbol of sin(x), not a
     # new call (a joint angle's c_i, s_i)

@@ -263,6 +263,16 @@ def _task_context(eqs: Equations, precision: str) -> dict:
             "rtol": repr(pivot_rtol("double" if precision == "double" else "float"))}
 
 
+def _status_list(built, prefix: str) -> str:
+    """The functions that return a status, for the header's note on inputs: "the task-space
+    functions", the others by name, forward dynamics' checked function last."""
+    names = [f.name for f in built if f.returns == "int"]
+    items = (["the task-space functions"] if any(n in TASK_OUTPUTS or n == "task_space" for n in names) else []) + [
+        f"{prefix}_{n}" for n in names if n not in TASK_OUTPUTS and n != "task_space" and n != "forward_dynamics_checked"]
+    items += [f"{prefix}_forward_dynamics_checked"] if "forward_dynamics_checked" in names else []
+    return ", ".join(items[:-1]) + " and " + items[-1] if len(items) > 1 else "".join(items)
+
+
 def checked_name(name: str) -> str:
     """The name of the function that returns a status: forward dynamics' is
     ``forward_dynamics_checked`` (``forward_dynamics`` is the plain call beside it); the
@@ -382,6 +392,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "notes": [comment_text(note) for note in notes],
         "math_header": True,
         "float_header": any(f.returns == "int" for f in built),
+        "status_list": _status_list(built, prefix),
         "size_target": "",
         "size_command": "",
         "size_doubles": "",

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..derive.equations import Equations
-from ..model.outputs import COMBINED, REGISTRY, TASK_OUTPUTS, Dimensions, function_inputs
+from ..model.outputs import COMBINED, REGISTRY, Dimensions, function_inputs, returns_status
 from .emission import factor_coefficients, fold_constants, fresh_symbols, pair_cse
 
 #: functions of at least this many statements get the pair CSE (:func:`emission.pair_cse`) instead
@@ -134,9 +134,10 @@ def _output_targets(eqs: Equations, plan: FunctionPlan, part: str) -> None:
             plan.gram = (arg, rows)
 
 
-def _task_targets(eqs: Equations, plan: FunctionPlan) -> None:
-    """A task-space function: every result to a local first (``result0``, ...), written to its
-    output entries only when every pivot check has passed; the checks of both factorizations."""
+def _checked_targets(eqs: Equations, plan: FunctionPlan) -> None:
+    """A function that returns a status (task space, the inverse mass matrix, the
+    forward-dynamics derivatives): every result to a local first (``result0``, ...), written to
+    its output entries only when every pivot check has passed; the checks of its factorizations."""
     dims = dimensions(eqs)
     k = 0
     for part in plan.parts:
@@ -151,17 +152,18 @@ def _task_targets(eqs: Equations, plan: FunctionPlan) -> None:
                     finals = (f"{arg}[{i * cols + j}]",) + ((f"{arg}[{j * cols + i}]",) if output.symmetric and j > i else ())
                     plan.targets.append(Target(f"result{k}", matrix[i, j], finals=finals))
                     k += 1
-    plan.pivots = [e for pivot, diagonal, _ in eqs.task_checks for e in (pivot, diagonal)]
-    plan.pivot_codes = [code for _, _, code in eqs.task_checks]
+    checks = eqs.checks_for(plan.parts)
+    plan.pivots = [e for pivot, diagonal, _ in checks for e in (pivot, diagonal)]
+    plan.pivot_codes = [code for _, _, code in checks]
 
 
 def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
     """Stage 1 for the function ``name`` (an output, or a combined function of several)."""
     parts = COMBINED.get(name, (name,))
     plan = FunctionPlan(name, parts, function_inputs(name), REGISTRY[parts[0]].arguments[0].name)
-    if all(part in TASK_OUTPUTS for part in parts) and eqs.task_checks:
+    if returns_status(name) and eqs.checks_for(parts):
         plan.checked = True
-        _task_targets(eqs, plan)
+        _checked_targets(eqs, plan)
         return plan
     plan.checked = name == "forward_dynamics" and bool(eqs.pivots)
     plan.looped = plan.checked and bool(eqs.fd_system)

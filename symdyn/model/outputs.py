@@ -135,6 +135,11 @@ _TASK_STATUS = ("Returns 0 on success; 1 when the mass matrix is singular at q (
                 "singular at q: a pivot of the LDL^T factorization of J M^-1 J^T (the inverse of Lambda) is not "
                 "above {prefix}_TASK_RTOL times its diagonal entry (a kinematic singularity, or a task direction "
                 "the joints cannot move the tool in). On a nonzero return nothing is written.")
+_INVERSE_STATUS = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot of its LDL^T factorization "
+                   "is not above {rtol:g} times its diagonal entry, or is not a number); 2 when an input is NaN or "
+                   "infinite, or a result is not finite (NaN or beyond the range of {real}). On a nonzero return "
+                   "nothing is written.")
+
 #: what the task-space outputs are derived from
 _TASK_REQUIRES = ("mass_matrix", "coriolis", "gravity", "jacobian", "jacobian_dot_qd")
 _TASK_UNITS = "kg, kg m or kg m^2 (rows: N and N m per m/s^2 and rad/s^2)"
@@ -248,6 +253,23 @@ SPECS: tuple[OutputSpec, ...] = (
         (OutputArgument("dc_dq", "derivative of the gravity vector, N*N row-major: row i = c_i, column j = q_j"),),
         default=False),
     OutputSpec(
+        "mass_matrix_inverse", "Minv", ("q",), lambda d: (d.dof, d.dof), "N x N", "1/(kg m^2), 1/(kg m) or 1/kg",
+        "Inverse of the mass matrix with armature, (D + diag(armature))^-1 (Pinocchio's computeMinverse), from the LDL^T factorization forward dynamics uses (no general inverse).",
+        (OutputArgument("Minv", "inverse mass matrix (D + diag(armature))^-1, N*N row-major, symmetric"),),
+        default=False, symmetric=True, status=_INVERSE_STATUS),
+    OutputSpec(
+        "forward_dynamics_dq", "dqdd_dq", ("q", "qd", "tau"), lambda d: (d.dof, d.dof), "N x N",
+        "rad/s^2 or m/s^2 per rad or m",
+        "Derivative of forward dynamics by the joint positions, dqdd/dq = -M^-1 dtau/dq at qdd = forward_dynamics(q, qd, tau) (Pinocchio's computeABADerivatives).",
+        (OutputArgument("dqdd_dq", "dqdd/dq, N*N row-major: row i = qdd_i, column j = q_j"),),
+        default=False, status=_INVERSE_STATUS),
+    OutputSpec(
+        "forward_dynamics_dqd", "dqdd_dqd", ("q", "qd", "tau"), lambda d: (d.dof, d.dof), "N x N",
+        "rad/s^2 or m/s^2 per rad/s or m/s",
+        "Derivative of forward dynamics by the joint velocities, dqdd/dqd = -M^-1 dtau/dqd at qdd = forward_dynamics(q, qd, tau), viscous friction included (Coulomb friction's derivative is zero away from qd = 0); dqdd/dtau is NAME_mass_matrix_inverse.",
+        (OutputArgument("dqdd_dqd", "dqdd/dqd, N*N row-major: row i = qdd_i, column j = qd_j"),),
+        default=False, status=_INVERSE_STATUS),
+    OutputSpec(
         "frame_poses", "T", ("q",), lambda d: (4 * d.frames, 4), "K x 4 x 4", "m",
         "Poses of the frames listed above in the world, each a homogeneous transform (Pinocchio's framesForwardKinematics, oMf).",
         (OutputArgument("T", "poses of the K frames in the world, K*4*4 row-major: frame k's [R p; 0 0 0 1] at T + 16 k (p in m)"),),
@@ -300,6 +322,10 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
     CombinedSpec("inverse_dynamics_derivatives", ("inverse_dynamics_dq", "inverse_dynamics_dqd"),
                  "Both derivatives of inverse dynamics in one call, dtau/dq and dtau/dqd (as NAME_inverse_dynamics_dq "
                  "and NAME_inverse_dynamics_dqd), sharing the recursion they differentiate."),
+    CombinedSpec("forward_dynamics_derivatives", ("forward_dynamics_dq", "forward_dynamics_dqd", "mass_matrix_inverse"),
+                 "The derivatives of forward dynamics in one call: dqdd/dq, dqdd/dqd and dqdd/dtau = M^-1 (as "
+                 "NAME_forward_dynamics_dq, NAME_forward_dynamics_dqd and NAME_mass_matrix_inverse), sharing one "
+                 "factorization of M, the accelerations and the recursion they differentiate."),
     CombinedSpec("frame_kinematics", ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v"),
                  "Poses, Jacobians and J-dot qd of the frames in one call: the same results as NAME_frame_poses, "
                  "NAME_frame_jacobians and NAME_frame_jacobian_dot_v, sharing their sin/cos and link poses."),
@@ -355,10 +381,27 @@ CENTROIDAL_OUTPUTS = ("center_of_mass", "center_of_mass_jacobian", "center_of_ma
 #: the frame functions (the robot's ``frames:``; by default when it lists frames)
 FRAME_OUTPUTS = ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v")
 
-#: what a kinematic tree or a floating base can have derived: its joint-space dynamics, its
-#: frames' kinematics and the whole robot's centre of mass and centroidal momentum
-TREE_AVAILABLE = (TREE_OUTPUTS + ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_derivative") + FRAME_OUTPUTS
-                  + CENTROIDAL_OUTPUTS)
+#: the derivatives of the dynamics and the inverse mass matrix (when asked for)
+DERIVATIVE_OUTPUTS = ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_derivative", "mass_matrix_inverse",
+                      "forward_dynamics_dq", "forward_dynamics_dqd")
+
+#: the outputs that share the factorization of M and return its status (mass_matrix_inverse and
+#: the forward-dynamics derivatives)
+INVERSE_OUTPUTS = ("mass_matrix_inverse", "forward_dynamics_dq", "forward_dynamics_dqd")
+
+#: what a kinematic tree or a floating base can have derived: its joint-space dynamics, the
+#: derivatives (fixed bases), its frames' kinematics and the whole robot's centre of mass and
+#: centroidal momentum
+TREE_AVAILABLE = TREE_OUTPUTS + DERIVATIVE_OUTPUTS + FRAME_OUTPUTS + CENTROIDAL_OUTPUTS
+
+
+def returns_status(name: str) -> bool:
+    """Whether the generated function ``name`` (an output, or a combined function) returns a
+    status and writes nothing on a nonzero one: the task-space functions, the inverse mass
+    matrix and the forward-dynamics derivatives (forward dynamics' own status is
+    ``NAME_forward_dynamics_checked``'s)."""
+    parts = COMBINED.get(name, (name,))
+    return name != "forward_dynamics" and all(REGISTRY[part].status for part in parts)
 
 
 def default_outputs(robot) -> tuple[str, ...]:

@@ -1,0 +1,318 @@
+/*
+ * iLQR on puma560 with symdyn's generated C only: forward dynamics to simulate, its derivatives
+ * (dqdd/dq, dqdd/dqd and dqdd/dtau = M^-1, all from one call of
+ * puma560_forward_dynamics_derivatives) to linearize, and the gravity torques to start from.
+ * No finite differences, no other library.
+ *
+ * The task: move the arm from rest at q = 0 to rest at a target pose in T = 1.5 s.
+ *   state x = [q; qd] (12), control u = tau (6), step dt = 0.01 s (150 steps), semi-implicit Euler:
+ *     qd' = qd + dt qdd(q, qd, u),  q' = q + dt qd'
+ *   cost  = sum_k 1/2 u_k^T R u_k + 1/2 (x_N - x*)^T Qf (x_N - x*)
+ * Iterative LQR (Li and Todorov, 2004) with a Levenberg-Marquardt term on Quu and a
+ * backtracking line search, stopped when an iteration lowers the cost by less than 1e-5 of it.
+ * The arm's Coulomb friction makes the dynamics non-smooth where a joint's velocity changes
+ * sign (its derivative there is zero, as the generated header says), so the last iterations
+ * take short steps.  Prints the cost per iteration, then the final errors; exits 0 when the arm
+ * ends within 1e-3 rad of the target and 1e-2 rad/s of rest, 1 otherwise.
+ *
+ * Build (see README.md):
+ *   symdyn generate robots/puma560.yaml --out build --functions forward_dynamics,forward_dynamics_derivatives,gravity
+ *   cc -std=c99 -O2 -I build examples/ilqr/ilqr_puma560.c build/puma560_dynamics.c -lm -o ilqr
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "puma560_dynamics.h"
+
+#define NQ puma560_DOF
+#define NX (2 * NQ)
+#define NU NQ
+#define STEPS 150
+#define DT 0.01
+#define MAX_ITERATIONS 50
+
+static const double target[NQ] = {0.6, -0.5, 0.4, 0.3, -0.6, 0.9};
+static const double control_weight = 1e-4;  /* R = 1e-4 I, per (N m)^2 */
+static const double position_weight = 1e6;  /* Qf on q - q*, per rad^2 */
+static const double velocity_weight = 1e4;  /* Qf on qd, per (rad/s)^2 */
+
+/* trajectories and gains: x[k] and u[k] the current ones, A, B the linearization at them */
+static double xs[STEPS + 1][NX], us[STEPS][NU], xs_new[STEPS + 1][NX], us_new[STEPS][NU];
+static double A[STEPS][NX][NX], B[STEPS][NX][NU], k_ff[STEPS][NU], K_fb[STEPS][NU][NX];
+
+/* One step of the semi-implicit Euler; returns the forward dynamics' status. */
+static int step(const double *x, const double *u, double *next)
+{
+    double qdd[NQ];
+    int status = puma560_forward_dynamics_checked(x, x + NQ, u, qdd);
+    for (int i = 0; i < NQ; ++i) {
+        next[NQ + i] = x[NQ + i] + DT * qdd[i];
+        next[i] = x[i] + DT * next[NQ + i];
+    }
+    return status;
+}
+
+/* The step's Jacobians from the generated derivatives:
+ *   d qd'/d q = dt Fq,        d qd'/d qd = I + dt Fv,        d qd'/d u = dt Minv
+ *   d q'/d q  = I + dt^2 Fq,  d q'/d qd  = dt I + dt^2 Fv,   d q'/d u  = dt^2 Minv */
+static int linearize(const double *x, const double *u, double a[NX][NX], double b[NX][NU])
+{
+    double fq[NQ * NQ], fv[NQ * NQ], minv[NQ * NQ];
+    int status = puma560_forward_dynamics_derivatives(x, x + NQ, u, fq, fv, minv);
+    if (status != 0) {
+        return status;
+    }
+    for (int i = 0; i < NQ; ++i) {
+        for (int j = 0; j < NQ; ++j) {
+            double eye = i == j ? 1.0 : 0.0;
+            a[NQ + i][j] = DT * fq[i * NQ + j];
+            a[NQ + i][NQ + j] = eye + DT * fv[i * NQ + j];
+            a[i][j] = eye + DT * DT * fq[i * NQ + j];
+            a[i][NQ + j] = DT * eye + DT * DT * fv[i * NQ + j];
+            b[NQ + i][j] = DT * minv[i * NQ + j];
+            b[i][j] = DT * DT * minv[i * NQ + j];
+        }
+    }
+    return 0;
+}
+
+static double terminal_error(const double *x, int i)
+{
+    return i < NQ ? x[i] - target[i] : x[i];
+}
+
+static double terminal_weight(int i)
+{
+    return i < NQ ? position_weight : velocity_weight;
+}
+
+static double cost(double x[STEPS + 1][NX], double u[STEPS][NU])
+{
+    double total = 0.0;
+    for (int k = 0; k < STEPS; ++k) {
+        for (int i = 0; i < NU; ++i) {
+            total += 0.5 * control_weight * u[k][i] * u[k][i];
+        }
+    }
+    for (int i = 0; i < NX; ++i) {
+        double e = terminal_error(x[STEPS], i);
+        total += 0.5 * terminal_weight(i) * e * e;
+    }
+    return total;
+}
+
+/* Cholesky of the symmetric positive definite m (NU x NU, in place, lower triangle); 0 if it is
+ * not positive definite. */
+static int cholesky(double m[NU][NU])
+{
+    for (int j = 0; j < NU; ++j) {
+        double d = m[j][j];
+        for (int k = 0; k < j; ++k) {
+            d -= m[j][k] * m[j][k];
+        }
+        if (!(d > 0.0)) {
+            return 0;
+        }
+        m[j][j] = sqrt(d);
+        for (int i = j + 1; i < NU; ++i) {
+            double s = m[i][j];
+            for (int k = 0; k < j; ++k) {
+                s -= m[i][k] * m[j][k];
+            }
+            m[i][j] = s / m[j][j];
+        }
+    }
+    return 1;
+}
+
+/* x = m^-1 b with m's Cholesky factor l (b overwritten). */
+static void cholesky_solve(double l[NU][NU], double *b)
+{
+    for (int i = 0; i < NU; ++i) {
+        for (int k = 0; k < i; ++k) {
+            b[i] -= l[i][k] * b[k];
+        }
+        b[i] /= l[i][i];
+    }
+    for (int i = NU - 1; i >= 0; --i) {
+        for (int k = i + 1; k < NU; ++k) {
+            b[i] -= l[k][i] * b[k];
+        }
+        b[i] /= l[i][i];
+    }
+}
+
+/* The backward pass at regularization mu; 0 when a Quu is not positive definite. */
+static int backward(double mu, double *expected)
+{
+    static double vx[NX], vxx[NX][NX];
+    double qx[NX], qu[NU], qxx[NX][NX], quu[NU][NU], qux[NU][NX], vb[NX][NU], va[NX][NX];
+    *expected = 0.0;
+    for (int i = 0; i < NX; ++i) {
+        vx[i] = terminal_weight(i) * terminal_error(xs[STEPS], i);
+        for (int j = 0; j < NX; ++j) {
+            vxx[i][j] = i == j ? terminal_weight(i) : 0.0;
+        }
+    }
+    for (int k = STEPS - 1; k >= 0; --k) {
+        double (*a)[NX] = A[k], (*b)[NU] = B[k];
+        for (int i = 0; i < NX; ++i) {  /* Vxx A and Vxx B */
+            for (int j = 0; j < NX; ++j) {
+                double s = 0.0;
+                for (int l = 0; l < NX; ++l) s += vxx[i][l] * a[l][j];
+                va[i][j] = s;
+            }
+            for (int j = 0; j < NU; ++j) {
+                double s = 0.0;
+                for (int l = 0; l < NX; ++l) s += vxx[i][l] * b[l][j];
+                vb[i][j] = s;
+            }
+        }
+        for (int i = 0; i < NX; ++i) {
+            double s = 0.0;
+            for (int l = 0; l < NX; ++l) s += a[l][i] * vx[l];
+            qx[i] = s;
+            for (int j = 0; j < NX; ++j) {
+                double t = 0.0;
+                for (int l = 0; l < NX; ++l) t += a[l][i] * va[l][j];
+                qxx[i][j] = t;
+            }
+        }
+        for (int i = 0; i < NU; ++i) {
+            double s = control_weight * us[k][i];
+            for (int l = 0; l < NX; ++l) s += b[l][i] * vx[l];
+            qu[i] = s;
+            for (int j = 0; j < NU; ++j) {
+                double t = (i == j ? control_weight + mu : 0.0);
+                for (int l = 0; l < NX; ++l) t += b[l][i] * vb[l][j];
+                quu[i][j] = t;
+            }
+            for (int j = 0; j < NX; ++j) {
+                double t = 0.0;
+                for (int l = 0; l < NX; ++l) t += b[l][i] * va[l][j];
+                qux[i][j] = t;
+            }
+        }
+        double factor[NU][NU];
+        memcpy(factor, quu, sizeof factor);
+        if (!cholesky(factor)) {
+            return 0;
+        }
+        for (int i = 0; i < NU; ++i) k_ff[k][i] = -qu[i];
+        cholesky_solve(factor, k_ff[k]);
+        for (int j = 0; j < NX; ++j) {
+            double column[NU];
+            for (int i = 0; i < NU; ++i) column[i] = -qux[i][j];
+            cholesky_solve(factor, column);
+            for (int i = 0; i < NU; ++i) K_fb[k][i][j] = column[i];
+        }
+        /* Vx = Qx + K^T Quu k + K^T Qu + Qux^T k,  Vxx = Qxx + K^T Quu K + K^T Qux + Qux^T K */
+        for (int i = 0; i < NU; ++i) *expected += k_ff[k][i] * qu[i];
+        for (int i = 0; i < NX; ++i) {
+            double s = qx[i];
+            for (int r = 0; r < NU; ++r) {
+                double quu_k = 0.0;
+                for (int c = 0; c < NU; ++c) quu_k += quu[r][c] * k_ff[k][c];
+                s += K_fb[k][r][i] * (quu_k + qu[r]) + qux[r][i] * k_ff[k][r];
+            }
+            vx[i] = s;
+        }
+        for (int i = 0; i < NX; ++i) {
+            for (int j = 0; j < NX; ++j) {
+                double s = qxx[i][j];
+                for (int r = 0; r < NU; ++r) {
+                    double quu_k = 0.0;
+                    for (int c = 0; c < NU; ++c) quu_k += quu[r][c] * K_fb[k][c][j];
+                    s += K_fb[k][r][i] * (quu_k + qux[r][j]) + qux[r][i] * K_fb[k][r][j];
+                }
+                vxx[i][j] = s;
+            }
+        }
+        for (int i = 0; i < NX; ++i) {  /* kept symmetric against rounding */
+            for (int j = 0; j < i; ++j) vxx[i][j] = vxx[j][i] = 0.5 * (vxx[i][j] + vxx[j][i]);
+        }
+    }
+    return 1;
+}
+
+/* Roll the controls out from x0 with step size alpha and the feedback gains; 0 on a status. */
+static int forward(double alpha)
+{
+    memcpy(xs_new[0], xs[0], sizeof xs_new[0]);
+    for (int k = 0; k < STEPS; ++k) {
+        for (int i = 0; i < NU; ++i) {
+            double u = us[k][i] + alpha * k_ff[k][i];
+            for (int j = 0; j < NX; ++j) u += K_fb[k][i][j] * (xs_new[k][j] - xs[k][j]);
+            us_new[k][i] = u;
+        }
+        if (step(xs_new[k], us_new[k], xs_new[k + 1]) != 0) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+int main(void)
+{
+    double gravity[NQ];
+    memset(xs, 0, sizeof xs);  /* at rest at q = 0 */
+    puma560_gravity(xs[0], gravity);
+    for (int k = 0; k < STEPS; ++k) {  /* start by holding the arm against gravity */
+        memcpy(us[k], gravity, sizeof gravity);
+        if (step(xs[k], us[k], xs[k + 1]) != 0) {
+            fprintf(stderr, "forward dynamics failed in the first rollout\n");
+            return 1;
+        }
+    }
+    double current = cost(xs, us), mu = 1e-6;
+    printf("iteration 0: cost %.9g\n", current);
+    int iteration = 1;
+    for (; iteration <= MAX_ITERATIONS; ++iteration) {
+        for (int k = 0; k < STEPS; ++k) {
+            if (linearize(xs[k], us[k], A[k], B[k]) != 0) {
+                fprintf(stderr, "the mass matrix is singular at step %d\n", k);
+                return 1;
+            }
+        }
+        double expected;
+        while (!backward(mu, &expected)) {
+            mu *= 10.0;
+            if (mu > 1e10) {
+                fprintf(stderr, "Quu is not positive definite\n");
+                return 1;
+            }
+        }
+        double alpha = 1.0, trial = current;
+        int accepted = 0;
+        for (int tries = 0; tries < 12; ++tries, alpha *= 0.5) {
+            if (forward(alpha) && (trial = cost(xs_new, us_new)) < current) {
+                accepted = 1;
+                break;
+            }
+        }
+        if (!accepted) {
+            mu *= 10.0;
+            if (mu > 1e10) break;
+            continue;
+        }
+        double decrease = current - trial;
+        memcpy(xs, xs_new, sizeof xs);
+        memcpy(us, us_new, sizeof us);
+        current = trial;
+        mu = mu > 1e-6 ? mu / 10.0 : mu;
+        printf("iteration %d: cost %.9g (step %g, expected decrease %.3g)\n", iteration, current, alpha, -expected);
+        if (decrease < 1e-5 * current) {
+            break;
+        }
+    }
+    double position = 0.0, velocity = 0.0;
+    for (int i = 0; i < NQ; ++i) {
+        position = fmax(position, fabs(xs[STEPS][i] - target[i]));
+        velocity = fmax(velocity, fabs(xs[STEPS][NQ + i]));
+    }
+    int converged = position < 1e-3 && velocity < 1e-2;
+    printf("final: cost %.9g after %d iterations; |q - q*| %.3g rad, |qd| %.3g rad/s: %s\n", current,
+           iteration, position, velocity, converged ? "converged" : "NOT converged");
+    return converged ? 0 : 1;
+}
