@@ -106,6 +106,8 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "kinematics": (("framePlacementJacobian",), "KIN"),
              "inverse_dynamics_derivatives": (("rneaDerivatives",), "DERIV"),
              "gravity_derivative": (("gravityDerivatives",), "DERIV"),
+             "forward_dynamics_derivatives": (("abaDerivatives",), "DERIV"),
+             "mass_matrix_inverse": (("computeMinverse",), "DERIV"),
              "frame_poses": (("framePoses",), "FRAMES"),
              "frame_jacobians": (("frameJacobians",), "FRAMES"),
              "frame_jacobian_dot_v": (("frameJacobianDotV",), "FRAMES"),
@@ -128,7 +130,7 @@ FLOATING_VARIANTS = {"rnea": "rneaFF", "nonLinearEffects": "nonLinearEffectsFF",
 #: the Pinocchio functions the CasADi peer has (benchmarks/harness_peer.cpp); the others are
 #: timed without a peer column
 PEER_VARIANTS = ("rnea", "computeGeneralizedGravity", "nonLinearEffects", "computeCoriolisMatrix", "crba_local",
-                 "crba_world", "aba_local", "aba_world")
+                 "crba_world", "aba_local", "aba_world", "rneaDerivatives", "abaDerivatives", "computeMinverse")
 PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "nonLinearEffects": "Q, QD",
                        "computeCoriolisMatrix": "Q, QD", "crba_local": "Q", "crba_world": "Q",
                        "aba_local": "Q, QD, TAU", "aba_world": "Q, QD, TAU", "taskSpace": "Q, QD",
@@ -136,7 +138,8 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "framePlacementJacobian": "Q", "centerOfMass": "Q", "jacobianCenterOfMass": "Q",
                        "centerOfMassBias": "Q, QD", "ccrba": "Q, QD", "centroidalBias": "Q, QD",
                        "framePoses": "Q", "frameJacobians": "Q", "frameJacobianDotV": "Q, QD",
-                       "frameKinematics": "Q, QD", "rneaDerivatives": "Q, QD, QDD", "gravityDerivatives": "Q"}
+                       "frameKinematics": "Q, QD", "rneaDerivatives": "Q, QD, QDD", "gravityDerivatives": "Q",
+                       "abaDerivatives": "Q, QD, TAU", "computeMinverse": "Q"}
 STATE_ARRAYS = {"q": "Q", "qd": "QD", "qdd": "QDD", "tau": "TAU"}
 #: Pinocchio's headers need these with the pin wheel's Boost (its joint visitors take more
 #: arguments than Boost's default limits allow)

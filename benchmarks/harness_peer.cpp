@@ -5,7 +5,11 @@
 //
 // Usage: harness_peer MODEL.txt OUT_DIR FUNCTION...
 //   FUNCTION: rnea crba_local crba_world computeGeneralizedGravity nonLinearEffects
-//             computeCoriolisMatrix aba_local aba_world
+//             computeCoriolisMatrix aba_local aba_world rneaDerivatives abaDerivatives
+//             computeMinverse
+// The derivatives are CasADi's automatic differentiation (casadi::SX::jacobian) of Pinocchio's
+// rnea and aba on SX, side by side in one output: rneaDerivatives [dtau/dq dtau/dv] (n x 2n),
+// abaDerivatives [dqdd/dq dqdd/dv dqdd/dtau] (n x 3n); computeMinverse is Pinocchio's own on SX.
 // Writes OUT_DIR/peer.c and OUT_DIR/peer.h with one C function peer_FUNCTION per argument
 // (CasADi's calling convention: arg, res, iw, w, mem).
 #include <pinocchio/autodiff/casadi.hpp>
@@ -60,6 +64,15 @@ static casadi::Function build(const std::string &name, const ADModel &model, ADD
   else if (name == "computeCoriolisMatrix") { in = {q, v}; out = {to_sx(pinocchio::computeCoriolisMatrix(model, data, qa, va))}; }
   else if (name == "aba_local") { in = {q, v, a}; out = {to_sx(pinocchio::aba(model, data, qa, va, aa, local))}; }
   else if (name == "aba_world") { in = {q, v, a}; out = {to_sx(pinocchio::aba(model, data, qa, va, aa, world))}; }
+  else if (name == "rneaDerivatives") {
+    in = {q, v, a};
+    SX tau = to_sx(pinocchio::rnea(model, data, qa, va, aa));
+    out = {SX::horzcat({SX::jacobian(tau, q), SX::jacobian(tau, v)})};
+  } else if (name == "abaDerivatives") {
+    in = {q, v, a};  // a: the torques
+    SX qdd = to_sx(pinocchio::aba(model, data, qa, va, aa, local));
+    out = {SX::horzcat({SX::jacobian(qdd, q), SX::jacobian(qdd, v), SX::jacobian(qdd, a)})};
+  } else if (name == "computeMinverse") { in = {q}; out = {symmetric(pinocchio::computeMinverse(model, data, qa))}; }
   else throw std::invalid_argument("unknown function " + name);
   return casadi::Function("peer_" + name, in, out, casadi::Dict{{"cse", true}});
 }

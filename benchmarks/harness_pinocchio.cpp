@@ -51,6 +51,19 @@ int pin_result(const char *name, double *out) {
   if (!std::strcmp(name, "nonLinearEffects")) return copy(data.nle, out);
   if (!std::strcmp(name, "computeCoriolisMatrix")) return copy(data.C, out);
   if (!std::strncmp(name, "aba", 3)) return copy(data.ddq, out);
+  if (!std::strcmp(name, "rneaDerivatives")) {  // [dtau/dq dtau/dv], as the peer's one output
+    Eigen::MatrixXd both(data.dtau_dq.rows(), 2 * data.dtau_dq.cols());
+    both << data.dtau_dq, data.dtau_dv;
+    return copy(both, out);
+  }
+  if (!std::strcmp(name, "abaDerivatives") || !std::strcmp(name, "computeMinverse")) {
+    Eigen::MatrixXd minv = data.Minv;  // the upper triangle is Pinocchio's
+    minv.triangularView<Eigen::StrictlyLower>() = minv.transpose().triangularView<Eigen::StrictlyLower>();
+    if (name[0] == 'c') return copy(minv, out);
+    Eigen::MatrixXd all(minv.rows(), 3 * minv.cols());  // [dqdd/dq dqdd/dv dqdd/dtau]
+    all << data.ddq_dq, data.ddq_dv, minv;
+    return copy(all, out);
+  }
   if (!std::strncmp(name, "crba", 4)) {
     Eigen::MatrixXd full = data.M;
     full.triangularView<Eigen::StrictlyLower>() = full.transpose().triangularView<Eigen::StrictlyLower>();

@@ -136,6 +136,11 @@ class Equations:
     #: header's ``NAME_TASK_RTOL``); the inverse mass matrix and the forward-dynamics
     #: derivatives: the LDL^T of M (status 1).  Only groups with a derived output are listed.
     checks: tuple = ()
+    #: ``(Minv, dtau_dq, dtau_dqd)`` (n x n each) when a forward-dynamics derivative was derived:
+    #: M^-1 and the derivatives of inverse dynamics at the accelerations forward dynamics gives,
+    #: for emitters that write ``dqdd/dq = -Minv dtau_dq`` and ``dqdd/dqd = -Minv dtau_dqd`` as a
+    #: loop (the outputs hold the same products written out); else ``()``
+    inverse_products: tuple = ()
 
     @property
     def n(self) -> int:
@@ -428,6 +433,7 @@ class _Derivation:
         self.checks: list = []
         self.base: tuple = ()
         self.mass_factorization = None
+        self.inverse_products: tuple = ()
         self.jne = self.le = None
         if method == "jacobian-newton-euler":
             report("world-frame link quantities (k_i, d_i, h_i, I_i)")
@@ -647,6 +653,7 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     damping = [link.damping for link in robot.links]
     dq = sp.Matrix(n, n, lambda i, j: by_q[j][i])
     dqd = sp.Matrix(n, n, lambda i, j: by_qd[j][i] + (damping[i] if i == j else 0))
+    d.inverse_products = tuple(sp.ImmutableMatrix(m) for m in (Minv, dq, dqd))
     d.values["forward_dynamics_dq"] = sp.Matrix(n, n, lambda i, j: b.define(
         f"dAq{i + 1}_{j + 1}", -sp.Add(*[Minv[i, k] * dq[k, j] for k in range(n)])))
     d.values["forward_dynamics_dqd"] = sp.Matrix(n, n, lambda i, j: b.define(
@@ -863,5 +870,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      coriolis_factors=d.coriolis_factors if "coriolis_matrix" in wanted else (),
                      fd_system=d.fd_system if "forward_dynamics" in wanted else (),
                      joint_trig=chain.joint_trig,
+                     inverse_products=d.inverse_products if {"forward_dynamics_dq", "forward_dynamics_dqd"} & set(wanted)
+                     else (),
                      checks=tuple((outputs, checks) for outputs, checks in d.checks
                                   if any(name in wanted for name in outputs)))

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan
-from .cprinter import CPrinter, count_operations
+from .cprinter import CPrinter, VectorUnsupported, count_operations
 from .emission import template_environment
 
 #: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
@@ -216,10 +216,15 @@ class BodyWriter:
         if plan.looped:
             n = ctx.n
             self._declare([("fd_M", n * n), ("fd_b", n), ("fd_w", n), ("fd_d", n), ("fd_inv", n), ("fd_x", n)])
+        if plan.products:
+            if self.vector:
+                raise VectorUnsupported("the forward-dynamics derivatives' product loop")
+            n, blocks, _ = plan.products
+            self._declare([("fdd_m", n * n)] + [(array, n * n) for array, _ in blocks] + [("fdd_r", len(blocks) * n * n)])
         self.segment_start = len(self.lines)
         late = self._statements(checks)
         self.segment_end = len(self.lines)
-        if plan.checked and not plan.looped:
+        if plan.checked and not plan.looped and not plan.products:
             self._checked_results(late)
         else:
             for target, expr in late:
@@ -380,6 +385,11 @@ class BodyWriter:
             out, n = plan.coriolis
             self.lines += coriolis_loop(out, n, self.ltype, self.store, ctx.prefix, self.vector)
             self.ops += coriolis_ops(n)
+        if plan.products:
+            n, blocks, minv = plan.products
+            limit, fabs = _limit(ctx.internal, ctx.scalar)
+            self.lines += _macro_lines(_loops().inverse_products(n, self.ltype, blocks, minv, self.store, limit, fabs))
+            self.ops += Counter({"mul": len(blocks) * n ** 3, "add": len(blocks) * n ** 3})
         if plan.looped:
             solve, solve_ops = looped_solve(ctx.n, self.ltype, self.printer.literal(ctx.rtol), self.printer.literal(1.0),
                                             self.vector, plan.out_name, self.store, ctx.internal, ctx.scalar)

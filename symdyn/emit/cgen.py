@@ -346,8 +346,9 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         if all(part in functions for part in parts):
             built.append(build_function(eqs, combined, precision, prefix, batch))
     externals = [f"{prefix}_{f.name}" for f in built] + [f"{prefix}_{f.batch['name']}" for f in built if f.batch]
-    if len({e[:31] for e in externals}) < len(externals):
-        warn(f"robot name '{prefix}': the generated function names ({', '.join(externals)}) are not "
+    clashing = [e for e in externals if sum(other[:31] == e[:31] for other in externals) > 1]
+    if clashing:
+        warn(f"robot name '{prefix}': the generated function names {', '.join(clashing)} are not "
              "distinct in their first 31 characters, all that C99 guarantees a linker to compare; "
              "a shorter robot name is safer with old toolchains")
     robot = eqs.robot

@@ -77,6 +77,11 @@ class FunctionPlan:
     #: the status each pivot pair returns when its check fails (empty: 1 for every pair) and
     #: whether it is checked against the header's task tolerance macro instead of the literal one
     pivot_codes: list[int] = field(default_factory=list)
+    #: a forward-dynamics derivative written as ``-Minv dtau/dx`` by a loop
+    #: (:attr:`Equations.inverse_products`): ``(n, blocks, minv)``, ``blocks`` the ``(scratch
+    #: array, output argument)`` of each derivative, ``minv`` the output argument M^-1 is copied
+    #: to (or None); None otherwise
+    products: tuple | None = None
 
 
 @dataclass
@@ -157,13 +162,38 @@ def _checked_targets(eqs: Equations, plan: FunctionPlan) -> None:
     plan.pivot_codes = [code for _, _, code in checks]
 
 
+#: the scratch array of each forward-dynamics derivative's dtau/dx in the product loop
+PRODUCT_ARRAYS = {"forward_dynamics_dq": "fdd_q", "forward_dynamics_dqd": "fdd_v"}
+
+
+def _product_targets(eqs: Equations, plan: FunctionPlan) -> None:
+    """A function with a forward-dynamics derivative: M^-1 and each dtau/dx into scratch arrays
+    (``fdd_m``, ``fdd_q``, ``fdd_v``, row-major) as soon as computed; the loop that ends the body
+    forms ``-Minv dtau/dx``, checks every result and writes the outputs."""
+    Minv, dq, dqd = eqs.inverse_products
+    n = eqs.n
+    matrices = {"forward_dynamics_dq": dq, "forward_dynamics_dqd": dqd}
+    blocks = [(PRODUCT_ARRAYS[part], REGISTRY[part].arguments[0].name) for part in plan.parts if part in matrices]
+    plan.targets = [Target(f"fdd_m[{i * n + j}]", Minv[i, j], True) for i in range(n) for j in range(n)]
+    plan.targets += [Target(f"{PRODUCT_ARRAYS[part]}[{i * n + j}]", matrices[part][i, j], True)
+                     for part in plan.parts if part in matrices for i in range(n) for j in range(n)]
+    minv = REGISTRY["mass_matrix_inverse"].arguments[0].name if "mass_matrix_inverse" in plan.parts else None
+    plan.products = (n, tuple(blocks), minv)
+    checks = eqs.checks_for(plan.parts)
+    plan.pivots = [e for pivot, diagonal, _ in checks for e in (pivot, diagonal)]
+    plan.pivot_codes = [code for _, _, code in checks]
+
+
 def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
     """Stage 1 for the function ``name`` (an output, or a combined function of several)."""
     parts = COMBINED.get(name, (name,))
     plan = FunctionPlan(name, parts, function_inputs(name), REGISTRY[parts[0]].arguments[0].name)
     if returns_status(name) and eqs.checks_for(parts):
         plan.checked = True
-        _checked_targets(eqs, plan)
+        if eqs.inverse_products and set(parts) & set(PRODUCT_ARRAYS):
+            _product_targets(eqs, plan)
+        else:
+            _checked_targets(eqs, plan)
         return plan
     plan.checked = name == "forward_dynamics" and bool(eqs.pivots)
     plan.looped = plan.checked and bool(eqs.fd_system)
