@@ -67,11 +67,11 @@ static casadi::Function build(const std::string &name, const ADModel &model, ADD
   else if (name == "rneaDerivatives") {
     in = {q, v, a};
     SX tau = to_sx(pinocchio::rnea(model, data, qa, va, aa));
-    out = {SX::horzcat({SX::jacobian(tau, q), SX::jacobian(tau, v)})};
+    out = {SX::densify(SX::horzcat({SX::jacobian(tau, q), SX::jacobian(tau, v)}))};  // dense, as the others
   } else if (name == "abaDerivatives") {
     in = {q, v, a};  // a: the torques
     SX qdd = to_sx(pinocchio::aba(model, data, qa, va, aa, local));
-    out = {SX::horzcat({SX::jacobian(qdd, q), SX::jacobian(qdd, v), SX::jacobian(qdd, a)})};
+    out = {SX::densify(SX::horzcat({SX::jacobian(qdd, q), SX::jacobian(qdd, v), SX::jacobian(qdd, a)}))};
   } else if (name == "computeMinverse") { in = {q}; out = {symmetric(pinocchio::computeMinverse(model, data, qa))}; }
   else throw std::invalid_argument("unknown function " + name);
   return casadi::Function("peer_" + name, in, out, casadi::Dict{{"cse", true}});

@@ -50,7 +50,6 @@ int pin_result(const char *name, double *out) {
   if (!std::strcmp(name, "computeGeneralizedGravity")) return copy(data.g, out);
   if (!std::strcmp(name, "nonLinearEffects")) return copy(data.nle, out);
   if (!std::strcmp(name, "computeCoriolisMatrix")) return copy(data.C, out);
-  if (!std::strncmp(name, "aba", 3)) return copy(data.ddq, out);
   if (!std::strcmp(name, "rneaDerivatives")) {  // [dtau/dq dtau/dv], as the peer's one output
     Eigen::MatrixXd both(data.dtau_dq.rows(), 2 * data.dtau_dq.cols());
     both << data.dtau_dq, data.dtau_dv;
@@ -64,6 +63,7 @@ int pin_result(const char *name, double *out) {
     all << data.ddq_dq, data.ddq_dv, minv;
     return copy(all, out);
   }
+  if (!std::strncmp(name, "aba_", 4)) return copy(data.ddq, out);
   if (!std::strncmp(name, "crba", 4)) {
     Eigen::MatrixXd full = data.M;
     full.triangularView<Eigen::StrictlyLower>() = full.transpose().triangularView<Eigen::StrictlyLower>();
