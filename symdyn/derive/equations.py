@@ -136,10 +136,12 @@ class Equations:
     #: header's ``NAME_TASK_RTOL``); the inverse mass matrix and the forward-dynamics
     #: derivatives: the LDL^T of M (status 1).  Only groups with a derived output are listed.
     checks: tuple = ()
-    #: ``(Minv, dtau_dq, dtau_dqd)`` (n x n each) when a forward-dynamics derivative was derived:
-    #: M^-1 and the derivatives of inverse dynamics at the accelerations forward dynamics gives,
-    #: for emitters that write ``dqdd/dq = -Minv dtau_dq`` and ``dqdd/dqd = -Minv dtau_dqd`` as a
-    #: loop (the outputs hold the same products written out); else ``()``
+    #: ``(Minv, dtau_dq, dtau_dqd, qdd)`` (n x n each, qdd n x 1) when a forward-dynamics
+    #: derivative was derived: M^-1, the derivatives of inverse dynamics at the accelerations
+    #: forward dynamics gives, and those accelerations (program symbols, held constant in
+    #: dtau_dq and dtau_dqd), for emitters that write ``dqdd/dq = -Minv dtau_dq`` and
+    #: ``dqdd/dqd = -Minv dtau_dqd`` as a loop (the outputs hold the same products written
+    #: out); else ``()``
     inverse_products: tuple = ()
 
     @property
@@ -688,7 +690,7 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     damping = [link.damping for link in robot.links]
     dq = sp.Matrix(n, n, lambda i, j: by_q[j][i])
     dqd = sp.Matrix(n, n, lambda i, j: by_qd[i, j] + (damping[i] if i == j else 0))
-    d.inverse_products = tuple(sp.ImmutableMatrix(m) for m in (Minv, dq, dqd))
+    d.inverse_products = tuple(sp.ImmutableMatrix(m) for m in (Minv, dq, dqd, qdd))
     d.values["forward_dynamics_dq"] = sp.Matrix(n, n, lambda i, j: b.define(
         f"dAq{i + 1}_{j + 1}", -sp.Add(*[Minv[i, k] * dq[k, j] for k in range(n)])))
     d.values["forward_dynamics_dqd"] = sp.Matrix(n, n, lambda i, j: b.define(

@@ -133,6 +133,16 @@ def looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name
     return lines, Counter({"mul": mul, "add": add, "div": div})
 
 
+def product_loop(products, ltype: str, store: str, internal: str, scalar: str) -> tuple[list[str], Counter]:
+    """C lines forming the forward-dynamics derivatives ``-Minv dtau/dx`` from the scratch arrays
+    (``products``: a :attr:`FunctionPlan.products`), checking every result and writing the
+    outputs, ending with ``return 0``; and their operation counts."""
+    n, blocks, minv = products
+    limit, fabs = _limit(internal, scalar)
+    lines = _macro_lines(_loops().inverse_products(n, ltype, blocks, minv, store, limit, fabs))
+    return lines, Counter({"mul": len(blocks) * n ** 3, "add": len(blocks) * n ** 3})
+
+
 def _limit(internal: str, scalar: str) -> tuple[str, str]:
     """The largest finite result and the absolute-value function, in the arithmetic the results
     are computed in (compared there)."""
@@ -364,6 +374,9 @@ class BodyWriter:
                 results.append(target.lvalue)
             self._count(expr)
         writes = [(final, result) for (target, _), result in zip(late, results) for final in target.finals]
+        if not results:  # a stage that only fills scratch arrays (symdyn.emit.cgen's staged functions)
+            self.lines.append("return 0;")
+            return
         if self.vector:
             self.lines.append("all_ok &= " + "\n        & ".join(f"({r} <= {limit}) & ({r} >= -{limit})" for r in results) + ";")
             self.lines += [f"{final} = {result};" for final, result in writes]
@@ -386,10 +399,9 @@ class BodyWriter:
             self.lines += coriolis_loop(out, n, self.ltype, self.store, ctx.prefix, self.vector)
             self.ops += coriolis_ops(n)
         if plan.products:
-            n, blocks, minv = plan.products
-            limit, fabs = _limit(ctx.internal, ctx.scalar)
-            self.lines += _macro_lines(_loops().inverse_products(n, self.ltype, blocks, minv, self.store, limit, fabs))
-            self.ops += Counter({"mul": len(blocks) * n ** 3, "add": len(blocks) * n ** 3})
+            lines, ops = product_loop(plan.products, self.ltype, self.store, ctx.internal, ctx.scalar)
+            self.lines += lines
+            self.ops += ops
         if plan.looped:
             solve, solve_ops = looped_solve(ctx.n, self.ltype, self.printer.literal(ctx.rtol), self.printer.literal(1.0),
                                             self.vector, plan.out_name, self.store, ctx.internal, ctx.scalar)

@@ -82,6 +82,9 @@ class FunctionPlan:
     #: array, output argument)`` of each derivative, ``minv`` the output argument M^-1 is copied
     #: to (or None); None otherwise
     products: tuple | None = None
+    #: program symbols the function takes as given (its statements stop there: a stage of a
+    #: staged function reads them from an array, see symdyn.emit.cgen)
+    leaves: frozenset = frozenset()
 
 
 @dataclass
@@ -170,7 +173,7 @@ def _product_targets(eqs: Equations, plan: FunctionPlan) -> None:
     """A function with a forward-dynamics derivative: M^-1 and each dtau/dx into scratch arrays
     (``fdd_m``, ``fdd_q``, ``fdd_v``, row-major) as soon as computed; the loop that ends the body
     forms ``-Minv dtau/dx``, checks every result and writes the outputs."""
-    Minv, dq, dqd = eqs.inverse_products
+    Minv, dq, dqd, _ = eqs.inverse_products
     n = eqs.n
     matrices = {"forward_dynamics_dq": dq, "forward_dynamics_dqd": dqd}
     blocks = [(PRODUCT_ARRAYS[part], REGISTRY[part].arguments[0].name) for part in plan.parts if part in matrices]
@@ -247,7 +250,7 @@ def merge_cse(program_assigns, replacements):
 
 def reduce_targets(eqs: Equations, plan: FunctionPlan) -> ReducedPlan:
     """Stage 2: fold, eliminate common subexpressions, prune, group coefficients."""
-    assigns = list(eqs.program.needed_for([t.expr for t in plan.targets] + plan.pivots))
+    assigns = list(eqs.program.needed_for([t.expr for t in plan.targets] + plan.pivots, plan.leaves))
     folded = [(s, fold_constants(r)) for s, r in assigns]
     outputs = [fold_constants(sp.sympify(t.expr)) for t in plan.targets]
     checks = [fold_constants(sp.sympify(e)) for e in plan.pivots]
