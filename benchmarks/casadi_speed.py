@@ -1,6 +1,7 @@
 """Call time of symdyn's CasADi functions beside symdyn's own C, in the same run.
 
-Usage:  python benchmarks/casadi_speed.py [ROBOT ...]      (default: puma560 ur5 iiwa14)
+Usage:  python benchmarks/casadi_speed.py [ROBOT ...] [--functions LIST]   (default: puma560 ur5 iiwa14, the
+        standard outputs)
 
 For each robot and function, ns per call of:
 - symdyn C: the generated NAME_dynamics.c, -O3 -march=native, timed in a C loop;
@@ -40,29 +41,19 @@ static casadi_int iw[1000];
 #define CASADI(fn, a0, a1, a2) do { const double *arg[3]; double *res[1]; \
     arg[0] = a0; arg[1] = a1; arg[2] = a2; res[0] = out; fn(arg, res, iw, w, 0); } while (0)"""
 
-HARNESS = PRELUDE.replace("%(includes)s", DECLARATIONS) + r"""
-    TIME("c_inverse_dynamics", %(n)s_inverse_dynamics(q[k], qd[k], qdd[k], out));
-    TIME("casadi_c_inverse_dynamics", CASADI(%(n)s_casadi_inverse_dynamics, q[k], qd[k], qdd[k]));
-    TIME("c_mass_matrix", %(n)s_mass_matrix(q[k], out));
-    TIME("casadi_c_mass_matrix", CASADI(%(n)s_casadi_mass_matrix, q[k], 0, 0));
-    TIME("c_gravity", %(n)s_gravity(q[k], out));
-    TIME("casadi_c_gravity", CASADI(%(n)s_casadi_gravity, q[k], 0, 0));
-    TIME("c_coriolis", %(n)s_coriolis(q[k], qd[k], out));
-    TIME("casadi_c_coriolis", CASADI(%(n)s_casadi_coriolis, q[k], qd[k], 0));
-    TIME("c_coriolis_matrix", %(n)s_coriolis_matrix(q[k], qd[k], out));
-    TIME("casadi_c_coriolis_matrix", CASADI(%(n)s_casadi_coriolis_matrix, q[k], qd[k], 0));
-    TIME("c_forward_dynamics", %(n)s_forward_dynamics(q[k], qd[k], qdd[k], out));
-    TIME("casadi_c_forward_dynamics", CASADI(%(n)s_casadi_forward_dynamics, q[k], qd[k], qdd[k]));
-    TIME("c_forward_kinematics", %(n)s_forward_kinematics(q[k], out));
-    TIME("casadi_c_forward_kinematics", CASADI(%(n)s_casadi_forward_kinematics, q[k], 0, 0));
-    TIME("c_jacobian", %(n)s_jacobian(q[k], out));
-    TIME("casadi_c_jacobian", CASADI(%(n)s_casadi_jacobian, q[k], 0, 0));
-    TIME("c_jacobian_dot_qd", %(n)s_jacobian_dot_qd(q[k], qd[k], out));
-    TIME("casadi_c_jacobian_dot_qd", CASADI(%(n)s_casadi_jacobian_dot_qd, q[k], qd[k], 0));
-    return 0;
-}
-"""
+HARNESS = PRELUDE.replace("%(includes)s", DECLARATIONS) + "%(cases)s    return 0;\n}\n"
 
+
+def harness_cases(name: str, functions) -> str:
+    """The TIME lines of symdyn's C and CasADi's C of each function (tau read from the qdd array)."""
+    arrays = {"q": "q[k]", "qd": "qd[k]", "qdd": "qdd[k]", "tau": "qdd[k]"}
+    lines = []
+    for function in functions:
+        args = [arrays[group] for group in OUTPUT_INPUTS[function]]
+        padded = (args + ["0", "0"])[:3]
+        lines.append(f'    TIME("c_{function}", {name}_{function}({", ".join(args)}, out));\n')
+        lines.append(f'    TIME("casadi_c_{function}", CASADI({name}_casadi_{function}, {", ".join(padded)}));\n')
+    return "".join(lines)
 
 
 def vm_time(function, dof, states=20000, repeats=7):
@@ -90,7 +81,15 @@ def python_call_time(function, dof, calls=2000):
 
 
 def main(argv=None):
-    names = (argv if argv is not None else sys.argv[1:]) or ["puma560", "ur5", "iiwa14"]
+    import argparse
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("robots", nargs="*", default=["puma560", "ur5", "iiwa14"])
+    parser.add_argument("--functions", default=",".join(OUTPUTS),
+                        help="comma-separated outputs to time (default: the standard ones), e.g. the derivatives "
+                             "inverse_dynamics_dq,inverse_dynamics_dqd,forward_dynamics_dq,forward_dynamics_dqd,"
+                             "mass_matrix_inverse,gravity_derivative")
+    args = parser.parse_args(argv)
+    names, functions = args.robots, [f.strip() for f in args.functions.split(",") if f.strip()]
     print(f"CasADi {ca.__version__}")
     print("| robot | function | symdyn C (ns) | CasADi C (ns) | SX VM (ns) | CasADi C / symdyn C | SX VM / symdyn C | Python call of f (us) |")
     print("|---|---|---:|---:|---:|---:|---:|---:|")
@@ -99,20 +98,24 @@ def main(argv=None):
             robot = symdyn.load(os.path.join(HERE, "..", "robots", f"{name}.yaml"))
             if robot.parameters:
                 raise SystemExit(f"{name} has runtime parameters; this benchmark times robots without them")
-            eqs = symdyn.derive(robot)
+            eqs = symdyn.derive(robot, outputs=functions)
+            for fname in functions:  # the harness's work arrays: w[100000], iw[1000]
+                function = casadi_function(eqs, fname)
+                if function.sz_w() > 100000 or function.sz_iw() > 1000:
+                    raise SystemExit(f"{name} {fname}: CasADi's work vectors exceed the harness's")
             files = {k: v.encode() for k, v in generate_c(eqs).items()}
             files.update(casadi_files(eqs, casadi_c=True))
             for fname, data in files.items():
                 with open(os.path.join(workdir, fname), "wb") as handle:
                     handle.write(data)
             with open(os.path.join(workdir, "bench.c"), "w") as handle:
-                handle.write(HARNESS % {"n": name, "dof": robot.dof})
+                handle.write(HARNESS % {"n": name, "dof": robot.dof, "cases": harness_cases(name, functions)})
             exe = os.path.join(workdir, f"bench_{name}")
             subprocess.run(["gcc", "-O3", "-march=native", "-std=c99", "-w", os.path.join(workdir, "bench.c"),
                             os.path.join(workdir, f"{name}_dynamics.c"), os.path.join(workdir, f"{name}_casadi.c"),
                             "-o", exe, "-lm"], check=True)
             timings = parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)
-            for fname in OUTPUTS:
+            for fname in functions:
                 function = casadi_function(eqs, fname)
                 assert function.n_in() == len(OUTPUT_INPUTS[fname])
                 vm = vm_time(function, robot.dof)

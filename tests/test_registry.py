@@ -103,7 +103,10 @@ def test_every_output_derived_emitted_and_called(everything):
         for part, value in zip(combined.parts, results):
             single = getattr(lib, part)(*[state[g] for g in REGISTRY[part].inputs])
             assert np.all(np.isfinite(single)), part
-            np.testing.assert_allclose(value, single, rtol=0, atol=1e-14)
+            # the same sums, in another order where the combined function is emitted otherwise
+            # (forward_dynamics_derivatives: in two stages)
+            np.testing.assert_allclose(value, single, rtol=0, atol=1e-14 * max(1.0, float(np.max(np.abs(single)))),
+                                       err_msg=part)
 
 
 def test_every_output_as_casadi(everything):

@@ -176,7 +176,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     (:func:`~symdyn.emit.cbody.write_body`); with ``batch_form``, also the batch form over arrays
     of states (``CFunction.batch``)."""
     plan = collect_targets(eqs, name)
-    if plan.products:
+    if plan.products and len(plan.products[1]) > 1:  # both derivatives: they share each stage
         staged = _staged_function(eqs, plan, precision, prefix, batch_form)
         if staged is not None:
             return staged
