@@ -238,30 +238,26 @@ class MpReference:
         down = [v - step if k == j else v for k, v in enumerate(point)]
         return [(a - b) / (2 * step) for a, b in zip(function(up), function(down))]
 
+    def _jacobian(self, function, point):
+        """d function / d point (n x n floats: row i = output i, column j = point_j) by central
+        differences at the reference's precision."""
+        columns = [self._central(function, point, j) for j in range(self.n)]
+        return np.array([[float(columns[j][i]) for j in range(self.n)] for i in range(self.n)])
+
     def inverse_dynamics_dq(self, q, qd, qdd):
         q, qd, qdd = ([self._mp(v) for v in x] for x in (q, qd, qdd))
-        columns = [self._central(lambda x: self.rigid(x, qd, qdd), q, j) for j in range(self.n)]
-        return np.array([[float(columns[j][i]) for j in range(self.n)] for i in range(self.n)])
+        return self._jacobian(lambda x: self.rigid(x, qd, qdd), q)
 
     def inverse_dynamics_dqd(self, q, qd, qdd):
         q, qd, qdd = ([self._mp(v) for v in x] for x in (q, qd, qdd))
-        columns = [self._central(lambda x: self.rigid(q, x, qdd), qd, j) for j in range(self.n)]
-        return np.array([[float(columns[j][i] + (row["damping"] if i == j else 0)) for j in range(self.n)]
-                         for i, row in enumerate(self.links)])
+        damping = [float(row["damping"]) for row in self.links]
+        return self._jacobian(lambda x: self.rigid(q, x, qdd), qd) + np.diag(damping)
 
     def gravity_derivative(self, q):
         """dc/dq by central differences at the reference's precision (step 1e-20 at 50 digits:
         the truncation error, about 1e-40, is far below double's resolution)."""
-        q = [self._mp(v) for v in q]
         zero = [self.ctx.mpf(0)] * self.n
-        step = self.ctx.mpf(10) ** (-(self.ctx.dps * 2 // 5))
-        columns = []
-        for j in range(self.n):
-            up = [v + step if k == j else v for k, v in enumerate(q)]
-            down = [v - step if k == j else v for k, v in enumerate(q)]
-            c_up, c_down = self.rigid(up, zero, zero), self.rigid(down, zero, zero)
-            columns.append([(a - b) / (2 * step) for a, b in zip(c_up, c_down)])
-        return np.array([[float(columns[j][i]) for j in range(self.n)] for i in range(self.n)])
+        return self._jacobian(lambda x: self.rigid(x, zero, zero), [self._mp(v) for v in q])
 
     def coriolis(self, q, qd):
         return self._floats(self.rigid(q, qd, [0.0] * self.n, gravity=False))
@@ -304,13 +300,11 @@ class MpReference:
         """dqdd/dq by central differences of forward dynamics at the reference's precision (not
         by the implicit function theorem symdyn's code uses)."""
         q, qd, tau = ([self._mp(v) for v in x] for x in (q, qd, tau))
-        columns = [self._central(lambda x: self._forward_mp(x, qd, tau), q, j) for j in range(self.n)]
-        return np.array([[float(columns[j][i]) for j in range(self.n)] for i in range(self.n)])
+        return self._jacobian(lambda x: self._forward_mp(x, qd, tau), q)
 
     def forward_dynamics_dqd(self, q, qd, tau):
         q, qd, tau = ([self._mp(v) for v in x] for x in (q, qd, tau))
-        columns = [self._central(lambda x: self._forward_mp(q, x, tau), qd, j) for j in range(self.n)]
-        return np.array([[float(columns[j][i]) for j in range(self.n)] for i in range(self.n)])
+        return self._jacobian(lambda x: self._forward_mp(q, x, tau), qd)
 
     # Kinematics of the tool frame, world axes (base placement * chain * tool)
     def _tool_pose(self, q):

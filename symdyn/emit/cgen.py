@@ -182,12 +182,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
             return staged
     reduced, context, body, group_of = _body(eqs, plan, precision, prefix)
     real, scalar, internal, angles = context.real, context.scalar, context.internal, context.angles
-    docs = FLOATING_ARG_DOCS if eqs.robot.floating else ARG_DOCS
-    args = [(f"const {real} *", group, docs[group], False) for group in plan.inputs]
-    if eqs.parameters:
-        args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
-    args += [(f"{real} *", argument.name, argument.doc, True)
-             for part in plan.parts for argument in REGISTRY[part].arguments]
+    args = _arguments(eqs, plan, real)
     read = {group_of[s] for s in body.used if s in group_of}
     unused = [a for _, a, _, is_out in args if not is_out and a not in read] + plan.empty_outputs
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
@@ -210,6 +205,17 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         return CFunction(name=checked_name(name), returns="int",
                          returns_doc=status.format(rtol=context.rtol, real=scalar, prefix=prefix), **common)
     return CFunction(name=name, **common)
+
+
+def _arguments(eqs: Equations, plan, real: str) -> list[tuple[str, str, str, bool]]:
+    """A function's parameters ``(C type, name, doc, is output)``: its inputs, ``p`` when the
+    robot has runtime parameters, then each part's output arguments."""
+    docs = FLOATING_ARG_DOCS if eqs.robot.floating else ARG_DOCS
+    args = [(f"const {real} *", group, docs[group], False) for group in plan.inputs]
+    if eqs.parameters:
+        args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
+    return args + [(f"{real} *", argument.name, argument.doc, True)
+                   for part in plan.parts for argument in REGISTRY[part].arguments]
 
 
 def _body(eqs: Equations, plan, precision: str, prefix: str, given=None):
@@ -263,12 +269,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     if first.parts or second.parts:
         return None
     ltype, real = context.local_type, context.real
-    docs = FLOATING_ARG_DOCS if eqs.robot.floating else ARG_DOCS
-    args = [(f"const {real} *", group, docs[group], False) for group in plan.inputs]
-    if eqs.parameters:
-        args.append((f"const {real} *", "p", ARG_DOCS["p"], False))
-    args += [(f"{real} *", argument.name, argument.doc, True)
-             for part in plan.parts for argument in REGISTRY[part].arguments]
+    args = _arguments(eqs, plan, real)
     names = ", ".join(a for _, a, _, _ in args)
     own = f"{prefix}_{plan.name}"
     arrays = [("fdd_m", n * n), ("fdd_a", n)] + [(array, n * n) for array, _ in blocks] + [("fdd_r", len(blocks) * n * n)]
