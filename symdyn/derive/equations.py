@@ -579,7 +579,8 @@ def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset()
     holds its Christoffel symbols, so dh/dqd = 2 C; D qdd and c do not depend on qd), whichever
     needs fewer operations (SymPy's count over every statement it and the expressions ``beside``,
     computed in the same function, need), each built on a copy of
-    the program so far (deterministic: the counts depend on the robot alone).  Panda: both
+    the program so far (deterministic: the counts depend on the robot alone); chains of
+    :data:`CORIOLIS_RECURSION_FROM_DOF` joints or more take 2 C without counting.  Panda: both
     derivatives of inverse dynamics 3891 -> 3526 multiplications; puma560 and iiwa14 keep the
     forward-mode derivatives."""
     chain, n = d.chain, d.n
@@ -593,6 +594,8 @@ def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset()
         return 2 * C
     if d.le is not None or d.jne is not None:
         return forward_mode(d.b)
+    if d.n >= CORIOLIS_RECURSION_FROM_DOF and not d.robot.is_tree:  # the recursion, as for C itself
+        return christoffel(d.b)
     start = d.b.build()
     candidates = []
     for build in (christoffel, forward_mode):

@@ -12,7 +12,7 @@ import symdyn
 from helpers import REPO
 from symdyn.check.cbuild import WARNING_FLAGS
 from symdyn.cli import main
-from symdyn.model.outputs import COMBINED, REGISTRY, function_inputs
+from symdyn.model.outputs import COMBINED, REGISTRY, function_inputs, returns_status
 
 GCC = shutil.which("gcc")
 CLANG = shutil.which("clang")
@@ -75,7 +75,7 @@ def harness(prefix, robot, eqs, names, n_params):
         b_args = ", ".join(g for g, _ in inputs)
         s_out = f"a1 + (size_t)k * {out1[1]}" + (f", b1 + (size_t)k * {out2[1]}" if out2 else "")
         b_out = "a2" + (", b2" if out2 else "")
-        ret = "int" if scalar.endswith("_checked") else None
+        ret = "int" if scalar.endswith("_checked") or returns_status(name) else None
         lines.append("    for (c = 0; c < 4; ++c) {")
         if ret:
             lines.append("        int failed = 0;")
@@ -109,7 +109,8 @@ def batch_build(tmp_path_factory):
             path = out / "general_arm_frames.yaml"
             path.write_text(text)
             names += ["frame_poses", "frame_jacobians", "frame_jacobian_dot_v", "center_of_mass",
-                      "center_of_mass_jacobian", "center_of_mass_bias", "centroidal_momentum_matrix", "centroidal_bias"]
+                      "center_of_mass_jacobian", "center_of_mass_bias", "centroidal_momentum_matrix", "centroidal_bias",
+                      "mass_matrix_inverse", "forward_dynamics_dq"]  # (status-returning: failure counts checked)
         assert main(["generate", str(path), "--out", str(out / case), "--batch", "--quiet",
                      "--functions", ",".join(names)]) == 0
         robot = symdyn.load(str(path))
