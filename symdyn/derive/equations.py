@@ -638,6 +638,15 @@ def _gravity_derivative(d: _Derivation) -> sp.Matrix:
     return sp.Matrix(n, n, lambda i, j: d.b.define(f"dG{i + 1}_{j + 1}", columns[j][i]))
 
 
+def _factor_parents(d: _Derivation) -> tuple:
+    """The parent array the L^T D L of a tree's M follows: the joints', after a floating base's
+    6 coordinates taken as a chain (their block is dense)."""
+    parents = d.chain.parents
+    if d.robot.floating:
+        parents = (-1, 0, 1, 2, 3, 4) + tuple(5 if p < 0 else p + 6 for p in parents)
+    return parents
+
+
 def _mass_factorization(d: _Derivation):
     """The factorization of ``M = D + diag(armature)`` the inverse and the forward-dynamics
     derivatives share with forward dynamics (the same statements: LDL^T for a chain, L^T D L
@@ -645,10 +654,10 @@ def _mass_factorization(d: _Derivation):
     if d.mass_factorization is None:
         robot, b = d.robot, d.b
         M = d.get("mass_matrix") + armature_matrix(robot)
-        if "forward_dynamics" not in d.need:
+        if "forward_dynamics" not in d.need and not robot.floating:  # (as forward dynamics checks it)
             check_not_singular(robot, b.build(), M)
         if robot.is_tree:
-            d.mass_factorization = ldlt.factor_tree(b, M, d.chain.parents, "ltl", _identically_zero_pivot)
+            d.mass_factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", _identically_zero_pivot)
         else:
             d.mass_factorization = ldlt.factor(b, M, "ldl", _identically_zero_pivot)
     return d.mass_factorization
@@ -666,8 +675,10 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     derivatives of inverse dynamics taken at the accelerations forward dynamics gives (held
     constant while differentiating: the implicit function theorem on tau = ID(q, qd, qdd)).
     M^-1 by solves of M x = e_j with the shared factorization, the lower triangle only (its
-    entries of rows above j are not needed, and are never emitted)."""
-    _fixed_base_only(d, "the inverse mass matrix and the forward-dynamics derivatives")
+    entries of rows above j are not needed, and are never emitted); a floating base's M^-1 too
+    (nv x nv), its derivatives not."""
+    if {"forward_dynamics_dq", "forward_dynamics_dqd"} & d.need:
+        _fixed_base_only(d, "the derivative of forward dynamics")
     robot, chain, n, b = d.robot, d.chain, d.n, d.b
     d.report("mass_matrix_inverse (solves with the factorization of M)")
     f = _mass_factorization(d)
@@ -723,10 +734,7 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
     rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
     if robot.is_tree:
         d.report("forward_dynamics (L^T D L of the tree's mass matrix: no fill-in)")
-        parents = chain.parents
-        if robot.floating:  # the base's 6 coordinates first, as a chain (its block is dense)
-            parents = (-1, 0, 1, 2, 3, 4) + tuple(5 if p < 0 else p + 6 for p in parents)
-        factorization = ldlt.factor_tree(b, M, parents, "ltl", _identically_zero_pivot)
+        factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", _identically_zero_pivot)
         d.pivots = factorization.pivots
         return sp.Matrix(ldlt.solve_tree(b, factorization, rhs, "ltl_y", "qdd{i}_fd"))
     qdd, d.pivots = _ldlt_solve(b, M, rhs)
