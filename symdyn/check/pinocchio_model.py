@@ -319,7 +319,7 @@ def pinocchio_forward_dynamics(model, data, models, info, q, v, phi):
     import pinocchio as pin
     nv, nc = model.nv, 6 * len(models)
     M = pin.crba(model, data, q)
-    M = np.triu(M) + np.triu(M, 1).T
+    M = mirror_upper(M)
     nle = pin.nonLinearEffects(model, data, q, v) + closed_loop_friction(info, v)
     gamma = closure_accelerations(model, data, models, q, v, np.zeros(nv))
     Jc = np.column_stack([closure_accelerations(model, data, models, q, np.zeros(nv), unit) for unit in np.eye(nv)])
@@ -396,6 +396,13 @@ def compare(mine, reference, states, functions, p=None) -> dict[str, float]:
     return errors
 
 
+def mirror_upper(matrix) -> np.ndarray:
+    """A symmetric matrix from its upper triangle (Pinocchio's crba and computeMinverse fill only
+    that)."""
+    matrix = np.asarray(matrix)
+    return np.triu(matrix) + np.triu(matrix, 1).T
+
+
 class PinocchioReference:
     """Pinocchio's values of symdyn's quantities for a robot (numbers substituted for its
     parameters with ``values``), in symdyn's notation: ``mass_matrix`` excludes armature,
@@ -415,7 +422,7 @@ class PinocchioReference:
 
     def mass_matrix(self, q):
         M = self.pin.crba(self.model, self.data, q)
-        return np.triu(M) + np.triu(M, 1).T - np.diag(self.armature)
+        return mirror_upper(M) - np.diag(self.armature)
 
     def gravity(self, q):
         return self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
@@ -434,15 +441,14 @@ class PinocchioReference:
         return np.array(self.pin.computeGeneralizedGravityDerivatives(self.model, self.data, q)).copy()
 
     def mass_matrix_inverse(self, q):
-        Minv = np.array(self.pin.computeMinverse(self.model, self.data, q))
-        return np.triu(Minv) + np.triu(Minv, 1).T
+        return mirror_upper(self.pin.computeMinverse(self.model, self.data, q))
 
     def _aba_derivatives(self, q, qd, tau):
         """Pinocchio's computeABADerivatives at the torques less friction: ``(dqdd/dq,
         dqdd/dv at those torques, M^-1)``."""
         found = self.pin.computeABADerivatives(self.model, self.data, q, qd, tau - self.friction(qd))
         dq, dv, Minv = (np.array(x).copy() for x in found)
-        return dq, dv, np.triu(Minv) + np.triu(Minv, 1).T
+        return dq, dv, mirror_upper(Minv)
 
     def forward_dynamics_dq(self, q, qd, tau):
         return self._aba_derivatives(q, qd, tau)[0]
@@ -561,8 +567,7 @@ class PinocchioReference:
     def _task_inverse_terms(self, q):
         """``(M^-1, J_s, J_s M^-1 J_s^T)`` at q: ``computeMinverse`` (armature included, upper
         triangle mirrored) and the task rows of the LOCAL_WORLD_ALIGNED tool Jacobian."""
-        Minv = np.array(self.pin.computeMinverse(self.model, self.data, q))
-        Minv = np.triu(Minv) + np.triu(Minv, 1).T
+        Minv = PinocchioReference.mass_matrix_inverse(self, q)
         J = PinocchioReference.jacobian(self, q)[list(self.task_rows), :]
         return Minv, J, J @ Minv @ J.T
 

@@ -58,7 +58,7 @@ from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
-                             CENTROIDAL_OUTPUTS, FRAME_OUTPUTS, INVERSE_OUTPUTS, default_outputs, spec,
+                             CENTROIDAL_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, default_outputs, spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
@@ -502,23 +502,30 @@ def _recursive_coriolis_matrix(d: _Derivation) -> sp.Matrix:
     return C
 
 
-def _cheaper_coriolis_matrix(d: _Derivation) -> sp.Matrix:
-    """C by whichever of the two ways needs fewer operations (SymPy's count over every statement
-    C needs; ties to the recursion), each built on a copy of the program so far: the derivation
-    goes on with the chosen copy only (deterministic: the counts depend on the robot alone)."""
-    start, values = d.b.build(), dict(d.values)
+def _cheapest(d: _Derivation, builds, beside=()) -> sp.Matrix:
+    """The matrix of whichever of ``builds`` (each ``build(d)``, in order: ties to the first)
+    needs fewer operations (SymPy's count over every statement it and the expressions ``beside``,
+    computed in the same function, need), each built on a copy of the program so far, with the
+    derivation's values and Coriolis factors as they were: the derivation goes on with the
+    chosen copy only (deterministic: the counts depend on the robot alone)."""
+    start, values, factors = d.b.build(), dict(d.values), d.coriolis_factors
     candidates = []
-    for build in (_recursive_coriolis_matrix, _derivative_coriolis_matrix):
+    for build in builds:
         d.b = d.chain.builder = ProgramBuilder(d.b.prefix, start=start)
-        d.values = dict(values)
-        d.coriolis_factors = ()
-        C = build(d)
-        needed = d.b.build().needed_for(list(C))
-        cost = sum(sp.count_ops(rhs) for _, rhs in needed) + sum(sp.count_ops(e) for e in C)
-        candidates.append((cost, d.b, d.values, d.coriolis_factors, C))
-    _, builder, d.values, d.coriolis_factors, C = min(candidates, key=lambda c: c[0])
+        d.values, d.coriolis_factors = dict(values), factors
+        matrix = build(d)
+        needed = d.b.build().needed_for(list(matrix) + list(beside))
+        cost = sum(sp.count_ops(rhs) for _, rhs in needed) + sum(sp.count_ops(e) for e in matrix)
+        candidates.append((cost, d.b, d.values, d.coriolis_factors, matrix))
+    _, builder, d.values, d.coriolis_factors, matrix = min(candidates, key=lambda c: c[0])
     d.b = d.chain.builder = builder
-    return C
+    return matrix
+
+
+def _cheaper_coriolis_matrix(d: _Derivation) -> sp.Matrix:
+    """C by whichever of the two ways needs fewer operations (:func:`_cheapest`; ties to the
+    recursion)."""
+    return _cheapest(d, (_recursive_coriolis_matrix, _derivative_coriolis_matrix))
 
 
 def _mass_matrix(d: _Derivation) -> sp.Matrix:
@@ -577,53 +584,49 @@ def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset()
     ``rigid`` (no friction) at fixed q and qdd: forward-mode derivatives of their recursion, or,
     with Newton-Euler, 2 C(q, qd) from the O(n^2) Coriolis recursion (h is quadratic in qd and C
     holds its Christoffel symbols, so dh/dqd = 2 C; D qdd and c do not depend on qd), whichever
-    needs fewer operations (SymPy's count over every statement it and the expressions ``beside``,
-    computed in the same function, need), each built on a copy of
-    the program so far (deterministic: the counts depend on the robot alone); chains of
+    needs fewer operations (:func:`_cheapest`, with ``beside``); chains of
     :data:`CORIOLIS_RECURSION_FROM_DOF` joints or more take 2 C without counting.  Panda: both
-    derivatives of inverse dynamics 3891 -> 3526 multiplications; puma560 and iiwa14 keep the
+    derivatives of inverse dynamics 3891 -> 3526 multiplications; puma560 keeps the
     forward-mode derivatives."""
     chain, n = d.chain, d.n
 
-    def forward_mode(b):
-        columns = differentiate(b.build(), rigid, list(chain.qd), b, "dv", held=held)
+    def forward_mode(d):
+        columns = differentiate(d.b.build(), rigid, list(chain.qd), d.b, "dv", held=held)
         return sp.Matrix(n, n, lambda i, j: columns[j][i])
 
-    def christoffel(b):
+    def christoffel(d):
         C = tree_coriolis_matrix(chain) if d.robot.is_tree else recursive_coriolis_matrix(chain)[0]
         return 2 * C
     if d.le is not None or d.jne is not None:
-        return forward_mode(d.b)
+        return forward_mode(d)
     if d.n >= CORIOLIS_RECURSION_FROM_DOF and not d.robot.is_tree:  # the recursion, as for C itself
-        return christoffel(d.b)
-    start = d.b.build()
-    candidates = []
-    for build in (christoffel, forward_mode):
-        b = d.b = chain.builder = ProgramBuilder(d.b.prefix, start=start)
-        matrix = build(b)
-        cost = sum(sp.count_ops(rhs) for _, rhs in b.build().needed_for(list(matrix) + list(beside))) + sum(
-            sp.count_ops(e) for e in matrix)
-        candidates.append((cost, b, matrix))
-    _, b, matrix = min(candidates, key=lambda c: c[0])
-    d.b = chain.builder = b
-    return matrix
+        return christoffel(d)
+    return _cheapest(d, (christoffel, forward_mode), beside)
+
+
+def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset = frozenset()):
+    """``(dtau/dq, dtau/dqd)`` (n x n each: row i = tau_i) of inverse dynamics at the
+    accelerations ``qdd`` (``held`` constant): the rigid bodies' forces differentiated by the
+    joint positions (forward mode, new statements ``{hint}q...``) and velocities
+    (:func:`_by_velocity`), viscous damping on dtau/dqd's diagonal (Coulomb friction's
+    derivative is zero away from qd = 0; the armature's term does not depend on q or qd)."""
+    chain, n = d.chain, d.n
+    rigid = d.forces(chain.qd, qdd, chain.gravity, tag)
+    by_q = differentiate(d.b.build(), rigid, list(chain.joint_q), d.b, f"{hint}q", held=held)
+    by_qd = _by_velocity(d, rigid, held, beside=[e for column in by_q for e in column])
+    damping = [link.damping for link in d.robot.links]
+    return (sp.Matrix(n, n, lambda i, j: by_q[j][i]),
+            sp.Matrix(n, n, lambda i, j: by_qd[i, j] + (damping[i] if i == j else 0)))
 
 
 def _inverse_dynamics_derivatives(d: _Derivation) -> sp.Matrix:
-    """dtau/dq and dtau/dqd (n x n each): forward-mode derivatives of the rigid-body recursion
-    by each joint position and velocity, plus viscous damping on dtau/dqd's diagonal (Coulomb
-    friction's derivative is zero away from qd = 0)."""
+    """dtau/dq and dtau/dqd (n x n each), :func:`_tau_derivatives` at the input accelerations."""
     _fixed_base_only(d, "the derivative of inverse dynamics")
-    chain, n, b = d.chain, d.n, d.b
-    rigid = d.forces(chain.qd, chain.qdd, chain.gravity, "")
     d.report("inverse_dynamics derivatives (forward-mode, dtau/dq and dtau/dqd)")
-    by_q = differentiate(b.build(), rigid, list(chain.joint_q), b, "dq")
-    by_qd = _by_velocity(d, rigid, beside=[e for column in by_q for e in column])
-    b = d.b
-    damping = [link.damping for link in d.robot.links]
-    d.values["inverse_dynamics_dq"] = sp.Matrix(n, n, lambda i, j: b.define(f"dTq{i + 1}_{j + 1}", by_q[j][i]))
-    d.values["inverse_dynamics_dqd"] = sp.Matrix(n, n, lambda i, j: b.define(
-        f"dTv{i + 1}_{j + 1}", by_qd[i, j] + (damping[i] if i == j else 0)))
+    dq, dqd = _tau_derivatives(d, d.chain.qdd, "", "d")
+    b, n = d.b, d.n
+    d.values["inverse_dynamics_dq"] = sp.Matrix(n, n, lambda i, j: b.define(f"dTq{i + 1}_{j + 1}", dq[i, j]))
+    d.values["inverse_dynamics_dqd"] = sp.Matrix(n, n, lambda i, j: b.define(f"dTv{i + 1}_{j + 1}", dqd[i, j]))
     return d.values["inverse_dynamics_dq"]
 
 
@@ -677,9 +680,9 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     M^-1 by solves of M x = e_j with the shared factorization, the lower triangle only (its
     entries of rows above j are not needed, and are never emitted); a floating base's M^-1 too
     (nv x nv), its derivatives not."""
-    if {"forward_dynamics_dq", "forward_dynamics_dqd"} & d.need:
+    if set(FORWARD_DERIVATIVES) & d.need:
         _fixed_base_only(d, "the derivative of forward dynamics")
-    robot, chain, n, b = d.robot, d.chain, d.n, d.b
+    chain, n, b = d.chain, d.n, d.b
     d.report("mass_matrix_inverse (solves with the factorization of M)")
     f = _mass_factorization(d)
     Minv = sp.zeros(n, n)
@@ -690,20 +693,14 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
             Minv[i, j] = Minv[j, i] = column[i]
     d.values["mass_matrix_inverse"] = Minv
     d.checks.append((INVERSE_OUTPUTS, tuple((p, m, 1) for p, m in f.pivots)))
-    if not {"forward_dynamics_dq", "forward_dynamics_dqd"} & d.need:
+    if not set(FORWARD_DERIVATIVES) & d.need:
         return Minv
     d.report("forward_dynamics derivatives (-M^-1 dtau/dq and -M^-1 dtau/dqd at qdd = forward dynamics)")
     rhs = sp.Matrix(chain.tau) - d.get("fd_bias") - d.static_friction
     rhs = [b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)]
     qdd = [b.define(f"fdd{i + 1}", e, force=True) for i, e in enumerate(_solve_mass(d, rhs, "ldl_y", "qdd{i}_fd"))]
-    rigid = d.forces(chain.qd, qdd, chain.gravity, "fa")
-    held = frozenset(qdd)
-    by_q = differentiate(b.build(), rigid, list(chain.joint_q), b, "aq", held=held)
-    by_qd = _by_velocity(d, rigid, held, beside=[e for column in by_q for e in column])
+    dq, dqd = _tau_derivatives(d, qdd, "fa", "a", frozenset(qdd))
     b = d.b
-    damping = [link.damping for link in robot.links]
-    dq = sp.Matrix(n, n, lambda i, j: by_q[j][i])
-    dqd = sp.Matrix(n, n, lambda i, j: by_qd[i, j] + (damping[i] if i == j else 0))
     d.inverse_products = tuple(sp.ImmutableMatrix(m) for m in (Minv, dq, dqd, qdd))
     d.values["forward_dynamics_dq"] = sp.Matrix(n, n, lambda i, j: b.define(
         f"dAq{i + 1}_{j + 1}", -sp.Add(*[Minv[i, k] * dq[k, j] for k in range(n)])))
@@ -918,7 +915,6 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      coriolis_factors=d.coriolis_factors if "coriolis_matrix" in wanted else (),
                      fd_system=d.fd_system if "forward_dynamics" in wanted else (),
                      joint_trig=chain.joint_trig,
-                     inverse_products=d.inverse_products if {"forward_dynamics_dq", "forward_dynamics_dqd"} & set(wanted)
-                     else (),
+                     inverse_products=d.inverse_products if set(FORWARD_DERIVATIVES) & set(wanted) else (),
                      checks=tuple((outputs, checks) for outputs, checks in d.checks
                                   if any(name in wanted for name in outputs)))

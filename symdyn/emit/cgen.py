@@ -18,7 +18,7 @@ import sympy as sp
 from .._version import __version__
 from ..model.errors import warn
 from .cbody import ARGUMENTS, BodyContext, product_loop, write_body
-from .cplan import FunctionPlan, Target, collect_targets, dimensions, reduce_targets
+from .cplan import FunctionPlan, Target, collect_targets, dimensions, minv_targets, product_targets, reduce_targets
 from .cprinter import VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
 from ..derive.equations import Equations
@@ -254,16 +254,12 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     puma560's forward_dynamics_derivatives 1035 -> about 800 ns, the panda's 2900 -> 2500 (gcc -O3
     -march=native), against one body.  None when a stage is long enough to be split itself."""
     n, blocks, minv = plan.products
-    Minv, dq, dqd, qdd = eqs.inverse_products
-    matrices = {"fdd_q": dq, "fdd_v": dqd}
+    qdd = eqs.inverse_products[3]
     solve = FunctionPlan(plan.name, plan.parts, plan.inputs, plan.out_name, checked=True,
                          pivots=plan.pivots, pivot_codes=plan.pivot_codes)
-    solve.targets = ([Target(f"fdd_m[{i * n + j}]", Minv[i, j], True) for i in range(n) for j in range(n)]
-                     + [Target(f"fdd_a[{i}]", qdd[i], True) for i in range(n)])
+    solve.targets = minv_targets(eqs) + [Target(f"fdd_a[{i}]", qdd[i], True) for i in range(n)]
     tangent = FunctionPlan(plan.name, plan.parts, tuple(g for g in plan.inputs if g != "tau"), plan.out_name,
-                           leaves=frozenset(qdd))
-    tangent.targets = [Target(f"{array}[{i * n + j}]", matrices[array][i, j], True)
-                       for array, _ in blocks for i in range(n) for j in range(n)]
+                           leaves=frozenset(qdd), targets=product_targets(eqs, plan.parts))
     reduced, context, first, group_of = _body(eqs, solve, precision, prefix)
     _, _, second, _ = _body(eqs, tangent, precision, prefix, {s: f"fdd_a[{k}]" for k, s in enumerate(qdd)})
     if first.parts or second.parts:

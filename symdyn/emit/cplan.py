@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..derive.equations import Equations
-from ..model.outputs import COMBINED, REGISTRY, Dimensions, function_inputs, returns_status
+from ..model.outputs import COMBINED, FORWARD_DERIVATIVES, REGISTRY, Dimensions, function_inputs, returns_status
 from .emission import factor_coefficients, fold_constants, fresh_symbols, pair_cse
 
 #: functions of at least this many statements get the pair CSE (:func:`emission.pair_cse`) instead
@@ -160,6 +160,11 @@ def _checked_targets(eqs: Equations, plan: FunctionPlan) -> None:
                     finals = (f"{arg}[{i * cols + j}]",) + ((f"{arg}[{j * cols + i}]",) if output.symmetric and j > i else ())
                     plan.targets.append(Target(f"result{k}", matrix[i, j], finals=finals))
                     k += 1
+    _set_checks(eqs, plan)
+
+
+def _set_checks(eqs: Equations, plan: FunctionPlan) -> None:
+    """The pivot checks of a status-returning function (:meth:`Equations.checks_for` its parts)."""
     checks = eqs.checks_for(plan.parts)
     plan.pivots = [e for pivot, diagonal, _ in checks for e in (pivot, diagonal)]
     plan.pivot_codes = [code for _, _, code in checks]
@@ -169,22 +174,31 @@ def _checked_targets(eqs: Equations, plan: FunctionPlan) -> None:
 PRODUCT_ARRAYS = {"forward_dynamics_dq": "fdd_q", "forward_dynamics_dqd": "fdd_v"}
 
 
+def product_targets(eqs: Equations, parts) -> list[Target]:
+    """The scratch entries (row-major) of the dtau/dx of each forward-dynamics derivative among
+    ``parts`` (:attr:`Equations.inverse_products`), stored as soon as computed."""
+    _, dq, dqd, _ = eqs.inverse_products
+    matrices = dict(zip(FORWARD_DERIVATIVES, (dq, dqd)))
+    n = eqs.n
+    return [Target(f"{PRODUCT_ARRAYS[part]}[{i * n + j}]", matrices[part][i, j], True)
+            for part in parts if part in matrices for i in range(n) for j in range(n)]
+
+
+def minv_targets(eqs: Equations) -> list[Target]:
+    """M^-1 into the scratch array ``fdd_m`` (row-major), stored as soon as computed."""
+    Minv, n = eqs.inverse_products[0], eqs.n
+    return [Target(f"fdd_m[{i * n + j}]", Minv[i, j], True) for i in range(n) for j in range(n)]
+
+
 def _product_targets(eqs: Equations, plan: FunctionPlan) -> None:
     """A function with a forward-dynamics derivative: M^-1 and each dtau/dx into scratch arrays
     (``fdd_m``, ``fdd_q``, ``fdd_v``, row-major) as soon as computed; the loop that ends the body
     forms ``-Minv dtau/dx``, checks every result and writes the outputs."""
-    Minv, dq, dqd, _ = eqs.inverse_products
-    n = eqs.n
-    matrices = {"forward_dynamics_dq": dq, "forward_dynamics_dqd": dqd}
-    blocks = [(PRODUCT_ARRAYS[part], REGISTRY[part].arguments[0].name) for part in plan.parts if part in matrices]
-    plan.targets = [Target(f"fdd_m[{i * n + j}]", Minv[i, j], True) for i in range(n) for j in range(n)]
-    plan.targets += [Target(f"{PRODUCT_ARRAYS[part]}[{i * n + j}]", matrices[part][i, j], True)
-                     for part in plan.parts if part in matrices for i in range(n) for j in range(n)]
+    blocks = [(PRODUCT_ARRAYS[part], REGISTRY[part].arguments[0].name) for part in plan.parts if part in PRODUCT_ARRAYS]
+    plan.targets = minv_targets(eqs) + product_targets(eqs, plan.parts)
     minv = REGISTRY["mass_matrix_inverse"].arguments[0].name if "mass_matrix_inverse" in plan.parts else None
-    plan.products = (n, tuple(blocks), minv)
-    checks = eqs.checks_for(plan.parts)
-    plan.pivots = [e for pivot, diagonal, _ in checks for e in (pivot, diagonal)]
-    plan.pivot_codes = [code for _, _, code in checks]
+    plan.products = (eqs.n, tuple(blocks), minv)
+    _set_checks(eqs, plan)
 
 
 def collect_targets(eqs: Equations, name: str) -> FunctionPlan:

@@ -385,9 +385,12 @@ FRAME_OUTPUTS = ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v")
 DERIVATIVE_OUTPUTS = ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_derivative", "mass_matrix_inverse",
                       "forward_dynamics_dq", "forward_dynamics_dqd")
 
+#: the derivatives of forward dynamics (-M^-1 dtau/dq and -M^-1 dtau/dqd)
+FORWARD_DERIVATIVES = ("forward_dynamics_dq", "forward_dynamics_dqd")
+
 #: the outputs that share the factorization of M and return its status (mass_matrix_inverse and
 #: the forward-dynamics derivatives)
-INVERSE_OUTPUTS = ("mass_matrix_inverse", "forward_dynamics_dq", "forward_dynamics_dqd")
+INVERSE_OUTPUTS = ("mass_matrix_inverse",) + FORWARD_DERIVATIVES
 
 #: what a kinematic tree or a floating base can have derived: its joint-space dynamics, the
 #: derivatives (fixed bases), its frames' kinematics and the whole robot's centre of mass and
