@@ -143,6 +143,15 @@ static void cholesky_solve(double l[NU][NU], double *b)
     }
 }
 
+/* sum over l of x[l][i] y[l][j], for row-major arrays of NX rows with x_cols and y_cols columns
+ * (entry (i, j) of x^T y; a vector is an array of one column) */
+static double column_dot(const double *x, int x_cols, int i, const double *y, int y_cols, int j)
+{
+    double s = 0.0;
+    for (int l = 0; l < NX; ++l) s += x[l * x_cols + i] * y[l * y_cols + j];
+    return s;
+}
+
 /* The backward pass at regularization mu; 0 when a Quu is not positive definite. */
 static int backward(double mu, double *expected)
 {
@@ -157,42 +166,19 @@ static int backward(double mu, double *expected)
     }
     for (int k = STEPS - 1; k >= 0; --k) {
         double (*a)[NX] = A[k], (*b)[NU] = B[k];
-        for (int i = 0; i < NX; ++i) {  /* Vxx A and Vxx B */
-            for (int j = 0; j < NX; ++j) {
-                double s = 0.0;
-                for (int l = 0; l < NX; ++l) s += vxx[i][l] * a[l][j];
-                va[i][j] = s;
-            }
-            for (int j = 0; j < NU; ++j) {
-                double s = 0.0;
-                for (int l = 0; l < NX; ++l) s += vxx[i][l] * b[l][j];
-                vb[i][j] = s;
-            }
+        for (int i = 0; i < NX; ++i) {  /* Vxx A and Vxx B (Vxx is symmetric: row i = column i) */
+            for (int j = 0; j < NX; ++j) va[i][j] = column_dot(&vxx[0][0], NX, i, &a[0][0], NX, j);
+            for (int j = 0; j < NU; ++j) vb[i][j] = column_dot(&vxx[0][0], NX, i, &b[0][0], NU, j);
         }
-        for (int i = 0; i < NX; ++i) {
-            double s = 0.0;
-            for (int l = 0; l < NX; ++l) s += a[l][i] * vx[l];
-            qx[i] = s;
-            for (int j = 0; j < NX; ++j) {
-                double t = 0.0;
-                for (int l = 0; l < NX; ++l) t += a[l][i] * va[l][j];
-                qxx[i][j] = t;
-            }
+        for (int i = 0; i < NX; ++i) {  /* Qx = A^T Vx, Qxx = A^T Vxx A */
+            qx[i] = column_dot(&a[0][0], NX, i, vx, 1, 0);
+            for (int j = 0; j < NX; ++j) qxx[i][j] = column_dot(&a[0][0], NX, i, &va[0][0], NX, j);
         }
-        for (int i = 0; i < NU; ++i) {
-            double s = control_weight * us[k][i];
-            for (int l = 0; l < NX; ++l) s += b[l][i] * vx[l];
-            qu[i] = s;
-            for (int j = 0; j < NU; ++j) {
-                double t = (i == j ? control_weight + mu : 0.0);
-                for (int l = 0; l < NX; ++l) t += b[l][i] * vb[l][j];
-                quu[i][j] = t;
-            }
-            for (int j = 0; j < NX; ++j) {
-                double t = 0.0;
-                for (int l = 0; l < NX; ++l) t += b[l][i] * va[l][j];
-                qux[i][j] = t;
-            }
+        for (int i = 0; i < NU; ++i) {  /* Qu = R u + B^T Vx, Quu = R + mu + B^T Vxx B, Qux = B^T Vxx A */
+            qu[i] = control_weight * us[k][i] + column_dot(&b[0][0], NU, i, vx, 1, 0);
+            for (int j = 0; j < NU; ++j)
+                quu[i][j] = (i == j ? control_weight + mu : 0.0) + column_dot(&b[0][0], NU, i, &vb[0][0], NU, j);
+            for (int j = 0; j < NX; ++j) qux[i][j] = column_dot(&b[0][0], NU, i, &va[0][0], NX, j);
         }
         double factor[NU][NU];
         memcpy(factor, quu, sizeof factor);
