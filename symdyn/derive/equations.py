@@ -56,6 +56,7 @@ from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
+from .tangents import vector_tangents
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
                              CENTROIDAL_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, default_outputs, spec,
@@ -143,6 +144,21 @@ class Equations:
     #: ``dqdd/dqd = -Minv dtau_dqd`` as a loop (the outputs hold the same products written
     #: out); else ``()``
     inverse_products: tuple = ()
+    #: ``((parts, tangents), ...)``: for derivative outputs whose straight-line statements pass
+    #: :data:`TANGENT_LOOPS_FROM_OPS`, their vector forward-mode form
+    #: (:class:`symdyn.derive.tangents.VectorTangents`) for emitters that write them as loops:
+    #: ``parts`` names the output of each group of the tangents (``inverse_dynamics_dq``,
+    #: ``inverse_dynamics_dqd``; for ``forward_dynamics_dq`` and ``forward_dynamics_dqd``, the
+    #: dtau/dq and dtau/dqd of :attr:`inverse_products`, rows = tau); the outputs hold the same
+    #: derivatives written out
+    tangent_loops: tuple = ()
+
+    def tangents_for(self, part: str):
+        """``(tangents, group)`` of an output written as loops (:attr:`tangent_loops`), or None."""
+        for parts, tangents in self.tangent_loops:
+            if part in parts:
+                return tangents, parts.index(part)
+        return None
 
     @property
     def n(self) -> int:
@@ -436,6 +452,7 @@ class _Derivation:
         self.base: tuple = ()
         self.mass_factorization = None
         self.inverse_products: tuple = ()
+        self.tangent_loops: list = []
         self.jne = self.le = None
         if method == "jacobian-newton-euler":
             report("world-frame link quantities (k_i, d_i, h_i, I_i)")
@@ -604,6 +621,15 @@ def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset()
     return _cheapest(d, (christoffel, forward_mode), beside)
 
 
+#: derivatives of inverse dynamics whose straight-line statements need this many operations or
+#: more (SymPy's count) are also given as vector tangents (:attr:`Equations.tangent_loops`),
+#: which the C emitter writes as one loop per statement: gcc -O3 -march=native, dtau/dq and
+#: dtau/dqd together, straight-line against loops: puma560 (3500 operations) 368 against 396 ns,
+#: pendulum_leg 396 / 374, iiwa14 (about 5900) 1206 / 558, the Panda 1634 / 802, chain12 3562 /
+#: 2497 (docs/benchmarks.md)
+TANGENT_LOOPS_FROM_OPS = 4500
+
+
 def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset = frozenset()):
     """``(dtau/dq, dtau/dqd)`` (n x n each: row i = tau_i) of inverse dynamics at the
     accelerations ``qdd`` (``held`` constant): the rigid bodies' forces differentiated by the
@@ -615,8 +641,17 @@ def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset =
     by_q = differentiate(d.b.build(), rigid, list(chain.joint_q), d.b, f"{hint}q", held=held)
     by_qd = _by_velocity(d, rigid, held, beside=[e for column in by_q for e in column])
     damping = [link.damping for link in d.robot.links]
-    return (sp.Matrix(n, n, lambda i, j: by_q[j][i]),
-            sp.Matrix(n, n, lambda i, j: by_qd[i, j] + (damping[i] if i == j else 0)))
+    dq = sp.Matrix(n, n, lambda i, j: by_q[j][i])
+    dqd = sp.Matrix(n, n, lambda i, j: by_qd[i, j] + (damping[i] if i == j else 0))
+    program = d.b.build()
+    size = sum(sp.count_ops(rhs) for _, rhs in program.needed_for(list(dq) + list(dqd), held))
+    if size >= TANGENT_LOOPS_FROM_OPS:
+        d.report(f"the same derivatives as vector tangents ({size} operations written out)")
+        tangents = vector_tangents(program, list(rigid), [chain.joint_q, chain.qd], held,
+                                   {(1, i, i): damping[i] for i in range(n)})
+        parts = FORWARD_DERIVATIVES if held else ("inverse_dynamics_dq", "inverse_dynamics_dqd")
+        d.tangent_loops.append((parts, tangents))
+    return dq, dqd
 
 
 def _inverse_dynamics_derivatives(d: _Derivation) -> sp.Matrix:
@@ -916,5 +951,6 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      fd_system=d.fd_system if "forward_dynamics" in wanted else (),
                      joint_trig=chain.joint_trig,
                      inverse_products=d.inverse_products if set(FORWARD_DERIVATIVES) & set(wanted) else (),
+                     tangent_loops=tuple((parts, t) for parts, t in d.tangent_loops if set(parts) & set(wanted)),
                      checks=tuple((outputs, checks) for outputs, checks in d.checks
                                   if any(name in wanted for name in outputs)))

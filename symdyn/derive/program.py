@@ -116,7 +116,7 @@ class ProgramBuilder:
         return Program(tuple(self._assignments))
 
 
-def _partial(expr: sp.Expr, s: sp.Symbol) -> sp.Expr:
+def partial_derivative(expr: sp.Expr, s: sp.Symbol) -> sp.Expr:
     """d expr / d s for the sums, products and integer powers the recursions are made of (the
     product rule written out: SymPy's general ``diff`` spends most of its time on dispatch and
     checks these expressions never need); anything else goes to ``sp.diff``."""
@@ -125,16 +125,16 @@ def _partial(expr: sp.Expr, s: sp.Symbol) -> sp.Expr:
     if expr.is_Atom or s not in expr.free_symbols:
         return sp.S.Zero
     if expr.is_Add:
-        return sp.Add(*[_partial(a, s) for a in expr.args if s in a.free_symbols])
+        return sp.Add(*[partial_derivative(a, s) for a in expr.args if s in a.free_symbols])
     if expr.is_Mul:
         args = expr.args
         terms = []
         for k, a in enumerate(args):
             if s in a.free_symbols:
-                terms.append(sp.Mul(*args[:k], _partial(a, s), *args[k + 1:]))
+                terms.append(sp.Mul(*args[:k], partial_derivative(a, s), *args[k + 1:]))
         return sp.Add(*terms)
     if expr.is_Pow and expr.exp.is_Integer and s not in expr.exp.free_symbols:
-        return expr.exp * expr.base ** (expr.exp - 1) * _partial(expr.base, s)
+        return expr.exp * expr.base ** (expr.exp - 1) * partial_derivative(expr.base, s)
     return sp.diff(expr, s)
 
 
@@ -163,11 +163,11 @@ def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[
 
         def d(expr: sp.Expr, symbols=None) -> sp.Expr:
             symbols = expr.free_symbols if symbols is None else symbols
-            terms = [_partial(expr, var) * scale] if var in symbols else []
+            terms = [partial_derivative(expr, var) * scale] if var in symbols else []
             for s in symbols:
                 ds = deriv.get(s)
                 if ds is not None and ds != 0:
-                    terms.append(_partial(expr, s) * ds)
+                    terms.append(partial_derivative(expr, s) * ds)
             return sp.Add(*terms)
 
         for (sym, rhs), symbols in zip(needed, free):

@@ -143,6 +143,79 @@ def product_loop(products, ltype: str, store: str, internal: str, scalar: str) -
     return lines, Counter({"mul": len(blocks) * n ** 3, "add": len(blocks) * n ** 3})
 
 
+def tangent_width(directions: int) -> int:
+    """The entries of one tangent vector: the directions rounded up to a multiple of 4 (whole
+    AVX vectors of doubles; the padding lanes stay zero)."""
+    return -(-directions // 4) * 4
+
+
+def tangent_loops(tangent, printer, ltype: str, store: str) -> tuple[list[str], Counter, int]:
+    """C lines of a :class:`~symdyn.emit.cplan.TangentPlan`: each step a loop over the
+    directions (``dv_t``, one row of :func:`tangent_width` entries per live tangent, rows reused
+    once their last reader has run), each derivative row copied to its destination as soon as
+    it is computed.  Returns the lines, their operation counts (every lane the loops run) and
+    the rows of ``dv_t`` they need."""
+    tangents, n = tangent.tangents, tangent.tangents.directions
+    width = tangent_width(n)
+    steps = tangents.steps_of(tangent.groups)
+    destination = {}  # tangent id -> (destination, row)
+    zero_rows = []
+    for group, dest in zip(tangent.groups, tangent.destinations):
+        for row, source in enumerate(tangents.rows[group]):
+            if source is None:
+                zero_rows.append((dest, row))
+            else:
+                destination[source] = (dest, row)
+    last = {}
+    for k, step in enumerate(steps):
+        for source, _ in step.terms:
+            last[source] = k
+    free, rows, slot = [], [0], {}
+    lines: list[str] = []
+    ops = Counter()
+    zero = printer.literal(0.0)
+
+    def coefficient(value) -> tuple[int, str]:
+        """(sign, printed factor or "" for 1) of a coefficient."""
+        if value.is_number:
+            sign = -1 if value < 0 else 1
+            magnitude = -value if sign < 0 else value
+            return sign, "" if magnitude == 1 else printer.doprint(magnitude)
+        index, sign = tangent.coefficients[value]
+        return sign, f"dv_p[{index}]"
+
+    for k, step in enumerate(steps):
+        if free:
+            target = free.pop()
+        else:
+            target, rows[0] = rows[0], rows[0] + 1
+        text = ""
+        for source, value in step.terms:
+            sign, factor = coefficient(value)
+            product = f"{factor}*dv_t[{slot[source] * width} + j]" if factor else f"dv_t[{slot[source] * width} + j]"
+            text = (f"-{product}" if sign < 0 else product) if not text else \
+                f"{text} {'-' if sign < 0 else '+'} {product}"
+            ops["mul"] += width if factor else 0
+        ops["add"] += width * max(0, len(step.terms) - 1) + len(step.direct)
+        direct = []
+        for direction, value in step.direct:
+            sign, factor = coefficient(value)
+            direct.append((direction, f"-{factor or printer.literal(1.0)}" if sign < 0 else factor or printer.literal(1.0)))
+        lines += _macro_lines(_loops().tangent_step(target * width, width, text or zero, direct))
+        for source, _ in step.terms:
+            if last[source] == k:
+                free.append(slot[source])
+        slot[step.target] = target
+        if step.target in destination:
+            dest, row = destination[step.target]
+            lines += _macro_lines(_loops().tangent_row(dest, row, n, target * width, store, zero))
+            if step.target not in last:
+                free.append(target)
+    for dest, row in zero_rows:
+        lines += _macro_lines(_loops().tangent_row(dest, row, n, None, store, zero))
+    return lines, ops, rows[0]
+
+
 def _limit(internal: str, scalar: str) -> tuple[str, str]:
     """The largest finite result and the absolute-value function, in the arithmetic the results
     are computed in (compared there)."""
@@ -226,6 +299,14 @@ class BodyWriter:
         if plan.looped:
             n = ctx.n
             self._declare([("fd_M", n * n), ("fd_b", n), ("fd_w", n), ("fd_d", n), ("fd_inv", n), ("fd_x", n)])
+        if plan.tangents:
+            if self.vector:
+                raise VectorUnsupported("the derivatives' tangent loops")
+            self.tangent_lines, tangent_ops, rows = tangent_loops(plan.tangents, self.printer, self.ltype, self.store)
+            self.ops += tangent_ops
+            width = tangent_width(plan.tangents.tangents.directions)
+            self._declare(([("dv_p", len(set(i for i, _ in plan.tangents.coefficients.values())))]
+                           if plan.tangents.coefficients else []) + [("dv_t", max(1, rows) * width)])
         if plan.products:
             if self.vector:
                 raise VectorUnsupported("the forward-dynamics derivatives' product loop")
@@ -390,6 +471,8 @@ class BodyWriter:
 
     def _loops(self) -> None:
         plan, ctx = self.plan, self.ctx
+        if plan.tangents:
+            self.lines += self.tangent_lines
         if plan.gram:
             out, size = plan.gram
             self.lines += gram_loop(out, size, self.ltype, 4 if ctx.internal == "float" else 8, ctx.prefix, self.vector)

@@ -258,8 +258,9 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     solve = FunctionPlan(plan.name, plan.parts, plan.inputs, plan.out_name, checked=True,
                          pivots=plan.pivots, pivot_codes=plan.pivot_codes)
     solve.targets = minv_targets(eqs) + [Target(f"fdd_a[{i}]", qdd[i], True) for i in range(n)]
+    targets, tangents = product_targets(eqs, plan.parts)
     tangent = FunctionPlan(plan.name, plan.parts, tuple(g for g in plan.inputs if g != "tau"), plan.out_name,
-                           leaves=frozenset(qdd), targets=product_targets(eqs, plan.parts))
+                           leaves=frozenset(qdd), targets=targets, tangents=tangents)
     reduced, context, first, group_of = _body(eqs, solve, precision, prefix)
     _, _, second, _ = _body(eqs, tangent, precision, prefix, {s: f"fdd_a[{k}]" for k, s in enumerate(qdd)})
     if first.parts or second.parts:

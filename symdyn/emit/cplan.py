@@ -82,9 +82,49 @@ class FunctionPlan:
     #: array, output argument)`` of each derivative, ``minv`` the output argument M^-1 is copied
     #: to (or None); None otherwise
     products: tuple | None = None
+    #: derivatives written as vector tangents by loops (:class:`TangentPlan`), or None
+    tangents: "TangentPlan | None" = None
     #: program symbols the function takes as given (its statements stop there: a stage of a
     #: staged function reads them from an array, see symdyn.emit.cgen)
     leaves: frozenset = frozenset()
+
+
+@dataclass(frozen=True)
+class TangentPlan:
+    """Derivatives a function writes as loops over vector tangents (:attr:`Equations.tangent_loops`):
+    the steps of ``groups`` of ``tangents``, the rows of group ``groups[k]`` written to
+    ``destinations[k]`` (an output argument or a scratch array, row-major n x n);
+    ``coefficients[k]`` is stored in ``dv_p[k]`` (a plan target) before the loops run, the
+    loops reading it as ``dv_p[k]`` (negated where ``stored`` says so: ``-c`` is stored as c)."""
+
+    tangents: object
+    groups: tuple[int, ...]
+    destinations: tuple[str, ...]
+    coefficients: dict  # expression -> (index in dv_p, sign)
+
+
+def tangent_plan(eqs: Equations, parts, destinations) -> tuple[list[Target], TangentPlan] | None:
+    """The targets (``dv_p``: every coefficient the loops read that is not a number, each once,
+    a negative one stored as its opposite) and the :class:`TangentPlan` of the derivative
+    outputs ``parts`` (with ``destinations[k]`` for ``parts[k]``), when every one of them has
+    vector tangents in the same :attr:`Equations.tangent_loops` entry; else None."""
+    found = [eqs.tangents_for(part) for part in parts]
+    if not found or any(f is None for f in found) or len({id(f[0]) for f in found}) != 1:
+        return None
+    tangents = found[0][0]
+    groups = tuple(group for _, group in found)
+    coefficients: dict = {}
+    targets: list[Target] = []
+    stored: dict = {}
+    for value in tangents.coefficients(groups):
+        if value.is_number:
+            continue
+        sign, core = (-1, -value) if value.could_extract_minus_sign() else (1, value)
+        if core not in stored:
+            stored[core] = len(stored)
+            targets.append(Target(f"dv_p[{stored[core]}]", core, True))
+        coefficients[value] = (stored[core], sign)
+    return targets, TangentPlan(tangents, groups, tuple(destinations), coefficients)
 
 
 @dataclass
@@ -174,9 +214,18 @@ def _set_checks(eqs: Equations, plan: FunctionPlan) -> None:
 PRODUCT_ARRAYS = {"forward_dynamics_dq": "fdd_q", "forward_dynamics_dqd": "fdd_v"}
 
 
-def product_targets(eqs: Equations, parts) -> list[Target]:
+def product_targets(eqs: Equations, parts) -> tuple[list[Target], TangentPlan | None]:
     """The scratch entries (row-major) of the dtau/dx of each forward-dynamics derivative among
-    ``parts`` (:attr:`Equations.inverse_products`), stored as soon as computed."""
+    ``parts`` (:attr:`Equations.inverse_products`), stored as soon as computed; or, where they
+    have vector tangents, the coefficients those read and their :class:`TangentPlan`."""
+    wanted = [part for part in FORWARD_DERIVATIVES if part in parts]
+    looped = tangent_plan(eqs, wanted, [PRODUCT_ARRAYS[part] for part in wanted])
+    if looped is not None:
+        return looped
+    return _written_products(eqs, parts), None
+
+
+def _written_products(eqs: Equations, parts) -> list[Target]:
     _, dq, dqd, _ = eqs.inverse_products
     matrices = dict(zip(FORWARD_DERIVATIVES, (dq, dqd)))
     n = eqs.n
@@ -195,7 +244,8 @@ def _product_targets(eqs: Equations, plan: FunctionPlan) -> None:
     (``fdd_m``, ``fdd_q``, ``fdd_v``, row-major) as soon as computed; the loop that ends the body
     forms ``-Minv dtau/dx``, checks every result and writes the outputs."""
     blocks = [(PRODUCT_ARRAYS[part], REGISTRY[part].arguments[0].name) for part in plan.parts if part in PRODUCT_ARRAYS]
-    plan.targets = minv_targets(eqs) + product_targets(eqs, plan.parts)
+    targets, plan.tangents = product_targets(eqs, plan.parts)
+    plan.targets = minv_targets(eqs) + targets
     minv = REGISTRY["mass_matrix_inverse"].arguments[0].name if "mass_matrix_inverse" in plan.parts else None
     plan.products = (eqs.n, tuple(blocks), minv)
     _set_checks(eqs, plan)
@@ -228,6 +278,10 @@ def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
         plan.targets = [Target(f"result{i}", matrix[i], finals=(f"{plan.out_name}[{i}]",)) for i in range(n)]
         plan.pivots = [e for pair in eqs.pivots for e in pair]
     else:
+        looped = tangent_plan(eqs, parts, [REGISTRY[part].arguments[0].name for part in parts])
+        if looped is not None:
+            plan.targets, plan.tangents = looped
+            return plan
         for part in parts:
             _output_targets(eqs, plan, part)
     return plan

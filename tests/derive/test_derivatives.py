@@ -167,3 +167,34 @@ def test_ilqr_example_converges(tmp_path):
     assert ran.returncode == 0, ran.stdout[-2000:] + ran.stderr
     costs = [float(line.split("cost ")[1].split()[0]) for line in ran.stdout.splitlines() if "cost " in line]
     assert "converged" in ran.stdout.splitlines()[-1] and costs[-1] < 1e-4 * costs[0], ran.stdout
+
+
+@pytest.mark.parametrize("name, budget", [("iiwa14", None), ("puma560", 0)])
+def test_tangent_loops_in_c_agree_with_pinocchio(name, budget, tmp_path, monkeypatch):
+    """The derivatives written as vector tangents (one loop per statement, the C form of robots
+    past symdyn.derive.equations.TANGENT_LOOPS_FROM_OPS): iiwa14 on its own, puma560 (Coulomb
+    friction, viscous damping on dtau/dqd's diagonal) with the budget at 0; the compiled single
+    and combined functions against Pinocchio at 50 states, and each other."""
+    from symdyn.derive import equations
+    if budget is not None:
+        monkeypatch.setattr(equations, "TANGENT_LOOPS_FROM_OPS", budget)
+    robot = symdyn.load(robot_path(name))
+    functions = ("inverse_dynamics_dq", "inverse_dynamics_dqd", "mass_matrix_inverse", "forward_dynamics_dq",
+                 "forward_dynamics_dqd")
+    eqs = symdyn.derive(robot, outputs=functions)
+    assert [parts for parts, _ in eqs.tangent_loops] == [("inverse_dynamics_dq", "inverse_dynamics_dqd"),
+                                                         ("forward_dynamics_dq", "forward_dynamics_dqd")]
+    files = generate_c(eqs, functions + ("inverse_dynamics_derivatives", "forward_dynamics_derivatives"))
+    assert files[f"{robot.name}_dynamics.c"].count("dv_t[") > 100  # the loops, not the straight-line form
+    lib = build_and_load(files, robot.name, robot.dof, 0, workdir=str(tmp_path))
+    states = random_states(robot.dof, 50, seed=36)
+    errors = compare(lib, PinocchioReference(robot), states, functions)
+    assert all(e <= TOL for e in errors.values()), errors
+    for q, qd, qdd, tau in states[:5]:
+        together = lib.inverse_dynamics_derivatives(q, qd, qdd)
+        np.testing.assert_allclose(together[0], lib.inverse_dynamics_dq(q, qd, qdd), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(together[1], lib.inverse_dynamics_dqd(q, qd, qdd), rtol=0, atol=1e-12)
+        status, together = lib.with_status("forward_dynamics_derivatives", q, qd, tau)
+        assert status == 0
+        for value, single in zip(together, (lib.forward_dynamics_dq(q, qd, tau), lib.forward_dynamics_dqd(q, qd, tau))):
+            np.testing.assert_allclose(value, single, rtol=0, atol=1e-10 * max(1.0, np.max(np.abs(single))))
