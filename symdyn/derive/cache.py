@@ -52,6 +52,7 @@ from ..model.userdir import secret_of as _secret
 from ..model.userdir import write_private_file as _write_file
 from .equations import Equations, derive
 from .program import Program
+from .tangents import TangentStep, VectorTangents
 
 MAGIC = b"SYMDYN-CACHE-2\n"
 FORMAT = 2
@@ -136,6 +137,8 @@ def cache_key(robot, method: str, outputs, fd_method: str = "ldlt", parameters: 
 #   ["Tuple", a, ...]               Python tuple;  ["Str", "text"]  Python str
 #   ["PyFloat", "0.25"]             Python float (finite);  ["PyInt", "3"]  Python int
 #   ["Program", ["Tuple", ["Tuple", symbol, expr], ...]]            a Program's assignments
+#   ["Tangents", ["Tuple", directions, steps, rows]]   a VectorTangents: each step a tuple
+#                                   (group, target, terms, direct), rows with -1 for None
 #
 # These are exactly the node types the derivations of all bundled robots and scenes produce
 # (Symbol, Integer, Rational, Add, Mul, Pow, sin, cos, sign), plus pi and Float.  Anything
@@ -166,6 +169,10 @@ def encode(value, _depth: int = 0):
     deeper = _depth + 1
     if isinstance(value, Program):
         return ["Program", encode(tuple(value.assignments), deeper)]
+    if isinstance(value, VectorTangents):
+        steps = tuple((s.group, s.target, s.terms, s.direct) for s in value.steps)
+        rows = tuple(tuple(-1 if r is None else r for r in group) for group in value.rows)
+        return ["Tangents", encode((value.directions, steps, rows), deeper)]
     if isinstance(value, (tuple, list)):
         return ["Tuple", *(encode(v, deeper) for v in value)]
     if isinstance(value, str):
@@ -251,7 +258,7 @@ def _small(number, low: int, high: int) -> bool:
 
 #: kinds with child nodes: the number of plain items before the children
 _BRANCHES = {"Add": 0, "Mul": 0, "Pow": 0, "sin": 0, "cos": 0, "sign": 0, "Tuple": 0,
-             "Program": 0, "Matrix": 2}
+             "Program": 0, "Tangents": 0, "Matrix": 2}
 _LEAVES = frozenset(("Int", "Rat", "Float", "Sym", "pi", "Str", "PyFloat", "PyInt"))
 
 
@@ -266,6 +273,10 @@ def _branch(node: list, args: list):
                 for a in args[0]):
             return Program(args[0])
         raise CacheFormatError("bad Program node")
+    if kind == "Tangents":
+        if len(args) == 1:
+            return _tangents(args[0])
+        raise CacheFormatError("bad Tangents node")
     if not all(isinstance(a, sp.Expr) for a in args):
         raise CacheFormatError(f"{kind} of something that is not an expression")
     if kind == "Matrix":
@@ -280,6 +291,28 @@ def _branch(node: list, args: list):
     if len(args) < 2 or (kind == "Pow" and len(args) != 2):
         raise CacheFormatError(f"{kind} of {len(args)} arguments")
     return _OPERATORS[kind](*args, evaluate=False)
+
+
+def _tangents(value) -> VectorTangents:
+    """A VectorTangents from its stored tuple, checked: each step writes the next tangent id and
+    reads earlier ones only, each row names a written tangent (or -1)."""
+    def pairs(items, limit):
+        return isinstance(items, tuple) and all(
+            isinstance(p, tuple) and len(p) == 2 and type(p[0]) is int and 0 <= p[0] < limit
+            and isinstance(p[1], sp.Expr) for p in items)
+    if not (isinstance(value, tuple) and len(value) == 3 and type(value[0]) is int and 0 <= value[0] <= 10_000):
+        raise CacheFormatError("bad Tangents node")
+    directions, steps, rows = value
+    built = []
+    for k, step in enumerate(steps if isinstance(steps, tuple) else (None,)):
+        if not (isinstance(step, tuple) and len(step) == 4 and type(step[0]) is int and step[1] == k
+                and pairs(step[2], k) and pairs(step[3], directions)):
+            raise CacheFormatError("bad Tangents step")
+        built.append(TangentStep(*step))
+    if not (isinstance(rows, tuple) and all(isinstance(r, tuple) and all(type(i) is int and -1 <= i < len(built)
+                                                                       for i in r) for r in rows)):
+        raise CacheFormatError("bad Tangents rows")
+    return VectorTangents(directions, tuple(built), tuple(tuple(None if i < 0 else i for i in r) for r in rows))
 
 
 def _construct(build, *args):

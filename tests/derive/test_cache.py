@@ -16,6 +16,7 @@ import textwrap
 
 import pytest
 import sympy as sp
+from symdyn.derive.tangents import TangentStep, VectorTangents
 
 import symdyn
 import symdyn.derive.cache as cache
@@ -142,6 +143,8 @@ def test_encode_decode_every_node_kind():
         sp.Mul(2, x + m, evaluate=False),  # unevaluated structure is kept as it is
         sp.ImmutableMatrix([[x, 1], [m, sp.Rational(2, 3)]]),
         (("gravity", sp.ImmutableMatrix([x])), 0.125, 3, "text", ()),
+        VectorTangents(2, (TangentStep(0, 0, (), ((1, x),)), TangentStep(1, 1, ((0, -2 * m),), ((0, sp.S.One),))),
+                       ((0, None), (None, 1))),
     ]
     for value in values:
         tree = json.loads(json.dumps(cache.encode(value)))
@@ -192,6 +195,11 @@ BAD_TREES = {
     "Matrix header": ["Matrix", 1],
     "Program of numbers": ["Program", ["Tuple", ["Tuple", ["Int", "1"], ["Int", "2"]]]],
     "deep": deep(20_000),
+    # a step reading a tangent not yet written, and one in a direction out of range
+    "Tangents forward reference": ["Tangents", ["Tuple", ["PyInt", "2"], ["Tuple", ["Tuple", ["PyInt", "0"], ["PyInt", "0"],
+                                   ["Tuple", ["Tuple", ["PyInt", "0"], ["Int", "1"]]], ["Tuple"]]], ["Tuple"]]],
+    "Tangents direction": ["Tangents", ["Tuple", ["PyInt", "2"], ["Tuple", ["Tuple", ["PyInt", "0"], ["PyInt", "0"],
+                           ["Tuple"], ["Tuple", ["Tuple", ["PyInt", "5"], ["Int", "1"]]]]], ["Tuple"]]],
 }
 
 
