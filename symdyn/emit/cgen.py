@@ -17,7 +17,7 @@ import sympy as sp
 
 from .._version import __version__
 from ..model.errors import warn
-from .cbody import ARGUMENTS, BodyContext, product_loop, write_body
+from .cbody import ARGUMENTS, BodyContext, product_loop, tangent_width, write_body
 from .cplan import FunctionPlan, Target, collect_targets, dimensions, minv_targets, product_targets, reduce_targets
 from .cprinter import VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
@@ -188,6 +188,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = (REGISTRY[name].summary_for(eqs.fd_method) if name in REGISTRY
                else _COMBINED_SUMMARIES[name]).replace("NAME", prefix)
+    summary += _tangent_note(plan.tangents)
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
@@ -205,6 +206,16 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         return CFunction(name=checked_name(name), returns="int",
                          returns_doc=status.format(rtol=context.rtol, real=scalar, prefix=prefix), **common)
     return CFunction(name=name, **common)
+
+
+def _tangent_note(tangents) -> str:
+    """The header's word on derivatives written as loops over vector tangents (or "")."""
+    if tangents is None:
+        return ""
+    width = tangent_width(tangents.tangents.directions)
+    return (f" The derivatives are computed as vector tangents: one loop over the {width} lanes of the directions "
+            "(padding included) per statement of the recursion, so that the code grows with the statements, not "
+            "with their number times the joints; the cost counts every lane.")
 
 
 def _arguments(eqs: Equations, plan, real: str) -> list[tuple[str, str, str, bool]]:
@@ -281,6 +292,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
               ["(void)fdd_a; /* (dqdd/dqd alone: dtau/dqd does not depend on qdd) */"] + second.lines)]
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = _COMBINED_SUMMARIES[plan.name] if plan.name in _COMBINED_SUMMARIES else REGISTRY[plan.name].summary
+    summary += _tangent_note(tangents)
     status = REGISTRY[plan.parts[0]].status
     return CFunction(name=plan.name, summary=summary.replace("NAME", prefix), args=args, lines=lines, parts=parts,
                      ops=first.ops + second.ops + loop_ops, unused=[], trig_type=context.internal if context.angles else "",
