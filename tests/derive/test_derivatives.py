@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import sympy as sp
 
 import symdyn
 from helpers import REPO, ROBOTS, TOL, parameter_values, random_states, robot_path
@@ -198,3 +199,39 @@ def test_tangent_loops_in_c_agree_with_pinocchio(name, budget, tmp_path, monkeyp
         assert status == 0
         for value, single in zip(together, (lib.forward_dynamics_dq(q, qd, tau), lib.forward_dynamics_dqd(q, qd, tau))):
             np.testing.assert_allclose(value, single, rtol=0, atol=1e-10 * max(1.0, np.max(np.abs(single))))
+
+
+def test_vector_tangents_are_the_written_out_derivatives(monkeypatch):
+    """The vector tangents (symdyn.derive.tangents) of the hand-written tree (two arms on a torso)
+    and of the planar arm derived by Lagrange-Euler, evaluated step by step in floating point,
+    against the straight-line derivatives they stand for (budget 0: every robot gets them): dtau/dq
+    and dtau/dqd, and the forward-dynamics derivatives' dtau at the accelerations of forward
+    dynamics."""
+    from symdyn.derive import equations
+    monkeypatch.setattr(equations, "TANGENT_LOOPS_FROM_OPS", 0)
+    rng = np.random.default_rng(37)
+    for path, method in ((str(REPO / "examples" / "trees" / "torso_two_arms.yaml"), "newton-euler"),
+                         (robot_path("planar2r"), "lagrange-euler")):
+        robot = symdyn.load(path)
+        eqs = symdyn.derive(robot, method=method, outputs=("inverse_dynamics_dq", "inverse_dynamics_dqd",
+                                                           "forward_dynamics_dq", "forward_dynamics_dqd"))
+        values = {s: float(rng.uniform(-1, 1)) for s in eqs.q + eqs.qd + eqs.qdd + eqs.tau}
+        values.update({s: float(v) for s, v in parameter_values(robot).items()})
+        for sym, rhs in eqs.program.assignments:
+            values[sym] = float(rhs.xreplace(values))
+        number = lambda e: float(sp.sympify(e).xreplace(values))  # noqa: E731
+        assert len(eqs.tangent_loops) == 2
+        for parts, tangents in eqs.tangent_loops:
+            rows: dict[int, np.ndarray] = {}
+            for step in tangents.steps:
+                row = np.zeros(tangents.directions)
+                for source, coefficient in step.terms:
+                    row += number(coefficient) * rows[source]
+                for direction, value in step.direct:
+                    row[direction] += number(value)
+                rows[step.target] = row
+            for group, part in enumerate(parts):
+                got = np.array([rows[r] if r is not None else np.zeros(tangents.directions) for r in tangents.rows[group]])
+                written = eqs.output(part) if part.startswith("inverse") else eqs.inverse_products[1 + group]
+                expected = np.array(sp.Matrix(written).xreplace(values), dtype=float)
+                np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12 * max(1.0, np.max(np.abs(expected))))
