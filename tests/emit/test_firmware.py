@@ -21,11 +21,12 @@ PUMA_FUNCTIONS = ",".join(OUTPUTS) + ",inverse_dynamics_derivatives,gravity_deri
                            "and libnewlib-arm-none-eabi)")
 @pytest.mark.parametrize("name, functions", [
     ("puma560", PUMA_FUNCTIONS), ("chain12", "forward_dynamics"),
-    ("ur5", "task_mass_matrix,task_bias,task_gravity,task_inverse")])
+    ("ur5", "task_mass_matrix,task_bias,task_gravity,task_inverse"),
+    ("iiwa14", "inverse_dynamics_derivatives")])
 def test_float_code_uses_no_double_on_cortex_m4(name, functions, tmp_path):
     """Every function of puma560 and its derivatives, chain12's forward dynamics (its D has cond
-    6.6e4), and ur5's task-space functions (their tolerance macro is a double literal: cast where
-    it is used)."""
+    6.6e4), ur5's task-space functions (their tolerance macro is a double literal: cast where
+    it is used), and iiwa14's derivatives (their vector-tangent loops)."""
     assert main(["generate", str(REPO / "robots" / f"{name}.yaml"), "--out", str(tmp_path),
                  "--precision", "float", "--quiet"] + (["--functions", functions] if functions else [])) == 0
     obj = tmp_path / f"{name}.o"
@@ -37,9 +38,11 @@ def test_float_code_uses_no_double_on_cortex_m4(name, functions, tmp_path):
     assert not names & {"sin", "cos", "sqrt", "fabs", "pow"}, names
     assert {"sinf", "cosf"} <= names
     stack = (tmp_path / f"{name}.su").read_text()
-    checked = ([f"{name}_forward_dynamics_checked", f"{name}_forward_dynamics_derivatives"]
-               if "derivatives" in functions else [f"{name}_forward_dynamics_checked"] if "forward_dynamics" in functions
-               else [f"{name}_task_space"])
+    listed = functions.split(",")
+    checked = [f"{name}_{f}" for f, given in (("forward_dynamics_checked", "forward_dynamics"),
+                                             ("forward_dynamics_derivatives",) * 2, ("task_space", "task_inverse"),
+                                             ("inverse_dynamics_derivatives",) * 2) if given in listed]
+    assert checked
     assert all(function in stack for function in checked)
 
 
