@@ -624,8 +624,8 @@ def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset()
 #: derivatives of inverse dynamics whose straight-line statements need this many operations or
 #: more (SymPy's count) are also given as vector tangents (:attr:`Equations.tangent_loops`),
 #: which the C emitter writes as one loop per statement: gcc -O3 -march=native, dtau/dq and
-#: dtau/dqd together, straight-line against loops: puma560 (3500 operations) 368 against 396 ns,
-#: pendulum_leg 396 / 374, iiwa14 (about 5900) 1206 / 558, the Panda 1634 / 802, chain12 3562 /
+#: dtau/dqd together, straight-line against loops: puma560 (3218 operations) 368 against 396 ns,
+#: pendulum_leg 396 / 374, iiwa14 (5691) 1206 / 558, the Panda 1634 / 802, chain12 3562 /
 #: 2497 (docs/benchmarks.md)
 TANGENT_LOOPS_FROM_OPS = 4500
 
@@ -635,7 +635,9 @@ def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset =
     accelerations ``qdd`` (``held`` constant): the rigid bodies' forces differentiated by the
     joint positions (forward mode, new statements ``{hint}q...``) and velocities
     (:func:`_by_velocity`), viscous damping on dtau/dqd's diagonal (Coulomb friction's
-    derivative is zero away from qd = 0; the armature's term does not depend on q or qd)."""
+    derivative is zero away from qd = 0; the armature's term does not depend on q or qd).  Past
+    :data:`TANGENT_LOOPS_FROM_OPS`, the same derivatives as vector tangents too
+    (:attr:`Equations.tangent_loops`, for the forward-dynamics derivatives' parts when ``held``)."""
     chain, n = d.chain, d.n
     rigid = d.forces(chain.qd, qdd, chain.gravity, tag)
     by_q = differentiate(d.b.build(), rigid, list(chain.joint_q), d.b, f"{hint}q", held=held)

@@ -94,8 +94,9 @@ class TangentPlan:
     """Derivatives a function writes as loops over vector tangents (:attr:`Equations.tangent_loops`):
     the steps of ``groups`` of ``tangents``, the rows of group ``groups[k]`` written to
     ``destinations[k]`` (an output argument or a scratch array, row-major n x n);
-    ``coefficients[k]`` is stored in ``dv_p[k]`` (a plan target) before the loops run, the
-    loops reading it as ``dv_p[k]`` (negated where ``stored`` says so: ``-c`` is stored as c)."""
+    ``coefficients`` maps each coefficient the loops read that is not a number to ``(index,
+    sign)``: its value is ``sign * dv_p[index]``, ``dv_p[index]`` a plan target stored before the
+    loops run (``-c`` and ``c`` share one entry)."""
 
     tangents: object
     groups: tuple[int, ...]
