@@ -61,7 +61,8 @@ class VectorTangents:
 
     def steps_of(self, groups) -> tuple[TangentStep, ...]:
         """The steps of the given groups only, in order."""
-        return tuple(s for s in self.steps if s.group in set(groups))
+        wanted = set(groups)
+        return tuple(s for s in self.steps if s.group in wanted)
 
     def coefficients(self, groups) -> tuple[sp.Expr, ...]:
         """Every coefficient and direct value the steps of ``groups`` read, each once, in order of
@@ -88,14 +89,9 @@ def _trig_partial(rhs, s, trig: Mapping[sp.Expr, sp.Symbol]):
 
 
 def _local_partial(rhs, s, trig) -> sp.Expr:
-    """d rhs / d s, one statement's own partial derivative; the derivative of a sign (Coulomb
-    friction) is zero away from 0."""
+    """d rhs / d s, one statement's own partial derivative."""
     p = _trig_partial(rhs, s, trig)
-    if p is None:
-        p = partial_derivative(rhs, s)
-    if p.has(sp.DiracDelta):
-        p = p.replace(sp.DiracDelta, lambda *args: sp.S.Zero)
-    return p
+    return partial_derivative(rhs, s) if p is None else p
 
 
 def vector_tangents(program: Program, outputs: Sequence[sp.Expr], groups: Sequence[Sequence[sp.Symbol]],

@@ -170,7 +170,7 @@ def tangent_loops(tangent, printer, ltype: str, store: str) -> tuple[list[str], 
     for k, step in enumerate(steps):
         for source, _ in step.terms:
             last[source] = k
-    free, rows, slot = [], [0], {}
+    free, rows, slot = [], 0, {}
     lines: list[str] = []
     ops = Counter()
     zero = printer.literal(0.0)
@@ -188,7 +188,7 @@ def tangent_loops(tangent, printer, ltype: str, store: str) -> tuple[list[str], 
         if free:
             target = free.pop()
         else:
-            target, rows[0] = rows[0], rows[0] + 1
+            target, rows = rows, rows + 1
         text = ""
         for source, value in step.terms:
             sign, factor = coefficient(value)
@@ -213,7 +213,7 @@ def tangent_loops(tangent, printer, ltype: str, store: str) -> tuple[list[str], 
                 free.append(target)
     for dest, row in zero_rows:
         lines += _macro_lines(_loops().tangent_row(dest, row, n, None, store, zero))
-    return lines, ops, rows[0]
+    return lines, ops, rows
 
 
 def _limit(internal: str, scalar: str) -> tuple[str, str]:
@@ -305,8 +305,8 @@ class BodyWriter:
             self.tangent_lines, tangent_ops, rows = tangent_loops(plan.tangents, self.printer, self.ltype, self.store)
             self.ops += tangent_ops
             width = tangent_width(plan.tangents.tangents.directions)
-            self._declare(([("dv_p", len(set(i for i, _ in plan.tangents.coefficients.values())))]
-                           if plan.tangents.coefficients else []) + [("dv_t", max(1, rows) * width)])
+            self._declare(([("dv_p", plan.tangents.entries)] if plan.tangents.entries else [])
+                          + [("dv_t", max(1, rows) * width)])
         if plan.products:
             if self.vector:
                 raise VectorUnsupported("the forward-dynamics derivatives' product loop")

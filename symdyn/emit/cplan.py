@@ -103,6 +103,11 @@ class TangentPlan:
     destinations: tuple[str, ...]
     coefficients: dict  # expression -> (index in dv_p, sign)
 
+    @property
+    def entries(self) -> int:
+        """The entries of ``dv_p``."""
+        return len({index for index, _ in self.coefficients.values()})
+
 
 def tangent_plan(eqs: Equations, parts, destinations) -> tuple[list[Target], TangentPlan] | None:
     """The targets (``dv_p``: every coefficient the loops read that is not a number, each once,
