@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan
+from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan, tangent_width
 from .cprinter import CPrinter, VectorUnsupported, count_operations
 from .emission import template_environment
 
@@ -133,39 +133,62 @@ def looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name
     return lines, Counter({"mul": mul, "add": add, "div": div})
 
 
-def product_loop(products, ltype: str, store: str, internal: str, scalar: str) -> tuple[list[str], Counter]:
+def fma_macro(prefix: str) -> str:
+    """The name of the fused multiply-add macro of a generated file (``templates/fma.j2``):
+    ``fma`` where the target has a fast one (``FP_FAST_FMA``), else ``a*b + c``."""
+    return f"{prefix.upper()}_FMA"
+
+
+def fused_sum(terms, fma: str) -> str:
+    """The C of ``t_1 + t_2 + ...`` summed left to right, each ``(sign, factor, value)`` term
+    ``sign * factor * value`` (``factor`` "" for 1) added by the macro ``fma``: with the macro
+    as ``a*b + c``, the same operations in the same order as the plain sum."""
+    text = ""
+    for sign, factor, value in terms:
+        if not text:
+            product = f"{factor}*{value}" if factor else value
+            text = f"-{product}" if sign < 0 else product
+        elif factor:
+            text = f"{fma}({'-' if sign < 0 else ''}{factor}, {value}, {text})"
+        else:
+            text = f"{text} {'-' if sign < 0 else '+'} {value}"
+    return text
+
+
+def product_loop(products, store: str, internal: str, scalar: str, fma: str) -> tuple[list[str], Counter]:
     """C lines forming the forward-dynamics derivatives ``-Minv dtau/dx`` from the scratch arrays
     (``products``: a :attr:`FunctionPlan.products`), checking every result and writing the
-    outputs, ending with ``return 0``; and their operation counts."""
-    n, blocks, minv = products
+    outputs, ending with ``return 0``; and their operation counts.  Each row of a result is one
+    loop over the scratch rows' entries (padding included), its n terms fused by ``fma``: the
+    rows are independent, which the processor overlaps (one loop over i, k and j chains them)."""
+    n, blocks, minv, stride = products
     limit, fabs = _limit(internal, scalar)
-    lines = _macro_lines(_loops().inverse_products(n, ltype, blocks, minv, store, limit, fabs))
-    return lines, Counter({"mul": len(blocks) * n ** 3, "add": len(blocks) * n ** 3})
+    rows = []
+    for b, (array, _) in enumerate(blocks):
+        for i in range(n):
+            terms = [(-1, f"fdd_m[{i * n + k}]", f"{array}[{k * stride} + j]") for k in range(n)]
+            rows.append((b * n * stride + i * stride, fused_sum(terms, fma)))
+    lines = _macro_lines(_loops().inverse_products(n, stride, blocks, minv, rows, store, limit, fabs))
+    return lines, Counter({"mul": len(blocks) * n * n * stride, "add": len(blocks) * n * (n - 1) * stride})
 
 
-def tangent_width(directions: int) -> int:
-    """The entries of one tangent vector: the directions rounded up to a multiple of 4 (whole
-    AVX vectors of doubles; the padding lanes stay zero)."""
-    return -(-directions // 4) * 4
-
-
-def tangent_loops(tangent, printer, ltype: str, store: str) -> tuple[list[str], Counter, int]:
+def tangent_loops(tangent, printer, store: str, fma: str) -> tuple[list[str], Counter, int]:
     """C lines of a :class:`~symdyn.emit.cplan.TangentPlan`: each step a loop over the
     directions (``dv_t``, one row of :func:`tangent_width` entries per live tangent, rows reused
-    once their last reader has run), each derivative row copied to its destination as soon as
-    it is computed.  Returns the lines, their operation counts (every lane the loops run) and
-    the rows of ``dv_t`` they need."""
+    once their last reader has run), its terms fused by the macro ``fma``, each derivative row
+    copied to its destination as soon as it is computed.  Returns the lines, their operation
+    counts (every lane the loops run) and the rows of ``dv_t`` they need."""
     tangents, n = tangent.tangents, tangent.tangents.directions
     width = tangent_width(n)
     steps = tangents.steps_of(tangent.groups)
-    destination = {}  # tangent id -> (destination, row)
+    destination = {}  # tangent id -> (destination, row, stride)
     zero_rows = []
-    for group, dest in zip(tangent.groups, tangent.destinations):
+    for group, dest, stride in zip(tangent.groups, tangent.destinations, tangent.strides):
         for row, source in enumerate(tangents.rows[group]):
             if source is None:
-                zero_rows.append((dest, row))
+                zero_rows.append((dest, row, stride))
             else:
-                destination[source] = (dest, row)
+                destination[source] = (dest, row, stride)
     last = {}
     for k, step in enumerate(steps):
         for source, _ in step.terms:
@@ -189,13 +212,12 @@ def tangent_loops(tangent, printer, ltype: str, store: str) -> tuple[list[str], 
             target = free.pop()
         else:
             target, rows = rows, rows + 1
-        text = ""
+        terms = []
         for source, value in step.terms:
             sign, factor = coefficient(value)
-            product = f"{factor}*dv_t[{slot[source] * width} + j]" if factor else f"dv_t[{slot[source] * width} + j]"
-            text = (f"-{product}" if sign < 0 else product) if not text else \
-                f"{text} {'-' if sign < 0 else '+'} {product}"
+            terms.append((sign, factor, f"dv_t[{slot[source] * width} + j]"))
             ops["mul"] += width if factor else 0
+        text = fused_sum(terms, fma)
         ops["add"] += width * max(0, len(step.terms) - 1) + len(step.direct)
         direct = []
         for direction, value in step.direct:
@@ -207,12 +229,12 @@ def tangent_loops(tangent, printer, ltype: str, store: str) -> tuple[list[str], 
                 free.append(slot[source])
         slot[step.target] = target
         if step.target in destination:
-            dest, row = destination[step.target]
-            lines += _macro_lines(_loops().tangent_row(dest, row, n, target * width, store, zero))
+            dest, row, stride = destination[step.target]
+            lines += _macro_lines(_loops().tangent_row(dest, row, stride, target * width, store, zero))
             if step.target not in last:
                 free.append(target)
-    for dest, row in zero_rows:
-        lines += _macro_lines(_loops().tangent_row(dest, row, n, None, store, zero))
+    for dest, row, stride in zero_rows:
+        lines += _macro_lines(_loops().tangent_row(dest, row, stride, None, store, zero))
     return lines, ops, rows
 
 
@@ -302,7 +324,7 @@ class BodyWriter:
         if plan.tangents:
             if self.vector:
                 raise VectorUnsupported("the derivatives' tangent loops")
-            self.tangent_lines, tangent_ops, rows = tangent_loops(plan.tangents, self.printer, self.ltype, self.store)
+            self.tangent_lines, tangent_ops, rows = tangent_loops(plan.tangents, self.printer, self.store, fma_macro(ctx.prefix))
             self.ops += tangent_ops
             width = tangent_width(plan.tangents.tangents.directions)
             self._declare(([("dv_p", plan.tangents.entries)] if plan.tangents.entries else [])
@@ -310,8 +332,9 @@ class BodyWriter:
         if plan.products:
             if self.vector:
                 raise VectorUnsupported("the forward-dynamics derivatives' product loop")
-            n, blocks, _ = plan.products
-            self._declare([("fdd_m", n * n)] + [(array, n * n) for array, _ in blocks] + [("fdd_r", len(blocks) * n * n)])
+            n, blocks, _, stride = plan.products
+            self._declare([("fdd_m", n * n)] + [(array, n * stride) for array, _ in blocks]
+                          + [("fdd_r", len(blocks) * n * stride)])
         self.segment_start = len(self.lines)
         late = self._statements(checks)
         self.segment_end = len(self.lines)
@@ -482,7 +505,7 @@ class BodyWriter:
             self.lines += coriolis_loop(out, n, self.ltype, self.store, ctx.prefix, self.vector)
             self.ops += coriolis_ops(n)
         if plan.products:
-            lines, ops = product_loop(plan.products, self.ltype, self.store, ctx.internal, ctx.scalar)
+            lines, ops = product_loop(plan.products, self.store, ctx.internal, ctx.scalar, fma_macro(ctx.prefix))
             self.lines += lines
             self.ops += ops
         if plan.looped:

@@ -17,8 +17,9 @@ import sympy as sp
 
 from .._version import __version__
 from ..model.errors import warn
-from .cbody import ARGUMENTS, BodyContext, product_loop, tangent_width, write_body
-from .cplan import FunctionPlan, Target, collect_targets, dimensions, minv_targets, product_targets, reduce_targets
+from .cbody import ARGUMENTS, BodyContext, fma_macro, product_loop, write_body
+from .cplan import (FunctionPlan, Target, collect_targets, dimensions, minv_targets, product_stride, product_targets,
+                    reduce_targets, tangent_width)
 from .cprinter import VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
 from ..derive.equations import Equations
@@ -83,6 +84,9 @@ class CFunction:
     #: a long body's parts, each ``(returns, extra parameters, lines)``: functions of their own,
     #: called in order from ``lines`` (symdyn.emit.cbody.SPLIT_FROM_STATEMENTS)
     parts: list = field(default_factory=list)
+    #: the type ("double", "float") the fused multiply-adds of its derivative loops are in
+    #: (symdyn.emit.cbody.fma_macro), or "" when it has none
+    fma_type: str = ""
 
     @property
     def batch_args(self) -> str:
@@ -200,7 +204,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                  for line in lines]
         parts = [(returns, ", ".join(extra)) + (part_lines,) for returns, extra, part_lines in body.parts]
     common = dict(summary=summary, args=args, lines=lines, parts=parts, ops=body.ops, unused=unused,
-                  trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis))
+                  trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis),
+                  fma_type=internal if plan.tangents or plan.products else "")
     if plan.checked:
         status = REGISTRY[plan.parts[0]].status_for(eqs.fd_method if name == "forward_dynamics" else "")
         return CFunction(name=checked_name(name), returns="int",
@@ -264,7 +269,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     (``fdd_q``, ``fdd_v``), then ``-Minv dtau/dx``.  Each part's register allocation is its own:
     puma560's forward_dynamics_derivatives 1035 -> about 800 ns, the panda's 2900 -> 2500 (gcc -O3
     -march=native), against one body.  None when a stage is long enough to be split itself."""
-    n, blocks, minv = plan.products
+    n, blocks, minv, _ = plan.products
     qdd = eqs.inverse_products[3]
     solve = FunctionPlan(plan.name, plan.parts, plan.inputs, plan.out_name, checked=True,
                          pivots=plan.pivots, pivot_codes=plan.pivot_codes)
@@ -280,9 +285,11 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     args = _arguments(eqs, plan, real)
     names = ", ".join(a for _, a, _, _ in args)
     own = f"{prefix}_{plan.name}"
-    arrays = [("fdd_m", n * n), ("fdd_a", n)] + [(array, n * n) for array, _ in blocks] + [("fdd_r", len(blocks) * n * n)]
+    stride = product_stride(eqs, tangents)
+    arrays = ([("fdd_m", n * n), ("fdd_a", n)] + [(array, n * stride) for array, _ in blocks]
+              + [("fdd_r", len(blocks) * n * stride)])
     store = f"({real})" if context.internal != context.scalar else ""
-    loop, loop_ops = product_loop(plan.products, ltype, store, context.internal, context.scalar)
+    loop, loop_ops = product_loop((n, blocks, minv, stride), store, context.internal, context.scalar, fma_macro(prefix))
     lines = ([f"{ltype} " + ", ".join(f"{a}[{size}]" for a, size in arrays) + ";",
               f"const int status = {own}_part1({names}, fdd_m, fdd_a);",
               "if (status != 0) {", "    return status;", "}",
@@ -296,7 +303,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     status = REGISTRY[plan.parts[0]].status
     return CFunction(name=plan.name, summary=summary.replace("NAME", prefix), args=args, lines=lines, parts=parts,
                      ops=first.ops + second.ops + loop_ops, unused=[], trig_type=context.internal if context.angles else "",
-                     batch=batch, returns="int",
+                     batch=batch, returns="int", fma_type=context.internal,
                      returns_doc=status.format(rtol=context.rtol, real=context.scalar, prefix=prefix))
 
 
@@ -475,6 +482,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "vector_trig": any(f.batch and f.batch["lanes"] is not None and f.batch["trig"] for f in built),
         "trig_float": any(f.trig_type == "float" for f in built),
         "gram_vector": any(f.gram_loop for f in built),
+        "fma_type": next((f.fma_type for f in built if f.fma_type), ""),
         "batch": batch,
         "vector": any(f.batch and f.batch["lanes"] is not None for f in built),
         "vector_functions": sorted(set().union(*(f.batch["vector_functions"] for f in built if f.batch))),

@@ -77,10 +77,11 @@ class FunctionPlan:
     #: the status each pivot pair returns when its check fails (empty: 1 for every pair) and
     #: whether it is checked against the header's task tolerance macro instead of the literal one
     pivot_codes: list[int] = field(default_factory=list)
-    #: a forward-dynamics derivative written as ``-Minv dtau/dx`` by a loop
-    #: (:attr:`Equations.inverse_products`): ``(n, blocks, minv)``, ``blocks`` the ``(scratch
-    #: array, output argument)`` of each derivative, ``minv`` the output argument M^-1 is copied
-    #: to (or None); None otherwise
+    #: a forward-dynamics derivative written as ``-Minv dtau/dx`` after the statements
+    #: (:attr:`Equations.inverse_products`): ``(n, blocks, minv, stride)``, ``blocks`` the
+    #: ``(scratch array, output argument)`` of each derivative, ``minv`` the output argument M^-1
+    #: is copied to (or None), ``stride`` the entries of one row of the scratch arrays (n, or the
+    #: tangent width where the rows come from vector tangents); None otherwise
     products: tuple | None = None
     #: derivatives written as vector tangents by loops (:class:`TangentPlan`), or None
     tangents: "TangentPlan | None" = None
@@ -89,11 +90,19 @@ class FunctionPlan:
     leaves: frozenset = frozenset()
 
 
+def tangent_width(directions: int) -> int:
+    """The entries of one tangent vector: the directions rounded up to a multiple of 4 (whole
+    AVX vectors of doubles; the padding lanes stay zero)."""
+    return -(-directions // 4) * 4
+
+
 @dataclass(frozen=True)
 class TangentPlan:
     """Derivatives a function writes as loops over vector tangents (:attr:`Equations.tangent_loops`):
     the steps of ``groups`` of ``tangents``, the rows of group ``groups[k]`` written to
-    ``destinations[k]`` (an output argument or a scratch array, row-major n x n);
+    ``destinations[k]``, row i at ``i * strides[k]`` (an output argument, row-major n x n:
+    stride n; or a scratch array whose rows keep the tangent's padding lanes: stride
+    :func:`tangent_width`);
     ``coefficients`` maps each coefficient the loops read that is not a number to ``(index,
     sign)``: its value is ``sign * dv_p[index]``, ``dv_p[index]`` a plan target stored before the
     loops run (``-c`` and ``c`` share one entry)."""
@@ -102,6 +111,7 @@ class TangentPlan:
     groups: tuple[int, ...]
     destinations: tuple[str, ...]
     coefficients: dict  # expression -> (index in dv_p, sign)
+    strides: tuple[int, ...]
 
     @property
     def entries(self) -> int:
@@ -109,11 +119,12 @@ class TangentPlan:
         return len({index for index, _ in self.coefficients.values()})
 
 
-def tangent_plan(eqs: Equations, parts, destinations) -> tuple[list[Target], TangentPlan] | None:
+def tangent_plan(eqs: Equations, parts, destinations, padded: bool = False) -> tuple[list[Target], TangentPlan] | None:
     """The targets (``dv_p``: every coefficient the loops read that is not a number, each once,
     a negative one stored as its opposite) and the :class:`TangentPlan` of the derivative
-    outputs ``parts`` (with ``destinations[k]`` for ``parts[k]``), when every one of them has
-    vector tangents in the same :attr:`Equations.tangent_loops` entry; else None."""
+    outputs ``parts`` (with ``destinations[k]`` for ``parts[k]``; ``padded``: scratch arrays
+    of rows of the tangent width), when every one of them has vector tangents in the same
+    :attr:`Equations.tangent_loops` entry; else None."""
     found = [eqs.tangents_for(part) for part in parts]
     if not found or any(f is None for f in found) or len({id(f[0]) for f in found}) != 1:
         return None
@@ -130,7 +141,8 @@ def tangent_plan(eqs: Equations, parts, destinations) -> tuple[list[Target], Tan
             stored[core] = len(stored)
             targets.append(Target(f"dv_p[{stored[core]}]", core, True))
         coefficients[value] = (stored[core], sign)
-    return targets, TangentPlan(tangents, groups, tuple(destinations), coefficients)
+    stride = tangent_width(tangents.directions) if padded else eqs.n
+    return targets, TangentPlan(tangents, groups, tuple(destinations), coefficients, (stride,) * len(groups))
 
 
 @dataclass
@@ -225,10 +237,16 @@ def product_targets(eqs: Equations, parts) -> tuple[list[Target], TangentPlan | 
     ``parts`` (:attr:`Equations.inverse_products`), stored as soon as computed; or, where they
     have vector tangents, the coefficients those read and their :class:`TangentPlan`."""
     wanted = [part for part in FORWARD_DERIVATIVES if part in parts]
-    looped = tangent_plan(eqs, wanted, [PRODUCT_ARRAYS[part] for part in wanted])
+    looped = tangent_plan(eqs, wanted, [PRODUCT_ARRAYS[part] for part in wanted], padded=True)
     if looped is not None:
         return looped
     return _written_products(eqs, parts), None
+
+
+def product_stride(eqs: Equations, tangents: TangentPlan | None) -> int:
+    """The entries of one row of the product scratch arrays: the tangent width where vector
+    tangents fill them (whole vectors, the padding lanes zero), else n."""
+    return tangents.strides[0] if tangents is not None else eqs.n
 
 
 def _written_products(eqs: Equations, parts) -> list[Target]:
@@ -253,7 +271,7 @@ def _product_targets(eqs: Equations, plan: FunctionPlan) -> None:
     targets, plan.tangents = product_targets(eqs, plan.parts)
     plan.targets = minv_targets(eqs) + targets
     minv = REGISTRY["mass_matrix_inverse"].arguments[0].name if "mass_matrix_inverse" in plan.parts else None
-    plan.products = (eqs.n, tuple(blocks), minv)
+    plan.products = (eqs.n, tuple(blocks), minv, product_stride(eqs, plan.tangents))
     _set_checks(eqs, plan)
 
 
