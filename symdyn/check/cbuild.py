@@ -149,14 +149,15 @@ for _combined in COMBINED_SPECS:
 
 def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, precision: str = "double",
                    workdir: str | None = None, actuated: int | None = None, task: int = 6,
-                   frames: int = 0) -> CompiledDynamics:
-    """Write generated ``files`` to ``workdir`` (a new temporary directory by default), compile and load
-    (``task``: rows of the task-space functions' task; ``frames``: frames of the frame functions)."""
+                   frames: int = 0, extra_flags=()) -> CompiledDynamics:
+    """Write generated ``files`` to ``workdir`` (a new temporary directory by default), compile
+    (``extra_flags`` after the defaults) and load (``task``: rows of the task-space functions'
+    task; ``frames``: frames of the frame functions)."""
     workdir = workdir or tempfile.mkdtemp(prefix="symdyn_")
     for name, text in files.items():
         with open(os.path.join(workdir, name), "w") as handle:
             handle.write(text)
-    lib = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir)
+    lib = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir, extra_flags)
     compiled = CompiledDynamics(lib, prefix, dof, n_params, precision, actuated)
     compiled.task = task
     compiled.frames = frames

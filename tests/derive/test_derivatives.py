@@ -7,6 +7,8 @@ cannot agree by construction)."""
 
 from __future__ import annotations
 
+import platform
+
 import numpy as np
 import pytest
 import sympy as sp
@@ -200,6 +202,44 @@ def test_tangent_loops_in_c_agree_with_pinocchio(name, budget, tmp_path, monkeyp
         assert status == 0
         for value, single in zip(together, (lib.forward_dynamics_dq(q, qd, tau), lib.forward_dynamics_dqd(q, qd, tau))):
             np.testing.assert_allclose(value, single, rtol=0, atol=1e-10 * max(1.0, np.max(np.abs(single))))
+    if budget is None:
+        _check_fused_multiply_adds(files, robot, lib, states[:5], functions, tmp_path)
+
+
+def _fma_hardware() -> bool:
+    try:
+        with open("/proc/cpuinfo") as handle:
+            return platform.machine() in ("x86_64", "AMD64") and " fma " in handle.read()
+    except OSError:
+        return False
+
+
+def _check_fused_multiply_adds(files, robot, lib, states, functions, tmp_path):
+    """The loops' PREFIX_FMA: built for FMA hardware (-mfma: fma()), the derivatives agree with
+    Pinocchio and differ from the plain build (-O2, a*b + c) by rounding only, somewhere; with
+    SYMDYN_NO_FMA they are the plain build's bit for bit (the same sums in the same order)."""
+    if not _fma_hardware():
+        pytest.skip("no FMA hardware (x86-64 with fma) to run the fused build on")
+    fused = build_and_load(files, robot.name, robot.dof, 0, workdir=str(_fresh(tmp_path / "fma")), extra_flags=["-mfma"])
+    plain = build_and_load(files, robot.name, robot.dof, 0, workdir=str(_fresh(tmp_path / "no_fma")),
+                           extra_flags=["-mfma", "-DSYMDYN_NO_FMA", "-fno-tree-slp-vectorize"])
+    assert all(e <= TOL for e in compare(fused, PinocchioReference(robot), states, functions).values())
+    differs = False
+    for q, qd, qdd, tau in states:
+        for name in ("inverse_dynamics_dq", "inverse_dynamics_dqd"):
+            reference = getattr(lib, name)(q, qd, qdd)
+            np.testing.assert_array_equal(getattr(plain, name)(q, qd, qdd), reference)
+            np.testing.assert_allclose(getattr(fused, name)(q, qd, qdd), reference, rtol=0,
+                                       atol=1e-12 * max(1.0, np.max(np.abs(reference))))
+            differs |= not np.array_equal(getattr(fused, name)(q, qd, qdd), reference)
+        for name in ("forward_dynamics_dq", "forward_dynamics_dqd"):
+            np.testing.assert_array_equal(getattr(plain, name)(q, qd, tau), getattr(lib, name)(q, qd, tau))
+    assert differs  # the fused build does fuse
+
+
+def _fresh(path):
+    path.mkdir()
+    return path
 
 
 def test_vector_tangents_are_the_written_out_derivatives(monkeypatch):
