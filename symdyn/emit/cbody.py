@@ -41,6 +41,9 @@ class BodyContext:
     rtol: float
     #: entries of each input that has not ``n`` (a floating base's q: n + 1)
     sizes: dict = field(default_factory=dict)
+    #: scratch arrays the body is handed by its caller (a pointer parameter) instead of
+    #: declaring them: a stage of a staged function (symdyn.emit.cgen)
+    given_arrays: frozenset = frozenset()
 
     def size(self, group: str) -> int:
         """The entries of input ``group``."""
@@ -59,6 +62,8 @@ class Body:
     #: the parts a long body is split into (:data:`SPLIT_FROM_STATEMENTS`): each ``(returns,
     #: extra parameters, lines)``, a function of its own called in order from ``lines``
     parts: list = field(default_factory=list)
+    #: ``(name, entries)`` of each scratch array of :attr:`BodyContext.given_arrays` it uses
+    given: list = field(default_factory=list)
 
 
 @functools.lru_cache(maxsize=1)
@@ -286,6 +291,7 @@ class BodyWriter:
             self.printer.trig[sp.sin(arg)] = f"trig_sin[{k}]"
             self.printer.trig[sp.cos(arg)] = f"trig_cos[{k}]"
         self.ltype = self.vreal if vector else context.local_type
+        self.given: list[tuple[str, int]] = []  # the scratch arrays the caller hands over
         self.store = f"({context.real})" if context.internal != context.scalar else ""
         self.position = {sym: k for k, (sym, _) in enumerate(reduced.statements)}
         self.lines: list[str] = []
@@ -348,7 +354,7 @@ class BodyWriter:
                 self._count(expr)
         self._loops()
         self.lines.extend(f"{target} = {source};" for target, source in plan.aliases)
-        body = Body(self.lines, self.ops, self.used, self.printer.vector_functions)
+        body = Body(self.lines, self.ops, self.used, self.printer.vector_functions, given=self.given)
         forward = plan.name == "forward_dynamics"
         limit, size = (FD_SPLIT_FROM_STATEMENTS, FD_PART_STATEMENTS) if forward else (SPLIT_FROM_STATEMENTS, PART_STATEMENTS)
         if not self.vector and len(self.reduced.statements) > limit:
@@ -357,9 +363,14 @@ class BodyWriter:
         return body
 
     def _declare(self, arrays) -> None:
-        """Declare the scratch arrays ``[(name, size)]`` in one line; :func:`_split` passes them
-        to the parts of a long body."""
-        self.lines.append(f"{self.ltype} " + ", ".join(f"{name}[{size}]" for name, size in arrays) + ";")
+        """Declare the scratch arrays ``[(name, size)]`` in one line (but those the caller hands
+        over: :attr:`BodyContext.given_arrays`); :func:`_split` passes them to the parts of a
+        long body."""
+        given = self.ctx.given_arrays
+        declared = [(name, size) for name, size in arrays if name not in given]
+        if declared:
+            self.lines.append(f"{self.ltype} " + ", ".join(f"{name}[{size}]" for name, size in declared) + ";")
+        self.given += [(name, size) for name, size in arrays if name in given]
         self.arrays += arrays
 
     def _input_checks(self) -> None:
