@@ -84,7 +84,7 @@ class CFunction:
     #: a long body's parts, each ``(returns, extra parameters, lines)``: functions of their own,
     #: called in order from ``lines`` (symdyn.emit.cbody.SPLIT_FROM_STATEMENTS)
     parts: list = field(default_factory=list)
-    #: the type ("double", "float") the fused multiply-adds of its derivative loops are in
+    #: the type ("double", "float") of its fused multiply-adds (a derivatives' function)
     #: (symdyn.emit.cbody.fma_macro), or "" when it has none
     fma_type: str = ""
 
@@ -192,7 +192,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = (REGISTRY[name].summary_for(eqs.fd_method) if name in REGISTRY
                else _COMBINED_SUMMARIES[name]).replace("NAME", prefix)
-    summary += _tangent_note(plan.tangents)
+    summary += _tangent_note(plan.tangents) + (FUSED_NOTE if context.fused else "")
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
@@ -205,12 +205,16 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         parts = [(returns, ", ".join(extra)) + (part_lines,) for returns, extra, part_lines in body.parts]
     common = dict(summary=summary, args=args, lines=lines, parts=parts, ops=body.ops, unused=unused,
                   trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis),
-                  fma_type=internal if plan.tangents or plan.products else "")
+                  fma_type=internal if context.fused else "")
     if plan.checked:
         status = REGISTRY[plan.parts[0]].status_for(eqs.fd_method if name == "forward_dynamics" else "")
         return CFunction(name=checked_name(name), returns="int",
                          returns_doc=status.format(rtol=context.rtol, real=scalar, prefix=prefix), **common)
     return CFunction(name=name, **common)
+
+
+#: the header's word on a function whose sums of products are fused (templates/fma.j2)
+FUSED_NOTE = " Its multiply-adds are fused where the target has a fast fma (see the top of this file)."
 
 
 def _tangent_note(tangents) -> str:
@@ -234,10 +238,13 @@ def _arguments(eqs: Equations, plan, real: str) -> list[tuple[str, str, str, boo
                    for part in plan.parts for argument in REGISTRY[part].arguments]
 
 
-def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_arrays=frozenset()):
+def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_arrays=frozenset(), fused=None):
     """Stages 2 and 3 of one plan: ``(reduced, context, body, group_of)``; ``given`` maps the
     plan's leaves to their C names; ``given_arrays``: the scratch arrays the body is handed
-    (:attr:`BodyContext.given_arrays`)."""
+    (:attr:`BodyContext.given_arrays`); ``fused``: sums of products by the fused multiply-add
+    macro (None: where the plan has the derivatives' tangent loops or the forward-dynamics
+    derivatives' products, which have no vector batch form: a batch of them stays the scalar
+    function's results bit for bit)."""
     reduced = reduce_targets(eqs, plan)
     # precision "mixed": float arguments everywhere, but forward dynamics computed inside in
     # double (for robots whose D is too ill-conditioned for float); "float" is float all the way.
@@ -259,7 +266,8 @@ def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_a
     context = BodyContext(prefix=prefix, names=names, angles=angles, internal=internal, scalar=scalar,
                           local_type=real if internal == scalar else internal, real=real, n=eqs.n,
                           rtol=pivot_rtol(internal),  # checked in the arithmetic the pivots are computed in
-                          sizes={"q": eqs.nq} if eqs.nq != eqs.n else {}, given_arrays=frozenset(given_arrays))
+                          sizes={"q": eqs.nq} if eqs.nq != eqs.n else {}, given_arrays=frozenset(given_arrays),
+                          fused=bool(plan.tangents or plan.products) if fused is None else fused)
     return reduced, context, write_body(plan, reduced, context), group_of
 
 
@@ -278,7 +286,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     targets, tangents = product_targets(eqs, plan.parts)
     tangent = FunctionPlan(plan.name, plan.parts, tuple(g for g in plan.inputs if g != "tau"), plan.out_name,
                            leaves=frozenset(qdd), targets=targets, tangents=tangents)
-    reduced, context, first, group_of = _body(eqs, solve, precision, prefix)
+    reduced, context, first, group_of = _body(eqs, solve, precision, prefix, fused=True)
     # the tangents' scratch (kB) lives in the caller's frame and part 2 reads it through a pointer:
     # the Panda 1262 -> 1223 ns (gcc -O3 -march=native), part 2's frame and its addresses smaller
     _, _, second, _ = _body(eqs, tangent, precision, prefix, {s: f"fdd_a[{k}]" for k, s in enumerate(qdd)},
@@ -303,7 +311,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
               ["(void)fdd_a; /* (dqdd/dqd alone: dtau/dqd does not depend on qdd) */"] + second.lines)]
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = _COMBINED_SUMMARIES[plan.name] if plan.name in _COMBINED_SUMMARIES else REGISTRY[plan.name].summary
-    summary += _tangent_note(tangents)
+    summary += _tangent_note(tangents) + FUSED_NOTE
     status = REGISTRY[plan.parts[0]].status
     return CFunction(name=plan.name, summary=summary.replace("NAME", prefix), args=args, lines=lines, parts=parts,
                      ops=first.ops + second.ops + loop_ops, unused=[], trig_type=context.internal if context.angles else "",

@@ -30,8 +30,11 @@ class VectorUnsupported(Exception):
 class CPrinter(C99CodePrinter):
     """C99 printer with symdyn's conventions (see module docstring)."""
 
-    def __init__(self, names: dict[sp.Symbol, str], precision: str = "double", vector_prefix: str = ""):
+    def __init__(self, names: dict[sp.Symbol, str], precision: str = "double", vector_prefix: str = "", fma: str = ""):
         super().__init__()
+        #: the fused multiply-add macro (symdyn.emit.cbody.fma_macro) sums of products are
+        #: printed with, or "" for plain sums
+        self.fma = fma
         #: sin/cos already computed (in the block at the top of a function): expression -> C name
         self.trig: dict[sp.Expr, str] = {}
         #: print for the lanes of a batch function (GCC/Clang vector types of ``PREFIX_vreal``):
@@ -81,10 +84,25 @@ class CPrinter(C99CodePrinter):
                 text = f"({text})"
             parts.append((sign, text))
         first_sign, first = parts[0]
+        if self.fma:
+            return self._fused(("-" if first_sign == "-" else "") + first, parts[1:])
         out = [("-" if first_sign == "-" else "") + first]
         for sign, text in parts[1:]:
             out.append(f"{sign} {text}")
         return " ".join(out)
+
+    def _fused(self, text: str, parts) -> str:
+        """The sum ``text`` then each ``(sign, term)`` of ``parts``, left to right as the plain
+        sum, each product term ``a*...*y*z`` added by the macro ``fma`` as ``fma(±a*...*y, z,
+        sum)``: with the macro as ``a*b + c``, the same operations in the same order."""
+        for sign, term in parts:
+            split = _last_factor(term)
+            if split is None:
+                text = f"{text} {sign} {term}"
+            else:
+                head, last = split
+                text = f"{self.fma}({'-' if sign == '-' else ''}{head}, {last}, {text})"
+        return text
 
     def _print_Mul(self, expr):
         coeff, rest = expr.as_coeff_Mul()
@@ -188,6 +206,23 @@ class CPrinter(C99CodePrinter):
         if self.vector_prefix:
             raise VectorUnsupported("pow")
         return f"pow{suffix}({self._print(base)}, {self._print(exp)})"
+
+
+def _last_factor(term: str):
+    """``(head, last)`` where the printed product ``term`` is ``head*last`` (C's left-to-right
+    ``*``: the last operand at parenthesis depth 0), or None for a term that is no such product
+    (one operand, or a division at depth 0)."""
+    depth, cut = 0, -1
+    for k, ch in enumerate(term):
+        if ch == "(":
+            depth += 1
+        elif ch == ")":
+            depth -= 1
+        elif depth == 0 and ch == "/":
+            return None
+        elif depth == 0 and ch == "*":
+            cut = k
+    return None if cut < 0 else (term[:cut], term[cut + 1:])
 
 
 def count_operations(expr: sp.Expr) -> Counter:

@@ -358,3 +358,38 @@ def test_clang_weverything(tmp_path, monkeypatch):
             result = subprocess.run([clang, *CLANG_EVERYTHING, "-fsyntax-only", str(folder / source)],
                                     capture_output=True, text=True)
             assert result.returncode == 0, f"{case}/{source}:\n{result.stderr[-3000:]}"
+
+
+def test_fused_sums_are_the_plain_sums_with_the_plain_macro():
+    """CPrinter with a fused multiply-add macro: sums of products (signs, numbers, divisions,
+    parenthesized sums, powers) evaluated with the macro as a*b + c (Python floats: IEEE double,
+    C's order) give the plain printer's value bit for bit, and differ from it with the macro as
+    a correctly rounded fused a*b + c somewhere."""
+    import math
+    from fractions import Fraction
+
+    import sympy as sp
+    from symdyn.emit.cprinter import CPrinter
+
+    a, b, c, d, e, f = symbols = sp.symbols("a b c d e f")
+    names = {s: s.name for s in symbols}
+    expressions = [a * b + c * d, a - b * c * d - sp.Rational(3, 7) * e, 0.3 * a * b - c / d + e * (f + a) - b ** 2 * c,
+                   -a * b - c * d * e + f, a / (b * c) + d * e * f + 2 * a, a * b * c ** 3 - d]
+    plain_printer, fused_printer = CPrinter(names), CPrinter(names, fma="FMA")
+
+    def value(text, env):
+        return eval(text.replace("sqrt", "math.sqrt"), {"math": math}, env)  # the printed C of plain arithmetic
+
+    def exact_fma(x, y, z):
+        return float(Fraction(x) * Fraction(y) + Fraction(z))
+
+    rng = np.random.default_rng(41)
+    fused_differs = False
+    for expr in expressions:
+        plain, fused = plain_printer.doprint(expr), fused_printer.doprint(expr)
+        assert "FMA(" in fused
+        for _ in range(200):
+            env = {s.name: float(rng.uniform(-3, 3)) for s in symbols}
+            assert value(fused, {**env, "FMA": lambda x, y, z: x * y + z}) == value(plain, env), (plain, fused)
+            fused_differs |= value(fused, {**env, "FMA": exact_fma}) != value(plain, env)
+    assert fused_differs
