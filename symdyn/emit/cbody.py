@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan, tangent_width
-from .cprinter import CPrinter, VectorUnsupported, count_operations
+from .cprinter import CPrinter, VectorUnsupported, count_operations, fused_sum
 from .emission import template_environment
 
 #: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
@@ -148,22 +148,6 @@ def fma_macro(prefix: str) -> str:
     return f"{prefix.upper()}_FMA"
 
 
-def fused_sum(terms, fma: str) -> str:
-    """The C of ``t_1 + t_2 + ...`` summed left to right, each ``(sign, factor, value)`` term
-    ``sign * factor * value`` (``factor`` "" for 1) added by the macro ``fma``: with the macro
-    as ``a*b + c``, the same operations in the same order as the plain sum."""
-    text = ""
-    for sign, factor, value in terms:
-        if not text:
-            product = f"{factor}*{value}" if factor else value
-            text = f"-{product}" if sign < 0 else product
-        elif factor:
-            text = f"{fma}({'-' if sign < 0 else ''}{factor}, {value}, {text})"
-        else:
-            text = f"{text} {'-' if sign < 0 else '+'} {value}"
-    return text
-
-
 def product_loop(products, store: str, internal: str, scalar: str, fma: str) -> tuple[list[str], Counter]:
     """C lines forming the forward-dynamics derivatives ``-Minv dtau/dx`` from the scratch arrays
     (``products``: a :attr:`FunctionPlan.products`), checking every result and writing the
@@ -175,7 +159,7 @@ def product_loop(products, store: str, internal: str, scalar: str, fma: str) -> 
     rows = []
     for b, (array, _) in enumerate(blocks):
         for i in range(n):
-            terms = [(-1, f"fdd_m[{i * n + k}]", f"{array}[{k * stride} + j]") for k in range(n)]
+            terms = [(True, f"fdd_m[{i * n + k}]", f"{array}[{k * stride} + j]") for k in range(n)]
             rows.append((b * n * stride + i * stride, fused_sum(terms, fma)))
     lines = _macro_lines(_loops().inverse_products(n, stride, blocks, minv, rows, store, limit, fabs))
     return lines, Counter({"mul": len(blocks) * n * n * stride, "add": len(blocks) * n * (n - 1) * stride})
@@ -224,7 +208,7 @@ def tangent_loops(tangent, printer, store: str, fma: str) -> tuple[list[str], Co
         terms = []
         for source, value in step.terms:
             sign, factor = coefficient(value)
-            terms.append((sign, factor, f"dv_t[{slot[source] * width} + j]"))
+            terms.append((sign < 0, factor, f"dv_t[{slot[source] * width} + j]"))
             ops["mul"] += width if factor else 0
         text = fused_sum(terms, fma)
         ops["add"] += width * max(0, len(step.terms) - 1) + len(step.direct)

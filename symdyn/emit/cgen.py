@@ -297,7 +297,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     args = _arguments(eqs, plan, real)
     names = ", ".join(a for _, a, _, _ in args)
     own = f"{prefix}_{plan.name}"
-    stride = product_stride(eqs, tangents)
+    stride = product_stride(eqs)
     arrays = ([("fdd_m", n * n), ("fdd_a", n)] + [(array, n * stride) for array, _ in blocks]
               + [("fdd_r", len(blocks) * n * stride)] + second.given)
     store = f"({real})" if context.internal != context.scalar else ""

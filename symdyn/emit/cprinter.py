@@ -73,36 +73,17 @@ class CPrinter(C99CodePrinter):
     # factors, no rebuilt expressions: the generic printers' ordering and sign handling took most
     # of the emission time on long chains); numbers are literals of the chosen precision.
     def _print_Add(self, expr, order=None):
-        parts = []
+        terms = []
         for term in expr.args:
             text = self._print(term)
-            if text.startswith("-"):
-                sign, text = "-", text[1:]
-            else:
-                sign = "+"
+            negative = text.startswith("-")
+            if negative:
+                text = text[1:]
             if term.is_Add:  # never in a flattened Add, kept for safety
                 text = f"({text})"
-            parts.append((sign, text))
-        first_sign, first = parts[0]
-        if self.fma:
-            return self._fused(("-" if first_sign == "-" else "") + first, parts[1:])
-        out = [("-" if first_sign == "-" else "") + first]
-        for sign, text in parts[1:]:
-            out.append(f"{sign} {text}")
-        return " ".join(out)
-
-    def _fused(self, text: str, parts) -> str:
-        """The sum ``text`` then each ``(sign, term)`` of ``parts``, left to right as the plain
-        sum, each product term ``a*...*y*z`` added by the macro ``fma`` as ``fma(±a*...*y, z,
-        sum)``: with the macro as ``a*b + c``, the same operations in the same order."""
-        for sign, term in parts:
-            split = _last_factor(term)
-            if split is None:
-                text = f"{text} {sign} {term}"
-            else:
-                head, last = split
-                text = f"{self.fma}({'-' if sign == '-' else ''}{head}, {last}, {text})"
-        return text
+            split = _last_factor(text) if self.fma and terms else None
+            terms.append((negative, *split) if split else (negative, "", text))
+        return fused_sum(terms, self.fma)
 
     def _print_Mul(self, expr):
         coeff, rest = expr.as_coeff_Mul()
@@ -206,6 +187,24 @@ class CPrinter(C99CodePrinter):
         if self.vector_prefix:
             raise VectorUnsupported("pow")
         return f"pow{suffix}({self._print(base)}, {self._print(exp)})"
+
+
+def fused_sum(terms, fma: str = "") -> str:
+    """The C of a sum, left to right, of the terms ``(negative, head, operand)``, each
+    ``head*operand`` (``operand`` alone where ``head`` is "") or its opposite: with a fused
+    multiply-add macro ``fma`` each product after the first is added as ``fma(±head, operand,
+    sum)``, which with the macro as ``a*b + c`` is the plain sum's operations in its order
+    (``(-h)*x + s`` is ``s - h*x`` exactly)."""
+    text = ""
+    for negative, head, operand in terms:
+        product = f"{head}*{operand}" if head else operand
+        if not text:
+            text = f"-{product}" if negative else product
+        elif head and fma:
+            text = f"{fma}({'-' if negative else ''}{head}, {operand}, {text})"
+        else:
+            text = f"{text} {'-' if negative else '+'} {product}"
+    return text
 
 
 def _last_factor(term: str):
