@@ -44,9 +44,8 @@ class BodyContext:
     #: scratch arrays the body is handed by its caller (a pointer parameter) instead of
     #: declaring them: a stage of a staged function (symdyn.emit.cgen)
     given_arrays: frozenset = frozenset()
-    #: sums of products printed with the fused multiply-add macro (:func:`fma_macro`): the
-    #: derivatives' functions (the Panda's forward-dynamics derivatives 1241 -> 1190 ns, gcc -O3
-    #: -march=native)
+    #: every sum of products printed with the fused multiply-add macro (:func:`fma_macro`), not
+    #: only the loops': the stages of the forward-dynamics derivatives (symdyn.emit.cgen)
     fused: bool = False
 
     def size(self, group: str) -> int:

@@ -192,7 +192,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = (REGISTRY[name].summary_for(eqs.fd_method) if name in REGISTRY
                else _COMBINED_SUMMARIES[name]).replace("NAME", prefix)
-    summary += _tangent_note(plan.tangents) + (FUSED_NOTE if context.fused else "")
+    looped = bool(plan.tangents or plan.products)  # loops with fused multiply-adds (no vector batch form)
+    summary += _tangent_note(plan.tangents) + (FUSED_NOTE if looped else "")
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
@@ -205,7 +206,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         parts = [(returns, ", ".join(extra)) + (part_lines,) for returns, extra, part_lines in body.parts]
     common = dict(summary=summary, args=args, lines=lines, parts=parts, ops=body.ops, unused=unused,
                   trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis),
-                  fma_type=internal if context.fused else "")
+                  fma_type=internal if looped else "")
     if plan.checked:
         status = REGISTRY[plan.parts[0]].status_for(eqs.fd_method if name == "forward_dynamics" else "")
         return CFunction(name=checked_name(name), returns="int",
@@ -213,8 +214,9 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     return CFunction(name=name, **common)
 
 
-#: the header's word on a function whose sums of products are fused (templates/fma.j2)
-FUSED_NOTE = " Its multiply-adds are fused where the target has a fast fma (see the top of this file)."
+#: the header's word on a function with fused multiply-adds (templates/fma.j2): its loops', and
+#: in the two stages of the forward-dynamics derivatives every sum of products
+FUSED_NOTE = " Fused multiply-adds where the target has a fast fma (see the top of this file)."
 
 
 def _tangent_note(tangents) -> str:
@@ -238,13 +240,11 @@ def _arguments(eqs: Equations, plan, real: str) -> list[tuple[str, str, str, boo
                    for part in plan.parts for argument in REGISTRY[part].arguments]
 
 
-def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_arrays=frozenset(), fused=None):
+def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_arrays=frozenset(), fused=False):
     """Stages 2 and 3 of one plan: ``(reduced, context, body, group_of)``; ``given`` maps the
     plan's leaves to their C names; ``given_arrays``: the scratch arrays the body is handed
-    (:attr:`BodyContext.given_arrays`); ``fused``: sums of products by the fused multiply-add
-    macro (None: where the plan has the derivatives' tangent loops or the forward-dynamics
-    derivatives' products, which have no vector batch form: a batch of them stays the scalar
-    function's results bit for bit)."""
+    (:attr:`BodyContext.given_arrays`); ``fused``: every sum of products by the fused
+    multiply-add macro (:attr:`BodyContext.fused`)."""
     reduced = reduce_targets(eqs, plan)
     # precision "mixed": float arguments everywhere, but forward dynamics computed inside in
     # double (for robots whose D is too ill-conditioned for float); "float" is float all the way.
@@ -267,7 +267,7 @@ def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_a
                           local_type=real if internal == scalar else internal, real=real, n=eqs.n,
                           rtol=pivot_rtol(internal),  # checked in the arithmetic the pivots are computed in
                           sizes={"q": eqs.nq} if eqs.nq != eqs.n else {}, given_arrays=frozenset(given_arrays),
-                          fused=bool(plan.tangents or plan.products) if fused is None else fused)
+                          fused=fused)
     return reduced, context, write_body(plan, reduced, context), group_of
 
 
@@ -286,11 +286,15 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     targets, tangents = product_targets(eqs, plan.parts)
     tangent = FunctionPlan(plan.name, plan.parts, tuple(g for g in plan.inputs if g != "tau"), plan.out_name,
                            leaves=frozenset(qdd), targets=targets, tangents=tangents)
+    # both stages fuse their scalar statements too (the loops always do): the panda 1241 -> 1164
+    # ns; in the other functions that loses (a single dtau/dq: iiwa14 391 -> 437 ns, the panda
+    # 481 -> 512: a long sum of products fused is a chain of FMAs, and on this machine's cores an
+    # add has half an FMA's latency, 0.67 against 1.35 ns)
     reduced, context, first, group_of = _body(eqs, solve, precision, prefix, fused=True)
     # the tangents' scratch (kB) lives in the caller's frame and part 2 reads it through a pointer:
     # the Panda 1262 -> 1223 ns (gcc -O3 -march=native), part 2's frame and its addresses smaller
     _, _, second, _ = _body(eqs, tangent, precision, prefix, {s: f"fdd_a[{k}]" for k, s in enumerate(qdd)},
-                            given_arrays={"dv_t"})
+                            given_arrays={"dv_t"}, fused=True)
     if first.parts or second.parts:
         return None
     ltype, real = context.local_type, context.real
