@@ -318,7 +318,7 @@ class BodyWriter:
         if plan.tangents:
             if self.vector:
                 raise VectorUnsupported("the derivatives' tangent loops")
-            self.tangent_lines, tangent_ops, rows = tangent_loops(plan.tangents, self.printer, self.store, fma_macro(ctx.prefix))
+            self.tangent_lines, tangent_ops, rows = tangent_loops(plan.tangents, self.printer, self.store, self._loop_fma())
             self.ops += tangent_ops
             width = tangent_width(plan.tangents.tangents.directions)
             self._declare(([("dv_p", plan.tangents.entries)] if plan.tangents.entries else [])
@@ -349,6 +349,14 @@ class BodyWriter:
             late_symbols = set().union(*(sp.sympify(e).free_symbols for _, e in late))
             _split(self, body, late_symbols, size)
         return body
+
+    def _loop_fma(self) -> str:
+        """The fused multiply-add macro of the loops, or "" for plain sums: fused in the
+        forward-dynamics derivatives (their products, their stages), plain in the
+        inverse-dynamics derivatives' tangent loops, where fusing measured slower: a step's sum
+        fused is a chain of FMAs, and an add has half an FMA's latency on current x86 cores
+        (iiwa14's dtau/dq 391 -> 466 ns, gcc -O3 -march=native; docs/benchmarks.md)."""
+        return fma_macro(self.ctx.prefix) if self.ctx.fused or self.plan.products else ""
 
     def _declare(self, arrays) -> None:
         """Declare the scratch arrays ``[(name, size)]`` in one line (but those the caller hands
@@ -504,7 +512,7 @@ class BodyWriter:
             self.lines += coriolis_loop(out, n, self.ltype, self.store, ctx.prefix, self.vector)
             self.ops += coriolis_ops(n)
         if plan.products:
-            lines, ops = product_loop(plan.products, self.store, ctx.internal, ctx.scalar, fma_macro(ctx.prefix))
+            lines, ops = product_loop(plan.products, self.store, ctx.internal, ctx.scalar, self._loop_fma())
             self.lines += lines
             self.ops += ops
         if plan.looped:

@@ -84,7 +84,7 @@ class CFunction:
     #: a long body's parts, each ``(returns, extra parameters, lines)``: functions of their own,
     #: called in order from ``lines`` (symdyn.emit.cbody.SPLIT_FROM_STATEMENTS)
     parts: list = field(default_factory=list)
-    #: the type ("double", "float") of its fused multiply-adds (a derivatives' function)
+    #: the type ("double", "float") of its fused multiply-adds (the forward-dynamics derivatives)
     #: (symdyn.emit.cbody.fma_macro), or "" when it has none
     fma_type: str = ""
 
@@ -192,8 +192,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = (REGISTRY[name].summary_for(eqs.fd_method) if name in REGISTRY
                else _COMBINED_SUMMARIES[name]).replace("NAME", prefix)
-    looped = bool(plan.tangents or plan.products)  # loops with fused multiply-adds (no vector batch form)
-    summary += _tangent_note(plan.tangents) + (FUSED_NOTE if looped else "")
+    fused = bool(plan.products)  # loops with fused multiply-adds (no vector batch form): cbody's _loop_fma
+    summary += _tangent_note(plan.tangents) + (FUSED_NOTE if fused else "")
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
@@ -206,7 +206,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         parts = [(returns, ", ".join(extra)) + (part_lines,) for returns, extra, part_lines in body.parts]
     common = dict(summary=summary, args=args, lines=lines, parts=parts, ops=body.ops, unused=unused,
                   trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis),
-                  fma_type=internal if looped else "")
+                  fma_type=internal if fused else "")
     if plan.checked:
         status = REGISTRY[plan.parts[0]].status_for(eqs.fd_method if name == "forward_dynamics" else "")
         return CFunction(name=checked_name(name), returns="int",
@@ -214,8 +214,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     return CFunction(name=name, **common)
 
 
-#: the header's word on a function with fused multiply-adds (templates/fma.j2): its loops', and
-#: in the two stages of the forward-dynamics derivatives every sum of products
+#: the header's word on a function with fused multiply-adds (templates/fma.j2): the
+#: forward-dynamics derivatives' loops, and in their two stages every sum of products
 FUSED_NOTE = " Fused multiply-adds where the target has a fast fma (see the top of this file)."
 
 
