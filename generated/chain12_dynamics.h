@@ -147,6 +147,13 @@ typedef double chain12_real;
  * with errors of the same order against a 50-digit reference; results then change by rounding,
  * and batch functions may differ from the scalar ones in the last bits (symdyn's
  * docs/benchmarks.md, "FMA").
+ * The functions whose note says "fused multiply-adds" (the forward-dynamics derivatives, and
+ * any function of 1500 statements or more, whose code fused is shorter) fuse their
+ * multiply-adds (the derivatives' loops; chain12_forward_dynamics_derivatives and the long
+ * functions every sum of products) explicitly, by fma()
+ * wherever the target has a fast one (FP_FAST_FMA or __FP_FAST_FMA defined), whatever the
+ * contraction flag: their results then differ by rounding from those of a target without one
+ * (their batch forms loop over them: the same bits).  Define SYMDYN_NO_FMA for a*b + c there too.
  */
 
 /*
@@ -177,7 +184,7 @@ void chain12_mass_matrix(const chain12_real *q, chain12_real *D);
 void chain12_coriolis(const chain12_real *q, const chain12_real *qd, chain12_real *h);
 
 /*
- * Coriolis matrix C(q, qd), C qd = h.
+ * Coriolis matrix C(q, qd), C qd = h. Fused multiply-adds where the target has a fast fma (see the top of this file).
  *   q: joint positions, N (rad for revolute, m for prismatic joints)
  *   qd: joint velocities, N (rad/s or m/s)
  *   C (out): Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)

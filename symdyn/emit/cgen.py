@@ -192,7 +192,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = (REGISTRY[name].summary_for(eqs.fd_method) if name in REGISTRY
                else _COMBINED_SUMMARIES[name]).replace("NAME", prefix)
-    fused = bool(plan.products)  # loops with fused multiply-adds (no vector batch form): cbody's _loop_fma
+    fused = bool(plan.products) or context.fused  # (no vector batch form: cbody's _loop_fma, _batch_form)
     summary += _tangent_note(plan.tangents) + (FUSED_NOTE if fused else "")
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
@@ -240,11 +240,22 @@ def _arguments(eqs: Equations, plan, real: str) -> list[tuple[str, str, str, boo
                    for part in plan.parts for argument in REGISTRY[part].arguments]
 
 
+#: a body of this many statements or more prints every sum of products with the fused
+#: multiply-add macro (templates/fma.j2), whatever the function: long straight-line code runs at
+#: the speed of its instruction fetch, and fused it is shorter (TALOS reduced, floating, gcc -O3
+#: -march=native: inverse dynamics 1541 statements, 46 -> 32 kB of code, 1278 -> 577 ns; forward
+#: dynamics 4127 -> 3409; the mass matrix 1481 -> 1362).  Shorter bodies stay plain: a fused sum
+#: is a longer dependency chain where an add has half an FMA's latency (the 7-joint arms'
+#: inverse-dynamics derivatives, 300-850 statements, lost up to 19%; docs/benchmarks.md)
+FUSE_FROM_STATEMENTS = 1500
+
+
 def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_arrays=frozenset(), fused=False):
     """Stages 2 and 3 of one plan: ``(reduced, context, body, group_of)``; ``given`` maps the
     plan's leaves to their C names; ``given_arrays``: the scratch arrays the body is handed
     (:attr:`BodyContext.given_arrays`); ``fused``: every sum of products by the fused
-    multiply-add macro (:attr:`BodyContext.fused`)."""
+    multiply-add macro (:attr:`BodyContext.fused`; also for any body of
+    :data:`FUSE_FROM_STATEMENTS` statements or more)."""
     reduced = reduce_targets(eqs, plan)
     # precision "mixed": float arguments everywhere, but forward dynamics computed inside in
     # double (for robots whose D is too ill-conditioned for float); "float" is float all the way.
@@ -267,7 +278,7 @@ def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_a
                           local_type=real if internal == scalar else internal, real=real, n=eqs.n,
                           rtol=pivot_rtol(internal),  # checked in the arithmetic the pivots are computed in
                           sizes={"q": eqs.nq} if eqs.nq != eqs.n else {}, given_arrays=frozenset(given_arrays),
-                          fused=fused)
+                          fused=fused or len(reduced.statements) >= FUSE_FROM_STATEMENTS)
     return reduced, context, write_body(plan, reduced, context), group_of
 
 
@@ -328,7 +339,9 @@ def _batch_form(eqs: Equations, plan, reduced, context: BodyContext, group_of, p
     precision only, when every function called has a vector form) or None for a loop over the
     scalar function, and the arrays' sizes."""
     lanes, vector_functions, lanes_unused = None, set(), []
-    if context.internal == "double" and precision == "double":
+    # (a fused body has no vector form: GCC's vector types have no fused multiply-add, and the
+    # batch must give the scalar function's results bit for bit)
+    if context.internal == "double" and precision == "double" and not context.fused:
         allowed = (sp.sin, sp.cos, sp.sign)
         everything = [rhs for _, rhs in reduced.statements] + [sp.sympify(e) for e in list(reduced.outputs) + reduced.checks]
         if not any(not isinstance(f, allowed) for e in everything for f in e.atoms(sp.Function)):
@@ -499,6 +512,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "trig_float": any(f.trig_type == "float" for f in built),
         "gram_vector": any(f.gram_loop for f in built),
         "fma_type": next((f.fma_type for f in built if f.fma_type), ""),
+        "fuse_from": FUSE_FROM_STATEMENTS,
         "batch": batch,
         "vector": any(f.batch and f.batch["lanes"] is not None for f in built),
         "vector_functions": sorted(set().union(*(f.batch["vector_functions"] for f in built if f.batch))),

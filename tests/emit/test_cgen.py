@@ -393,3 +393,45 @@ def test_fused_sums_are_the_plain_sums_with_the_plain_macro():
             assert value(fused, {**env, "FMA": lambda x, y, z: x * y + z}) == value(plain, env), (plain, fused)
             fused_differs |= value(fused, {**env, "FMA": exact_fma}) != value(plain, env)
     assert fused_differs
+
+
+def test_long_bodies_fused_agree_with_pinocchio(tmp_path, monkeypatch):
+    """Every body at or past symdyn.emit.cgen.FUSE_FROM_STATEMENTS prints its sums with the fused
+    multiply-add macro (here every body of puma560: the limit set to 0): built for FMA hardware
+    (-mfma: fma()) every default function agrees with Pinocchio at 50 states and differs from the
+    plain build (a*b + c) by rounding only, somewhere; their batch forms (loops over the scalar
+    functions: GCC's vector types have no fused multiply-add) give the scalar results bit for bit."""
+    import platform
+    import symdyn
+    from helpers import robot_path
+    from symdyn.emit import cgen
+    try:
+        with open("/proc/cpuinfo") as handle:
+            fma = platform.machine() == "x86_64" and " fma " in handle.read()
+    except OSError:
+        fma = False
+    if not fma:
+        pytest.skip("no FMA hardware (x86-64 with fma) to run the fused build on")
+    monkeypatch.setattr(cgen, "FUSE_FROM_STATEMENTS", 0)
+    robot = symdyn.load(robot_path("puma560"))
+    eqs = symdyn.derive(robot, outputs=OUTPUTS)
+    files = cgen.generate_c(eqs, OUTPUTS, batch=True)
+    fused, plain = tmp_path / "fused", tmp_path / "plain"
+    fused.mkdir()
+    plain.mkdir()
+    fused_lib = build_and_load(files, robot.name, robot.dof, 0, workdir=str(fused), extra_flags=["-mfma"])
+    plain_lib = build_and_load(files, robot.name, robot.dof, 0, workdir=str(plain))
+    _compare(fused_lib, "puma560", "double", 1e-10)
+    states = random_states(robot.dof, 5, seed=8)
+    differs = False
+    for q, qd, qdd, tau in states:
+        a, b = fused_lib.inverse_dynamics(q, qd, qdd), plain_lib.inverse_dynamics(q, qd, qdd)
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
+        differs |= not np.array_equal(a, b) or not np.array_equal(fused_lib.mass_matrix(q), plain_lib.mass_matrix(q))
+    assert differs  # the fused build does fuse
+    import ctypes
+    q = np.ascontiguousarray([state[0] for state in states], dtype=np.float64)
+    batch = np.zeros((len(q), robot.dof * robot.dof))
+    pointer = ctypes.POINTER(ctypes.c_double)
+    fused_lib.lib.puma560_mass_matrix_batch(ctypes.c_int(len(q)), q.ctypes.data_as(pointer), batch.ctypes.data_as(pointer))
+    assert np.array_equal(batch, np.array([fused_lib.mass_matrix(x).ravel() for x in q]))
