@@ -153,7 +153,7 @@ typedef double chain12_real;
  * functions every sum of products) explicitly, by fma()
  * wherever the target has a fast one (FP_FAST_FMA or __FP_FAST_FMA defined), whatever the
  * contraction flag: their results then differ by rounding from those of a target without one
- * (their batch forms loop over them: the same bits).  Define SYMDYN_NO_FMA for a*b + c there too.
+ * (their batch forms loop over them: the same bits).  Define SYMDYN_NO_FMA for c + a*b there too.
  */
 
 /*

@@ -143,7 +143,7 @@ def looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name
 
 def fma_macro(prefix: str) -> str:
     """The name of the fused multiply-add macro of a generated file (``templates/fma.j2``):
-    ``fma`` where the target has a fast one (``FP_FAST_FMA``), else ``a*b + c``."""
+    ``fma`` where the target has a fast one (``FP_FAST_FMA``), else ``c + a*b`` (and ``PREFIX_FMA_NEG``: ``c - a*b``)."""
     return f"{prefix.upper()}_FMA"
 
 

@@ -362,9 +362,9 @@ def test_clang_weverything(tmp_path, monkeypatch):
 
 def test_fused_sums_are_the_plain_sums_with_the_plain_macro():
     """CPrinter with a fused multiply-add macro: sums of products (signs, numbers, divisions,
-    parenthesized sums, powers) evaluated with the macro as a*b + c (Python floats: IEEE double,
-    C's order) give the plain printer's value bit for bit, and differ from it with the macro as
-    a correctly rounded fused a*b + c somewhere."""
+    parenthesized sums, powers) evaluated with the macros as c + a*b and c - a*b (Python floats:
+    IEEE double, C's order) give the plain printer's value bit for bit, and differ from it with
+    the macros as correctly rounded fused a*b + c, -a*b + c somewhere."""
     import math
     from fractions import Fraction
 
@@ -387,11 +387,13 @@ def test_fused_sums_are_the_plain_sums_with_the_plain_macro():
     fused_differs = False
     for expr in expressions:
         plain, fused = plain_printer.doprint(expr), fused_printer.doprint(expr)
-        assert "FMA(" in fused
+        assert "FMA" in fused
         for _ in range(200):
             env = {s.name: float(rng.uniform(-3, 3)) for s in symbols}
-            assert value(fused, {**env, "FMA": lambda x, y, z: x * y + z}) == value(plain, env), (plain, fused)
-            fused_differs |= value(fused, {**env, "FMA": exact_fma}) != value(plain, env)
+            plain_macros = {"FMA": lambda x, y, z: z + x * y, "FMA_NEG": lambda x, y, z: z - x * y}
+            assert value(fused, {**env, **plain_macros}) == value(plain, env), (plain, fused)
+            fused_macros = {"FMA": exact_fma, "FMA_NEG": lambda x, y, z: exact_fma(-x, y, z)}
+            fused_differs |= value(fused, {**env, **fused_macros}) != value(plain, env)
     assert fused_differs
 
 
