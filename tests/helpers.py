@@ -78,6 +78,16 @@ ARM_GCC = _shutil.which("arm-none-eabi-gcc")
 ARM_NM = _shutil.which("arm-none-eabi-nm")
 
 
+def fma_hardware() -> bool:
+    """This machine runs x86-64 FMA instructions (what a build with -mfma needs)."""
+    import platform
+    try:
+        with open("/proc/cpuinfo") as handle:
+            return platform.machine() in ("x86_64", "AMD64") and " fma " in handle.read()
+    except OSError:
+        return False
+
+
 def has_newlib() -> bool:
     """arm-none-eabi-gcc with a C library's headers (Debian: libnewlib-arm-none-eabi)."""
     if ARM_GCC is None:

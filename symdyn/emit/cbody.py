@@ -45,7 +45,8 @@ class BodyContext:
     #: declaring them: a stage of a staged function (symdyn.emit.cgen)
     given_arrays: frozenset = frozenset()
     #: every sum of products printed with the fused multiply-add macro (:func:`fma_macro`), not
-    #: only the loops': the stages of the forward-dynamics derivatives (symdyn.emit.cgen)
+    #: only the loops': the stages of the forward-dynamics derivatives and the long bodies
+    #: (symdyn.emit.cgen.FUSE_FROM_STATEMENTS)
     fused: bool = False
 
     def size(self, group: str) -> int:
@@ -67,6 +68,8 @@ class Body:
     parts: list = field(default_factory=list)
     #: ``(name, entries)`` of each scratch array of :attr:`BodyContext.given_arrays` it uses
     given: list = field(default_factory=list)
+    #: whether it calls the fused multiply-add macros (templates/fma.j2 must define them)
+    fma: bool = False
 
 
 @functools.lru_cache(maxsize=1)
@@ -143,7 +146,8 @@ def looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name
 
 def fma_macro(prefix: str) -> str:
     """The name of the fused multiply-add macro of a generated file (``templates/fma.j2``):
-    ``fma`` where the target has a fast one (``FP_FAST_FMA``), else ``c + a*b`` (and ``PREFIX_FMA_NEG``: ``c - a*b``)."""
+    ``fma`` where the target has a fast one (``FP_FAST_FMA``), else ``c + a*b``; its twin
+    ``PREFIX_FMA_NEG`` is ``c - a*b``."""
     return f"{prefix.upper()}_FMA"
 
 
@@ -342,7 +346,8 @@ class BodyWriter:
                 self._count(expr)
         self._loops()
         self.lines.extend(f"{target} = {source};" for target, source in plan.aliases)
-        body = Body(self.lines, self.ops, self.used, self.printer.vector_functions, given=self.given)
+        body = Body(self.lines, self.ops, self.used, self.printer.vector_functions, given=self.given,
+                    fma=bool(self._loop_fma()) and not self.vector)
         forward = plan.name == "forward_dynamics"
         limit, size = (FD_SPLIT_FROM_STATEMENTS, FD_PART_STATEMENTS) if forward else (SPLIT_FROM_STATEMENTS, PART_STATEMENTS)
         if not self.vector and len(self.reduced.statements) > limit:
@@ -352,7 +357,8 @@ class BodyWriter:
 
     def _loop_fma(self) -> str:
         """The fused multiply-add macro of the loops, or "" for plain sums: fused in the
-        forward-dynamics derivatives (their products, their stages), plain in the
+        forward-dynamics derivatives (their products, their stages) and in the fused bodies
+        (:attr:`BodyContext.fused`, whose printer uses the same macro), plain in the
         inverse-dynamics derivatives' tangent loops, where fusing measured slower: a step's sum
         fused is a chain of FMAs, and an add has half an FMA's latency on current x86 cores
         (iiwa14's dtau/dq 391 -> 466 ns, gcc -O3 -march=native; docs/benchmarks.md)."""

@@ -18,8 +18,8 @@ import sympy as sp
 from .._version import __version__
 from ..model.errors import warn
 from .cbody import ARGUMENTS, BodyContext, fma_macro, product_loop, write_body
-from .cplan import (FunctionPlan, Target, collect_targets, dimensions, minv_targets, product_stride, product_targets,
-                    reduce_targets, tangent_width)
+from .cplan import (FunctionPlan, Target, collect_targets, dimensions, minv_targets, product_targets, reduce_targets,
+                    tangent_width)
 from .cprinter import VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
 from ..derive.equations import Equations
@@ -84,8 +84,8 @@ class CFunction:
     #: a long body's parts, each ``(returns, extra parameters, lines)``: functions of their own,
     #: called in order from ``lines`` (symdyn.emit.cbody.SPLIT_FROM_STATEMENTS)
     parts: list = field(default_factory=list)
-    #: the type ("double", "float") of its fused multiply-adds (the forward-dynamics derivatives)
-    #: (symdyn.emit.cbody.fma_macro), or "" when it has none
+    #: the type ("double", "float") of its fused multiply-adds (symdyn.emit.cbody.fma_macro), or
+    #: "" when it has none
     fma_type: str = ""
 
     @property
@@ -192,8 +192,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = (REGISTRY[name].summary_for(eqs.fd_method) if name in REGISTRY
                else _COMBINED_SUMMARIES[name]).replace("NAME", prefix)
-    fused = bool(plan.products) or context.fused  # (no vector batch form: cbody's _loop_fma, _batch_form)
-    summary += _tangent_note(plan.tangents) + (FUSED_NOTE if fused else "")
+    summary += _tangent_note(plan.tangents) + (FUSED_NOTE if body.fma else "")
     if internal != scalar:
         summary += (" Computed internally in double precision (precision 'mixed': float inputs and outputs), "
                     "for robots whose D is too ill-conditioned for float arithmetic.")
@@ -206,7 +205,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
         parts = [(returns, ", ".join(extra)) + (part_lines,) for returns, extra, part_lines in body.parts]
     common = dict(summary=summary, args=args, lines=lines, parts=parts, ops=body.ops, unused=unused,
                   trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis),
-                  fma_type=internal if fused else "")
+                  fma_type=internal if body.fma else "")
     if plan.checked:
         status = REGISTRY[plan.parts[0]].status_for(eqs.fd_method if name == "forward_dynamics" else "")
         return CFunction(name=checked_name(name), returns="int",
@@ -215,7 +214,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
 
 
 #: the header's word on a function with fused multiply-adds (templates/fma.j2): the
-#: forward-dynamics derivatives' loops, and in their two stages every sum of products
+#: forward-dynamics derivatives' loops, and every sum of products in their two stages and in
+#: the bodies of FUSE_FROM_STATEMENTS statements or more
 FUSED_NOTE = " Fused multiply-adds where the target has a fast fma (see the top of this file)."
 
 
@@ -289,7 +289,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     (``fdd_q``, ``fdd_v``), then ``-Minv dtau/dx``.  Each part's register allocation is its own:
     puma560's forward_dynamics_derivatives 1035 -> about 800 ns, the panda's 2900 -> 2500 (gcc -O3
     -march=native), against one body.  None when a stage is long enough to be split itself."""
-    n, blocks, minv, _ = plan.products
+    n, blocks, minv, stride = plan.products
     qdd = eqs.inverse_products[3]
     solve = FunctionPlan(plan.name, plan.parts, plan.inputs, plan.out_name, checked=True,
                          pivots=plan.pivots, pivot_codes=plan.pivot_codes)
@@ -312,11 +312,10 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     args = _arguments(eqs, plan, real)
     names = ", ".join(a for _, a, _, _ in args)
     own = f"{prefix}_{plan.name}"
-    stride = product_stride(eqs)
     arrays = ([("fdd_m", n * n), ("fdd_a", n)] + [(array, n * stride) for array, _ in blocks]
               + [("fdd_r", len(blocks) * n * stride)] + second.given)
     store = f"({real})" if context.internal != context.scalar else ""
-    loop, loop_ops = product_loop((n, blocks, minv, stride), store, context.internal, context.scalar, fma_macro(prefix))
+    loop, loop_ops = product_loop(plan.products, store, context.internal, context.scalar, fma_macro(prefix))
     lines = ([f"{ltype} " + ", ".join(f"{a}[{size}]" for a, size in arrays) + ";",
               f"const int status = {own}_part1({names}, fdd_m, fdd_a);",
               "if (status != 0) {", "    return status;", "}",

@@ -119,11 +119,11 @@ class TangentPlan:
         return len({index for index, _ in self.coefficients.values()})
 
 
-def tangent_plan(eqs: Equations, parts, destinations, padded: bool = False) -> tuple[list[Target], TangentPlan] | None:
+def tangent_plan(eqs: Equations, parts, destinations, stride: int | None = None) -> tuple[list[Target], TangentPlan] | None:
     """The targets (``dv_p``: every coefficient the loops read that is not a number, each once,
     a negative one stored as its opposite) and the :class:`TangentPlan` of the derivative
-    outputs ``parts`` (with ``destinations[k]`` for ``parts[k]``; ``padded``: scratch arrays
-    of rows of the tangent width), when every one of them has vector tangents in the same
+    outputs ``parts`` (with ``destinations[k]`` for ``parts[k]``, rows of ``stride`` entries:
+    n, the outputs' own, by default), when every one of them has vector tangents in the same
     :attr:`Equations.tangent_loops` entry; else None."""
     found = [eqs.tangents_for(part) for part in parts]
     if not found or any(f is None for f in found) or len({id(f[0]) for f in found}) != 1:
@@ -141,8 +141,7 @@ def tangent_plan(eqs: Equations, parts, destinations, padded: bool = False) -> t
             stored[core] = len(stored)
             targets.append(Target(f"dv_p[{stored[core]}]", core, True))
         coefficients[value] = (stored[core], sign)
-    stride = tangent_width(tangents.directions) if padded else eqs.n
-    return targets, TangentPlan(tangents, groups, tuple(destinations), coefficients, (stride,) * len(groups))
+    return targets, TangentPlan(tangents, groups, tuple(destinations), coefficients, (stride or eqs.n,) * len(groups))
 
 
 @dataclass
@@ -237,7 +236,7 @@ def product_targets(eqs: Equations, parts) -> tuple[list[Target], TangentPlan | 
     ``parts`` (:attr:`Equations.inverse_products`), stored as soon as computed; or, where they
     have vector tangents, the coefficients those read and their :class:`TangentPlan`."""
     wanted = [part for part in FORWARD_DERIVATIVES if part in parts]
-    looped = tangent_plan(eqs, wanted, [PRODUCT_ARRAYS[part] for part in wanted], padded=True)
+    looped = tangent_plan(eqs, wanted, [PRODUCT_ARRAYS[part] for part in wanted], product_stride(eqs))
     if looped is not None:
         return looped
     return _written_products(eqs, parts), None

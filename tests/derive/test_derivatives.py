@@ -7,14 +7,12 @@ cannot agree by construction)."""
 
 from __future__ import annotations
 
-import platform
-
 import numpy as np
 import pytest
 import sympy as sp
 
 import symdyn
-from helpers import REPO, ROBOTS, TOL, parameter_values, random_states, robot_path
+from helpers import REPO, ROBOTS, TOL, fma_hardware, parameter_values, random_states, robot_path
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare
 from symdyn.emit.cgen import generate_c
@@ -206,21 +204,13 @@ def test_tangent_loops_in_c_agree_with_pinocchio(name, budget, tmp_path, monkeyp
         _check_fused_multiply_adds(files, robot, lib, states[:5], functions, tmp_path)
 
 
-def _fma_hardware() -> bool:
-    try:
-        with open("/proc/cpuinfo") as handle:
-            return platform.machine() in ("x86_64", "AMD64") and " fma " in handle.read()
-    except OSError:
-        return False
-
-
 def _check_fused_multiply_adds(files, robot, lib, states, functions, tmp_path):
     """The forward-dynamics derivatives' PREFIX_FMA: built for FMA hardware (-mfma: fma()), every
     function agrees with Pinocchio, the inverse-dynamics derivatives (plain sums) are the plain
     build's (-O2 without -mfma: a*b + c) bit for bit and the forward-dynamics derivatives differ
     from it by rounding only, somewhere.  (With the macro as a*b + c the sums are the plain ones:
     tests/emit/test_cgen.py.)"""
-    if not _fma_hardware():
+    if not fma_hardware():
         pytest.skip("no FMA hardware (x86-64 with fma) to run the fused build on")
     fused = build_and_load(files, robot.name, robot.dof, 0, workdir=str(_fresh(tmp_path / "fma")),
                            extra_flags=["-mfma", "-fno-tree-slp-vectorize"])

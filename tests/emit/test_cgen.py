@@ -403,16 +403,10 @@ def test_long_bodies_fused_agree_with_pinocchio(tmp_path, monkeypatch):
     (-mfma: fma()) every default function agrees with Pinocchio at 50 states and differs from the
     plain build (a*b + c) by rounding only, somewhere; their batch forms (loops over the scalar
     functions: GCC's vector types have no fused multiply-add) give the scalar results bit for bit."""
-    import platform
     import symdyn
-    from helpers import robot_path
+    from helpers import fma_hardware, robot_path
     from symdyn.emit import cgen
-    try:
-        with open("/proc/cpuinfo") as handle:
-            fma = platform.machine() == "x86_64" and " fma " in handle.read()
-    except OSError:
-        fma = False
-    if not fma:
+    if not fma_hardware():
         pytest.skip("no FMA hardware (x86-64 with fma) to run the fused build on")
     monkeypatch.setattr(cgen, "FUSE_FROM_STATEMENTS", 0)
     robot = symdyn.load(robot_path("puma560"))
