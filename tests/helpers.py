@@ -17,6 +17,19 @@ def robot_path(name: str) -> str:
     return str(path if path.exists() else REPO / "tests" / "data" / f"{name}.yaml")
 
 
+def example_robot_data(relative: str) -> str:
+    """The path of ``relative`` in the example-robot-data wheel (a test extra)."""
+    import os
+    import sysconfig
+
+    import pytest
+    path = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share", "example-robot-data", "robots",
+                        relative)
+    if not os.path.exists(path):
+        pytest.fail("the example-robot-data wheel is missing: pip install -e '.[test]'")
+    return path
+
+
 def parameter_values(robot, seed: int = 7) -> dict:
     """Seeded positive values for every runtime parameter and free symbol (g = 9.81)."""
     rng = np.random.default_rng(seed)

@@ -270,6 +270,30 @@ TASK_SINGULAR = 3
 STATUS_COMMENTS = {1: "singular mass matrix at q", TASK_SINGULAR: "singular task at q (J M^-1 J^T)"}
 
 
+#: a function whose results hold more distinct values than this (twice the 16 vector registers of
+#: x86-64) writes each result as soon as it is computed (:attr:`BodyWriter.early_outputs`):
+#: written at the end, every one stays live through the whole body and is spilled.  TALOS's
+#: mass matrix (about 680 values in 1444 entries): 1373 -> 1061 ns at gcc -O3 -march=native,
+#: 1684 -> 1438 ns at -O2; puma560's Coriolis matrix (36): 263 -> 231 ns; with 7 to 28 values
+#: (the arms' inverse dynamics and mass matrices) the changes were within code placement's
+#: +-10% (docs/benchmarks.md, "Results written as soon as computed")
+EARLY_OUTPUTS_FROM = 32
+
+
+def writes_results_early(plan: FunctionPlan, reduced: ReducedPlan) -> bool:
+    """Whether each result entry (and its mirror in a symmetric output) is written as soon as the
+    statements it reads are computed, rather than all at the end: when more than
+    :data:`EARLY_OUTPUTS_FROM` distinct result values would otherwise stay live to the end, in
+    every function but those that check their results before writing them (forward dynamics,
+    task space, the inverse mass matrix) or write them from scratch arrays (the looped solve,
+    the products of the forward-dynamics derivatives)."""
+    if plan.checked or plan.looped or plan.products:
+        return False
+    values = {expr for target, expr in zip(plan.targets, reduced.outputs)
+              if not target.local and sp.sympify(expr).free_symbols}
+    return len(values) > EARLY_OUTPUTS_FROM
+
+
 class BodyWriter:
     """Lays out one reduced function as C lines (:meth:`write`)."""
 
@@ -301,6 +325,8 @@ class BodyWriter:
         plan, ctx = self.plan, self.ctx
         if plan.checked and not self.vector:
             self._input_checks()
+        self._placed_writes()
+        self.lines += self.numbers
         self._trig_block()
         checks = self._pivot_checks()
         self.arrays: list[tuple[str, int]] = [("trig_sin", len(ctx.angles)), ("trig_cos", len(ctx.angles))] \
@@ -345,7 +371,8 @@ class BodyWriter:
                                   else f"{target.lvalue} = {text};")
                 self._count(expr)
         self._loops()
-        self.lines.extend(f"{target} = {source};" for target, source in plan.aliases)
+        if not self.early_outputs:
+            self.lines.extend(f"{target} = {source};" for target, source in plan.aliases)
         body = Body(self.lines, self.ops, self.used, self.printer.vector_functions, given=self.given,
                     fma=bool(self._loop_fma()) and not self.vector)
         forward = plan.name == "forward_dynamics"
@@ -354,6 +381,11 @@ class BodyWriter:
             late_symbols = set().union(*(sp.sympify(e).free_symbols for _, e in late))
             _split(self, body, late_symbols, size)
         return body
+
+    @functools.cached_property
+    def early_outputs(self) -> bool:
+        """:func:`writes_results_early` of this function."""
+        return writes_results_early(self.plan, self.reduced)
 
     def _loop_fma(self) -> str:
         """The fused multiply-add macro of the loops, or "" for plain sums: fused in the
@@ -447,21 +479,42 @@ class BodyWriter:
                            f"    return {code}; /* {STATUS_COMMENTS[code]} */",
                            "}"]
 
-    def _statements(self, checks) -> list:
-        """The statements, each pivot check and each scratch-array entry right after the last
-        statement it reads (so that no value stays live until the end of the function);
-        returns the results written at the end, ``(target, expression)``."""
-        early: dict[int, list[str]] = {}
+    def _placed_writes(self) -> None:
+        """Where each target is written: a scratch-array entry, and (:attr:`early_outputs`) an
+        output entry with its mirror, right after the last statement it reads (so that no value
+        stays live until the end of the function), an output that is a number first of all,
+        before the sin/cos block (TALOS's mass matrix, 760 such entries: 955 -> 838 ns, gcc -O3
+        -march=native); the others are the results written at the end (:attr:`late`)."""
+        self.early: dict[int, list[str]] = {}  # lines after statement k (-1: before the statements)
         self.early_symbols: dict[int, set] = {}
-        late = []
+        self.numbers: list[str] = []  # output entries that are numbers
+        self.late = []
+        mirrors: dict[str, list[str]] = {}
+        for alias, source in self.plan.aliases:
+            mirrors.setdefault(source, []).append(alias)
         for target, expr in zip(self.plan.targets, self.reduced.outputs):
-            if not target.local:
-                late.append((target, expr))
+            if not target.local and not self.early_outputs:
+                self.late.append((target, expr))
                 continue
-            at = _position_of(expr, self.position)
-            early.setdefault(at, []).append(f"{target.lvalue} = {self.show(expr)};")
-            self.early_symbols.setdefault(at, set()).update(sp.sympify(expr).free_symbols)
+            text = self.show(expr)
             self._count(expr)
+            if target.local:
+                lines = [f"{target.lvalue} = {text};"]
+            else:
+                value = f"{self.store}({text})" if self.store else text
+                lines = [f"{lvalue} = {value};" for lvalue in [target.lvalue] + mirrors.get(target.lvalue, [])]
+                if not sp.sympify(expr).free_symbols:
+                    self.numbers += lines
+                    continue
+            at = _position_of(expr, self.position)
+            self.early.setdefault(at, []).extend(lines)
+            self.early_symbols.setdefault(at, set()).update(sp.sympify(expr).free_symbols)
+
+    def _statements(self, checks) -> list:
+        """The statements, each pivot check and each early write (:meth:`_placed_writes`) right
+        after the last statement it reads; returns the results written at the end, ``(target,
+        expression)``."""
+        early, late = self.early, self.late
         self._emit_checks(checks, -1)
         self.lines.extend(early.get(-1, ()))
         names = self.ctx.names

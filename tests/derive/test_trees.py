@@ -3,7 +3,6 @@ function against Pinocchio, the mass matrix's sparsity, and what is refused for 
 
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
@@ -14,7 +13,7 @@ import numpy as np
 import pytest
 
 import symdyn
-from helpers import REPO, TOL, random_states
+from helpers import REPO, TOL, example_robot_data, random_states  # noqa: F401 (example_robot_data: test_frames)
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare
 from symdyn.check.reference import MpReference
@@ -25,14 +24,6 @@ from symdyn.model.outputs import TREE_OUTPUTS
 
 HAND_TREE = str(REPO / "examples" / "trees" / "torso_two_arms.yaml")
 
-
-def example_robot_data(relative: str) -> str:
-    import sysconfig
-    path = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share", "example-robot-data", "robots",
-                        relative)
-    if not os.path.exists(path):
-        pytest.fail("the example-robot-data wheel is missing: pip install -e '.[test]'")
-    return path
 
 
 @pytest.fixture(scope="module")
