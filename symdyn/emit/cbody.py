@@ -274,9 +274,11 @@ STATUS_COMMENTS = {1: "singular mass matrix at q", TASK_SINGULAR: "singular task
 #: x86-64) writes each result as soon as it is computed (:attr:`BodyWriter.early_outputs`):
 #: written at the end, every one stays live through the whole body and is spilled.  TALOS's
 #: mass matrix (about 680 values in 1444 entries): 1373 -> 1061 ns at gcc -O3 -march=native,
-#: 1684 -> 1438 ns at -O2; puma560's Coriolis matrix (36): 263 -> 231 ns; with 7 to 28 values
-#: (the arms' inverse dynamics and mass matrices) the changes were within code placement's
-#: +-10% (docs/benchmarks.md, "Results written as soon as computed")
+#: 1684 -> 1438 ns at -O2.  The 6- and 7-joint arms' functions past the limit (their Coriolis
+#: matrices and Jacobians) moved by -4% to +4% in an A/B in one binary, as much as identical
+#: functions moved by code placement; with 7 to 28 values (the arms' inverse dynamics and mass
+#: matrices) writing early was as often slower as faster (docs/benchmarks.md, "Results written
+#: as soon as computed")
 EARLY_OUTPUTS_FROM = 32
 
 

@@ -42,7 +42,8 @@ CORIOLIS_ARRAYS = ("cor_s", "cor_ds", "cor_f", "cor_g", "cor_e")
 class Target:
     """One value a function stores: ``lvalue`` (C) gets ``expr``.  ``local``: an entry of a
     scratch array of the body (the mass matrix's factors, forward dynamics' system), stored as
-    soon as its operands are computed; otherwise a result written at the end."""
+    soon as its operands are computed; otherwise a result, written at the end or, in a function
+    with many results, as soon as computed (:func:`symdyn.emit.cbody.writes_results_early`)."""
 
     lvalue: str
     expr: sp.Expr

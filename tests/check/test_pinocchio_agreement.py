@@ -23,8 +23,11 @@ PARTIAL = {("chain12", "lagrange-euler"): ("mass_matrix", "gravity")}
 
 
 #: (robot, method) pairs run with -m slow only: the other methods on the 7- and 12-joint robots
-#: (3-9 s each; the same methods run on every smaller arm, and the default method on these)
-SLOW = {(name, method) for name in ("chain12", "iiwa14", "panda")
+#: and on three of the 6-joint arms (3-9 s each); by default they run on puma560 (revolute, the
+#: textbook arm), scara and planar2r (prismatic and planar), Lagrange-Euler equals Newton-Euler
+#: exactly on 3-joint chains and numerically on panda and iiwa14 (tests/derive/test_symbolic.py),
+#: and the default method runs on every robot
+SLOW = {(name, method) for name in ("chain12", "iiwa14", "panda", "ur5", "pendulum_leg", "stanford")
         for method in ("lagrange-euler", "jacobian-newton-euler")}
 
 

@@ -15,7 +15,8 @@ from symdyn.cli import main
 GENERAL = str(REPO / "tests" / "data" / "general_arm.yaml")
 
 
-@pytest.mark.parametrize("name", ROBOTS + ["general_arm"])
+@pytest.mark.parametrize("name", [pytest.param(name, marks=[pytest.mark.slow] if name == "chain12" else [])
+                                  for name in ROBOTS + ["general_arm"]])  # chain12 with -m slow: 12 and 24 joints in test_scaling_paths
 def test_aba_agrees_with_pinocchio_and_ldlt(name, derived):
     """qdd by ABA against Pinocchio's aba (friction and armature included) at 30 states, and
     against symdyn's LDL^T solve of the same robot."""

@@ -27,7 +27,13 @@ INVERSE = ("mass_matrix_inverse", "forward_dynamics_dq", "forward_dynamics_dqd")
 COMPARED = tuple(name for name in DERIVATIVES if name != "gravity_derivative")
 
 
-@pytest.mark.parametrize("name", ROBOTS)
+#: the 12- and 7-joint chains' derivatives in numpy (21 s and 10 s): with -m slow; the C
+#: derivatives of the 7-joint iiwa14 and of puma560 are checked below, these on every other arm
+SLOW_DERIVATIVES = ("chain12", "panda")
+
+
+@pytest.mark.parametrize("name", [pytest.param(name, marks=[pytest.mark.slow] if name in SLOW_DERIVATIVES else [])
+                                  for name in ROBOTS])
 def test_derivatives_agree_with_pinocchio(name):
     """Every bundled robot (chain12: 12 joints; the symbolic ones with their nominal values), at
     50 states: dtau/dq and dtau/dqd (viscous damping on its diagonal), dc/dq, M^-1 and dqdd/dq,
@@ -170,13 +176,13 @@ def test_ilqr_example_converges(tmp_path):
     assert "converged" in ran.stdout.splitlines()[-1] and costs[-1] < 1e-4 * costs[0], ran.stdout
 
 
-@pytest.mark.parametrize("name, budget", [("iiwa14", None), ("puma560", 0)])
+@pytest.mark.parametrize("name, budget", [pytest.param("iiwa14", None, marks=pytest.mark.slow), ("puma560", 0)])
 def test_tangent_loops_in_c_agree_with_pinocchio(name, budget, tmp_path, monkeypatch):
     """The derivatives written as vector tangents (one loop per statement, the C form of robots
-    past symdyn.derive.equations.TANGENT_LOOPS_FROM_OPS): iiwa14 on its own, puma560 (Coulomb
-    friction, viscous damping on dtau/dqd's diagonal) with the budget at 0; the compiled single
-    and combined functions against Pinocchio at 20 states (the same outputs in numpy: 50 states
-    above), and each other."""
+    past symdyn.derive.equations.TANGENT_LOOPS_FROM_OPS): iiwa14 on its own (-m slow: 19 s),
+    puma560 (Coulomb friction, viscous damping on dtau/dqd's diagonal) with the budget at 0; the
+    compiled single and combined functions against Pinocchio at 20 states (the same outputs in
+    numpy: 50 states above), and each other; the fused multiply-adds' builds."""
     from symdyn.derive import equations
     if budget is not None:
         monkeypatch.setattr(equations, "TANGENT_LOOPS_FROM_OPS", budget)
@@ -200,8 +206,7 @@ def test_tangent_loops_in_c_agree_with_pinocchio(name, budget, tmp_path, monkeyp
         assert status == 0
         for value, single in zip(together, (lib.forward_dynamics_dq(q, qd, tau), lib.forward_dynamics_dqd(q, qd, tau))):
             np.testing.assert_allclose(value, single, rtol=0, atol=1e-10 * max(1.0, np.max(np.abs(single))))
-    if budget is None:
-        _check_fused_multiply_adds(files, robot, lib, states[:5], functions, tmp_path)
+    _check_fused_multiply_adds(files, robot, lib, states[:5], functions, tmp_path)
 
 
 def _check_fused_multiply_adds(files, robot, lib, states, functions, tmp_path):

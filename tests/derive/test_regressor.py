@@ -38,7 +38,8 @@ def _pi(robot, values):
     return np.array([float(sp.sympify(v).xreplace(values)) for v in standard_parameters(robot)])
 
 
-@pytest.mark.parametrize("name", ROBOTS)
+@pytest.mark.parametrize("name", [pytest.param(name, marks=[pytest.mark.slow] if name == "chain12" else [])
+                                  for name in ROBOTS])  # chain12: 6 s, with -m slow
 def test_regressor_times_parameters_is_inverse_dynamics(name):
     """Y pi = tau <= 1e-12 (relative to the largest torque) and Y_b beta = tau, at 8 states,
     friction and armature included; the base regressor has full column rank equal to the rank of

@@ -58,8 +58,8 @@ def regular_states(robot, ref, count, seed=3):
     raise AssertionError(f"{robot.name}: fewer than {count} regular states")
 
 
-@pytest.mark.parametrize("name", [pytest.param(name, marks=[pytest.mark.slow] if name == "chain12" else [])
-                                  for name in sorted(ARMS)])  # chain12: 13 s, with -m slow
+@pytest.mark.parametrize("name", [pytest.param(name, marks=[pytest.mark.slow] if name in ("chain12", "panda") else [])
+                                  for name in sorted(ARMS)])  # chain12: 13 s, panda 6 s (iiwa14, 7 joints too, runs), with -m slow
 def test_task_space_matches_pinocchio(name, tmp_path_factory):
     """Lambda^-1 = J M^-1 J^T with computeMinverse and getFrameJacobian(LOCAL_WORLD_ALIGNED); mu
     and Gx from nonLinearEffects, computeGeneralizedGravity, getFrameClassicalAcceleration;

@@ -73,8 +73,8 @@ def test_compiled_double_agrees_with_pinocchio(name, tmp_path):
     _compare(lib, name, "double", 1e-10)
 
 
-@pytest.mark.parametrize("name", [pytest.param(name, marks=[pytest.mark.slow] if name == "chain12" else [])
-                                  for name in ROBOTS])  # chain12's float: 8 s, with -m slow (its double runs)
+@pytest.mark.parametrize("name", [pytest.param(name, marks=[pytest.mark.slow] if name in ("chain12", "panda", "iiwa14") else [])
+                                  for name in ROBOTS])  # chain12's float: 8 s, the 7-joint arms' 4-5 s, with -m slow (their double runs)
 def test_compiled_float_agrees_with_pinocchio(name, tmp_path):
     import symdyn
     from helpers import robot_path

@@ -77,7 +77,7 @@ def test_serial_functions_in_registry_order():
 def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch):
     """A generic chain of AUTO_FD_FROM_DOF (10) joints in double without --fd-method: both forms
     are derived and the one with fewer operations emitted (here the articulated-body algorithm),
-    the header says so, the same run twice gives the same bytes, and the C agrees with
+    the header says so, and the C agrees with
     Pinocchio's aba; --fd-method ldlt is obeyed as asked."""
     import sys
     import numpy as np
@@ -92,8 +92,7 @@ def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch
     path = tmp_path / f"generic{n}.yaml"
     path.write_text(generic_chain(n))
     options = GenerateOptions(functions="forward_dynamics")
-    first = generate(configure(path, options))
-    assert generate(configure(path, options)) == first  # deterministic
+    first = generate(configure(path, options))  # deterministic: generated/chain12 (the same choice), test_cgen
     header = first[f"generic{n}_dynamics.h"].decode()
     import re
     counts = re.search(r"chosen by operation count: (\d+) \(articulated-body\) against (\d+) \(LDL\^T\)", header)

@@ -55,7 +55,8 @@ def derived_urdf(case, exact_angles=False):
     return _DERIVED[key]
 
 
-@pytest.mark.parametrize("case", URDFS, ids=[c[0] for c in URDFS])
+@pytest.mark.parametrize("case", [pytest.param(c, marks=[pytest.mark.slow] if c[0] == "kinova" else []) for c in URDFS],
+                         ids=[c[0] for c in URDFS])  # kinova (7 s), a 6-joint arm like ur5, with -m slow
 def test_urdf_agrees_with_pinocchio_urdf_parser(case):
     """Every function (dynamics and tool kinematics) at 50 states, double, against the model
     Pinocchio builds from the same file (joints off the chain locked at neutral, continuous
