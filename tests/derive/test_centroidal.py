@@ -10,14 +10,14 @@ import numpy as np
 import pytest
 
 import symdyn
-from helpers import REPO, TOL, robot_path
+from helpers import REPO, TOL, example_robot_data, robot_path
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare
 from symdyn.check.states import random_state
 from symdyn.emit.cgen import generate_c
 from symdyn.model.errors import SymdynError
 from symdyn.model.outputs import CENTROIDAL_OUTPUTS
-from test_trees import HAND_TREE, SOLO, example_robot_data
+from test_trees import HAND_TREE, SOLO
 
 STATES = 50
 

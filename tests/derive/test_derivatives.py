@@ -61,7 +61,8 @@ def test_derivatives_agree_with_pinocchio(name):
 
 def test_derivatives_of_a_urdf_arm_and_a_tree():
     """A URDF arm against Pinocchio's own reading of the file, and the hand-written tree."""
-    from test_trees import _snapped, example_robot_data
+    from helpers import example_robot_data
+    from test_trees import _snapped
     path = example_robot_data("ur_description/urdf/ur5_robot.urdf")
     robot = symdyn.load(path, tip="tool0")
     eqs = symdyn.derive(robot, outputs=DERIVATIVES)

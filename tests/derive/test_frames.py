@@ -128,7 +128,8 @@ def test_solo12_feet_agree_with_pinocchio_urdf_parser(tmp_path, capsys):
     --frames``; a misspelt link gets did-you-mean."""
     from symdyn.check.pinocchio_model import UrdfReference
     from symdyn.cli import main
-    from test_trees import SOLO, example_robot_data
+    from helpers import example_robot_data
+    from test_trees import SOLO
     path = example_robot_data(SOLO)
     robot = symdyn.load(path, floating_base=True, frames=SOLO_FEET)
     assert [(f.name, robot.links[f.link].name) for f in robot.frames] == [
@@ -156,7 +157,7 @@ def test_solo12_feet_agree_with_pinocchio_urdf_parser(tmp_path, capsys):
 def test_talos_feet_and_hands_agree_with_pinocchio_urdf_parser():
     """TALOS reduced on the free-flyer: its soles and grippers' base links."""
     from symdyn.check.pinocchio_model import UrdfReference
-    from test_trees import example_robot_data
+    from helpers import example_robot_data
     path = example_robot_data("talos_data/robots/talos_reduced.urdf")
     names = ["left_sole_link", "right_sole_link", "gripper_left_base_link", "gripper_right_base_link"]
     robot = symdyn.load(path, floating_base=True, frames=names)

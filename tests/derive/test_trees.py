@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import symdyn
-from helpers import REPO, TOL, example_robot_data, random_states  # noqa: F401 (example_robot_data: test_frames)
+from helpers import REPO, TOL, example_robot_data, random_states
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare
 from symdyn.check.reference import MpReference

@@ -1,8 +1,9 @@
 """Results written as soon as computed (symdyn.emit.cbody.EARLY_OUTPUTS_FROM): with every
 function of puma560 forced to write its results early, and again early inside a body split into
 parts, every function gives the same bytes as the build that writes them all at the end (the
-mirrors of the symmetric outputs included), and TALOS's mass matrix, the case the rule is for,
-is written early by default."""
+mirrors of the symmetric outputs included); and which functions write early by default: a
+floating robot's mass matrix (Solo-12; TALOS's, 38 x 38, is the case the rule was measured on),
+not the arms' inverse dynamics nor any checked function."""
 
 from __future__ import annotations
 

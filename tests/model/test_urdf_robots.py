@@ -5,23 +5,15 @@ YAML -> URDF -> Pinocchio and URDF -> YAML -> symdyn."""
 from __future__ import annotations
 
 import os
-import sysconfig
 import warnings
 
 import numpy as np
 import pytest
 
 import symdyn
-from helpers import REPO, ROBOTS, TOL, parameter_values, random_states, robot_path
+from helpers import REPO, ROBOTS, TOL, example_robot_data, parameter_values, random_states, robot_path
 from symdyn.check.pinocchio_model import UrdfReference, compare
 from symdyn.model.errors import SymdynWarning
-
-
-def example_robot_data() -> str:
-    path = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share", "example-robot-data", "robots")
-    if not os.path.isdir(path):
-        pytest.fail("the example-robot-data wheel is missing: pip install -e '.[test]'")
-    return path
 
 
 HANDMADE = str(REPO / "tests" / "data" / "urdf" / "handmade.urdf")
@@ -47,7 +39,7 @@ def derived_urdf(case, exact_angles=False):
     label, relative, tip, tool = case
     key = (label, exact_angles)
     if key not in _DERIVED:
-        path = relative if os.path.isabs(relative) else os.path.join(example_robot_data(), relative)
+        path = relative if os.path.isabs(relative) else example_robot_data(relative)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", SymdynWarning)  # e.g. the Panda's fingers, locked
             robot = symdyn.load(path, tip=tip, tool=tool, exact_angles=exact_angles)
@@ -179,7 +171,7 @@ def test_tip_of_a_chain_with_fixed_leaves_and_the_whole_tree_of_a_branching_one(
     assert eqs.n == 6
     assert any(note.startswith("tip: wrist_3_link, the link of the last moving joint") and "'tool0'" in note
                for note in eqs.robot.notes), eqs.robot.notes
-    solo = os.path.join(example_robot_data(), "solo_description", "robots", "solo12.urdf")
+    solo = example_robot_data("solo_description/robots/solo12.urdf")
     robot = symdyn.load(solo)
     assert robot.is_tree and robot.dof == 12 and robot.children(-1) == (0, 3, 6, 9)
     assert [link.name for link in robot.links] == list(UrdfReference(solo).joint_names)
