@@ -92,7 +92,7 @@ def _closed_form(eqs, functions):
             continue
         expanded = eqs.program.expand(sp.Matrix(matrix))
         outputs.append((name, sp.ImmutableMatrix(expanded.applyfunc(_simplify_closed))))
-    return dataclasses.replace(eqs, program=Program(()), outputs=tuple(outputs), mass_factors=(), fd_system=())
+    return dataclasses.replace(eqs, program=Program(()), outputs=tuple(outputs), mass_factors=(), fd_system=(), fd_loops=())
 
 
 def _c_ops(eqs, name, precision):

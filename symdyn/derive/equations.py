@@ -44,6 +44,7 @@ import sympy as sp
 from ..model.errors import SymdynError, warn
 from . import ldlt
 from .articulated_body import forward_dynamics as articulated_body_fd
+from .articulated_loops import ArticulatedLoops, articulated_loops
 from .articulated_body import reaction_map
 from .regressor import base_parameters as find_base_parameters
 from .regressor import base_equivalent
@@ -120,6 +121,12 @@ class Equations:
     #: :data:`LOOPED_SOLVE_FROM_DOF` joints or more); else ``()``.  Both give the same
     #: solution up to rounding; the pivots checked are the same.
     fd_system: tuple = ()
+    #: the fields of :class:`symdyn.derive.articulated_loops.ArticulatedLoops` when forward
+    #: dynamics by the articulated-body algorithm is to be emitted as three loops over a table
+    #: of the joints (long fixed-base chains of revolute joints,
+    #: :data:`~symdyn.derive.articulated_loops.LOOPED_ABA_FROM_DOF`); else ``()``.  The output
+    #: ``forward_dynamics`` holds the same accelerations written out (for every other consumer).
+    fd_loops: tuple = ()
     #: ``(S, dS, F, g, e)`` when the Coriolis matrix was built by the O(n^2) recursion
     #: (:mod:`symdyn.derive.coriolis`): each a tuple of n 6-vectors in the recursion's frame
     #: (tuples of expressions in the program's symbols) with ``C[i, k] = S_i . F_k`` (i <= k) and
@@ -173,6 +180,11 @@ class Equations:
     @property
     def parameters(self) -> tuple[sp.Symbol, ...]:
         return self.robot.parameters
+
+    @property
+    def articulated_loops(self):
+        """:attr:`fd_loops` as an :class:`~symdyn.derive.articulated_loops.ArticulatedLoops`, or None."""
+        return ArticulatedLoops(*self.fd_loops) if self.fd_loops else None
 
     def checks_for(self, parts: Iterable[str]) -> tuple:
         """The ``(pivot, diagonal entry, status)`` checks of a function writing ``parts``: those
@@ -447,6 +459,7 @@ class _Derivation:
         self.mass_factors: tuple = ()
         self.coriolis_factors: tuple = ()
         self.fd_system: tuple = ()
+        self.fd_loops: tuple = ()
         self.pivots: tuple = ()
         self.checks: list = []
         self.base: tuple = ()
@@ -763,6 +776,8 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
     if d.fd_method == "aba":
         d.report("forward_dynamics (articulated-body algorithm)")
         qdd, d.pivots = articulated_body_fd(chain, chain.tau, d.static_friction)
+        loops = articulated_loops(chain, d.static_friction, qdd)
+        d.fd_loops = loops.astuple() if loops is not None else ()
         return qdd
     rhs = sp.Matrix(chain.tau) - d.get("fd_bias") - d.static_friction
     rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
@@ -951,6 +966,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      mass_factors=d.mass_factors if "mass_matrix" in wanted else (),
                      coriolis_factors=d.coriolis_factors if "coriolis_matrix" in wanted else (),
                      fd_system=d.fd_system if "forward_dynamics" in wanted else (),
+                     fd_loops=d.fd_loops if "forward_dynamics" in wanted else (),
                      joint_trig=chain.joint_trig,
                      inverse_products=d.inverse_products if set(FORWARD_DERIVATIVES) & set(wanted) else (),
                      tangent_loops=tuple((parts, t) for parts, t in d.tangent_loops if set(parts) & set(wanted)),

@@ -190,7 +190,8 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     read = {group_of[s] for s in body.used if s in group_of}
     unused = [a for _, a, _, is_out in args if not is_out and a not in read] + plan.empty_outputs
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
-    summary = (REGISTRY[name].summary_for(eqs.fd_method) if name in REGISTRY
+    fd_variant = eqs.fd_method + ("-loops" if plan.sweeps is not None else "")
+    summary = (REGISTRY[name].summary_for(fd_variant) if name in REGISTRY
                else _COMBINED_SUMMARIES[name]).replace("NAME", prefix)
     summary += _tangent_note(plan.tangents) + (FUSED_NOTE if body.fma else "")
     if internal != scalar:
@@ -207,7 +208,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
                   trig_type=internal if angles else "", batch=batch, gram_loop=bool(plan.gram or plan.coriolis),
                   fma_type=internal if body.fma else "")
     if plan.checked:
-        status = REGISTRY[plan.parts[0]].status_for(eqs.fd_method if name == "forward_dynamics" else "")
+        status = REGISTRY[plan.parts[0]].status_for(fd_variant if name == "forward_dynamics" else "")
         return CFunction(name=checked_name(name), returns="int",
                          returns_doc=status.format(rtol=context.rtol, real=scalar, prefix=prefix), **common)
     return CFunction(name=name, **common)
@@ -465,7 +466,8 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "version": __version__,
         "source_name": source_label(source_name or robot.source),
         "source_hash": source_hash or robot.source_hash,
-        "method": eqs.method + {"aba": "; forward dynamics by the articulated-body algorithm",
+        "method": eqs.method + {"aba": "; forward dynamics by the articulated-body algorithm"
+                                + (" as loops over the joints" if eqs.fd_loops else ""),
                                 "ldlt": "; forward dynamics by L^T D L of the tree's D" if robot.is_tree
                                 else "; forward dynamics by LDL^T of D"}.get(eqs.fd_method, "")
         + ("; floating base (free-flyer)" if robot.floating else "")

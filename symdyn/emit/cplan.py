@@ -61,7 +61,8 @@ class FunctionPlan:
     off-diagonal entries from the factors; ``coriolis``: ``(array, n)`` when it ends with the
     loop writing the Coriolis matrix from its factors; ``aliases``: ``(lvalue, source)`` copies written last
     (the lower triangle of a symmetric output); ``pivots``: the ``(d_j, M_jj)`` pairs checked in
-    the unrolled forward dynamics, flattened; ``looped``: forward dynamics solved by a loop."""
+    the unrolled forward dynamics, flattened; ``looped``: forward dynamics solved by a loop;
+    ``sweeps``: forward dynamics by the articulated-body algorithm's loops."""
 
     name: str
     parts: tuple[str, ...]
@@ -74,6 +75,10 @@ class FunctionPlan:
     empty_outputs: list[str] = field(default_factory=list)
     checked: bool = False
     looped: bool = False
+    #: forward dynamics by the articulated-body algorithm's loops over the joints
+    #: (:class:`~symdyn.derive.articulated_loops.ArticulatedLoops`, or None): the statements
+    #: only fill ``fd_c``, ``fd_s`` and ``fd_t``
+    sweeps: object = None
     pivots: list[sp.Expr] = field(default_factory=list)
     #: the status each pivot pair returns when its check fails (empty: 1 for every pair) and
     #: whether it is checked against the header's task tolerance macro instead of the literal one
@@ -292,8 +297,14 @@ def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
         return plan
     plan.checked = name == "forward_dynamics" and bool(eqs.pivots)
     plan.looped = plan.checked and bool(eqs.fd_system)
+    plan.sweeps = eqs.articulated_loops if plan.checked else None
     n = eqs.n
-    if plan.looped:  # M's lower triangle (or the factor arrays) and rhs into local arrays
+    if plan.sweeps:  # each joint's cos and sin and its force less friction, for the loops
+        loops = plan.sweeps
+        for j, (c, s) in enumerate(loops.angles):
+            plan.targets += [Target(f"fd_c[{j}]", c, True), Target(f"fd_s[{j}]", s, True)]
+        plan.targets += [Target(f"fd_t[{j}]", e, True) for j, e in enumerate(loops.tau_effective)]
+    elif plan.looped:  # M's lower triangle (or the factor arrays) and rhs into local arrays
         system, rhs, factors = eqs.fd_system
         plan.targets = [Target(f"fd_M[{j * n + i}]", system[i, j], True) for i in range(n) for j in range(i, n)
                         if j == i or not factors]  # the factor loop writes both triangles

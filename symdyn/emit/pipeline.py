@@ -21,6 +21,8 @@ import os
 from dataclasses import dataclass, field, replace
 from typing import Callable
 
+from ..derive.articulated_loops import LOOPED_ABA_FROM_DOF
+from ..derive.articulated_loops import applies as loops_apply
 from ..derive.cache import derive_cached
 from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
 from ..model.errors import SymdynError, describe
@@ -166,12 +168,24 @@ def choose_fd_method(config: GenerateConfig, progress=None) -> GenerateConfig:
     """``config`` with its forward-dynamics method settled by operation count (deterministic:
     the counts of the emitted C, mul + add + div, ties to LDL^T) where no method was asked for,
     the arithmetic is double and the chain has at least :data:`AUTO_FD_FROM_DOF` joints (from
-    :data:`AUTO_FD_ABA_FROM_DOF`, the articulated-body algorithm without counting); the header
-    notes the choice."""
+    :data:`AUTO_FD_ABA_FROM_DOF`, the articulated-body algorithm without counting); from
+    :data:`~symdyn.derive.articulated_loops.LOOPED_ABA_FROM_DOF` joints, where the
+    articulated-body algorithm's loop form applies and is kept (its operations no more than
+    the chain written out), that; the header notes the choice."""
     from .cgen import build_function
     robot, options = config.robot, config.options
     if options.fd_method or config.precision != "double" or "forward_dynamics" not in config.functions \
-            or robot.dof < AUTO_FD_FROM_DOF or robot.is_tree:
+            or robot.dof < min(AUTO_FD_FROM_DOF, LOOPED_ABA_FROM_DOF) or robot.is_tree:
+        return config
+    if loops_apply(robot):
+        eqs = derive_cached(robot, options.method, with_requirements(["forward_dynamics"]), use_cache=options.use_cache,
+                            progress=progress, fd_method="aba", parameters=options.parameters)
+        if eqs.fd_loops:
+            note = ("forward dynamics by the articulated-body algorithm as loops over the joints (a fixed-base chain of "
+                    f"{LOOPED_ABA_FROM_DOF} revolute joints or more whose joints' step costs no more than the chain "
+                    "written out: code that does not grow with n, faster than either written-out form)")
+            return replace(config, fd_method="aba", notes=(*config.notes, note))
+    if robot.dof < AUTO_FD_FROM_DOF:
         return config
     if robot.dof >= AUTO_FD_ABA_FROM_DOF:
         note = (f"forward dynamics by the articulated-body algorithm (O(n) operations; from {AUTO_FD_ABA_FROM_DOF} "

@@ -128,6 +128,8 @@ class CombinedSpec:
 _PIVOTS = ("Returns 0 on success; 1 when the mass matrix is singular at q ({why}); 2 when an input is NaN or "
            "infinite, or a result is not finite (NaN or beyond the range of {{real}}). On a nonzero return qdd is "
            "not written.")
+_ABA_PIVOTS = _PIVOTS.format(why="an articulated inertia d_j about joint j's axis, by which the algorithm divides, is "
+                                 "not positive, or is not a number")
 
 _TASK_STATUS = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot of its LDL^T factorization "
                 "is not above {rtol:g} times its diagonal entry, or is not a number); 2 when an input is NaN or "
@@ -175,8 +177,12 @@ SPECS: tuple[OutputSpec, ...] = (
                                   "diagonal entry, or is not a number"),
         fd_variants=(("aba", "Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
                              "algorithm written out for this robot (three sweeps, at most one division per joint, no mass matrix).",
-                      _PIVOTS.format(why="an articulated inertia d_j about joint j's axis, by which the algorithm "
-                                         "divides, is not positive, or is not a number")),)),
+                      _ABA_PIVOTS),
+                     ("aba-loops", "Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
+                                   "algorithm as three loops over the joints (one joint's step derived once for this chain, "
+                                   "what differs between its joints read from a constant table: the code does not grow with "
+                                   "the joints; at most one division per joint, no mass matrix).",
+                      _ABA_PIVOTS))),
     OutputSpec(
         "forward_kinematics", "T", ("q",), lambda d: (4, 4), "4 x 4", "m",
         "Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",

@@ -75,7 +75,7 @@ def test_serial_functions_in_registry_order():
 
 
 def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch):
-    """A generic chain of AUTO_FD_FROM_DOF (10) joints in double without --fd-method: both forms
+    """A generic chain of AUTO_FD_FROM_DOF (10) joints, one prismatic, in double without --fd-method: both forms
     are derived and the one with fewer operations emitted (here the articulated-body algorithm),
     the header says so, and the C agrees with
     Pinocchio's aba; --fd-method ldlt is obeyed as asked."""
@@ -89,8 +89,8 @@ def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch
     monkeypatch.setenv("SYMDYN_CACHE_DIR", str(tmp_path / "cache"))
     from symdyn.emit import pipeline
     n = pipeline.AUTO_FD_FROM_DOF
-    path = tmp_path / f"generic{n}.yaml"
-    path.write_text(generic_chain(n))
+    path = tmp_path / f"generic{n}.yaml"  # the last joint prismatic: not the articulated-body loops
+    path.write_text("joint: prismatic".join(generic_chain(n).rsplit("joint: revolute", 1)))
     options = GenerateOptions(functions="forward_dynamics")
     first = generate(configure(path, options))  # deterministic: generated/chain12 (the same choice), test_cgen
     header = first[f"generic{n}_dynamics.h"].decode()
@@ -110,13 +110,14 @@ def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch
 
 def test_long_chains_take_the_articulated_body_algorithm_without_counting(tmp_path, monkeypatch):
     """From AUTO_FD_ABA_FROM_DOF joints the choice is made without deriving or building LDL^T
-    (its n^3 operations always exceed ABA's there); the header says why."""
+    (its n^3 operations always exceed ABA's there), and so from LOOPED_ABA_FROM_DOF joints
+    where the articulated-body loops apply; the header says why."""
     import sys
     from symdyn.emit import pipeline
     sys.path.insert(0, str(REPO / "benchmarks"))
     from long_chains import generic_chain
-    path = tmp_path / "generic.yaml"
-    path.write_text(generic_chain(pipeline.AUTO_FD_ABA_FROM_DOF))
+    path = tmp_path / "generic.yaml"  # a prismatic joint: not the loop form (below), the rule by n
+    path.write_text(generic_chain(pipeline.AUTO_FD_ABA_FROM_DOF).replace("joint: revolute", "joint: prismatic", 1))
     config = configure(path, GenerateOptions(functions="forward_dynamics"))
 
     def refuse(*args, **kwargs):
@@ -125,7 +126,35 @@ def test_long_chains_take_the_articulated_body_algorithm_without_counting(tmp_pa
     chosen = pipeline.choose_fd_method(config)
     assert chosen.fd_method == "aba"
     assert any("from 24 joints LDL^T of D, O(n^3), always needs more" in note for note in chosen.notes)
-    short = tmp_path / "short.yaml"
-    short.write_text(generic_chain(pipeline.AUTO_FD_ABA_FROM_DOF - 1))
-    with pytest.raises(AssertionError, match="nothing is derived"):  # below it, both are counted
+    short = tmp_path / "short.yaml"  # below it, both are counted
+    short.write_text(generic_chain(pipeline.AUTO_FD_ABA_FROM_DOF - 1).replace("joint: revolute", "joint: prismatic", 1))
+    with pytest.raises(AssertionError, match="nothing is derived"):
         pipeline.choose_fd_method(configure(short, GenerateOptions(functions="forward_dynamics")))
+
+
+def test_fixed_base_revolute_chains_take_the_articulated_body_loops(tmp_path, monkeypatch):
+    """From LOOPED_ABA_FROM_DOF joints a generic fixed-base revolute chain takes the
+    articulated-body algorithm's loops (only its derivation is run to choose: the loops are kept
+    when they cost no more operations than the chain written out); below, LDL^T as before."""
+    import sys
+    from symdyn.derive.articulated_loops import LOOPED_ABA_FROM_DOF
+    from symdyn.emit import pipeline
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from long_chains import generic_chain
+    monkeypatch.setenv("SYMDYN_CACHE_DIR", str(tmp_path / "cache"))
+    derived = []
+    real = pipeline.derive_cached
+
+    def spy(robot, method, wanted, **kwargs):
+        derived.append(kwargs["fd_method"])
+        return real(robot, method, wanted, **kwargs)
+    monkeypatch.setattr(pipeline, "derive_cached", spy)
+    looped = tmp_path / "looped.yaml"
+    looped.write_text(generic_chain(LOOPED_ABA_FROM_DOF))
+    chosen = pipeline.choose_fd_method(configure(looped, GenerateOptions(functions="forward_dynamics")))
+    assert chosen.fd_method == "aba" and any("as loops over the joints" in note for note in chosen.notes)
+    assert derived == ["aba"]
+    short = tmp_path / "short.yaml"
+    short.write_text(generic_chain(LOOPED_ABA_FROM_DOF - 1))
+    assert pipeline.choose_fd_method(configure(short, GenerateOptions(functions="forward_dynamics"))).fd_method == "ldlt"
+    assert derived == ["aba"]
