@@ -205,7 +205,9 @@ def coriolis_matrix(chain: Chain) -> tuple[sp.Matrix, CoriolisFactors]:
     factors = coriolis_factors(chain)
     n = chain.n
     b = chain.builder
-    C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}_{k + 1}", sp.expand(factors.entry(i, k))))
+    # each entry is a sum of products of named factor entries: already expanded (no sp.expand,
+    # which took 5 s of a 64-joint chain's derivation to return it unchanged)
+    C = sp.Matrix(n, n, lambda i, k: b.define(f"C{i + 1}_{k + 1}", factors.entry(i, k)))
     return C, factors
 
 

@@ -177,7 +177,7 @@ def choose_fd_method(config: GenerateConfig, progress=None) -> GenerateConfig:
     if options.fd_method or config.precision != "double" or "forward_dynamics" not in config.functions \
             or robot.dof < min(AUTO_FD_FROM_DOF, LOOPED_ABA_FROM_DOF) or robot.is_tree:
         return config
-    if loops_apply(robot):
+    if loops_apply(robot) and robot.dof < AUTO_FD_ABA_FROM_DOF:  # from there ABA without deriving to choose
         eqs = derive_cached(robot, options.method, with_requirements(["forward_dynamics"]), use_cache=options.use_cache,
                             progress=progress, fd_method="aba", parameters=options.parameters)
         if eqs.fd_loops:
@@ -189,7 +189,9 @@ def choose_fd_method(config: GenerateConfig, progress=None) -> GenerateConfig:
         return config
     if robot.dof >= AUTO_FD_ABA_FROM_DOF:
         note = (f"forward dynamics by the articulated-body algorithm (O(n) operations; from {AUTO_FD_ABA_FROM_DOF} "
-                "joints LDL^T of D, O(n^3), always needs more)")
+                "joints LDL^T of D, O(n^3), always needs more)"
+                + ("; as loops over the joints where its step costs no more than the chain written out"
+                   if loops_apply(robot) else ""))
         return replace(config, fd_method="aba", notes=(*config.notes, note))
     counts = {}
     for method in ("ldlt", "aba"):
