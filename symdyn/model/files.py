@@ -77,6 +77,7 @@ replacing the output directory's path during a write does not redirect it.
 from __future__ import annotations
 
 import contextlib
+import gc
 import hashlib
 import hmac
 import os
@@ -239,6 +240,13 @@ def output_directory(directory: str, option: str = "--out") -> Iterator[str]:
     created = check_output_dir(directory, option)
     try:
         yield directory
+    except MemoryError as exc:
+        # at a memory limit (--max-memory) the failed run's data is still held by the traceback's
+        # frames: let it go first, so that the clean-up itself can allocate
+        exc.__traceback__ = None
+        gc.collect()
+        _remove_dirs(created)
+        raise
     except BaseException:
         _remove_dirs(created)
         raise
