@@ -94,6 +94,14 @@ def joint_frames(chain: Chain):
         yield j, Xj, velocity, S_qd, post
 
 
+def link_inertia(link, post: sp.Matrix) -> sp.Matrix:
+    """The spatial inertia (6 x 6) of ``link`` in its joint frame, ``post`` the constant pose of
+    the link frame in the joint frame (4 x 4)."""
+    R, t = post[:3, :3], post[:3, 3]
+    com = R * sp.Matrix(link.com) + t
+    return spatial_inertia(link.mass, com, R * sp.Matrix(link.inertia_matrix) * R.T)
+
+
 def joint_transforms(chain: Chain) -> list[tuple[JointTransform, sp.Matrix]]:
     """Per joint, base to tip: its :class:`JointTransform` and the constant pose of link frame j
     in joint frame j (4 x 4)."""
@@ -158,10 +166,7 @@ def sweeps(chain: Chain, tau, friction) -> Sweeps:
         X.append(Xj)
         v.append(velocity)
         c.append(vec(f"sc{k}", cross_motion(velocity, S_qd)))
-        R, t = post[:3, :3], post[:3, 3]
-        com = R * sp.Matrix(link.com) + t
-        inertia = spatial_inertia(link.mass, com, R * sp.Matrix(link.inertia_matrix) * R.T)
-        I.append(sym6(f"IA{k}", inertia))
+        I.append(sym6(f"IA{k}", link_inertia(link, post)))
         IA.append(I[j])
 
     def bias(j):

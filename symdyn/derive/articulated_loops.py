@@ -34,10 +34,11 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..model.geometry import joint_motion
-from .articulated_body import JointTransform, joint_transforms, transform_force_back, transform_inertia_back, transform_motion
+from .articulated_body import (JointTransform, joint_transforms, link_inertia, transform_force_back,
+                              transform_inertia_back, transform_motion)
 from .chain import Chain
 from .program import Program, ProgramBuilder
-from .spatial import Placement, cross_force, cross_motion, named_symmetric, spatial_inertia
+from .spatial import Placement, cross_force, cross_motion, named_symmetric
 
 #: from this many joints a fixed-base serial chain of revolute joints with numeric constants may
 #: have its articulated-body forward dynamics emitted as loops over the joints, when the loops'
@@ -135,9 +136,7 @@ def _rows(chain: Chain):
     rows = []
     for j, (T, post) in enumerate(joint_transforms(chain)):
         link = chain.robot.links[j]
-        R, t = post[:3, :3], post[:3, 3]
-        com = R * sp.Matrix(link.com) + t
-        inertia = spatial_inertia(link.mass, com, R * sp.Matrix(link.inertia_matrix) * R.T)
+        inertia = link_inertia(link, post)
         values = [*T.constant.R, *T.constant.p, *(inertia[r, c] for r, c in UPPER), link.armature]
         row = []
         for value in values:
@@ -188,8 +187,8 @@ def articulated_loops(chain: Chain, friction, qdd) -> ArticulatedLoops | None:
     """The loop form of the chain's articulated-body forward dynamics, or None where it does not
     apply (:func:`applies`) or would cost more operations (:func:`loop_operations`) than ``qdd``,
     the accelerations written out in the chain's program (n; a chain whose joints share little
-    structure folds about as much in the loops' step as written out, and loses nothing).  ``friction``: the damping and Coulomb terms (n, no qdd) subtracted from
-    tau before the loops."""
+    structure folds about as much in the loops' step as written out, and loses nothing).
+    ``friction``: the damping and Coulomb terms (n, no qdd) subtracted from tau before the loops."""
     if not applies(chain.robot):
         return None
     rows = _rows(chain)

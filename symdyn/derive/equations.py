@@ -44,8 +44,8 @@ import sympy as sp
 from ..model.errors import SymdynError, warn
 from . import ldlt
 from .articulated_body import forward_dynamics as articulated_body_fd
-from .articulated_loops import ArticulatedLoops, articulated_loops
 from .articulated_body import reaction_map
+from .articulated_loops import ArticulatedLoops, articulated_loops
 from .regressor import base_parameters as find_base_parameters
 from .regressor import base_equivalent
 from .regressor import regressor as regressor_matrix

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from ..derive import articulated_loops as al
 from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan, tangent_width
 from .cprinter import CPrinter, VectorUnsupported, count_operations, fused_sum
 from .emission import template_environment
@@ -266,7 +267,6 @@ def articulated_body_loops(loops, printer: CPrinter, ltype: str, out_name: str, 
     angles) and ``fd_t`` (tau less friction) are given.  Status 1 when a pivot ``d_j`` is not
     positive (checked before the division by it), 2 when a result is not finite; qdd is written
     only on success.  Returns the lines and their operation counts (each step's times its trips)."""
-    from ..derive import articulated_loops as al
     n = loops.n
     names = dict(printer.names)
     for program in (loops.velocity, loops.backward, loops.acceleration):
