@@ -1,22 +1,28 @@
-"""Call time of symdyn's CasADi functions beside symdyn's own C, in the same run.
+"""symdyn's CasADi functions beside symdyn's own C, timed by benchmarks/harness.py.
 
-Usage:  python benchmarks/casadi_speed.py [ROBOT ...] [--functions LIST]   (default: puma560 ur5 iiwa14, the
-        standard outputs)
+Usage:  python benchmarks/casadi_speed.py [ROBOT ...] [--functions LIST] [--no-vm] [harness options]
+        (default: puma560 ur5 iiwa14, the six dynamics functions and the tool kinematics;
+        harness options: --processes, --passes, --states, --flags, --seed, --smoke, --no-peer)
 
-For each robot and function, ns per call of:
-- symdyn C: the generated NAME_dynamics.c, -O3 -march=native, timed in a C loop;
-- CasADi C: CasADi's own generated C of the same casadi.Function (symdyn generate --target
-  casadi-c), same flags, same loop, called with its arg/res/work-vector convention;
-- SX VM: the casadi.Function evaluated by CasADi's SX virtual machine, timed as one call of
-  ``f.map(M, "serial")`` over M = 20000 states divided by M (so Python's per-call overhead is
-  not counted), median of 7.
-Also the Python overhead of one plain ``f(q, qd, qdd)`` call from numpy, which is what a Python
-user sees.  Ratios > 1 mean symdyn's C is faster.
+For each robot and function, with the harness's method (distinct random states read by every
+side, thread CPU time, interleaved passes, several processes from fresh copies of the binary,
+the same gcc flags on every side), ns per call of:
+
+- symdyn C: the generated NAME_dynamics.c;
+- CasADi C: CasADi's own generated C of symdyn's ``casadi.Function`` of the same output
+  (``symdyn generate --target casadi-c``), called with its arg/res/work-vector convention;
+- the Pinocchio -> CasADi peer and Pinocchio itself where Pinocchio has the function (a function
+  it lacks, e.g. ``inverse_dynamics_dq``, is timed on symdyn's two sides only);
+
+and, outside the harness (Python), the same ``casadi.Function`` evaluated by CasADi's SX
+virtual machine (one call of ``f.map(M, "serial")`` over M = 20000 states, divided by M, so
+Python's per-call overhead is not counted; median of 7) and one plain ``f(q, qd, qdd)`` call from
+numpy, which is what a Python user sees.  Ratios > 1: symdyn's C is faster.
 """
 
+import argparse
 import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -25,42 +31,19 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
+sys.path.insert(0, HERE)
 
-import casadi as ca  # noqa: E402
+import harness  # noqa: E402
 
-import symdyn  # noqa: E402
-from symdyn.check.timing import PRELUDE, parse  # noqa: E402
-from symdyn.emit.casadi_backend import casadi_files, casadi_function  # noqa: E402
-from symdyn.emit.cgen import generate_c  # noqa: E402
-from symdyn.derive.equations import OUTPUT_INPUTS, OUTPUTS  # noqa: E402
-
-DECLARATIONS = r"""#include "%(n)s_dynamics.h"
-#include "%(n)s_casadi.h"
-static double w[100000];
-static casadi_int iw[1000];
-#define CASADI(fn, a0, a1, a2) do { const double *arg[3]; double *res[1]; \
-    arg[0] = a0; arg[1] = a1; arg[2] = a2; res[0] = out; fn(arg, res, iw, w, 0); } while (0)"""
-
-HARNESS = PRELUDE.replace("%(includes)s", DECLARATIONS) + "%(cases)s    return 0;\n}\n"
-
-
-def harness_cases(name: str, functions) -> str:
-    """The TIME lines of symdyn's C and CasADi's C of each function (tau read from the qdd array)."""
-    arrays = {"q": "q[k]", "qd": "qd[k]", "qdd": "qdd[k]", "tau": "qdd[k]"}
-    lines = []
-    for function in functions:
-        args = [arrays[group] for group in OUTPUT_INPUTS[function]]
-        padded = (args + ["0", "0"])[:3]
-        lines.append(f'    TIME("c_{function}", {name}_{function}({", ".join(args)}, out));\n')
-        lines.append(f'    TIME("casadi_c_{function}", CASADI({name}_casadi_{function}, {", ".join(padded)}));\n')
-    return "".join(lines)
+FUNCTIONS = ("inverse_dynamics", "mass_matrix", "gravity", "coriolis", "coriolis_matrix", "forward_dynamics",
+             "forward_kinematics", "jacobian", "jacobian_dot_qd")
 
 
 def vm_time(function, dof, states=20000, repeats=7):
     """ns per evaluation by CasADi's SX virtual machine (serial map, one Python call)."""
     mapped = function.map(states, "serial")
     rng = np.random.default_rng(1)
-    args = [rng.uniform(-1, 1, (dof, states)) for _ in range(function.n_in())]
+    args = [rng.uniform(-1, 1, (function.size1_in(k), states)) for k in range(function.n_in())]
     runs = []
     for _ in range(repeats):
         start = time.perf_counter()
@@ -69,8 +52,9 @@ def vm_time(function, dof, states=20000, repeats=7):
     return statistics.median(runs)
 
 
-def python_call_time(function, dof, calls=2000):
-    args = [np.linspace(-1, 1, dof) for _ in range(function.n_in())]
+def python_call_time(function, calls=2000):
+    """ns of one plain call of ``function`` from numpy arrays (median of 5 runs)."""
+    args = [np.linspace(-1, 1, function.size1_in(k)) for k in range(function.n_in())]
     runs = []
     for _ in range(5):
         start = time.perf_counter()
@@ -80,49 +64,54 @@ def python_call_time(function, dof, calls=2000):
     return statistics.median(runs)
 
 
+def python_times(robot_name: str, functions, smoke: bool) -> dict:
+    """{function: (SX VM ns, Python call ns)} of symdyn's casadi.Function of each output."""
+    import symdyn
+    from symdyn.emit.casadi_backend import casadi_function
+    with tempfile.TemporaryDirectory() as folder:
+        robot = symdyn.load(harness.robot_file(robot_name, folder))
+    eqs = symdyn.derive(robot, outputs=functions)
+    found = {}
+    for name in functions:
+        function = casadi_function(eqs, name)
+        found[name] = (vm_time(function, robot.dof, 200 if smoke else 20000, 1 if smoke else 7),
+                       python_call_time(function, 20 if smoke else 2000))
+    return found
+
+
 def main(argv=None):
-    import argparse
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("robots", nargs="*", default=["puma560", "ur5", "iiwa14"])
-    parser.add_argument("--functions", default=",".join(OUTPUTS),
-                        help="comma-separated outputs to time (default: the standard ones), e.g. the derivatives "
-                             "inverse_dynamics_dq,inverse_dynamics_dqd,forward_dynamics_dq,forward_dynamics_dqd,"
-                             "mass_matrix_inverse,gravity_derivative")
+    parser.add_argument("--functions", default=",".join(FUNCTIONS),
+                        help="comma-separated outputs of symdyn, one casadi.Function each (default: the dynamics "
+                             "and the tool kinematics), e.g. the single derivatives inverse_dynamics_dq,"
+                             "inverse_dynamics_dqd,forward_dynamics_dq,forward_dynamics_dqd,mass_matrix_inverse,"
+                             "gravity_derivative")
+    parser.add_argument("--no-vm", action="store_true", help="leave out the SX virtual machine and Python columns")
+    harness.add_arguments(parser)
     args = parser.parse_args(argv)
-    names, functions = args.robots, [f.strip() for f in args.functions.split(",") if f.strip()]
-    print(f"CasADi {ca.__version__}")
-    print("| robot | function | symdyn C (ns) | CasADi C (ns) | SX VM (ns) | CasADi C / symdyn C | SX VM / symdyn C | Python call of f (us) |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|")
-    with tempfile.TemporaryDirectory() as workdir:
-        for name in names:
-            robot = symdyn.load(os.path.join(HERE, "..", "robots", f"{name}.yaml"))
-            if robot.parameters:
-                raise SystemExit(f"{name} has runtime parameters; this benchmark times robots without them")
-            eqs = symdyn.derive(robot, outputs=functions)
-            for fname in functions:  # the harness's work arrays: w[100000], iw[1000]
-                function = casadi_function(eqs, fname)
-                if function.sz_w() > 100000 or function.sz_iw() > 1000:
-                    raise SystemExit(f"{name} {fname}: CasADi's work vectors exceed the harness's")
-            files = {k: v.encode() for k, v in generate_c(eqs).items()}
-            files.update(casadi_files(eqs, casadi_c=True))
-            for fname, data in files.items():
-                with open(os.path.join(workdir, fname), "wb") as handle:
-                    handle.write(data)
-            with open(os.path.join(workdir, "bench.c"), "w") as handle:
-                handle.write(HARNESS % {"n": name, "dof": robot.dof, "cases": harness_cases(name, functions)})
-            exe = os.path.join(workdir, f"bench_{name}")
-            subprocess.run(["gcc", "-O3", "-march=native", "-std=c99", "-w", os.path.join(workdir, "bench.c"),
-                            os.path.join(workdir, f"{name}_dynamics.c"), os.path.join(workdir, f"{name}_casadi.c"),
-                            "-o", exe, "-lm"], check=True)
-            timings = parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)
-            for fname in functions:
-                function = casadi_function(eqs, fname)
-                assert function.n_in() == len(OUTPUT_INPUTS[fname])
-                vm = vm_time(function, robot.dof)
-                call = python_call_time(function, robot.dof)
-                mine, theirs = timings[f"c_{fname}"], timings[f"casadi_c_{fname}"]
-                print(f"| {name} | {fname} | {mine:.0f} | {theirs:.0f} | {vm:.0f} | {theirs / mine:.1f}x | "
-                      f"{vm / mine:.1f}x | {call / 1000:.1f} |", flush=True)
+    kwargs = harness.options(args)
+    functions = [f.strip() for f in args.functions.split(",") if f.strip()]
+    rows = harness.run(args.robots, functions, sides=("casadi",), **kwargs)
+    python = {} if args.no_vm else {name: python_times(name, functions, args.smoke) for name in args.robots}
+    cases = list({id(r.case): r.case for r in rows}.values())  # in the order of the robots asked
+    spec_of = {id(case): spec for case, spec in zip(cases, args.robots)}
+    print(harness.environment(kwargs))
+    for flag_set in kwargs["flag_sets"]:
+        print(f"\n### {harness.flag_label(flag_set)} (every side)\n")
+        print("| robot | function | symdyn C ns | CasADi C ns | CasADi C / symdyn C | peer ns | peer / symdyn C | "
+              "Pinocchio / symdyn C | SX VM ns | SX VM / symdyn C | Python call of f (us) |")
+        print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for row in (r for r in rows if r.flag_set == flag_set):
+            casadi_side, peer = row.side("casadi"), row.side("peer")
+            mine = statistics.median(row.times["symdyn"])
+            vm, call = python[spec_of[id(row.case)]][row.function] if python else (None, None)
+            print(f"| {row.case.label} | {row.function} | {harness.summary(row.times['symdyn'])} | "
+                  f"{harness.summary(casadi_side[1])} | {harness.summary(row.ratio('casadi'), 2)} | "
+                  f"{harness.summary(peer[1]) if peer else '-'} | {harness.summary(row.ratio('peer'), 2) if peer else '-'} | "
+                  f"{harness.summary(row.ratio('pinocchio'), 2) if row.side('pinocchio') else '-'} | "
+                  f"{f'{vm:.0f}' if vm else '-'} | {f'{vm / mine:.1f}x' if vm else '-'} | "
+                  f"{f'{call / 1000:.1f}' if call else '-'} |", flush=True)
 
 
 if __name__ == "__main__":

@@ -3,6 +3,7 @@ Pinocchio -> CasADi code-generation peer, timed alike in one process.
 
 Usage:  python benchmarks/harness.py ROBOT_OR_N ... [--functions LIST] [--processes 5] [--passes 15]
             [--states 10000] [--flags O2,O3native] [--no-peer] [--seed 2026] [--smoke] [--keep DIR]
+            [--precision float] [--batch] [--casadi]
         (--smoke: 1 process, 2 passes, 200 states, -O2 only: checks that every step runs)
 
 ROBOT_OR_N: a name (robots/NAME.yaml) or a number N (the generic N-joint chain of
@@ -140,6 +141,13 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "framePoses": "Q", "frameJacobians": "Q", "frameJacobianDotV": "Q, QD",
                        "frameKinematics": "Q, QD", "rneaDerivatives": "Q, QD, QDD", "gravityDerivatives": "Q",
                        "abaDerivatives": "Q, QD, TAU", "computeMinverse": "Q"}
+def pinocchio_of(function: str) -> tuple:
+    """``PINOCCHIO[function]``, or ``((), None)`` for a function of symdyn's that Pinocchio has
+    no counterpart of (e.g. the single derivatives ``inverse_dynamics_dq``): timed without a
+    Pinocchio side, e.g. beside symdyn's CasADi functions (``--casadi``)."""
+    return PINOCCHIO.get(function, ((), None))
+
+
 STATE_ARRAYS = {"q": "Q", "qd": "QD", "qdd": "QDD", "tau": "TAU"}
 #: Pinocchio's headers need these with the pin wheel's Boost (its joint visitors take more
 #: arguments than Boost's default limits allow)
@@ -293,6 +301,8 @@ class Case:
     generate_seconds: float = 0.0  # derivation and emission (through symdyn's cache unless use_cache=False)
     nq: int = 0  # entries of q (0: dof; a floating base has dof + 1)
     frames: int = 0  # frames of the frame functions
+    parameters: tuple = ()  # the values of the runtime parameters (a scene's), passed as p
+    sides: tuple = ()  # symdyn's extra sides timed: "casadi" (--target casadi-c), "batch" (--batch)
 
     @property
     def source(self) -> str:
@@ -308,7 +318,7 @@ class Case:
         pattern = (r"/\*((?:(?!\*/).)*)\*/\s*(?:void|int) " + re.escape(self.prefix) + r"_(\w+)\(")
         found = {}
         for block, function in re.findall(pattern, self.header, re.S):
-            cost = re.search(r"Cost: (\d+) multiplications, (\d+) additions/subtractions, (\d+) divisions, "
+            cost = re.search(r"Cost: (\d+) multiplications, (\d+) additions/subtractions, (\d+) divisions?, "
                              r"(\d+) sin/cos", block)
             if cost and function not in found:
                 found[function] = dict(zip(("mul", "add", "div", "trig"), map(int, cost.groups())))
@@ -329,17 +339,56 @@ def robot_file(spec: str, folder: str) -> str:
     raise SystemExit(f"no robot '{spec}' (robots/{spec}.yaml) and no such file")
 
 
-def symdyn_arguments(function: str, dof: int, precision: str = "double", frames: int = 0) -> str:
-    """The arguments of NAME_<function> in the harness: state arrays, then each output at its
-    offset in OUT (float C: the float copies QF, ... and OUTF)."""
-    from symdyn.model.outputs import COMBINED, REGISTRY, Dimensions, function_inputs
+def output_sizes(function: str, dof: int, frames: int = 0) -> list[int]:
+    """The sizes of NAME_<function>'s output arguments, in order."""
+    from symdyn.model.outputs import COMBINED, REGISTRY, Dimensions
+    return [rows * cols for part in COMBINED.get(function, (function,))
+            for _, (rows, cols) in REGISTRY[part].argument_shapes(Dimensions(dof, dof, dof, frames=frames))]
+
+
+def symdyn_inputs(function: str, precision: str = "double", parameters: bool = False, whole: bool = False) -> list[str]:
+    """The input arguments of NAME_<function> in the harness: the state arrays of one state (Q,
+    QD, ...; ``whole``: every state's, q, qd, ... for a batch function), then P for runtime
+    parameters (float C: the float copies QF, ..., qf, ..., PF)."""
+    from symdyn.model.outputs import function_inputs
     suffix = "F" if precision == "float" else ""
-    arguments, offset = [STATE_ARRAYS[name] + suffix for name in function_inputs(function)], 0
-    for part in COMBINED.get(function, (function,)):
-        for _, (rows, cols) in REGISTRY[part].argument_shapes(Dimensions(dof, dof, dof, frames=frames)):
-            arguments.append(f"OUT{suffix}" if offset == 0 else f"OUT{suffix} + {offset}")
-            offset += rows * cols
+    names = [STATE_ARRAYS[name].lower() + suffix.lower() if whole else STATE_ARRAYS[name] + suffix
+             for name in function_inputs(function)]
+    return names + ([f"P{suffix}"] if parameters else [])
+
+
+def symdyn_arguments(function: str, dof: int, precision: str = "double", frames: int = 0,
+                     parameters: bool = False) -> str:
+    """The arguments of NAME_<function> in the harness: :func:`symdyn_inputs`, then each output
+    at its offset in OUT (float C: OUTF)."""
+    suffix = "F" if precision == "float" else ""
+    arguments, offset = symdyn_inputs(function, precision, parameters), 0
+    for size in output_sizes(function, dof, frames):
+        arguments.append(f"OUT{suffix}" if offset == 0 else f"OUT{suffix} + {offset}")
+        offset += size
     return ", ".join(arguments)
+
+
+def casadi_call(case: Case, function: str) -> str:
+    """One call of symdyn's CasADi function compiled from CasADi's C (a comma expression: the
+    argument and result pointers, then the call with the harness's work vectors)."""
+    inputs = symdyn_inputs(function, parameters=bool(case.parameters))
+    outputs, offset = [], 0
+    for size in output_sizes(function, case.dof, case.frames):
+        outputs.append("OUT" if offset == 0 else f"OUT + {offset}")
+        offset += size
+    setters = [f"casadi_arg[{k}] = {a}" for k, a in enumerate(inputs)]
+    setters += [f"casadi_res[{k}] = {r}" for k, r in enumerate(outputs)]
+    return f"({', '.join(setters)}, {case.prefix}_casadi_{function}(casadi_arg, casadi_res, casadi_iw, casadi_w, 0))"
+
+
+def batch_call(case: Case, function: str) -> str:
+    """One call of symdyn's batch function over all S states, into OUTB (OUTBF)."""
+    suffix = "F" if case.precision == "float" else ""
+    if len(output_sizes(function, case.dof, case.frames)) != 1:
+        raise SystemExit(f"the harness times batch functions of one output; {function} has more")
+    inputs = symdyn_inputs(function, case.precision, bool(case.parameters), whole=True)
+    return f"{case.prefix}_{function}_batch((int)S, {', '.join(inputs)}, OUTB{suffix})"
 
 
 def side_suffix(variant: str) -> str:
@@ -352,33 +401,53 @@ def cases_header(case: Case, peer: bool) -> str:
     lines = [f"#define N {case.dof}", f"#define NQ {case.nq or case.dof}",
              f"#define HARNESS_OUT_SIZE {3 * case.dof * case.dof + 8 * case.dof + 64 + case.frames * (22 + 6 * case.dof)}",
              f'#include "{case.prefix}_dynamics.h"']
+    if case.parameters:
+        lines.append(f"#define HARNESS_PARAMETERS {{{', '.join(repr(float(v)) for v in case.parameters)}}}")
+    if "casadi" in case.sides:
+        lines += ["#define HARNESS_CASADI 1", f'#include "{case.prefix}_casadi.h"',
+                  "#define HARNESS_CASADI_FUNCTIONS(X) " + " ".join(f"X({case.prefix}_casadi_{f})"
+                                                                    for f in case.functions)]
+    if "batch" in case.sides:
+        size = max(output_sizes(f, case.dof, case.frames)[0] for f in case.functions)
+        lines += [f"#define HARNESS_BATCH_SIZE {size}",
+                  f"#define SCALAR_RESULT OUT{'F' if case.precision == 'float' else ''}"]
     floating = bool(case.nq) and case.nq != case.dof
     pin_name = (lambda v: FLOATING_VARIANTS.get(v, v)) if floating else (lambda v: v)  # noqa: E731
     for function in case.functions:  # the parts in their own sources, declared here
-        for variant in PINOCCHIO[function][0]:
-            if PINOCCHIO[function][1] in OWN_SOURCE_PARTS or pin_name(variant) != variant:
+        for variant in pinocchio_of(function)[0]:
+            if pinocchio_of(function)[1] in OWN_SOURCE_PARTS or pin_name(variant) != variant:
                 arguments = ", ".join(f"const double *{a.lower()}" for a in PINOCCHIO_ARGUMENTS[variant].split(", "))
                 lines.append(f"void pin_{pin_name(variant)}({arguments}, double *out);")
     if case.precision == "float":
         lines.append("#define SYMDYN_FLOAT 1")
     result = "OUTF[0]" if case.precision == "float" else "OUT[0]"
-    cases, checks, peer_functions = [], [], []
+    cases, checks, peer_functions, batch_checks = [], [], [], []
     for function in case.functions:
-        call = f"{case.prefix}_{function}({symdyn_arguments(function, case.dof, case.precision, case.frames)})"
-        cases.append(f"X({function}, symdyn, {call}, {result})")
-        for variant in PINOCCHIO[function][0]:
+        call = (f"{case.prefix}_{function}("
+                f"{symdyn_arguments(function, case.dof, case.precision, case.frames, bool(case.parameters))})")
+        cases.append(f"X({function}, symdyn, {call}, {result}, 0)")
+        if "casadi" in case.sides:
+            cases.append(f"X({function}, casadi, {casadi_call(case, function)}, OUT[0], 0)")
+        if "batch" in case.sides:
+            outb = "OUTBF" if case.precision == "float" else "OUTB"
+            cases.append(f"X({function}, batch, {batch_call(case, function)}, {outb}[0], 1)")
+            batch_checks.append(f"X({function}, {call}, {output_sizes(function, case.dof, case.frames)[0]}, "
+                                f"{batch_call(case, function)}, {outb})")
+        for variant in pinocchio_of(function)[0]:
             pin_call = f"pin_{pin_name(variant)}({PINOCCHIO_ARGUMENTS[variant]}, OUT)"
-            cases.append(f"X({function}, pinocchio{side_suffix(variant)}, {pin_call}, OUT[0])")
+            cases.append(f"X({function}, pinocchio{side_suffix(variant)}, {pin_call}, OUT[0], 0)")
             if peer and variant in PEER_VARIANTS:
                 arguments = (PINOCCHIO_ARGUMENTS[variant].split(", ") + ["0", "0"])[:3]
                 peer_call = f"PEER(peer_{variant}, {', '.join(arguments)})"
-                cases.append(f"X({function}, peer{side_suffix(variant)}, {peer_call}, OUT[0])")
+                cases.append(f"X({function}, peer{side_suffix(variant)}, {peer_call}, OUT[0], 0)")
                 checks.append(f"X({variant}, {pin_call}, {peer_call})")
                 peer_functions.append(f"X(peer_{variant})")
     if peer:
         lines += ["#define HARNESS_PEER 1", '#include "peer.h"',
                   "#define HARNESS_CHECKS(X) " + " ".join(checks),
                   "#define HARNESS_PEER_FUNCTIONS(X) " + " ".join(peer_functions)]
+    if batch_checks:
+        lines.append("#define HARNESS_BATCH_CHECKS(X) " + " ".join(batch_checks))
     lines.append("#define HARNESS_CASES(X) " + " \\\n    ".join(cases))
     return "\n".join(lines) + "\n"
 
@@ -399,37 +468,49 @@ def write_states(path: str, dof: int, count: int, seed: int, robot=None) -> None
 
 
 def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, seed: int,
-                 generate_options: dict | None = None) -> Case:
+                 generate_options: dict | None = None, sides=()) -> Case:
     """Generate symdyn's C as ``symdyn generate`` does (``generate_options``: more
     :class:`symdyn.emit.pipeline.GenerateOptions` fields, e.g. ``fd_method``, ``precision``:
-    double or float, ``parameters``, ``use_cache``), save Pinocchio's model, generate the peer's C,
-    write the states and harness_cases.h into ``folder``."""
+    double or float, ``parameters``, ``use_cache``; ``sides``: "batch" adds the batch functions,
+    "casadi" symdyn's CasADi functions as CasADi's C, ``--target casadi-c``), save Pinocchio's
+    model (runtime parameters, e.g. a scene's payload, at their values in the file: the same
+    values the timing passes to symdyn's functions), generate the peer's C, write the states and
+    harness_cases.h into ``folder``."""
     from symdyn.check.pinocchio_model import build_model
     from symdyn.emit.pipeline import GenerateOptions, configure, generate
     os.makedirs(folder, exist_ok=True)
     generate_options = dict(generate_options or {})
     if generate_options.get("precision", "double") not in ("double", "float"):
         raise SystemExit("the harness times double or float C")
-    config = configure(robot_file(spec, folder), GenerateOptions(functions=tuple(functions), **generate_options))
+    if "batch" in sides:
+        generate_options["batch"] = True
+    path = robot_file(spec, folder)
+    config = configure(path, GenerateOptions(functions=tuple(functions), **generate_options))
     robot = config.robot
-    if getattr(robot, "parameters", None):
-        raise SystemExit(f"{spec}: runtime parameters ({', '.join(map(str, robot.parameters))}); "
-                         "the harness times robots with numeric models")
+    if getattr(robot, "parameters", None) and (len(robot.nominal) != len(robot.parameters)
+                                              or any(v is None for v in robot.nominal)):
+        raise SystemExit(f"{spec}: runtime parameters ({', '.join(map(str, robot.parameters))}) without values")
     start = time.perf_counter()
     files = generate(config)
     generate_seconds = time.perf_counter() - start
+    if "casadi" in sides:
+        if config.precision != "double":
+            raise SystemExit("the harness times symdyn's CasADi functions in double only")
+        files.update(generate(configure(path, GenerateOptions(functions=tuple(functions), target="casadi-c"))))
     for name, data in files.items():
         with open(os.path.join(folder, name), "wb") as handle:
             handle.write(data)
     prefix = next(name[:-len("_dynamics.h")] for name in files if name.endswith("_dynamics.h"))
     label = f"{robot.name} (n={robot.dof}{', floating base' if robot.floating else ''})"
+    parameters = tuple(float(v) for v in robot.nominal) if getattr(robot, "parameters", None) else ()
     case = Case(label, prefix, robot.nv, folder, tuple(functions),
                 files[f"{prefix}_dynamics.h"].decode(), precision=config.precision,
-                generate_seconds=generate_seconds, nq=robot.nq, frames=len(robot.frames))
-    model, _ = build_model(robot)
+                generate_seconds=generate_seconds, nq=robot.nq, frames=len(robot.frames),
+                parameters=parameters, sides=tuple(sides))
+    model, _ = build_model(robot, dict(zip(robot.parameters, robot.nominal)) if parameters else None)
     model.saveToText(os.path.join(folder, "model.txt"))
     if peer:
-        variants = [v for f in functions for v in PINOCCHIO[f][0] if v in PEER_VARIANTS]
+        variants = [v for f in functions for v in pinocchio_of(f)[0] if v in PEER_VARIANTS]
         paths = site_paths()  # this environment's libraries, wherever the cached generator was built
         environment = {**os.environ, "LD_LIBRARY_PATH": os.pathsep.join(
             [paths["casadi"], paths["lib"], *filter(None, [os.environ.get("LD_LIBRARY_PATH")])])}
@@ -455,6 +536,10 @@ def build_program(case: Case, flag_set: str, peer: bool, objects: dict) -> str:
     case.compile_costs[flag_set, "symdyn"] = compile_cost(
         ["gcc", *flags, *SYMDYN_DEFINES.get(flag_set, ()), "-std=c99", "-w", "-c", case.source, "-o", out("symdyn")])
     linked = [out("main"), out("symdyn")]
+    if "casadi" in case.sides:
+        case.compile_costs[flag_set, "casadi"] = compile_cost(
+            ["gcc", *flags, "-std=c99", "-w", "-c", os.path.join(folder, f"{case.prefix}_casadi.c"), "-o", out("casadi")])
+        linked.append(out("casadi"))
     if peer:
         case.compile_costs[flag_set, "peer"] = compile_cost(
             ["gcc", *flags, "-std=c99", "-w", "-c", os.path.join(folder, "peer.c"), "-o", out("peer")])
@@ -470,11 +555,19 @@ def build_program(case: Case, flag_set: str, peer: bool, objects: dict) -> str:
 def run_program(exe: str, case: Case, passes: int, index: int) -> dict:
     """One process, run from a fresh copy of the binary: {"time": {(function, side): [ns per
     pass]}, "check": {name: (difference, scale)}}."""
-    copy = os.path.join(case.folder, f"run{index}-{os.path.basename(exe)}")
+    return run_copy(exe, [os.path.join(case.folder, "states.bin"), os.path.join(case.folder, "model.txt"),
+                          str(passes)], case.folder, index)
+
+
+def run_copy(exe: str, arguments, folder: str, index: int) -> dict:
+    """Run a timing program once from a fresh copy of its binary (in ``folder``; where the code
+    lands in memory alone can move a big function's time by up to 2x) and read its "time
+    FUNCTION SIDE ns ..." and "check NAME difference scale" lines: {"time": {(function, side): [ns
+    per pass]}, "check": {name: (difference, scale)}}."""
+    copy = os.path.join(folder, f"run{index}-{os.path.basename(exe)}")
     shutil.copy(exe, copy)
     try:
-        run = subprocess.run([copy, os.path.join(case.folder, "states.bin"), os.path.join(case.folder, "model.txt"),
-                              str(passes)], capture_output=True, text=True)
+        run = subprocess.run([copy, *arguments], capture_output=True, text=True)
     finally:
         os.remove(copy)
     if run.returncode != 0:
@@ -524,18 +617,24 @@ def summary(values, digits: int = 0) -> str:
 
 def build_objects(flag_sets, functions, pool) -> dict:
     """Start building the Pinocchio objects the functions need, per flag set, in ``pool``."""
-    parts = ["LOAD"] + sorted({PINOCCHIO[f][1] for f in functions})
+    parts = ["LOAD"] + sorted({pinocchio_of(f)[1] for f in functions} - {None})
     return {(flag_set, part): pool.submit(pinocchio_part, part, FLAG_SETS[flag_set])
             for flag_set in flag_sets for part in parts}
 
 
 def check_peer(case: Case, results) -> float:
     """The largest |peer - Pinocchio| / max(1, max |Pinocchio|) over the cross-checks; stops the
-    run when the peer computes something else."""
+    run when the peer computes something else, or when a batch function's results differ from
+    the scalar function's (checks named batch_FUNCTION) by more than that tolerance."""
     worst = 0.0
     for result in results:
         for name, (difference, scale) in result["check"].items():
             relative = difference / max(1.0, scale)
+            if name.startswith("batch_"):
+                if not relative <= CHECK_TOLERANCE:
+                    raise SystemExit(f"{case.label}: symdyn's {name[len('batch_'):]}_batch differs from the scalar "
+                                     f"function by {difference:.3g} (largest entry {scale:.3g})")
+                continue
             if not relative <= CHECK_TOLERANCE:
                 raise SystemExit(f"{case.label}: the CasADi peer's {name} differs from Pinocchio's by {difference:.3g} "
                                  f"(largest entry {scale:.3g})")
@@ -545,22 +644,24 @@ def check_peer(case: Case, results) -> float:
 
 def run(specs, functions=FUNCTIONS, processes: int = 5, passes: int = 15, states: int = 10000,
         flag_sets=tuple(FLAG_SETS), peer: bool = True, seed: int = 2026, workdir: str | None = None,
-        generate_options: dict | None = None) -> list[Row]:
-    """Time ``functions`` of each robot (name or number, see the module docstring) on every
-    side; one :class:`Row` per robot, flag set and function (``generate_options``: see
-    :func:`prepare_case`)."""
-    unknown = [f for f in list(functions) if f not in PINOCCHIO] + [f for f in flag_sets if f not in FLAG_SETS]
+        generate_options: dict | None = None, sides=()) -> list[Row]:
+    """Time ``functions`` of each robot (name, robot or scene file, or number, see the module
+    docstring) on every side; one :class:`Row` per robot, flag set and function
+    (``generate_options``, ``sides``: see :func:`prepare_case`)."""
+    from symdyn.model.outputs import COMBINED, REGISTRY
+    unknown = [f for f in list(functions) if f not in PINOCCHIO and f not in REGISTRY and f not in COMBINED]
+    unknown += [f for f in flag_sets if f not in FLAG_SETS]
     if unknown:
-        raise SystemExit(f"unknown function or flag set {unknown[0]} (functions: {', '.join(PINOCCHIO)}; "
-                         f"flag sets: {', '.join(FLAG_SETS)})")
-    functions = [f for f in PINOCCHIO if f in functions]
-    peer = peer and any(v in PEER_VARIANTS for f in functions for v in PINOCCHIO[f][0])  # task_space alone: no peer
+        raise SystemExit(f"unknown function or flag set {unknown[0]} (functions: {', '.join(PINOCCHIO)}, or any "
+                         f"of symdyn's, timed without Pinocchio; flag sets: {', '.join(FLAG_SETS)})")
+    functions = [f for f in PINOCCHIO if f in functions] + [f for f in functions if f not in PINOCCHIO]
+    peer = peer and any(v in PEER_VARIANTS for f in functions for v in pinocchio_of(f)[0])  # task_space alone: no peer
     with concurrent.futures.ThreadPoolExecutor(max_workers=os.cpu_count() or 1) as pool, \
             tempfile.TemporaryDirectory() as scratch:
         pending = build_objects(flag_sets, functions, pool)
         base = workdir or scratch
-        cases = [prepare_case(str(spec), functions, os.path.join(base, f"{k}-{spec}"), peer, states, seed,
-                              generate_options) for k, spec in enumerate(specs)]
+        cases = [prepare_case(str(spec), functions, os.path.join(base, f"{k}-{os.path.basename(str(spec))}"), peer,
+                              states, seed, generate_options, sides) for k, spec in enumerate(specs)]
         if any(case.nq != case.dof for case in cases):  # a floating base: Pinocchio's calls that read nq
             pending.update({(fs, "FLOAT"): pool.submit(pinocchio_part, "FLOAT", FLAG_SETS[fs]) for fs in flag_sets})
         objects = {fs: {part: future.result() for (f, part), future in pending.items() if f == fs} for fs in flag_sets}
@@ -587,11 +688,42 @@ def markdown(rows, flag_set: str) -> str:
              "Pinocchio / symdyn | peer / symdyn |", "|---|---|---:|---:|---|---:|---:|---:|"]
     for row in (r for r in rows if r.flag_set == flag_set):
         pinocchio, peer = row.side("pinocchio"), row.side("peer")
+        if pinocchio is None:
+            continue
         peer_cell = "-" if peer is None else summary(peer[1]) + (f" {peer[0]}" if peer[0] else "")
         lines.append(f"| {row.case.label} | {row.function} | {summary(row.times['symdyn'])} | "
                      f"{summary(pinocchio[1])} | "
                      f"{pinocchio[0] or '-'} | {peer_cell} | {summary(row.ratio('pinocchio'), 2)} | "
                      f"{summary(row.ratio('peer'), 2) if peer else '-'} |")
+    return "\n".join(lines)
+
+
+def sides_table(rows, flag_set: str) -> str:
+    """The Markdown table of symdyn's extra sides at one flag set, the columns of those timed:
+    the batch function (ns per state; its time over the scalar call's; Pinocchio's per call over
+    it) and symdyn's CasADi functions compiled from CasADi's C (its time over symdyn's C)."""
+    rows = [r for r in rows if r.flag_set == flag_set]
+    sides = [side for side in ("batch", "casadi") if any(r.side(side) for r in rows)]
+    header = ["robot", "function", "symdyn C ns"]
+    if "batch" in sides:
+        header += ["batch ns/state", "batch / symdyn C"]
+    if "casadi" in sides:
+        header += ["CasADi C ns", "CasADi C / symdyn C"]
+    header += ["Pinocchio ns"] + (["Pinocchio / batch"] if "batch" in sides else [])
+    lines = ["| " + " | ".join(header) + " |", "|---|---|" + "---:|" * (len(header) - 2)]
+    for row in rows:
+        pinocchio = row.side("pinocchio")
+        cells = [row.case.label, row.function, summary(row.times["symdyn"])]
+        if "batch" in sides:
+            batch = row.side("batch")
+            cells += [summary(batch[1], 1), summary(row.ratio("batch"), 2)] if batch else ["-", "-"]
+        if "casadi" in sides:
+            cells += [summary(row.side("casadi")[1]), summary(row.ratio("casadi"), 2)] if row.side("casadi") \
+                else ["-", "-"]
+        cells.append(summary(pinocchio[1]) if pinocchio else "-")
+        if "batch" in sides:
+            cells.append(summary([p / b for p, b in zip(pinocchio[1], batch[1])], 1) if batch and pinocchio else "-")
+        lines.append("| " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -694,6 +826,9 @@ def print_tables(rows, kwargs: dict) -> None:
     for flag_set in kwargs["flag_sets"]:
         print(f"\n### {flag_label(flag_set)} (every side)\n")
         print(markdown(rows, flag_set))
+        if any(row.case.sides for row in rows):
+            print(f"\n#### symdyn's batch functions and CasADi functions, {flag_label(flag_set)}\n")
+            print(sides_table(rows, flag_set))
     print("\n### Builds (gcc -c of each generated file; peak memory of the compiler)\n")
     print(build_table(rows))
     print("\n" + NOTES)
@@ -706,11 +841,19 @@ def main(argv=None):
     parser.add_argument("--functions", default=",".join(FUNCTIONS),
                         help=f"comma-separated, of {', '.join(PINOCCHIO)} (default the first six)")
     parser.add_argument("--keep", help="build and run in this directory and keep it")
+    parser.add_argument("--precision", choices=("double", "float"), help="of symdyn's C (default: the scene's, "
+                        "else double; Pinocchio and the peer stay in double)")
+    parser.add_argument("--batch", action="store_true", help="also time symdyn's batch functions (--batch), "
+                        "ns per state over all states in one call")
+    parser.add_argument("--casadi", action="store_true", help="also time symdyn's CasADi functions compiled "
+                        "from CasADi's C (symdyn generate --target casadi-c), same flags")
     add_arguments(parser)
     args = parser.parse_args(argv)
     kwargs = options(args)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()]
-    rows = run(args.robots, functions, workdir=args.keep, **kwargs)
+    sides = tuple(side for side, wanted in (("batch", args.batch), ("casadi", args.casadi)) if wanted)
+    rows = run(args.robots, functions, workdir=args.keep, sides=sides,
+               generate_options={"precision": args.precision} if args.precision else None, **kwargs)
     print_tables(rows, kwargs)
 
 

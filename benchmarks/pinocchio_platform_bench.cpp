@@ -1,12 +1,13 @@
 // Times a platform robot's closed-loop dynamics: Pinocchio's C++ (the model and loop closures
 // written by benchmarks/parallel_speed.py) against symdyn's generated C (linked in), in the same
-// run, over the same states.  Prints "name ns_per_call" lines (median of 7 repeats of CALLS calls
-// cycling over the states) and writes every state's results to a binary file for the accuracy
-// comparison.
+// run, over the same states, with the method of benchmarks/harness.py (bench_timing.hpp's
+// interleaved_passes: one warm-up pass, then PASSES passes of every state per side, the sides of
+// one function taking turns; thread CPU time; "time FUNCTION SIDE ns ..." lines), and writes every
+// state's results to a binary file for the accuracy comparison (RESULTS.bin "-": not written).
 //
-//   pinocchio_platform_bench MODEL.txt CLOSURES.txt STATES.bin RESULTS.bin MODEL_NO_ARMATURE.txt [CALLS]
+//   pinocchio_platform_bench MODEL.txt CLOSURES.txt STATES.bin RESULTS.bin MODEL_NO_ARMATURE.txt [PASSES]
 //
-// (CALLS: default 20000.)
+// (PASSES: default 15.)
 //
 // MODEL.txt has a 1e-9 armature on the legs' joints (Pinocchio's constraint solvers factorize the
 // joint-space mass matrix, which the legs' massless crosses leave singular); inverse dynamics uses
@@ -31,6 +32,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <vector>
 
@@ -217,32 +219,34 @@ int main(int argc, char **argv) {
   };
 
   // results of every state (for the accuracy comparison): Pinocchio's phi and a (both
-  // algorithms), symdyn's phi, twist rate and actuated accelerations, and the statuses
-  std::ofstream results(argv[4], std::ios::binary);
-  for (int s = 0; s < states; ++s) {
-    pin_inverse(s);
-    results.write(reinterpret_cast<const char *>(solution.tail(6).data()), 6 * sizeof(double));
-    Eigen::VectorXd acc = pinocchio::constraintDynamics(model, data, q[s], v[s], tau[s], cmodels, cdatas, prox);
-    results.write(reinterpret_cast<const char *>(acc.data()), nv * sizeof(double));
-    acc = pinocchio::lcaba(model, data_lc, q[s], v[s], tau[s], cmodels, cdatas_lc, prox_lc);
-    results.write(reinterpret_cast<const char *>(acc.data()), nv * sizeof(double));
-    double status[2];
-    status[0] = PLATFORM_inverse_dynamics(pose[s], twist[s], rate[s], out);
-    results.write(reinterpret_cast<const char *>(out), 6 * sizeof(double));
-    status[1] = PLATFORM_forward_dynamics(pose[s], twist[s], phi[s], out, out + 6);
-    results.write(reinterpret_cast<const char *>(out), 12 * sizeof(double));
-    results.write(reinterpret_cast<const char *>(status), 2 * sizeof(double));
+  // algorithms), symdyn's phi, twist rate and actuated accelerations, and the statuses; "-": none
+  if (std::strcmp(argv[4], "-") != 0) {
+    std::ofstream results(argv[4], std::ios::binary);
+    for (int s = 0; s < states; ++s) {
+      pin_inverse(s);
+      results.write(reinterpret_cast<const char *>(solution.tail(6).data()), 6 * sizeof(double));
+      Eigen::VectorXd acc = pinocchio::constraintDynamics(model, data, q[s], v[s], tau[s], cmodels, cdatas, prox);
+      results.write(reinterpret_cast<const char *>(acc.data()), nv * sizeof(double));
+      acc = pinocchio::lcaba(model, data_lc, q[s], v[s], tau[s], cmodels, cdatas_lc, prox_lc);
+      results.write(reinterpret_cast<const char *>(acc.data()), nv * sizeof(double));
+      double status[2];
+      status[0] = PLATFORM_inverse_dynamics(pose[s], twist[s], rate[s], out);
+      results.write(reinterpret_cast<const char *>(out), 6 * sizeof(double));
+      status[1] = PLATFORM_forward_dynamics(pose[s], twist[s], phi[s], out, out + 6);
+      results.write(reinterpret_cast<const char *>(out), 12 * sizeof(double));
+      results.write(reinterpret_cast<const char *>(status), 2 * sizeof(double));
+    }
   }
-  results.close();
 
-  const int calls = argc > 6 ? std::atoi(argv[6]) : 20000;
+  const int passes = argc > 6 ? std::atoi(argv[6]) : 15;
   double sink = 0;
-  std::printf("states %d\n", states);
-  std::printf("symdyn_inverse_dynamics %.1f\n", time_ns([&](int i) { sink += ours_inverse(i % states); }, calls));
-  std::printf("pinocchio_inverse_dynamics %.1f\n", time_ns([&](int i) { sink += pin_inverse(i % states); }, calls));
-  std::printf("symdyn_forward_dynamics %.1f\n", time_ns([&](int i) { sink += ours_forward(i % states); }, calls));
-  std::printf("pinocchio_constraintDynamics %.1f\n", time_ns([&](int i) { sink += pin_forward(i % states); }, calls));
-  std::printf("pinocchio_lcaba %.1f\n", time_ns([&](int i) { sink += pin_lcaba(i % states); }, calls));
-  std::fprintf(stderr, "checksum %g\n", sink);
+  std::vector<TimedCase> cases;
+  cases.push_back(timed_case("inverse_dynamics", "symdyn", ours_inverse, states, sink));
+  cases.push_back(timed_case("inverse_dynamics", "pinocchio", pin_inverse, states, sink));
+  cases.push_back(timed_case("forward_dynamics", "symdyn", ours_forward, states, sink));
+  cases.push_back(timed_case("forward_dynamics", "pinocchio_constraintDynamics", pin_forward, states, sink));
+  cases.push_back(timed_case("forward_dynamics", "pinocchio_lcaba", pin_lcaba, states, sink));
+  interleaved_passes(cases, passes);
+  std::printf("states %d\nchecksum %.17g\n", states, sink);
   return 0;
 }

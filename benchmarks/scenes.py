@@ -1,60 +1,67 @@
-"""What specialization buys: operation counts and time per call of each scene in
-robots/scenes/ (and float versions) against the full model's same function.
+"""What specialization buys: each scene of robots/scenes/ (and float versions) against the full
+model's same functions, timed by benchmarks/harness.py, with operation counts.
 
-Usage:  python benchmarks/scenes.py [--smoke]
-Prints a Markdown table (ns per call: median of 7 x 20000 calls, -O3 -march=native; the loop of
-symdyn.check.timing: no Pinocchio here).  --smoke: the first two cases only.
+Usage:  python benchmarks/scenes.py [--smoke] [harness options]
+        (harness options: --processes, --passes, --states, --flags, --seed, --no-peer;
+        --smoke: the float gravity scene and the float runtime-payload scene, the harness's
+        tiny run)
+
+Every case is one harness run (distinct random states read by every side, thread CPU time,
+interleaved passes, several processes from fresh copies of the binary, the same gcc flags on
+every side): symdyn's C of the scene (a scene's runtime parameters passed at the values in its
+file), Pinocchio's model of the same reduced robot (with those values), and the Pinocchio ->
+CasADi peer.  Float rows time symdyn's float C against Pinocchio and the peer in double.
+Operation counts from the generated header.
 """
 
 import argparse
 import os
+import statistics
 import sys
-import tempfile
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
+sys.path.insert(0, HERE)
 
-import symdyn  # noqa: E402
-from symdyn.emit.cgen import build_function, generate_c  # noqa: E402
-from symdyn.model.scene import load_scene  # noqa: E402
-from symdyn.check.timing import time_generated  # noqa: E402
+import harness  # noqa: E402
 
 ROBOTS = os.path.join(HERE, "..", "robots")
-CASES = [  # (label, scene file or robot, functions, precision)
-    ("puma560 full", "puma560.yaml", ["gravity", "inverse_dynamics", "mass_matrix", "forward_dynamics"], "double"),
+FOUR = ["gravity", "inverse_dynamics", "mass_matrix", "forward_dynamics"]
+CASES = [  # (label, scene or robot file under robots/, functions, precision)
+    ("puma560 full", "puma560.yaml", FOUR, "double"),
     ("puma560 gravity only, float (scene)", "scenes/puma560_gravity.yaml", ["gravity"], "float"),
-    ("puma560 wrist locked (scene, 3 joints)", "scenes/puma560_wrist_locked.yaml",
-     ["gravity", "inverse_dynamics", "mass_matrix", "forward_dynamics"], "double"),
-    ("puma560 wrist locked, float", "scenes/puma560_wrist_locked.yaml",
-     ["gravity", "inverse_dynamics", "mass_matrix", "forward_dynamics"], "float"),
-    ("ur5 full", "ur5.yaml", ["gravity", "inverse_dynamics", "mass_matrix", "forward_dynamics"], "double"),
-    ("ur5 runtime payload (scene)", "scenes/ur5_payload.yaml",
-     ["gravity", "inverse_dynamics", "mass_matrix", "forward_dynamics"], "double"),
-    ("ur5 runtime payload, float", "scenes/ur5_payload.yaml",
-     ["gravity", "inverse_dynamics", "mass_matrix", "forward_dynamics"], "float"),
+    ("puma560 wrist locked (scene, 3 joints)", "scenes/puma560_wrist_locked.yaml", FOUR, "double"),
+    ("puma560 wrist locked, float", "scenes/puma560_wrist_locked.yaml", FOUR, "float"),
+    ("ur5 full", "ur5.yaml", FOUR, "double"),
+    ("ur5 runtime payload (scene)", "scenes/ur5_payload.yaml", FOUR, "double"),
+    ("ur5 runtime payload, float", "scenes/ur5_payload.yaml", FOUR, "float"),
 ]
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--smoke", action="store_true", help="the first two cases only")
+    harness.add_arguments(parser)
     args = parser.parse_args(argv)
-    print("| model | function | precision | ns | mul | add | div | sin/cos |")
-    print("|---|---|---|---:|---:|---:|---:|---:|")
-    with tempfile.TemporaryDirectory() as workdir:
-        for label, file, functions, precision in CASES[:2] if args.smoke else CASES:
-            path = os.path.join(ROBOTS, file)
-            robot = load_scene(path).robot if file.startswith("scenes/") else symdyn.load(path)
-            eqs = symdyn.derive(robot)
-            files = generate_c(eqs, functions, precision)
-            folder = os.path.join(workdir, label.replace(" ", "_").replace(",", "").replace("(", "").replace(")", ""))
-            os.makedirs(folder)
-            nominal = [float(v) for v in robot.nominal]
-            timings = time_generated(files, robot.name, robot.dof, functions, precision, folder, nominal)
-            for f in functions:
-                ops = build_function(eqs, f, precision, robot.name).ops
-                print(f"| {label} | {f} | {precision} | {timings[f]:.0f} | {ops['mul']} | {ops['add']} | "
-                      f"{ops['div']} | {ops['trig']} |", flush=True)
+    kwargs = harness.options(args)
+    results = []
+    for label, file, functions, precision in [CASES[1], CASES[-1]] if args.smoke else CASES:
+        rows = harness.run([os.path.join(ROBOTS, file)], functions, generate_options={"precision": precision},
+                           **kwargs)
+        results.append((label, precision, rows))
+    print(harness.environment(kwargs))
+    for flag_set in kwargs["flag_sets"]:
+        print(f"\n### {harness.flag_label(flag_set)} (every side)\n")
+        print("| model | function | precision | symdyn ns | Pinocchio ns | Pinocchio / symdyn | peer / symdyn | "
+              "mul | add | div | sin/cos |")
+        print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
+        for label, precision, rows in results:
+            for row in (r for r in rows if r.flag_set == flag_set):
+                ops = row.case.costs()[row.function]
+                pinocchio, peer = row.side("pinocchio"), row.side("peer")
+                print(f"| {label} | {row.function} | {precision} | {harness.summary(row.times['symdyn'])} | "
+                      f"{statistics.median(pinocchio[1]):.0f} | {harness.summary(row.ratio('pinocchio'), 1)} | "
+                      f"{harness.summary(row.ratio('peer'), 2) if peer else '-'} | {ops['mul']} | {ops['add']} | "
+                      f"{ops['div']} | {ops['trig']} |")
 
 
 if __name__ == "__main__":

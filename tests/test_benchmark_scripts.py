@@ -33,7 +33,7 @@ TINY = {
     "long_chains.py": ["3", "--smoke", "--functions", "inverse_dynamics,forward_dynamics"],
     "harness.py": ["3", "--smoke"],
     "scenes.py": ["--smoke"],
-    "casadi_speed.py": ["scara", "--functions", "inverse_dynamics,forward_dynamics_dq,mass_matrix_inverse"],
+    "casadi_speed.py": ["scara", "--smoke", "--functions", "inverse_dynamics,forward_dynamics_dq,mass_matrix_inverse"],
     "fma.py": ["scara"],
     "firmware_instructions.py": ["scara"],
     "firmware_size.py": ["scara"],
@@ -47,7 +47,7 @@ NUMERIC_CELL = re.compile(r"\|\s*-?\d+(?:\.\d+)?(?:e[-+]?\d+)?(?:x|\s*\(|/|\s*\|
 #: the scripts that compile Pinocchio's C++ (benchmarks/harness.py and its users, and the two
 #: with their own C++ timing programs)
 CXX_SCRIPTS = {"parallel_speed.py", "forward_dynamics_speed.py", "kinematics_speed.py", "c_speed.py", "batch_speed.py",
-               "identification.py", "long_chains.py", "harness.py"}
+               "identification.py", "long_chains.py", "harness.py", "casadi_speed.py", "scenes.py"}
 
 
 def _missing_tool(script: str) -> str | None:
