@@ -39,6 +39,13 @@ Method (every choice is the same for all three sides):
   symdyn and peer / symdyn per process, their median and min-max (> 1: symdyn is faster).
 - Before timing, the peer's result on the first state is checked against Pinocchio's (they
   compute the same quantities); a difference beyond 1e-6 of the largest entry stops the run.
+- More of symdyn's sides on request, in the same passes: ``--batch`` the batch functions
+  (``NAME_f_batch`` over all states in one call, its time per state; checked against the scalar
+  function on the first states), ``--casadi`` symdyn's CasADi functions compiled from CasADi's C
+  (``symdyn generate --target casadi-c``).  ROBOT_OR_N may be a scene file (runtime parameters
+  passed at the values in the file, Pinocchio's model built with them) and ``--precision float``
+  times symdyn's float C (Pinocchio and the peer stay in double).  A function of symdyn's that
+  Pinocchio lacks (e.g. ``inverse_dynamics_dq``) is timed on symdyn's sides only.
 
 The Pinocchio objects and the peer's generator take minutes to compile (Pinocchio's templates);
 they are built once per flag set and toolchain and kept in $SYMDYN_BENCH_CACHE (default
