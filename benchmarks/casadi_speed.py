@@ -108,7 +108,8 @@ def main(argv=None):
             vm, call = python[spec_of[id(row.case)]][row.function] if python else (None, None)
             print(f"| {row.case.label} | {row.function} | {harness.summary(row.times['symdyn'])} | "
                   f"{harness.summary(casadi_side[1])} | {harness.summary(row.ratio('casadi'), 2)} | "
-                  f"{harness.summary(peer[1]) if peer else '-'} | {harness.summary(row.ratio('peer'), 2) if peer else '-'} | "
+                  f"{harness.summary(peer[1]) if peer else '-'} | "
+                  f"{harness.summary(row.ratio('peer'), 2) if peer else '-'} | "
                   f"{harness.summary(row.ratio('pinocchio'), 2) if row.side('pinocchio') else '-'} | "
                   f"{f'{vm:.0f}' if vm else '-'} | {f'{vm / mine:.1f}x' if vm else '-'} | "
                   f"{f'{call / 1000:.1f}' if call else '-'} |", flush=True)

@@ -148,6 +148,8 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "framePoses": "Q", "frameJacobians": "Q", "frameJacobianDotV": "Q, QD",
                        "frameKinematics": "Q, QD", "rneaDerivatives": "Q, QD, QDD", "gravityDerivatives": "Q",
                        "abaDerivatives": "Q, QD, TAU", "computeMinverse": "Q"}
+
+
 def pinocchio_of(function: str) -> tuple:
     """``PINOCCHIO[function]``, or ``((), None)`` for a function of symdyn's that Pinocchio has
     no counterpart of (e.g. the single derivatives ``inverse_dynamics_dq``): timed without a
@@ -364,26 +366,28 @@ def symdyn_inputs(function: str, precision: str = "double", parameters: bool = F
     return names + ([f"P{suffix}"] if parameters else [])
 
 
+def output_pointers(function: str, dof: int, frames: int = 0, buffer: str = "OUT") -> list[str]:
+    """Where NAME_<function>'s outputs go in the harness: each at its offset in ``buffer``."""
+    pointers, offset = [], 0
+    for size in output_sizes(function, dof, frames):
+        pointers.append(buffer if offset == 0 else f"{buffer} + {offset}")
+        offset += size
+    return pointers
+
+
 def symdyn_arguments(function: str, dof: int, precision: str = "double", frames: int = 0,
                      parameters: bool = False) -> str:
     """The arguments of NAME_<function> in the harness: :func:`symdyn_inputs`, then each output
     at its offset in OUT (float C: OUTF)."""
-    suffix = "F" if precision == "float" else ""
-    arguments, offset = symdyn_inputs(function, precision, parameters), 0
-    for size in output_sizes(function, dof, frames):
-        arguments.append(f"OUT{suffix}" if offset == 0 else f"OUT{suffix} + {offset}")
-        offset += size
-    return ", ".join(arguments)
+    buffer = "OUTF" if precision == "float" else "OUT"
+    return ", ".join(symdyn_inputs(function, precision, parameters) + output_pointers(function, dof, frames, buffer))
 
 
 def casadi_call(case: Case, function: str) -> str:
     """One call of symdyn's CasADi function compiled from CasADi's C (a comma expression: the
     argument and result pointers, then the call with the harness's work vectors)."""
     inputs = symdyn_inputs(function, parameters=bool(case.parameters))
-    outputs, offset = [], 0
-    for size in output_sizes(function, case.dof, case.frames):
-        outputs.append("OUT" if offset == 0 else f"OUT + {offset}")
-        offset += size
+    outputs = output_pointers(function, case.dof, case.frames)
     setters = [f"casadi_arg[{k}] = {a}" for k, a in enumerate(inputs)]
     setters += [f"casadi_res[{k}] = {r}" for k, r in enumerate(outputs)]
     return f"({', '.join(setters)}, {case.prefix}_casadi_{function}(casadi_arg, casadi_res, casadi_iw, casadi_w, 0))"
@@ -545,7 +549,8 @@ def build_program(case: Case, flag_set: str, peer: bool, objects: dict) -> str:
     linked = [out("main"), out("symdyn")]
     if "casadi" in case.sides:
         case.compile_costs[flag_set, "casadi"] = compile_cost(
-            ["gcc", *flags, "-std=c99", "-w", "-c", os.path.join(folder, f"{case.prefix}_casadi.c"), "-o", out("casadi")])
+            ["gcc", *flags, "-std=c99", "-w", "-c", os.path.join(folder, f"{case.prefix}_casadi.c"),
+             "-o", out("casadi")])
         linked.append(out("casadi"))
     if peer:
         case.compile_costs[flag_set, "peer"] = compile_cost(

@@ -157,7 +157,8 @@ def accuracy(robot, nv: int, records, path: str) -> dict:
         pin_phi, pin_a, lc_a = res[:6], res[6:6 + nv], res[6 + nv:6 + 2 * nv]
         ours_phi, ours_rate = res[6 + 2 * nv:12 + 2 * nv], res[12 + 2 * nv:18 + 2 * nv]
         if res[-2] != 0 or res[-1] != 0:
-            raise SystemExit(f"{robot.name}: a generated function returned {res[-2]:.0f}, {res[-1]:.0f} at a sampled state")
+            raise SystemExit(f"{robot.name}: a generated function returned {res[-2]:.0f}, {res[-1]:.0f} "
+                             "at a sampled state")
         errors["inverse"] = max(errors["inverse"], np.abs(ours_phi - pin_phi).max() / np.abs(pin_phi).max())
         R = pin.Quaternion(row[3:7]).toRotationMatrix()
         for key, acc in (("constraintDynamics", pin_a), ("lcaba", lc_a)):
