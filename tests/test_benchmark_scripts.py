@@ -34,7 +34,7 @@ TINY = {
     "harness.py": ["3", "--smoke"],
     "scenes.py": ["--smoke"],
     "casadi_speed.py": ["scara", "--smoke", "--functions", "inverse_dynamics,forward_dynamics_dq,mass_matrix_inverse"],
-    "fma.py": ["scara"],
+    "fma.py": ["scara", "--smoke"],
     "firmware_instructions.py": ["scara"],
     "firmware_size.py": ["scara"],
     "derivation.py": ["--repeat", "1", "robots/scara.yaml"],
