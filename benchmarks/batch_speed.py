@@ -42,9 +42,7 @@ def main(argv=None):
     kwargs = harness.options(args)
     functions = [f.strip() for f in args.functions.split(",") if f.strip()]
     rows = harness.run(args.robots, functions, sides=("batch",), **kwargs)
-    print(harness.environment(kwargs))
-    for flag_set in kwargs["flag_sets"]:
-        print(f"\n### {harness.flag_label(flag_set)} (every side)\n")
+    for flag_set in harness.flag_set_sections(kwargs):
         print(harness.sides_table(rows, flag_set))
         print(f"\nThe same run, symdyn's scalar function against Pinocchio and the peer:\n")
         print(harness.markdown(rows, flag_set))

@@ -96,9 +96,7 @@ def main(argv=None):
     python = {} if args.no_vm else {name: python_times(name, functions, args.smoke) for name in args.robots}
     cases = list({id(r.case): r.case for r in rows}.values())  # in the order of the robots asked
     spec_of = {id(case): spec for case, spec in zip(cases, args.robots)}
-    print(harness.environment(kwargs))
-    for flag_set in kwargs["flag_sets"]:
-        print(f"\n### {harness.flag_label(flag_set)} (every side)\n")
+    for flag_set in harness.flag_set_sections(kwargs):
         print("| robot | function | symdyn C ns | CasADi C ns | CasADi C / symdyn C | peer ns | peer / symdyn C | "
               "Pinocchio / symdyn C | SX VM ns | SX VM / symdyn C | Python call of f (us) |")
         print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|")

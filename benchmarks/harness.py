@@ -833,10 +833,17 @@ them (rnea has none).  Ratios > 1: symdyn is faster.  Pinocchio's results stay i
 harness reads the first entry of each side's result for its checksum."""
 
 
-def print_tables(rows, kwargs: dict) -> None:
+def flag_set_sections(kwargs: dict):
+    """Print the run's environment line, then before each flag set its heading; yields the flag
+    sets (the scripts built on the harness print their tables per flag set this way)."""
     print(environment(kwargs))
     for flag_set in kwargs["flag_sets"]:
         print(f"\n### {flag_label(flag_set)} (every side)\n")
+        yield flag_set
+
+
+def print_tables(rows, kwargs: dict) -> None:
+    for flag_set in flag_set_sections(kwargs):
         print(markdown(rows, flag_set))
         if any(row.case.sides for row in rows):
             print(f"\n#### symdyn's batch functions and CasADi functions, {flag_label(flag_set)}\n")

@@ -87,9 +87,7 @@ def main(argv=None):
             dh = symdyn.load(os.path.join(HERE, "..", "robots", f"{dh_name}.yaml"))
             repeats = 1 if args.smoke else 3
             derivations.append((name, derivation_seconds(urdf, repeats), dh_name, derivation_seconds(dh, repeats)))
-    print(harness.environment(kwargs))
-    for flag_set in kwargs["flag_sets"]:
-        print(f"\n### {harness.flag_label(flag_set)} (every side)\n")
+    for flag_set in harness.flag_set_sections(kwargs):
         print(harness.markdown(rows, flag_set))
     print("\n| URDF robot | derivation, all functions (s) | same arm from its DH table | DH (s) | URDF / DH |")
     print("|---|---:|---|---:|---:|")

@@ -48,9 +48,7 @@ def main(argv=None):
         rows = harness.run([os.path.join(ROBOTS, file)], functions, generate_options={"precision": precision},
                            **kwargs)
         results.append((label, precision, rows))
-    print(harness.environment(kwargs))
-    for flag_set in kwargs["flag_sets"]:
-        print(f"\n### {harness.flag_label(flag_set)} (every side)\n")
+    for flag_set in harness.flag_set_sections(kwargs):
         print("| model | function | precision | symdyn ns | Pinocchio ns | Pinocchio / symdyn | peer / symdyn | "
               "mul | add | div | sin/cos |")
         print("|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|")
