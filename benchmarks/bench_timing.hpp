@@ -1,7 +1,9 @@
 // Timing for the C++ benchmark programs (benchmarks/pinocchio_platform_bench.cpp): thread CPU
 // time (CLOCK_THREAD_CPUTIME_ID) and the passes of benchmarks/harness_main.c.
 #pragma once
-#include <algorithm>
+#include <cstdio>
+#include <functional>
+#include <string>
 #include <time.h>
 #include <vector>
 
@@ -11,17 +13,12 @@ inline double bench_cpu_ns() {
   return t.tv_sec * 1e9 + t.tv_nsec;
 }
 
-
 // The harness's method (benchmarks/harness_main.c) for a C++ timing program: each case is a
 // function (e.g. "inverse_dynamics") and a side (e.g. "symdyn", "pinocchio_lcaba") with a call
 // f(state); one pass calls it once per state and its thread CPU time per call is recorded.
 // After one untimed warm-up pass of every case, the sides of one function take turns, pass
 // after pass (their order rotated each pass).  Prints "time FUNCTION SIDE ns ns ..." (one number
 // per pass), the format benchmarks/harness.py reads.
-#include <cstdio>
-#include <cstring>
-#include <functional>
-#include <string>
 
 struct TimedCase {
   std::string function, side;

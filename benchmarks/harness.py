@@ -440,10 +440,10 @@ def cases_header(case: Case, peer: bool) -> str:
         if "casadi" in case.sides:
             cases.append(f"X({function}, casadi, {casadi_call(case, function)}, OUT[0], 0)")
         if "batch" in case.sides:
-            outb = "OUTBF" if case.precision == "float" else "OUTB"
-            cases.append(f"X({function}, batch, {batch_call(case, function)}, {outb}[0], 1)")
+            outb, whole_call = ("OUTBF" if case.precision == "float" else "OUTB"), batch_call(case, function)
+            cases.append(f"X({function}, batch, {whole_call}, {outb}[0], 1)")
             batch_checks.append(f"X({function}, {call}, {output_sizes(function, case.dof, case.frames)[0]}, "
-                                f"{batch_call(case, function)}, {outb})")
+                                f"{whole_call}, {outb})")
         for variant in pinocchio_of(function)[0]:
             pin_call = f"pin_{pin_name(variant)}({PINOCCHIO_ARGUMENTS[variant]}, OUT)"
             cases.append(f"X({function}, pinocchio{side_suffix(variant)}, {pin_call}, OUT[0], 0)")
@@ -507,7 +507,8 @@ def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, see
     if "casadi" in sides:
         if config.precision != "double":
             raise SystemExit("the harness times symdyn's CasADi functions in double only")
-        files.update(generate(configure(path, GenerateOptions(functions=tuple(functions), target="casadi-c"))))
+        same = {k: v for k, v in generate_options.items() if k not in ("precision", "batch")}  # e.g. fd_method
+        files.update(generate(configure(path, GenerateOptions(functions=tuple(functions), target="casadi-c", **same))))
     for name, data in files.items():
         with open(os.path.join(folder, name), "wb") as handle:
             handle.write(data)
@@ -730,8 +731,8 @@ def sides_table(rows, flag_set: str) -> str:
             batch = row.side("batch")
             cells += [summary(batch[1], 1), summary(row.ratio("batch"), 2)] if batch else ["-", "-"]
         if "casadi" in sides:
-            cells += [summary(row.side("casadi")[1]), summary(row.ratio("casadi"), 2)] if row.side("casadi") \
-                else ["-", "-"]
+            casadi = row.side("casadi")
+            cells += [summary(casadi[1]), summary(row.ratio("casadi"), 2)] if casadi else ["-", "-"]
         cells.append(summary(pinocchio[1]) if pinocchio else "-")
         if "batch" in sides:
             cells.append(summary([p / b for p, b in zip(pinocchio[1], batch[1])], 1) if batch and pinocchio else "-")

@@ -191,11 +191,7 @@ def main(argv=None):
         else:
             with tempfile.TemporaryDirectory() as workdir:
                 results[name] = run(name, kwargs, workdir)
-    import pinocchio
-    print(harness.environment(kwargs).replace(f", CasADi {harness.importlib.metadata.version('casadi')}; ", "; ")
-          .replace(f"Pinocchio {harness.importlib.metadata.version('pin')}", f"Pinocchio {pinocchio.__version__}"))
-    for flag_set in kwargs["flag_sets"]:
-        print(f"\n### {harness.flag_label(flag_set)} (every side)\n")
+    for flag_set in harness.flag_set_sections(kwargs):
         print("| platform | function | symdyn ns | Pinocchio ns | Pinocchio / symdyn | max difference (normalized) |")
         print("|---|---|---:|---:|---:|---:|")
         for name, (times, errors, _) in results.items():

@@ -29,7 +29,6 @@
 #include <pinocchio/serialization.hpp>
 #include <Eigen/LU>
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
