@@ -74,19 +74,39 @@ REBUILT_FIELDS = ("robot", "method", "q", "qd", "qdd", "tau")
 _warned = False
 
 
+#: fields of the model's dataclasses that a derivation never reads, with the reason; every
+#: other field of every dataclass reachable from a robot is part of the key (a field added later
+#: is in the key without anyone listing it: tests/derive/test_cache_key.py changes each one)
+NOT_DERIVED = {
+    ("Robot", "source"): "the path it was read from: one robot read from two places shares its entry",
+    ("Robot", "source_hash"): "the file's bytes: the key holds what was read from them",
+}
+
+
+def canonical(value) -> str:
+    """The complete canonical text of a model value: every field of a dataclass (but those of
+    :data:`NOT_DERIVED`) by name, tuples, lists and dicts item by item, SymPy expressions by
+    ``srepr`` (with the symbols' assumptions), Python scalars by type and ``repr``.  A value of any
+    other type is a ``TypeError``: nothing can be left out of the key silently."""
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        kind = type(value).__name__
+        items = ",".join(f"{f.name}={canonical(getattr(value, f.name))}" for f in dataclasses.fields(value)
+                         if (kind, f.name) not in NOT_DERIVED)
+        return f"{kind}({items})"
+    if isinstance(value, (tuple, list)):
+        return f"{type(value).__name__}[" + ",".join(canonical(v) for v in value) + "]"
+    if isinstance(value, dict):
+        return "dict{" + ",".join(f"{canonical(k)}:{canonical(v)}" for k, v in sorted(value.items(), key=repr)) + "}"
+    if isinstance(value, sp.Basic):
+        return sp.srepr(value)
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return f"{type(value).__name__}:{value!r}"
+    raise TypeError(f"the cache key cannot read a {type(value).__name__}")
+
+
 def robot_fingerprint(robot) -> str:
-    """Hash of everything in a robot that affects its equations (not where it was read from)."""
-    parts = [robot.name, robot.convention, sp.srepr(tuple(robot.gravity)),
-             sp.srepr(robot.parameters), repr(robot.runtime_names),
-             sp.srepr(tuple(robot.base_matrix())), sp.srepr(tuple(robot.tool_matrix())), repr(robot.task_rows)]
-    if robot.parents:  # a tree (a chain's fingerprint is as it was)
-        parts.append("parents " + repr(robot.parents))
-    if robot.floating:
-        parts.append("floating " + sp.srepr(robot.base_inertia.expressions()))
-    for link in robot.links:
-        parts.append(link.joint + ("" if link.actuated else " passive"))
-        parts.append(sp.srepr(link.expressions()))
-    return hashlib.sha256("\n".join(parts).encode()).hexdigest()
+    """Hash of the canonical form of everything in a robot (see :func:`canonical`)."""
+    return hashlib.sha256(canonical(robot).encode()).hexdigest()
 
 
 #: modules whose code decides what a derivation produces
@@ -114,9 +134,10 @@ def code_fingerprint() -> str:
 
 
 def cache_key(robot, method: str, outputs, fd_method: str = "ldlt", parameters: str = "standard") -> str:
-    text = "|".join([__version__, code_fingerprint(), robot_fingerprint(robot), method,
-                     ",".join(sorted(outputs))] + ([f"fd={fd_method}"] if fd_method != "ldlt" else [])
-                    + ([f"parameters={parameters}"] if parameters != "standard" else []))
+    """The key of a derivation: symdyn's version, the source of the derivation modules, the
+    canonical form of the robot (every field), and every argument of :func:`derive`."""
+    options = {"method": method, "outputs": tuple(sorted(outputs)), "fd_method": fd_method, "parameters": parameters}
+    text = "\n".join([__version__, code_fingerprint(), canonical(robot), canonical(options)])
     return hashlib.sha256(text.encode()).hexdigest()
 
 

@@ -18,7 +18,7 @@ import sympy as sp
 from ..derive import articulated_loops as al
 from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan, tangent_width
 from .cprinter import CPrinter, VectorUnsupported, count_operations, fused_sum
-from .emission import template_environment
+from .emission import fold_constants, template_environment
 
 #: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
 ROWS = 4
@@ -197,10 +197,10 @@ def tangent_loops(tangent, printer, store: str, fma: str) -> tuple[list[str], Co
 
     def coefficient(value) -> tuple[int, str]:
         """(sign, printed factor or "" for 1) of a coefficient."""
-        if value.is_number:
-            sign = -1 if value < 0 else 1
-            magnitude = -value if sign < 0 else value
-            return sign, "" if magnitude == 1 else printer.doprint(magnitude)
+        if value.is_number:  # one literal: a printed constant expression after a sign is not an operand
+            number = float(fold_constants(value))
+            sign = -1 if number < 0 else 1
+            return sign, "" if abs(number) == 1 else printer.literal(abs(number))
         index, sign = tangent.coefficients[value]
         return sign, f"dv_p[{index}]"
 

@@ -49,6 +49,14 @@ class CPrinter(C99CodePrinter):
         self.suffix = "F" if precision == "float" else ""
         self.real = "float" if precision == "float" else "double"
 
+    def doprint(self, expr, assign_to=None):
+        """The C of ``expr`` with its constant subexpressions (``cos(1.5707963267948966)``,
+        ``sqrt(2)/2``) folded to literals first: every code path prints through here, so no
+        function of a constant is left for run time."""
+        if isinstance(expr, sp.Basic):
+            expr = fold_constants(expr)
+        return super().doprint(expr, assign_to)
+
     def literal(self, value) -> str:
         """A floating literal of ``value``; a value that is not finite in the chosen precision
         (a product of huge masses and lengths, a division by zero) is a :class:`SymdynError`."""
@@ -76,11 +84,12 @@ class CPrinter(C99CodePrinter):
         terms = []
         for term in expr.args:
             text = self._print(term)
-            negative = text.startswith("-")
-            if negative:
-                text = text[1:]
-            if term.is_Add:  # never in a flattened Add, kept for safety
-                text = f"({text})"
+            if term.is_Add:  # an unevaluated sum inside a sum: its own sign stays inside
+                negative, text = False, f"({text})"
+            else:  # a leading "-" of a product, power, number or call negates the whole term
+                negative = text.startswith("-")
+                if negative:
+                    text = text[1:]
             split = _last_factor(text) if self.fma and terms else None
             terms.append((negative, *split) if split else (negative, "", text))
         return fused_sum(terms, self.fma)
