@@ -9,10 +9,10 @@ import warnings
 
 from .._version import __version__
 from ..model.errors import SymdynError, SymdynWarning, one_line
-from . import bench, cache, convert, derive, generate, identify, verify
+from . import bench, cache, convert, derive, fuzz, generate, identify, verify
 
 SUBCOMMANDS = {"generate": generate, "verify": verify, "derive": derive, "bench": bench,
-               "convert": convert, "identify": identify, "cache": cache}
+               "convert": convert, "identify": identify, "cache": cache, "fuzz": fuzz}
 
 
 def build_parser() -> argparse.ArgumentParser:

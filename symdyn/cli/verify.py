@@ -13,7 +13,7 @@ from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
 from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import scene_choices
-from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, with_requirements
+from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, supported_outputs, with_requirements
 from ..model.errors import SymdynError
 from ..model.parallel import ParallelRobot
 from ..model.tolerances import VERIFY_TOLERANCE
@@ -21,9 +21,6 @@ from .common import add_fd_method_option, add_method_option, add_size_options, c
 
 HELP = "compile the generated C and compare every function with Pinocchio"
 DEFAULT_TOLERANCE = VERIFY_TOLERANCE
-#: the task-space functions are compared at states whose task's smallest relative pivot (the
-#: reference's :meth:`~symdyn.check.pinocchio_model.PinocchioReference.task_pivot_ratio`) is above this
-TASK_REGULAR = 1e-3
 
 
 def add_parser(sub) -> None:
@@ -41,6 +38,9 @@ def add_parser(sub) -> None:
     p.add_argument("--functions", metavar="LIST",
                    help="comma-separated functions to check, from: " + ", ".join(ALL_OUTPUTS) + " (default: the scene's functions, else all that generate writes by default); "
                         "for a platform robot, from: " + ", ".join(PLATFORM_FUNCTIONS) + " (default: all)")
+    p.add_argument("--all", action="store_true",
+                   help="check every function this robot supports (symdyn.model.outputs.supported_outputs): "
+                        "the derivatives, regressors, task-space, frame and centroidal functions too")
     p.add_argument("--tolerance", type=float, help="normalized error bound (default 1e-10 double, 1e-4 float)")
     p.add_argument("--seed", type=int, default=0, help="random seed for the states (default 0)")
     add_method_option(p)
@@ -56,7 +56,8 @@ def run(args) -> int:
         import pinocchio  # noqa: F401
     except ImportError:
         raise SymdynError("symdyn verify needs Pinocchio: pip install 'symdyn[verify]' (the pin package)") from None
-    from ..check.pinocchio_model import PinocchioReference, UrdfReference, compare
+    from ..check.agreement import REGRESSORS, TASK_REGULAR, derive_supported, target_errors
+    from ..check.pinocchio_model import PinocchioReference
     from ..check.states import random_state
     from ..model.scene import is_urdf
     if args.states < 1:
@@ -67,40 +68,31 @@ def run(args) -> int:
     check_size(robot, args, args.robot)
     if isinstance(robot, ParallelRobot):
         return _run_platform(args, robot)
-    asked = parse_functions(args.functions) if args.functions else None
+    if args.all and args.functions:
+        raise SymdynError("--all and --functions choose the functions two ways: give one")
+    asked = supported_outputs(robot) if args.all else parse_functions(args.functions) if args.functions else None
     functions, precision, _ = scene_choices(robot, scene, asked, args.precision)
     rng = np.random.default_rng(args.seed)
     values = {}
     for sym, nominal in zip(robot.parameters, robot.nominal):
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
-    eqs = derive_cached(robot, args.method, with_requirements(functions), progress=progress_printer(args), fd_method=args.fd_method or default_fd_method(precision, robot),
-                         parameters=args.parameters)
+    fd_method = args.fd_method or default_fd_method(precision, robot)
+    if args.all:  # without the task-space functions where the robot's task does not exist
+        eqs, functions = derive_supported(robot, args.method, functions, fd_method, progress=progress_printer(args),
+                                          parameters=args.parameters)
+    else:
+        eqs = derive_cached(robot, args.method, with_requirements(functions), progress=progress_printer(args),
+                            fd_method=fd_method, parameters=args.parameters)
     files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = build_and_load(files, robot.name, robot.nv, len(robot.parameters), precision, workdir,
                              actuated=len(robot.actuated_joints), task=len(robot.task_rows),
                              frames=len(robot.frames))
         lib.base_columns = len(eqs.base_parameters)
-        regressors = [f for f in functions if f in ("regressor", "base_regressor")]
-        if regressors:  # checked as torques: Y pi and Y_b beta against the reference's inverse dynamics
-            lib = _AsTorques(lib, *_parameter_values(robot, eqs, values))
+        regressors = [f for f in functions if f in REGRESSORS]
         if is_urdf(args.robot) and scene is None:  # Pinocchio reads the file itself: an independent reading
-            from ..model.urdf import QUARTER_TOLERANCE
-            snapped = not args.exact_angles and any("multiple of pi/2" in note for note in robot.notes)
-            try:
-                with _stderr_silenced():  # urdfdom prints its complaints on the process's stderr
-                    ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None,
-                                        floating_base=robot.floating, frames=getattr(args, "frames", None))
-                reading = "Pinocchio's own URDF parser" + (
-                    " (near-quarter-turn rpy angles made exact, as symdyn reads them; --exact-angles "
-                    "keeps them as written)" if snapped else "")
-            except Exception as exc:  # Pinocchio's parser refuses what symdyn read: compare with symdyn's reading
-                from ..model.errors import one_line, warn
-                warn(f"{args.robot}: Pinocchio's URDF parser cannot read it ({type(exc).__name__}: "
-                     f"{one_line(exc, 160)}); comparing with a Pinocchio model of symdyn's reading instead")
-                ref = PinocchioReference(robot, values)
-                reading = "a Pinocchio model of symdyn's reading"
+            ref, reading = _urdf_reference(args, robot, values)
         else:
             ref = PinocchioReference(robot, values)
             reading = "a Pinocchio model of symdyn's reading"
@@ -111,11 +103,8 @@ def run(args) -> int:
                 state = [x.astype(np.float32).astype(float) for x in state]
             states.append(state)
         task = [f for f in functions if f in TASK_OUTPUTS]
-        errors = compare(lib, _ReferenceTorques(ref) if regressors else ref, states,
-                         [f for f in functions if f not in task], p)
-        if task:  # away from singularities, where both sides' errors stay near the rounding
-            regular = [state for state in states if ref.task_pivot_ratio(state[0]) > TASK_REGULAR]
-            errors.update(compare(lib, ref, regular, task, p) if regular else {f: float("nan") for f in task})
+        errors = target_errors(lib, ref, robot, eqs, functions, states, p, values)
+        regular = [state for state in states if ref.task_pivot_ratio(state[0]) > TASK_REGULAR] if task else []
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
     form = "; inverse dynamics in the base parameters" if args.parameters == "base" else ""
     print(f"symdyn verify {args.robot}: {robot.dof} joints{' on a floating base' if robot.floating else ''}, "
@@ -181,46 +170,24 @@ def _run_platform(args, robot) -> int:
     return 0 if result.ok(tolerance) else 1
 
 
-def _parameter_values(robot, eqs, values):
-    """(pi, beta): the file's standard and base parameters as numbers (``values``: the runtime
-    parameters' values)."""
-    import sympy as sp
-    from ..derive.regressor import parameter_names, standard_parameters
-    pi = [float(sp.sympify(v).xreplace(values)) for v in standard_parameters(robot)]
-    symbols = dict(zip((sp.Symbol(n, real=True) for n in parameter_names(robot)), pi))
-    beta = [float(expr.xreplace(symbols)) for _, expr in eqs.base_parameters]
-    return np.array(pi), np.array(beta)
-
-
-class _AsTorques:
-    """A compiled library whose regressors are evaluated as torques, ``Y pi`` and ``Y_b beta``."""
-
-    def __init__(self, lib, pi, beta):
-        self._lib, self._pi, self._beta = lib, pi, beta
-
-    def regressor(self, q, qd, qdd, p=None):
-        return self._lib.regressor(q, qd, qdd, p) @ self._pi
-
-    def base_regressor(self, q, qd, qdd, p=None):
-        return self._lib.base_regressor(q, qd, qdd, p) @ self._beta
-
-    def __getattr__(self, name):
-        return getattr(self._lib, name)
-
-
-class _ReferenceTorques:
-    """A reference whose regressors are its inverse dynamics (see :class:`_AsTorques`)."""
-
-    def __init__(self, reference):
-        self._reference = reference
-
-    def regressor(self, q, qd, qdd):
-        return self._reference.inverse_dynamics(q, qd, qdd)
-
-    base_regressor = regressor
-
-    def __getattr__(self, name):
-        return getattr(self._reference, name)
+def _urdf_reference(args, robot, values):
+    """Pinocchio's own reading of the URDF (or, where its parser refuses the file, a Pinocchio
+    model of symdyn's reading, with a warning) and the words that say which."""
+    from ..check.pinocchio_model import PinocchioReference, UrdfReference
+    from ..model.urdf import QUARTER_TOLERANCE
+    snapped = not args.exact_angles and any("multiple of pi/2" in note for note in robot.notes)
+    try:
+        with _stderr_silenced():  # urdfdom prints its complaints on the process's stderr
+            ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None,
+                                floating_base=robot.floating, frames=getattr(args, "frames", None))
+        return ref, "Pinocchio's own URDF parser" + (
+            " (near-quarter-turn rpy angles made exact, as symdyn reads them; --exact-angles "
+            "keeps them as written)" if snapped else "")
+    except Exception as exc:  # Pinocchio's parser refuses what symdyn read: compare with symdyn's reading
+        from ..model.errors import one_line, warn
+        warn(f"{args.robot}: Pinocchio's URDF parser cannot read it ({type(exc).__name__}: "
+             f"{one_line(exc, 160)}); comparing with a Pinocchio model of symdyn's reading instead")
+        return PinocchioReference(robot, values), "a Pinocchio model of symdyn's reading"
 
 
 class _stderr_silenced:

@@ -47,6 +47,7 @@ from .articulated_body import forward_dynamics as articulated_body_fd
 from .articulated_body import reaction_map
 from .articulated_loops import ArticulatedLoops, articulated_loops
 from .regressor import base_parameters as find_base_parameters
+from .regressor import standard_parameters
 from .regressor import base_equivalent
 from .regressor import regressor as regressor_matrix
 from .chain import make_chain
@@ -247,6 +248,11 @@ class Equations:
     def numeric(self):
         """Compiled numeric evaluation (:class:`symdyn.derive.numeric.NumericEquations`)."""
         return NumericEquations(self)
+
+
+class TaskUnreachable(SymdynError):
+    """The task of the task-space functions has dependent rows at every configuration (their
+    Lambda does not exist): ``symdyn verify --all`` and the fuzzer leave those functions out."""
 
 
 def check_tree_request(robot: Robot, method: str, wanted, fd_method: str, parameters: str) -> None:
@@ -835,7 +841,7 @@ def check_task_regular(robot: Robot, program: Program, pivots, states: int = 3, 
         return
     rows = robot.task_rows
     what = "field 'task'" if robot.task is not None else "the task-space functions' default task (the tool's pose)"
-    raise SymdynError(
+    raise TaskUnreachable(
         f"{robot.source or robot.name}: {what}: the tool cannot move independently in the {len(rows)} task "
         f"directions ({', '.join(JACOBIAN_ROWS[r] for r in rows)}) at any configuration (J's task rows have rank at most "
         f"{len(rows) - len(small)} at every sampled q), so the task-space mass matrix does not exist; choose fewer "
@@ -870,7 +876,9 @@ def _base_regressor(d: _Derivation) -> sp.Matrix:
     d.report("base parameters (QR of the regressor stacked at random states)")
     evaluate = compile_function([chain.q, chain.qd, chain.qdd, robot.parameters], d.b.build(), Y, "regressor_rank")
     values = np.random.default_rng(3).uniform(0.5, 1.5, len(robot.parameters))
-    found = find_base_parameters(robot, lambda *state: evaluate(*state, values))
+    numbers = dict(zip(robot.parameters, values))
+    standard = [float(sp.sympify(v).xreplace(numbers)) for v in standard_parameters(robot)]
+    found = find_base_parameters(robot, lambda *state: evaluate(*state, values), standard=standard)
     d.base = tuple(zip(found.names, found.expressions))
     if d.parameters == "base" and "inverse_dynamics" in d.need:
         d.report("inverse_dynamics from the base parameters")

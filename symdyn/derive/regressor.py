@@ -28,6 +28,7 @@ dependent column is written as a combination of the independent ones before it
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,6 +37,8 @@ import sympy as sp
 from .articulated_body import joint_frames
 from .spatial import cross_force, cross_motion, motion_transform
 from .chain import Chain
+
+from ..model.errors import SymdynError
 
 from ..model.outputs import LINK_PARAMETERS  # the 13 standard parameters of a link, in order
 from ..model.outputs import PARAMETERS_PER_LINK as PER_LINK
@@ -166,12 +169,55 @@ def _coefficient(x: float) -> sp.Expr:
     return sp.Integer(int(round(x))) if abs(x - round(x)) < 1e-12 else sp.Float(x, 15)
 
 
-def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0) -> BaseParameters:
+#: the power of length in each standard parameter's regressor column, in a revolute joint's row
+#: (torque per parameter: m -> m^2/s^2, m c -> m/s^2, inertia, armature and friction -> 1/s^2 ...)
+_COLUMN_LENGTH_POWER = (2, 1, 1, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0)
+#: a prismatic joint's own armature (kg), viscous (N s/m) and Coulomb (N) columns, in its row
+#: counted as a torque (the row times a length): see :func:`_unit_scales`
+_PRISMATIC_OWN_POWER = {10: 2, 11: 2, 12: 1}
+
+
+def characteristic_length(robot) -> float:
+    """The largest constant length of the robot's joint placements (DH a and d, origins' xyz,
+    fixed transforms' translations), 1 where it has none: its unit of length for the rank
+    decisions of :func:`base_parameters`."""
+    lengths = []
+    for link in robot.links:
+        lengths += [link.a, link.d]
+        if link.origin is not None:
+            lengths += list(link.origin.xyz)
+        if link.fixed:
+            lengths += [link.fixed[3], link.fixed[7], link.fixed[11]]
+    values = [abs(float(v)) for v in lengths if sp.sympify(v).is_number]
+    largest = max(values, default=0.0)
+    return largest if largest > 0 and math.isfinite(largest) else 1.0
+
+
+def _unit_scales(robot, rows: int):
+    """``(row_scale, column_scale)`` that turn the stacked regressor (``rows`` rows, joint ``k % n``
+    for row k) into the regressor of the same robot with its lengths divided by
+    :func:`characteristic_length`: a prismatic joint's rows (forces) times that length, each
+    column divided by the length to the power of its parameter's unit.  The rank decisions and
+    the regrouping coefficients are computed there, so that they do not depend on the units the
+    file is written in (a Puma 560 in mm and g decides as in m and kg)."""
+    n, length = robot.dof, characteristic_length(robot)
+    prismatic = np.array([not link.is_revolute for link in robot.links])
+    row_scale = np.where(np.tile(prismatic, rows // n), length, 1.0)
+    power = np.array([[_PRISMATIC_OWN_POWER.get(c, p) if prismatic[j] else p
+                       for c, p in enumerate(_COLUMN_LENGTH_POWER)] for j in range(n)], dtype=float).ravel()
+    return row_scale, length ** -power
+
+
+def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0, standard=None) -> BaseParameters:
     """Find the base parameters numerically (see the module's documentation).
 
     ``evaluate(q, qd, qdd) -> Y`` (n x P) evaluates the regressor; it is called at ``states``
     random states (default: enough for three times as many rows as columns), q uniform in
-    [-pi, pi], qd and qdd in [-3, 3] (nonzero friction signs)."""
+    [-pi, pi], qd and qdd in [-3, 3] (nonzero friction signs).  The decisions are taken on the
+    regressor of the robot in its own unit of length (:func:`_unit_scales`), each column scaled
+    to unit norm.  ``standard`` (optional, P numbers): the robot's standard parameters, to check
+    that the base parameters give its torques at the states to 1e-9 (else a
+    :class:`~symdyn.model.errors.SymdynError` says the regrouping is inaccurate)."""
     n = robot.dof
     P = PER_LINK * n
     count = states or max(10, -(-3 * P // n))
@@ -182,19 +228,25 @@ def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0) -
         qd = rng.uniform(0.2, 3, n) * rng.choice([-1, 1], n)
         qdd = rng.uniform(-3, 3, n)
         rows.append(np.asarray(evaluate(q, qd, qdd), dtype=float))
-    W = np.vstack(rows)
+    raw = np.vstack(rows)
+    if not np.all(np.isfinite(raw)):
+        raise SymdynError(f"{robot.source or robot.name}: base parameters: the regressor is not finite at random "
+                          "states (lengths beyond double precision's range?)")
+    row_scale, column_scale = _unit_scales(robot, raw.shape[0])
+    W = raw * row_scale[:, None] * column_scale[None, :]
     scale = np.linalg.norm(W, axis=0)
     # a column that is zero up to rounding (a parameter with no effect, whose terms cancel in
     # floating point) must not be scaled up to look like an independent one
     null = scale <= 1e-10 * max(scale.max(), 1e-300)
     W = np.where(null, 0.0, W)
     scale[null] = 1.0
+    W = W / scale
     # the QR sees each link's columns as SymPyBotics and Khalil order them: inertia, first
     # moment, mass, then armature and friction; a column is kept where it adds to the span of
     # those before it, so a tip link's mass is regrouped into the links before it (M_{j-1} +
     # M_j, ...) with geometric coefficients (lengths, squared lengths)
     order = [PER_LINK * j + c for j in range(n) for c in QR_ORDER]
-    _, R = np.linalg.qr((W / scale)[:, order])
+    _, R = np.linalg.qr(W[:, order])
     diag = np.abs(np.diag(R))
     kept = {order[k] for k in range(P) if diag[k] > RANK_TOLERANCE * max(diag.max(), 1e-300)}
     independent = [k for k in order if k in kept]
@@ -203,12 +255,17 @@ def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0) -
     for row, k in enumerate(independent):
         K[row, k] = 1.0
     if dependent:
-        coefficients, *_ = np.linalg.lstsq(W[:, independent], W[:, dependent], rcond=None)
-        coefficients[np.abs(coefficients) < 1e-12] = 0.0
+        # W's columns are Y's times s = column_scale / scale: Y_D = Y_B (s_B X / s_D)
+        unit, *_ = np.linalg.lstsq(W[:, independent], W[:, dependent], rcond=None)
+        unit[np.abs(unit) < 1e-12] = 0.0
+        s = column_scale / scale
+        coefficients = unit * s[independent][:, None] / s[dependent][None, :]
         # 12 significant digits: the least-squares noise (~1e-15) removed, so that the same robot
         # gives the same coefficients whatever else is derived with it; geometric coefficients
         # (products of a few lengths, 0.4318^2 = 0.18645124) come out exact
         K[:, dependent] = [[float(f"{x:.12g}") for x in row] for row in coefficients]
+    if standard is not None:
+        _check_regrouping(robot, raw, independent, K, np.asarray(standard, dtype=float))
     names = parameter_names(robot)
     symbols = [sp.Symbol(name, real=True) for name in names]
     base_names, expressions = [], []
@@ -219,6 +276,18 @@ def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0) -
         expressions.append(expr)
     return BaseParameters(tuple(independent), tuple(tuple(float(x) for x in r) for r in K),
                           tuple(base_names), tuple(expressions))
+
+
+def _check_regrouping(robot, Y, independent, K, standard) -> None:
+    """Refuse, in one line, base parameters whose torques ``Y_B (K pi)`` differ from the
+    standard ones ``Y pi`` by more than 1e-9 of their size at the sampled states."""
+    full, base = Y @ standard, Y[:, independent] @ (K @ standard)
+    size = float(np.linalg.norm(full))
+    error = float(np.linalg.norm(full - base)) / size if size > 0 else 0.0
+    if not error <= 1e-9:
+        raise SymdynError(f"{robot.source or robot.name}: base parameters: regrouped, the robot's own parameters give "
+                          f"torques {error:.1g} (relative) from the standard ones at random states; the regrouping is "
+                          "not accurate for this robot's magnitudes: use --parameters standard (or the full regressor)")
 
 
 def base_equivalent(robot, base: BaseParameters) -> tuple[sp.Expr, ...]:

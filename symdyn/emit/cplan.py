@@ -142,12 +142,19 @@ def tangent_plan(eqs: Equations, parts, destinations, stride: int | None = None)
     for value in tangents.coefficients(groups):
         if value.is_number:
             continue
-        sign, core = (-1, -value) if value.could_extract_minus_sign() else (1, value)
+        sign, core = (-1, -value) if _negative(value) else (1, value)
         if core not in stored:
             stored[core] = len(stored)
             targets.append(Target(f"dv_p[{stored[core]}]", core, True))
         coefficients[value] = (stored[core], sign)
     return targets, TangentPlan(tangents, groups, tuple(destinations), coefficients, (stride or eqs.n,) * len(groups))
+
+
+def _negative(value: sp.Expr) -> bool:
+    """Whether a coefficient is stored as its opposite: SymPy's canonical sign test, taken on
+    the expression with its constants folded (unfolded, SymPy sorts terms such as
+    ``cos(1.5707963267948966)*...`` by evaluating them, minutes on a 7-joint tree's derivatives)."""
+    return fold_constants(value).could_extract_minus_sign()
 
 
 @dataclass

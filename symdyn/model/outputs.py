@@ -424,6 +424,23 @@ def default_outputs(robot) -> tuple[str, ...]:
             + (TASK_OUTPUTS if getattr(robot, "task", None) is not None else ()) + frames)
 
 
+def supported_outputs(robot) -> tuple[str, ...]:
+    """Every output ``robot`` can have derived, in :data:`ALL_OUTPUTS`' order (``symdyn verify
+    --all`` and the fuzzer check them all): a kinematic tree or floating base has
+    :data:`TREE_AVAILABLE` (the derivatives on fixed bases only), a chain every output (the
+    reaction map when it has passive joints); the frame functions need frames."""
+    names = set(ALL_OUTPUTS)
+    if getattr(robot, "is_tree", False):
+        names &= set(TREE_AVAILABLE)
+        if robot.floating:
+            names -= set(DERIVATIVE_OUTPUTS)
+    elif not robot.passive_joints:
+        names.discard("reaction_map")
+    if not getattr(robot, "frames", ()):
+        names -= set(FRAME_OUTPUTS)
+    return tuple(name for name in ALL_OUTPUTS if name in names)
+
+
 def function_inputs(name: str) -> tuple[str, ...]:
     """The input groups of a generated function (an output, or a combined function), in order."""
     for combined in COMBINED_SPECS:

@@ -15,7 +15,7 @@ from helpers import REPO, normalized_error, random_states, robot_path
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference
 from symdyn.cli import main
-from symdyn.cli.verify import TASK_REGULAR
+from symdyn.check.agreement import TASK_REGULAR
 from symdyn.emit.cgen import generate_c
 from symdyn.model.outputs import TASK_OUTPUTS, default_outputs
 from symdyn.model.robot import TASKS

@@ -1,0 +1,143 @@
+"""Every target of a derivation compared with an independent reference: the compiled C, the
+numpy functions and the CasADi functions, output by output, by :func:`normalized_error`.
+
+``symdyn verify`` and the differential fuzzer (:mod:`symdyn.check.fuzz`) both read their numbers
+through here.  The regressors, which Pinocchio has not, are compared as torques (``Y pi`` and
+``Y_b beta`` with the file's parameters against inverse dynamics); the task-space functions at the
+states whose task is away from singularities (:data:`TASK_REGULAR`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import sympy as sp
+
+from ..model.outputs import REGISTRY, TASK_OUTPUTS
+from .pinocchio_model import compare
+
+#: the task-space functions are compared at states whose task's smallest relative pivot (the
+#: reference's :meth:`~symdyn.check.pinocchio_model.PinocchioReference.task_pivot_ratio`) is above this
+TASK_REGULAR = 1e-3
+
+REGRESSORS = ("regressor", "base_regressor")
+
+
+def derive_supported(robot, method: str, functions, fd_method: str = "ldlt", use_cache: bool = True,
+                     progress=None, parameters: str = "standard"):
+    """``(eqs, functions)``: ``functions`` derived, less the task-space ones when the robot's task
+    cannot be moved in at any configuration (:class:`symdyn.derive.equations.TaskUnreachable`:
+    those functions do not exist for it)."""
+    from ..derive.cache import derive_cached
+    from ..derive.equations import TaskUnreachable
+    from ..model.outputs import with_requirements
+    functions = tuple(functions)
+    try:
+        return derive_cached(robot, method, with_requirements(functions), use_cache, progress, fd_method,
+                             parameters), functions
+    except TaskUnreachable:
+        if not any(f in TASK_OUTPUTS for f in functions):
+            raise
+        functions = tuple(f for f in functions if f not in TASK_OUTPUTS)
+        return derive_cached(robot, method, with_requirements(functions), use_cache, progress, fd_method,
+                             parameters), functions
+
+
+def parameter_values(robot, eqs, values):
+    """``(pi, beta)``: the robot's standard and base parameters as numbers (``values``: a number
+    for each of its symbols)."""
+    from ..derive.regressor import parameter_names, standard_parameters
+    pi = [float(sp.sympify(v).xreplace(values)) for v in standard_parameters(robot)]
+    symbols = dict(zip((sp.Symbol(n, real=True) for n in parameter_names(robot)), pi))
+    beta = [float(expr.xreplace(symbols)) for _, expr in eqs.base_parameters]
+    return np.array(pi), np.array(beta)
+
+
+class AsTorques:
+    """A target whose regressors are evaluated as torques, ``Y pi`` and ``Y_b beta``."""
+
+    def __init__(self, target, pi, beta):
+        self._target, self._pi, self._beta = target, pi, beta
+
+    def regressor(self, q, qd, qdd, *p):
+        return np.asarray(self._target.regressor(q, qd, qdd, *p)) @ self._pi
+
+    def base_regressor(self, q, qd, qdd, *p):
+        return np.asarray(self._target.base_regressor(q, qd, qdd, *p)) @ self._beta
+
+    def __getattr__(self, name):
+        return getattr(self._target, name)
+
+
+class ReferenceTorques:
+    """A reference whose regressors are its inverse dynamics (see :class:`AsTorques`)."""
+
+    def __init__(self, reference):
+        self._reference = reference
+
+    def regressor(self, q, qd, qdd):
+        return self._reference.inverse_dynamics(q, qd, qdd)
+
+    base_regressor = regressor
+
+    def __getattr__(self, name):
+        return getattr(self._reference, name)
+
+
+class NumpyTarget:
+    """``eqs.numeric`` with the compiled library's calling convention (``p`` last, by position)."""
+
+    def __init__(self, eqs):
+        self._numeric = eqs.numeric
+        self._parameters = bool(eqs.parameters)
+
+    def __getattr__(self, name):
+        function = getattr(self._numeric, name)
+
+        def call(*args):
+            *inputs, p = args
+            return function(*inputs, p=p if self._parameters else None)
+        return call
+
+
+class CasadiTarget:
+    """One ``casadi.Function`` per output (:func:`symdyn.emit.casadi_backend.casadi_function`),
+    called with numbers; a function of several outputs gives its blocks side by side, as C."""
+
+    def __init__(self, eqs):
+        self._eqs = eqs
+        self._functions = {}
+
+    def __getattr__(self, name):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        from ..emit.casadi_backend import casadi_function
+        if name not in self._functions:
+            self._functions[name] = casadi_function(self._eqs, name)
+        function = self._functions[name]
+        vector = REGISTRY[name].is_vector
+
+        def call(*args):
+            *inputs, p = args
+            values = function(*inputs, *([p] if self._eqs.parameters else []))
+            blocks = values if isinstance(values, (list, tuple)) else [values]
+            out = np.hstack([np.array(block, dtype=float) for block in blocks])
+            return out[:, 0] if vector and out.shape[1] == 1 else out
+        return call
+
+
+def target_errors(target, reference, robot, eqs, functions, states, p, values, floor: float = 0.0) -> dict[str, float]:
+    """The normalized error of each function of ``target`` (a compiled library, a
+    :class:`NumpyTarget` or a :class:`CasadiTarget`) against ``reference`` over ``states``
+    (regressors as torques, task-space functions at regular states: NaN when there is none;
+    ``floor``: see :func:`symdyn.check.pinocchio_model.normalized_error`)."""
+    functions = list(functions)
+    regressors = [f for f in functions if f in REGRESSORS]
+    if regressors:
+        target = AsTorques(target, *parameter_values(robot, eqs, values))
+        reference = ReferenceTorques(reference)
+    task = [f for f in functions if f in TASK_OUTPUTS]
+    errors = compare(target, reference, states, [f for f in functions if f not in task], p, floor)
+    if task:
+        regular = [state for state in states if reference.task_pivot_ratio(state[0]) > TASK_REGULAR]
+        errors.update(compare(target, reference, regular, task, p, floor) if regular else {f: float("nan") for f in task})
+    return errors
