@@ -136,7 +136,7 @@ def _urdf_inertial(rng) -> str:
 
 def random_urdf(rng, name: str, floating: bool) -> tuple[str, list[str]]:
     """A URDF tree and its link names (see the module docstring)."""
-    moving = int(rng.integers(2, 8))
+    moving = int(rng.integers(2, 7))
     kinds = ["revolute"] * moving + ["fixed"] * int(rng.integers(0, 3))
     rng.shuffle(kinds)
     for k in range(len(kinds)):

@@ -8,6 +8,7 @@ they get here (see :mod:`symdyn.model.robot`).
 from __future__ import annotations
 
 import functools
+import math
 import re
 
 import jinja2
@@ -44,10 +45,58 @@ def fold_constants(expr: sp.Expr, digits: int = 30) -> sp.Expr:
     # statements sharing the sines and cosines of a few twists), and putting the Floats in
     # re-evaluates the numeric products and sums around them, as folding the whole tree
     # bottom-up would (SymPy's replace: 14 of the 23 s of that function's emission)
-    constants = [a for a in expr.atoms(sp.Function, sp.Pow, sp.NumberSymbol) if a.is_number]
-    if not constants:
-        return expr
-    return expr.xreplace({a: _fold_constant(a, digits) for a in constants})
+    atoms = expr.atoms(sp.Function, sp.Pow, sp.NumberSymbol)
+    constants = [a for a in atoms if a.is_number]
+    if constants:
+        expr = expr.xreplace({a: _fold_constant(a, digits) for a in constants})
+    if any(_outsized(a) for a in expr.atoms(sp.Add)):  # rare: only then the bottom-up pass
+        expr = expr.replace(_has_outsized_factor, _rescaled)
+    return expr
+
+
+#: a sum whose numeric coefficients are all beyond this factor from 1 is written as its largest
+#: coefficient times a sum of ordinary numbers: exact rational arithmetic on a file's decimal
+#: numbers can build ``3.1e46/(6.6e47 + 3.1e47*m_p)``, fine in double but not finite in float;
+#: written so, the outsized factors of a quotient's two sides combine into one ordinary number
+OUTSIZED = 1e15
+
+
+def _outsized(expr) -> bool:
+    """Whether ``expr`` is a sum whose every term's numeric coefficient is beyond
+    :data:`OUTSIZED` from 1 (and not a number itself)."""
+    if not expr.is_Add or expr.is_number:
+        return False
+    for term in expr.args:
+        c = abs(float(term.as_coeff_Mul()[0]))
+        if not (c > OUTSIZED or 0 < c < 1 / OUTSIZED):
+            return False
+    return True
+
+
+def _factors(expr):
+    """``(base, exponent)`` of each factor of a product or power."""
+    for factor in ([expr] if expr.is_Pow else expr.args):
+        yield (factor.base, factor.exp) if factor.is_Pow and factor.exp.is_Integer else (factor, sp.S.One)
+
+
+def _has_outsized_factor(expr) -> bool:
+    """Whether a product or integer power has an :func:`_outsized` sum among its factors."""
+    return (expr.is_Mul or (expr.is_Pow and expr.exp.is_Integer)) and any(_outsized(b) for b, _ in _factors(expr))
+
+
+def _rescaled(expr) -> sp.Expr:
+    """The product with each outsized sum ``s`` (to the power ``e``) written as ``k**e *
+    (s/k)**e``, ``k`` the largest magnitude of its numeric coefficients: the ``k**e`` combine with
+    the product's own number (a quotient's two outsized sides into one ordinary number)."""
+    scale, factors = sp.S.One, []
+    for base, exponent in _factors(expr):
+        if _outsized(base):
+            k = sp.Float(max(abs(float(t.as_coeff_Mul()[0])) for t in base.args), 17)
+            scale *= k ** exponent
+            factors.append(sp.Add(*[t / k for t in base.args]) ** exponent)
+        else:
+            factors.append(base ** exponent)
+    return sp.Mul(scale, *factors)
 
 
 @functools.lru_cache(maxsize=4096)
