@@ -29,6 +29,8 @@ def derived():
 #: starts last and keeps one worker busy while the other idles.
 LONG_FIRST = (
     "tests/test_readme.py",
+    "tests/check/test_differential_fuzz.py",
+    "tests/check/test_trust_regressions.py",
     "tests/derive/test_derivatives.py",
     "tests/emit/test_cgen.py",
     "tests/emit/test_parallel_codegen.py",

@@ -32,9 +32,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..model.tolerances import VERIFY_TOLERANCE
+
 #: normalized error (per joint, see :func:`symdyn.check.pinocchio_model.normalized_error`)
-#: allowed for each precision of the C; numpy and CasADi evaluate in double
-TOLERANCE = {"double": 1e-9, "mixed": 1e-9, "float": 2e-3}
+#: allowed for each precision of the C (mixed: float inputs and results, double inside, so its
+#: results carry float's rounding); numpy and CasADi evaluate in double
+TOLERANCE = {"double": 1e-9, "mixed": VERIFY_TOLERANCE["mixed"], "float": VERIFY_TOLERANCE["float"]}
 #: the random robots' quantities are of order 1 in SI units (masses 0.2-4 kg, lengths up to
 #: 0.4 m): an output whose reference's RMS is below this is measured against it, not against
 #: its own rounding noise (:func:`symdyn.check.pinocchio_model.normalized_error`'s ``floor``)
@@ -486,35 +489,56 @@ def shrink(case: Case, finding: Finding, workdir: str, budget_seconds: float = 3
     return case
 
 
-def run_campaign(numbers, out_dir: str | None = None, report=print, shrink_seconds: float = 300.0) -> list[Outcome]:
+def _check_number(number: int, root: str) -> Outcome:
+    """Check case ``number`` in a fresh directory under ``root`` (a campaign's worker)."""
+    with tempfile.TemporaryDirectory(dir=root) as workdir:
+        return check_case(random_case(number), workdir)
+
+
+def run_campaign(numbers, out_dir: str | None = None, report=print, shrink_seconds: float = 300.0,
+                 jobs: int = 1) -> list[Outcome]:
     """Check the cases of ``numbers`` (an iterable of ints), each in its own directory under a
-    private derivation cache; a failing case is shrunk and its small robot written to ``out_dir``
-    (with the finding in a comment).  ``report`` is called with one line per case."""
+    private derivation cache, ``jobs`` at a time (processes); a failing case is shrunk and
+    written to ``out_dir`` (:func:`_keep`).  ``report`` is called with one line per case, in
+    the cases' order."""
+    import concurrent.futures
+    import functools
+    import multiprocessing
     outcomes = []
     with tempfile.TemporaryDirectory(prefix="symdyn_fuzz_") as root:
         previous = os.environ.get("SYMDYN_CACHE_DIR")
         os.environ["SYMDYN_CACHE_DIR"] = os.path.join(root, "cache")
         try:
-            for number in numbers:
-                case = random_case(number)
-                with tempfile.TemporaryDirectory(dir=root) as workdir:
-                    outcome = check_case(case, workdir)
+            check = functools.partial(_check_number, root=root)
+            if jobs > 1:
+                pool = concurrent.futures.ProcessPoolExecutor(jobs, mp_context=multiprocessing.get_context("fork"))
+                results = pool.map(check, numbers)
+            else:
+                pool, results = None, map(check, numbers)
+            for outcome in results:
                 outcomes.append(outcome)
-                status = "ok" if not outcome.findings else f"{len(outcome.findings)} FAILED"
-                report(f"case {number}: {case.describe()}: {len(outcome.functions)} functions, {outcome.compared} "
-                       f"comparisons, worst {outcome.worst:.2g}, {outcome.seconds:.1f} s ({outcome.slowest()}): {status}")
-                for finding in outcome.findings:
-                    report(f"  {finding}")
+                _report(outcome, report)
                 if outcome.findings and out_dir:
-                    small = shrink(case, outcome.findings[0], root, shrink_seconds)
+                    small = shrink(outcome.case, outcome.findings[0], root, shrink_seconds)
                     _keep(small, outcome.findings[0], out_dir)
                     report(f"  shrunk to {os.path.join(out_dir, f'fuzz{small.number}.case.yaml')}")
+            if pool is not None:
+                pool.shutdown()
         finally:
             if previous is None:
                 os.environ.pop("SYMDYN_CACHE_DIR", None)
             else:
                 os.environ["SYMDYN_CACHE_DIR"] = previous
     return outcomes
+
+
+def _report(outcome: Outcome, report) -> None:
+    status = "ok" if not outcome.findings else f"{len(outcome.findings)} FAILED"
+    report(f"case {outcome.case.number}: {outcome.case.describe()}: {len(outcome.functions)} functions, "
+           f"{outcome.compared} comparisons, worst {outcome.worst:.2g}, {outcome.seconds:.1f} s ({outcome.slowest()}): "
+           f"{status}")
+    for finding in outcome.findings:
+        report(f"  {finding}")
 
 
 def _keep(case: Case, finding: Finding, out_dir: str) -> None:

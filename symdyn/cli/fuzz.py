@@ -25,6 +25,7 @@ class FuzzOptions:
     first: int = 0
     keep: str | None = None
     shrink_seconds: float = 300.0
+    jobs: int = 1
 
 
 def add_parser(sub) -> None:
@@ -38,13 +39,14 @@ def add_parser(sub) -> None:
     p.add_argument("--keep", metavar="DIR", help="write each failing robot, shrunk, to DIR as fuzzN.case.yaml")
     p.add_argument("--shrink-seconds", type=float, default=300.0,
                    help="time spent shrinking each failing robot (default 300)")
+    p.add_argument("--jobs", type=int, default=1, help="robots checked at once, one process each (default 1)")
     p.set_defaults(run=run)
 
 
 def options_of(args) -> FuzzOptions:
-    if args.cases < 1 or args.first < 0:
-        raise SymdynError("--cases must be at least 1 and --first at least 0")
-    return FuzzOptions(args.cases, args.first, args.keep, args.shrink_seconds)
+    if args.cases < 1 or args.first < 0 or args.jobs < 1:
+        raise SymdynError("--cases and --jobs must be at least 1 and --first at least 0")
+    return FuzzOptions(args.cases, args.first, args.keep, args.shrink_seconds, args.jobs)
 
 
 def run(args) -> int:
@@ -56,10 +58,12 @@ def run(args) -> int:
     options = options_of(args)
     started = time.perf_counter()
     outcomes = run_campaign(range(options.first, options.first + options.cases), options.keep,
-                            report=lambda line: print(line, flush=True), shrink_seconds=options.shrink_seconds)
+                            report=lambda line: print(line, flush=True), shrink_seconds=options.shrink_seconds,
+                            jobs=options.jobs)
     failed = [o for o in outcomes if o.findings]
     compared = sum(o.compared for o in outcomes)
     worst = max((o.worst for o in outcomes), default=0.0)
     print(f"symdyn fuzz: {len(outcomes)} robots, {compared} comparisons, worst normalized error {worst:.2g}, "
-          f"{len(failed)} failed, {time.perf_counter() - started:.0f} s")
+          f"{time.perf_counter() - started:.0f} s")
+    print(f"fuzz: {len(outcomes) - len(failed)} passed, {len(failed)} failed")
     return 1 if failed else 0

@@ -65,3 +65,25 @@ def test_frames_change_the_cached_code(tmp_path, capsys):
     assert read["a"] != read["b"]
     assert read["b"] == read["c"]
     assert read["d"] == read["e"]
+
+
+def test_verify_all_checks_every_supported_function(capsys):
+    """``verify --all``: every function the robot supports, each in the table and within the
+    tolerance (the derivatives' fault was in functions ``verify`` did not check by default)."""
+    if shutil.which("cc") is None:
+        pytest.skip("no C compiler")
+    pytest.importorskip("pinocchio")
+    import symdyn
+    from helpers import robot_path
+    from symdyn.model.outputs import supported_outputs
+    path = robot_path("three_standard")
+    expected = supported_outputs(symdyn.load(path))
+    status = main(["verify", path, "--all", "--states", "10"])
+    out = capsys.readouterr().out
+    assert status == 0, out
+    rows = {line.split()[0] for line in out.splitlines() if line.endswith(" ok")}
+    task = {"task_mass_matrix", "task_bias", "task_gravity", "task_inverse"}  # a 3-joint arm has no 6-row task
+    assert rows | task >= set(expected) and set(expected) - rows <= task, out
+    assert "inverse_dynamics_dq" in rows and "base_regressor" in rows
+    assert main(["verify", path, "--all", "--functions", "gravity"]) == 1
+    assert "give one" in capsys.readouterr().err
