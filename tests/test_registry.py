@@ -90,8 +90,10 @@ def test_every_output_derived_emitted_and_called(everything):
     state = {g: rng.uniform(-1, 1, robot.dof) for g in ("q", "qd", "qdd", "tau")}
     for spec in SPECS:
         assert eqs.output(spec.name).shape == spec.shape(dims), spec.name
-        for argument in spec.arguments:
-            assert f"{robot.name}_{spec.name}(" in files[f"{robot.name}_dynamics.h"], spec.name
+        prototype = re.search(rf"\b{robot.name}_{spec.name}\(([^)]*)\)", files[f"{robot.name}_dynamics.h"])
+        assert prototype, spec.name
+        for argument in spec.arguments:  # each output argument by its name, in the function's parameters
+            assert re.search(rf"\*\s*{argument.name}\b", prototype.group(1)), (spec.name, argument.name, prototype.group(1))
         args = [state[g] for g in spec.inputs]
         mine = getattr(lib, spec.name)(*args)
         expected = getattr(eqs.numeric, spec.name)(*args)

@@ -74,7 +74,7 @@ def test_two_legs_of_one_urdf_into_one_out(tmp_path, legs, capsys):
         assert "quad_" not in header and "input     : quad.urdf" in header
     assert "chain base -> LF_FOOT" in (out / "lf_leg_dynamics.h").read_text()
     if CC is None:
-        return
+        pytest.skip("no C compiler: the two legs were generated, not built into one program")
     # both legs in one program: distinct symbols, and the right masses in each
     (tmp_path / "main.c").write_text(
         '#include "lf_leg_dynamics.h"\n#include "rf_leg_dynamics.h"\n#include <stdio.h>\n'

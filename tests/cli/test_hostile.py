@@ -53,9 +53,9 @@ def run_cli(argv, capsys, expect):
         return {path: info for path, info in snapshot(here).items()
                 if not any(path == out or path.startswith(out.rstrip("/") + "/") for out in outputs)}
     before = others()
-    start = time.perf_counter()
+    start = time.process_time()  # this process's CPU time: the work done, not the machine's load
     status = main(argv)
-    seconds = time.perf_counter() - start
+    seconds = time.process_time() - start
     assert others() == before, "a file outside the output changed"
     captured = capsys.readouterr()
     lines = captured.err.strip().splitlines()
@@ -305,7 +305,7 @@ def test_bounded_work(workspace, capsys):
     for label, path, words in _bounded_cases(workspace):
         for command in (["generate", path, "--out", workspace / "out"], ["derive", path]):
             (line,), seconds = run_cli(command, capsys, 1)
-            assert seconds < 5, (label, seconds)
+            assert seconds < 10, (label, seconds)  # CPU seconds (the hostile-input goal: 10 s)
             for word in words:
                 assert word in line, (label, line)
     assert not (workspace / "out").exists()
@@ -320,7 +320,7 @@ def test_max_joints_refused_before_deriving(workspace, capsys, monkeypatch):
     link = "{joint: revolute, a: 0.1, alpha: 0, d: 0, theta: 0, mass: 1, inertia: [0.01, 0.01, 0.01, 0, 0, 0]}"
     (workspace / "r.yaml").write_text(robot_text(links=[link] * 41))
     (line,), seconds = run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out"], capsys, 1)
-    assert "41 joints" in line and "--max-joints 40" in line and seconds < 5
+    assert "41 joints" in line and "--max-joints 40" in line and seconds < 10  # CPU seconds
     (line,), _ = run_cli(["derive", workspace / "r.yaml", "--max-joints", "12"], capsys, 1)
     assert "--max-joints 12" in line
     assert not (workspace / "out").exists()
@@ -344,7 +344,7 @@ def test_bounded_work_in_a_scene(workspace, capsys):
     (workspace / "laughs.yaml").write_text(BILLION_LAUGHS)
     (workspace / "s.yaml").write_text("scene: 1\nrobot: laughs.yaml\n")
     (line,), seconds = run_cli(["generate", workspace / "s.yaml", "--out", workspace / "out"], capsys, 1)
-    assert "aliases" in line and seconds < 5
+    assert "aliases" in line and seconds < 10  # CPU seconds
 
 
 # ---------------------------------------------------------------------------------------------
@@ -532,9 +532,8 @@ def test_round_two_small_files_that_ran_for_minutes(workspace, capsys):
              (["generate", workspace / "chain.yaml", "--out", workspace / "out"], "more than 1000 digits"),
              (["derive", REPO / "robots" / "chain12.yaml", "--form", "closed"], "--form closed")]
     for argv, needle in cases:
-        start = time.perf_counter()
-        (line,), _ = run_cli(argv, capsys, 1)
-        assert needle in line and time.perf_counter() - start < 10, (argv, line)
+        (line,), seconds = run_cli(argv, capsys, 1)
+        assert needle in line and seconds < 10, (argv, line, seconds)  # CPU seconds
     assert not (workspace / "out").exists()
 
 

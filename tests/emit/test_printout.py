@@ -219,10 +219,10 @@ def test_named_form_names_what_is_too_long_to_inline(tmp_path):
     import time
     from symdyn.cli import main
     out = tmp_path / "jne.txt"
-    start = time.perf_counter()
+    start = time.process_time()  # CPU time: the work done, whatever the machine's load
     assert main(["derive", str(REPO / "tests" / "data" / "urdf" / "handmade.urdf"), "--method",
                  "jacobian-newton-euler", "--out", str(out), "--quiet"]) == 0
-    assert time.perf_counter() - start < 60
+    assert time.process_time() - start < 60
     text = out.read_text()
     used = {line for line in text.splitlines() if "ξ₁" in line}
     defined = text.split("Intermediate quantities", 1)[1]
