@@ -359,135 +359,114 @@ def check_derivable(robot: ParallelRobot) -> None:
                           "kinematics)")
 
 
-def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> ParallelEquations:
-    """Derive the functions of :data:`FUNCTIONS` (default: all) for ``robot``.
-
-    Needs numbers for every parameter (runtime parameters of platform robots are not supported)
-    and a home configuration in the file (it picks each leg's inverse-kinematics branch).
-    """
-    from .equations import derive
-    start = time.perf_counter()
-    wanted = tuple(FUNCTIONS) if functions is None else tuple(functions)
-    for name in wanted:
-        if name not in FUNCTIONS:
-            raise SymdynError(f"unknown function {name!r} for a platform robot; known: {', '.join(FUNCTIONS)}")
-    where = robot.source or robot.name
-    check_derivable(robot)
-
-    def report(part):
-        if progress is not None:
-            progress(f"{robot.name}: {part} ({time.perf_counter() - start:.1f} s)")
-
-    inputs = {k: tuple(sp.Symbol(f"{k}[{i}]", real=True) for i in range(n)) for k, n in INPUT_SIZES.items()}
-    pose, twist, rate, phi = (sp.Matrix(inputs[k]) for k in ("pose", "twist", "twist_rate", "phi"))
-    st = _Steps()
-    # orientation: R from the quaternion (x, y, z, w), normalized
-    # (scaled by the sum of magnitudes first: 1e-300 or 1e300 components neither underflow nor
-    # overflow in the squares; only the zero quaternion is refused)
-    scale = st.define("quat_m", sum(sp.Abs(c) for c in pose[3:7]))
+def _platform_rotation(st: "_Steps", quaternion, where: str) -> sp.Matrix:
+    """R (3 x 3, defined steps) from the pose's quaternion (x, y, z, w), normalized: scaled by
+    the sum of its components' magnitudes first, so that 1e-300 or 1e300 components neither
+    underflow nor overflow in the squares; only the zero quaternion is refused."""
+    scale = st.define("quat_m", sum(sp.Abs(c) for c in quaternion))
     st.require(scale, True, "unreachable", where)
     inverse = st.define("quat_im", 1 / scale)
-    x, y, z, w = (st.define(f"quat_{c}", value * inverse) for c, value in zip("xyzw", pose[3:7]))
+    x, y, z, w = (st.define(f"quat_{c}", value * inverse) for c, value in zip("xyzw", quaternion))
     norm2 = st.define("quat_n2", x * x + y * y + z * z + w * w)
     s = st.define("quat_s", 2 / norm2)
     R = sp.Matrix([[1 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)],
                    [s * (x * y + z * w), 1 - s * (x * x + z * z), s * (y * z - x * w)],
                    [s * (x * z - y * w), s * (y * z + x * w), 1 - s * (x * x + y * y)]])
-    R = sp.Matrix(3, 3, lambda i, j: st.define(f"R{i}{j}", R[i, j]))
-    p = pose[:3, 0]
-    omega, c_dot = twist[:3, 0], twist[3:, 0]
-    omega_dot, c_ddot = rate[:3, 0], rate[3:, 0]
-    plat = robot.platform
-    com = sp.Matrix(plat.com)
-    gravity = sp.Matrix(robot.gravity)
+    return sp.Matrix(3, 3, lambda i, j: st.define(f"R{i}{j}", R[i, j]))
 
-    # the platform's own wrench at C_M, [moment; force]: M_M t_dot + bias
-    inertia = R * sp.Matrix(plat.inertia_matrix) * R.T
-    inertia = sp.Matrix(3, 3, lambda i, j: st.define(f"plat_I{min(i, j)}{max(i, j)}", sp.expand(inertia[i, j])))
-    i_omega = st.vector("plat_Iw", inertia * omega)
-    bias_moment = st.vector("plat_gyro", cross(omega, i_omega))
-    weight = -plat.mass * gravity
 
-    legs = []
-    branches = []
-    for k, leg in enumerate(robot.legs):
-        tag = f"leg{k + 1}_"
-        report(f"leg {k + 1}: serial equations")
-        eqs = derive(leg.chain, outputs=["jacobian", "jacobian_dot_qd", "inverse_dynamics", "mass_matrix"])
-        try:
-            ik = LegIK.of(leg.chain)
-            branch = ik.branches_of(leg.home)
-        except LegStructureError as err:
-            raise SymdynError(f"{where}: leg {leg.name}: {leg_error(err, leg)}") from None
-        home_jacobian = np.asarray(eqs.numeric.jacobian(np.array([float(v) for v in leg.home]), []), dtype=float)
-        if not np.linalg.cond(home_jacobian.reshape(6, 6)) < 1e12:
-            raise SymdynError(f"{where}: leg {leg.name}: the leg is at a singular configuration at its home pose "
-                              "(its Jacobian is singular): the generated functions would return a status there; "
-                              "check the leg's table and 'home'")
-        branches.append(branch)
-        base = sp.Matrix(leg.chain.base_matrix())
-        attach = sp.Matrix(leg.attachment.matrix())
-        rot6 = R * attach[:3, :3]
-        pos6 = p + R * attach[:3, 3]
-        rot06 = base[:3, :3].T * rot6
-        pos06 = base[:3, :3].T * (pos6 - base[:3, 3])
-        rot06 = [[st.define(f"{tag}R06_{i}{j}", sp.expand(rot06[i, j])) for j in range(3)] for i in range(3)]
-        pos06 = [st.define(f"{tag}p06_{i}", sp.expand(pos06[i])) for i in range(3)]
+def _leg_terms(st: "_Steps", leg, k: int, frame: dict, where: str, report) -> tuple[dict, tuple]:
+    """Leg ``k``'s steps (its inverse kinematics, Jacobian inverse, joint rates and accelerations,
+    torques, rate map and mass matrix) on the platform's motion ``frame`` (R, p, omega, c_dot,
+    omega_dot, c_ddot, com): the leg's terms for :func:`_platform_outputs` and its branch."""
+    from .equations import derive
+    R, p, com = frame["R"], frame["p"], frame["com"]
+    omega, c_dot, omega_dot, c_ddot = frame["omega"], frame["c_dot"], frame["omega_dot"], frame["c_ddot"]
+    tag = f"leg{k + 1}_"
+    report(f"leg {k + 1}: serial equations")
+    eqs = derive(leg.chain, outputs=["jacobian", "jacobian_dot_qd", "inverse_dynamics", "mass_matrix"])
+    try:
+        ik = LegIK.of(leg.chain)
+        branch = ik.branches_of(leg.home)
+    except LegStructureError as err:
+        raise SymdynError(f"{where}: leg {leg.name}: {leg_error(err, leg)}") from None
+    home_jacobian = np.asarray(eqs.numeric.jacobian(np.array([float(v) for v in leg.home]), []), dtype=float)
+    if not np.linalg.cond(home_jacobian.reshape(6, 6)) < 1e12:
+        raise SymdynError(f"{where}: leg {leg.name}: the leg is at a singular configuration at its home pose "
+                          "(its Jacobian is singular): the generated functions would return a status there; "
+                          "check the leg's table and 'home'")
+    base = sp.Matrix(leg.chain.base_matrix())
+    attach = sp.Matrix(leg.attachment.matrix())
+    rot6 = R * attach[:3, :3]
+    pos6 = p + R * attach[:3, 3]
+    rot06 = base[:3, :3].T * rot6
+    pos06 = base[:3, :3].T * (pos6 - base[:3, 3])
+    rot06 = [[st.define(f"{tag}R06_{i}{j}", sp.expand(rot06[i, j])) for j in range(3)] for i in range(3)]
+    pos06 = [st.define(f"{tag}p06_{i}", sp.expand(pos06[i])) for i in range(3)]
 
-        def name(hint, value, tag=tag):
-            return st.define(f"{tag}{hint}", value)
+    def name(hint, value, tag=tag):
+        return st.define(f"{tag}{hint}", value)
 
-        def check(kind, value, scale=None, leg=leg):
-            if kind == "rad":  # a negative radicand: no real solution
-                st.require(value, False, "unreachable", f"{where}: leg {leg.name}")
-            else:  # a denominator (a sum of squares) not above PIVOT_RTOL^2 of its scale: singular
-                st.require(value - PIVOT_RTOL ** 2 * scale, True, "leg_singular", f"{where}: leg {leg.name}")
-        joints = ik.solve(rot06, pos06, branch, sp.sqrt, name, check)
-        mapping: dict = {}
-        for i, (link, value) in enumerate(zip(leg.chain.links, joints)):
-            if link.is_revolute:
-                cos_symbol, sin_symbol = eqs.joint_trig[i]
-                mapping[cos_symbol], mapping[sin_symbol] = value
-            else:
-                mapping[eqs.q[i]] = value
-        imp = _LegImport(st, eqs, tag, mapping)
-        report(f"leg {k + 1}: Jacobian and rates")
-        # the leg's Jacobian at the universal joint's centre U (world axes) and its inverse in
-        # closed form (leg_inverse): J_U^-1 replaces a 6x6 factorization
-        jac6 = imp.get("jacobian")  # at frame 6's origin
-        u_in_platform = sp.Matrix(attach[:3, :3]) * sp.Matrix(ik.u_in_6) + attach[:3, 3]
-        u_offset = st.vector(f"{tag}uP", R * u_in_platform)  # U - p
-        rho = st.vector(f"{tag}rho", R * sp.Matrix(attach[:3, 3]) - u_offset)  # frame 6's origin - U
-        centre = base[:3, :3] * sp.Matrix(ik.centre_s) + base[:3, 3]
-        leg_vector = st.vector(f"{tag}d", p + u_offset - centre)  # U - S
-        axes = [sp.Matrix(jac6[3:6, i]) for i in range(6)]
-        fourth = sp.Matrix(jac6[0:3, 3]) + (cross(rho, axes[3]) if leg.chain.links[3].is_revolute else sp.zeros(3, 1))
-        jinv = leg_inverse(st, tag, leg_vector, st.vector(f"{tag}l4", fourth), axes,
-                           leg.chain.links[3].is_revolute, f"{where}: leg {leg.name}")
-        r = st.vector(f"{tag}r", R * (u_in_platform - com))  # U - C_M
-        v_u = c_dot + cross(omega, r)
-        theta_dot = st.vector(f"{tag}qd", jinv * sp.Matrix.vstack(v_u, omega))
-        mapping.update(dict(zip(eqs.qd, theta_dot)))
-        jdqd6 = imp.get("jacobian_dot_qd")  # J-dot qd at frame 6's origin: at U, see below
-        centripetal = st.vector(f"{tag}cp", cross(omega, cross(omega, r)))
-        bias = sp.Matrix.vstack(
-            sp.Matrix(jdqd6[0:3, 0]) - cross(sp.Matrix(jdqd6[3:6, 0]), rho) - cross(omega, cross(omega, rho)),
-            sp.Matrix(jdqd6[3:6, 0]))
-        bias = st.vector(f"{tag}jdqd", bias)
-        # inverse dynamics: theta_ddot from t_dot, the leg's torques, S^T J^-T tau
-        acc = sp.Matrix.vstack(c_ddot + cross(omega_dot, r) + centripetal, omega_dot) - bias
-        theta_ddot = st.vector(f"{tag}qdd", jinv * acc)
-        tau = imp.get("inverse_dynamics", dict(zip(eqs.qdd, theta_ddot)))
-        y_lt = st.vector(f"{tag}y", jinv.T * tau)
-        # forward dynamics: theta_ddot at t_dot = 0, R_J = J^-1 S, the leg's D
-        offset = st.vector(f"{tag}qdd0", jinv * (sp.Matrix.vstack(centripetal, sp.zeros(3, 1)) - bias))
-        tau0 = imp.get("inverse_dynamics", dict(zip(eqs.qdd, offset)), suffix="_0")
-        shift = sp.Matrix(sp.BlockMatrix([[-skew(r), sp.eye(3)], [sp.eye(3), sp.zeros(3)]]))
-        rates = sp.Matrix(6, 6, lambda i, j: st.define(f"{tag}R{i}{j}", (jinv[i, :] * shift[:, j])[0]))
-        mass = imp.get("mass_matrix") + sp.diag(*[link.armature for link in leg.chain.links])
-        legs.append(dict(tag=tag, leg=leg, r=r, y=y_lt, rates=rates, mass=mass, tau0=tau0,
-                         offset=offset, theta_dot=theta_dot, joint=joints[leg.actuated], link=leg.actuated_link))
+    def check(kind, value, scale=None, leg=leg):
+        if kind == "rad":  # a negative radicand: no real solution
+            st.require(value, False, "unreachable", f"{where}: leg {leg.name}")
+        else:  # a denominator (a sum of squares) not above PIVOT_RTOL^2 of its scale: singular
+            st.require(value - PIVOT_RTOL ** 2 * scale, True, "leg_singular", f"{where}: leg {leg.name}")
+    joints = ik.solve(rot06, pos06, branch, sp.sqrt, name, check)
+    mapping: dict = {}
+    for i, (link, value) in enumerate(zip(leg.chain.links, joints)):
+        if link.is_revolute:
+            cos_symbol, sin_symbol = eqs.joint_trig[i]
+            mapping[cos_symbol], mapping[sin_symbol] = value
+        else:
+            mapping[eqs.q[i]] = value
+    imp = _LegImport(st, eqs, tag, mapping)
+    report(f"leg {k + 1}: Jacobian and rates")
+    # the leg's Jacobian at the universal joint's centre U (world axes) and its inverse in
+    # closed form (leg_inverse): J_U^-1 replaces a 6x6 factorization
+    jac6 = imp.get("jacobian")  # at frame 6's origin
+    u_in_platform = sp.Matrix(attach[:3, :3]) * sp.Matrix(ik.u_in_6) + attach[:3, 3]
+    u_offset = st.vector(f"{tag}uP", R * u_in_platform)  # U - p
+    rho = st.vector(f"{tag}rho", R * sp.Matrix(attach[:3, 3]) - u_offset)  # frame 6's origin - U
+    centre = base[:3, :3] * sp.Matrix(ik.centre_s) + base[:3, 3]
+    leg_vector = st.vector(f"{tag}d", p + u_offset - centre)  # U - S
+    axes = [sp.Matrix(jac6[3:6, i]) for i in range(6)]
+    fourth = sp.Matrix(jac6[0:3, 3]) + (cross(rho, axes[3]) if leg.chain.links[3].is_revolute else sp.zeros(3, 1))
+    jinv = leg_inverse(st, tag, leg_vector, st.vector(f"{tag}l4", fourth), axes,
+                       leg.chain.links[3].is_revolute, f"{where}: leg {leg.name}")
+    r = st.vector(f"{tag}r", R * (u_in_platform - com))  # U - C_M
+    v_u = c_dot + cross(omega, r)
+    theta_dot = st.vector(f"{tag}qd", jinv * sp.Matrix.vstack(v_u, omega))
+    mapping.update(dict(zip(eqs.qd, theta_dot)))
+    jdqd6 = imp.get("jacobian_dot_qd")  # J-dot qd at frame 6's origin: at U, see below
+    centripetal = st.vector(f"{tag}cp", cross(omega, cross(omega, r)))
+    bias = sp.Matrix.vstack(
+        sp.Matrix(jdqd6[0:3, 0]) - cross(sp.Matrix(jdqd6[3:6, 0]), rho) - cross(omega, cross(omega, rho)),
+        sp.Matrix(jdqd6[3:6, 0]))
+    bias = st.vector(f"{tag}jdqd", bias)
+    # inverse dynamics: theta_ddot from t_dot, the leg's torques, S^T J^-T tau
+    acc = sp.Matrix.vstack(c_ddot + cross(omega_dot, r) + centripetal, omega_dot) - bias
+    theta_ddot = st.vector(f"{tag}qdd", jinv * acc)
+    tau = imp.get("inverse_dynamics", dict(zip(eqs.qdd, theta_ddot)))
+    y_lt = st.vector(f"{tag}y", jinv.T * tau)
+    # forward dynamics: theta_ddot at t_dot = 0, R_J = J^-1 S, the leg's D
+    offset = st.vector(f"{tag}qdd0", jinv * (sp.Matrix.vstack(centripetal, sp.zeros(3, 1)) - bias))
+    tau0 = imp.get("inverse_dynamics", dict(zip(eqs.qdd, offset)), suffix="_0")
+    shift = sp.Matrix(sp.BlockMatrix([[-skew(r), sp.eye(3)], [sp.eye(3), sp.zeros(3)]]))
+    rates = sp.Matrix(6, 6, lambda i, j: st.define(f"{tag}R{i}{j}", (jinv[i, :] * shift[:, j])[0]))
+    mass = imp.get("mass_matrix") + sp.diag(*[link.armature for link in leg.chain.links])
+    terms = dict(tag=tag, leg=leg, r=r, y=y_lt, rates=rates, mass=mass, tau0=tau0,
+                 offset=offset, theta_dot=theta_dot, joint=joints[leg.actuated], link=leg.actuated_link)
+    return terms, branch
 
+
+def _platform_outputs(st: "_Steps", legs: list, platform: dict, report) -> dict:
+    """The outputs from the legs' terms and the platform's own (``platform``: inertia,
+    bias_moment, weight, mass, omega, omega_dot, c_ddot, phi): K, inverse and forward dynamics,
+    M, T, L_J and the inverse kinematics."""
+    inertia, bias_moment, weight = platform["inertia"], platform["bias_moment"], platform["weight"]
+    omega_dot, c_ddot, phi = platform["omega_dot"], platform["c_ddot"], platform["phi"]
+    plat = platform["plat"]
     report("platform")
     outputs = {}
     # K (q_dot = K t): row J is leg J's actuated row of R_J = J_J^-1 S_J; one factorization serves
@@ -538,6 +517,53 @@ def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> Para
     rates_out = [lg["theta_dot"][lg["leg"].actuated] for lg in legs]
     outputs["inverse_kinematics"] = (("q", sp.ImmutableMatrix(positions)), ("qd", sp.ImmutableMatrix(rates_out)))
 
+    return outputs
+
+
+def derive_parallel(robot: ParallelRobot, functions=None, progress=None) -> ParallelEquations:
+    """Derive the functions of :data:`FUNCTIONS` (default: all) for ``robot``.
+
+    Needs numbers for every parameter (runtime parameters of platform robots are not supported)
+    and a home configuration in the file (it picks each leg's inverse-kinematics branch).
+    """
+    start = time.perf_counter()
+    wanted = tuple(FUNCTIONS) if functions is None else tuple(functions)
+    for name in wanted:
+        if name not in FUNCTIONS:
+            raise SymdynError(f"unknown function {name!r} for a platform robot; known: {', '.join(FUNCTIONS)}")
+    where = robot.source or robot.name
+    check_derivable(robot)
+
+    def report(part):
+        if progress is not None:
+            progress(f"{robot.name}: {part} ({time.perf_counter() - start:.1f} s)")
+
+    inputs = {k: tuple(sp.Symbol(f"{k}[{i}]", real=True) for i in range(n)) for k, n in INPUT_SIZES.items()}
+    pose, twist, rate, phi = (sp.Matrix(inputs[k]) for k in ("pose", "twist", "twist_rate", "phi"))
+    st = _Steps()
+    R = _platform_rotation(st, pose[3:7], where)
+    p = pose[:3, 0]
+    omega, c_dot = twist[:3, 0], twist[3:, 0]
+    omega_dot, c_ddot = rate[:3, 0], rate[3:, 0]
+    plat = robot.platform
+    com = sp.Matrix(plat.com)
+    gravity = sp.Matrix(robot.gravity)
+
+    # the platform's own wrench at C_M, [moment; force]: M_M t_dot + bias
+    inertia = R * sp.Matrix(plat.inertia_matrix) * R.T
+    inertia = sp.Matrix(3, 3, lambda i, j: st.define(f"plat_I{min(i, j)}{max(i, j)}", sp.expand(inertia[i, j])))
+    i_omega = st.vector("plat_Iw", inertia * omega)
+    bias_moment = st.vector("plat_gyro", cross(omega, i_omega))
+    weight = -plat.mass * gravity
+
+    frame = dict(R=R, p=p, com=com, omega=omega, c_dot=c_dot, omega_dot=omega_dot, c_ddot=c_ddot)
+    legs, branches = [], []
+    for k, leg in enumerate(robot.legs):
+        terms, branch = _leg_terms(st, leg, k, frame, where, report)
+        legs.append(terms)
+        branches.append(branch)
+    outputs = _platform_outputs(st, legs, dict(inertia=inertia, bias_moment=bias_moment, weight=weight, plat=plat,
+                                               omega_dot=omega_dot, c_ddot=c_ddot, phi=phi), report)
     return ParallelEquations(robot=robot, inputs=tuple((k, v) for k, v in inputs.items()), steps=st.build(),
                              outputs=tuple((name, outputs[name]) for name in wanted), branches=tuple(branches),
                              seconds=time.perf_counter() - start, home_pose=home_pose(robot))
