@@ -262,6 +262,42 @@ def load_scene(path: str) -> Scene:
 def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) -> Scene:
     """The scene of a parsed scene document (``raw``: the file's bytes, for its hash);
     ``frames`` (the command line's) in place of the scene's ``frames:``."""
+    robot_path, robot_doc, robot_raw, robot_notes = _scene_robot_document(path, doc, frames)
+    runtime, values, functions, precision = _scene_choices(path, doc)
+    params, payload_names = _scene_parameter_names(path, doc, robot_doc, runtime, values)
+    notes = [f"scene: {display_path(os.path.basename(path))} (sha256 {hashlib.sha256(raw).hexdigest()})",
+             f"robot: {display_path(doc['robot'])} (sha256 {hashlib.sha256(robot_raw).hexdigest()})",
+             *robot_notes]
+    params, folded = _folded_parameters(path, params, payload_names, runtime, values)
+    robot = _robot_with_payload(path, doc, robot_doc, robot_path, params, notes)
+    degrees = robot_doc.get("angles") == "degrees"
+    locked = _scene_locks(path, doc, robot, degrees)
+    locked_joints = tuple((k + 1, robot.links[k].name, v) for k, v in sorted(locked.items()))
+    if locked:
+        notes.append("locked: " + ", ".join(f"joint {k + 1} ({robot.links[k].name}) at {float(v):g}"
+                                            for k, v in sorted(locked.items())))
+        robot = lock_joints(robot, locked)
+    robot = _drop_unused(robot)
+    if folded:
+        notes.append("folded parameters: " + ", ".join(folded))
+    if robot.parameters:
+        notes.append("runtime parameters: " + ", ".join(s.name for s in robot.parameters))
+    name = doc.get("name", robot.name)
+    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
+        _fail(path, f"{describe(name)} is not a valid name: use lower-case letters, digits and '_', "
+                    f"starting with a letter, at most {MAX_NAME} characters", "name")
+    if "task" in doc:  # the task of the task-space functions (replaces the robot file's)
+        task = task_rows(doc["task"], lambda message: _fail(path, message, "task"))
+        robot = replace(robot, task=task)
+        notes.append("task: Jacobian rows " + ", ".join(str(r) for r in task))
+    robot = replace(robot, name=name, source=path, source_hash=hashlib.sha256(raw + robot_raw).hexdigest())
+    return Scene(robot=robot, functions=functions, precision=precision, notes=tuple(notes),
+                 source=path, source_hash=robot.source_hash, locked=locked_joints)
+
+
+def _scene_robot_document(path: str, doc, frames):
+    """Check the scene's own keys and read its robot file: ``(robot_path, robot_doc, robot_raw,
+    robot_notes)``, the robot file checked as it is before the scene changes anything."""
     if not isinstance(doc, dict):
         _fail(path, "expected a mapping")
     for key in doc:
@@ -296,7 +332,11 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
     except RobotFileError as exc:
         raise RobotFileError(path, f"in robot {display_path(doc['robot'])}: {exc.reason}", link=exc.link,
                              field=exc.field) from None
+    return robot_path, robot_doc, robot_raw, robot_notes
 
+
+def _scene_choices(path: str, doc):
+    """``(runtime, values, functions, precision)`` of a scene, checked."""
     runtime = doc.get("runtime", [])
     if not isinstance(runtime, list) or not all(isinstance(n, str) for n in runtime):
         _fail(path, "expected a list of parameter names", "runtime")
@@ -315,7 +355,12 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
     precision = doc.get("precision")
     if precision is not None and precision not in ("double", "float", "mixed"):
         _fail(path, f"precision must be double, float or mixed, not {describe(precision)}", "precision")
+    return runtime, values, functions, precision
 
+
+def _scene_parameter_names(path: str, doc, robot_doc, runtime, values):
+    """``(params, payload_names)``: the robot file's parameters, and the names the payload uses,
+    each name of runtime: and values: checked against them."""
     # Parameters: the scene decides which stay runtime inputs; the rest fold to their values.
     params = dict(robot_doc.get("parameters") or {})
     payload_names = _payload_names(doc.get("payload"))
@@ -332,9 +377,13 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
                 known = f" (it has: {', '.join(params)})" if params else " (it has none)"
                 _fail(path, f"robot {display_path(doc['robot'])} has no parameter {describe(name)}{known}, and "
                             f"the payload does not use it{hint}", f"{fld}")
-    notes = [f"scene: {display_path(os.path.basename(path))} (sha256 {hashlib.sha256(raw).hexdigest()})",
-             f"robot: {display_path(doc['robot'])} (sha256 {hashlib.sha256(robot_raw).hexdigest()})",
-             *robot_notes]
+    return params, payload_names
+
+
+def _folded_parameters(path: str, params: dict, payload_names, runtime, values):
+    """``(params, folded)``: the parameters as the scene leaves them (runtime ones as inputs, the
+    others folded to their values; the payload's own names added) and the folded ``name=value``."""
+    params = dict(params)
     folded = []
     for name in sorted(payload_names - set(params), key=lambda n: (n not in runtime, runtime.index(n) if n in runtime else 0, n)):
         params[name] = {"runtime": True} if name in runtime else values[name]
@@ -350,6 +399,12 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
         else:
             params[name] = value
             folded.append(f"{name}={value}")
+    return params, folded
+
+
+def _robot_with_payload(path: str, doc, robot_doc, robot_path: str, params: dict, notes: list):
+    """The scene's robot before locking: the robot file with the scene's parameters and its
+    payload merged into the last link (a note appended to ``notes``)."""
     robot_doc = dict(robot_doc)
     if params:
         robot_doc["parameters"] = params
@@ -383,7 +438,11 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
                         parents=robot.parents[:-1] if robot.is_tree else ())
         notes.append(f"payload: mass {carrier.mass}, com ({', '.join(map(str, carrier.com))}) in the frame of "
                      f"link {robot.dof} ({last.name}), merged into that link")
-    degrees = robot_doc.get("angles") == "degrees"
+    return robot
+
+
+def _scene_locks(path: str, doc, robot, degrees: bool) -> dict:
+    """The joints the scene locks: ``{index: value}`` (radians or metres), checked."""
     lock = doc.get("lock", {}) or {}
     if not isinstance(lock, dict):
         _fail(path, "expected a mapping of joint (1-based index or link name) to value", "lock")
@@ -411,24 +470,4 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
                 warn(f"{one_line(path, 200)}: field '{where}': {value:g} rad looks like degrees (more than "
                      "2 pi); lock values of revolute joints are in the robot file's angle unit "
                      "('angles: degrees' there makes them degrees)")
-    locked_joints = tuple((k + 1, robot.links[k].name, v) for k, v in sorted(locked.items()))
-    if locked:
-        notes.append("locked: " + ", ".join(f"joint {k + 1} ({robot.links[k].name}) at {float(v):g}"
-                                            for k, v in sorted(locked.items())))
-        robot = lock_joints(robot, locked)
-    robot = _drop_unused(robot)
-    if folded:
-        notes.append("folded parameters: " + ", ".join(folded))
-    if robot.parameters:
-        notes.append("runtime parameters: " + ", ".join(s.name for s in robot.parameters))
-    name = doc.get("name", robot.name)
-    if not isinstance(name, str) or not ROBOT_NAME_PATTERN.match(name) or len(name) > MAX_NAME:
-        _fail(path, f"{describe(name)} is not a valid name: use lower-case letters, digits and '_', "
-                    f"starting with a letter, at most {MAX_NAME} characters", "name")
-    if "task" in doc:  # the task of the task-space functions (replaces the robot file's)
-        task = task_rows(doc["task"], lambda message: _fail(path, message, "task"))
-        robot = replace(robot, task=task)
-        notes.append("task: Jacobian rows " + ", ".join(str(r) for r in task))
-    robot = replace(robot, name=name, source=path, source_hash=hashlib.sha256(raw + robot_raw).hexdigest())
-    return Scene(robot=robot, functions=functions, precision=precision, notes=tuple(notes),
-                 source=path, source_hash=robot.source_hash, locked=locked_joints)
+    return locked
