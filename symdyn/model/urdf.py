@@ -739,15 +739,7 @@ def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None
         if tool is not None:
             urdf.fail("--tool needs a chain: this file's moving joints branch (give --tip LINK to choose one chain)")
         return read_tree(urdf, name)
-    tip = urdf.tip(tip)
-    chain = urdf.chain(tip)
-    on_chain = {j.name for j in chain}
-    for joint in chain:
-        _check_moving(urdf, joint, f"on the chain from {describe(urdf.root)} to {describe(tip)}")
-    moving = [j for j in chain if j.type != "fixed"]
-    if not moving:
-        urdf.fail(f"no moving joint (revolute, continuous or prismatic) on the chain from {describe(urdf.root)} "
-                  f"to {describe(tip)}")
+    tip, chain, on_chain, moving = _moving_chain(urdf, tip)
 
     notes = [f"read from URDF {display_path(os.path.basename(path))}: chain {one_line(urdf.root, 60)} -> "
              f"{one_line(tip, 60)}, "
@@ -811,6 +803,19 @@ def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None
 
     last = moving[-1]
     doc = {"format": FORMAT_VERSION, "name": name, "convention": "general", "gravity": [0, 0, "-9.81"]}
+    _tool_field(urdf, doc, tool, last, pending, pending_joints, tip, notes)
+    doc["links"] = []
+    for (entry, extra), body in zip(links, bodies):
+        doc["links"].append({**entry, **body.fields(), **extra})
+
+    _merge_notes(urdf, tip, chain, moving, links, ground, rigid, locked, fixed_merged, dynamics, notes)
+    return doc, notes
+
+
+def _tool_field(urdf: "_Reader", doc: dict, tool: str | None, last, pending: "Frame", pending_joints: list, tip: str,
+                notes: list) -> None:
+    """Set ``doc['tool']``: the frame of link ``tool`` on the last moving joint's link, or, without
+    one, the fixed joints after it to the tip (a note appended to ``notes``)."""
     if tool is not None:
         tool_frame = _tool_frame(urdf, tool, last)
         if tool_frame is not None:
@@ -823,11 +828,12 @@ def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None
         else:
             doc["tool"] = pending.texts()
         notes.append(f"tool frame: tip link {one_line(tip, 60)}")
-    doc["links"] = []
-    for (entry, extra), body in zip(links, bodies):
-        doc["links"].append({**entry, **body.fields(), **extra})
 
-    # notes and warnings on what was merged
+
+def _merge_notes(urdf: "_Reader", tip: str, chain, moving, links, ground, rigid, locked, fixed_merged, dynamics: bool,
+                 notes: list) -> None:
+    """Append to ``notes`` (and warn about) what reading the chain merged, locked, composed or
+    left out (:func:`read_chain_or_tree`'s bookkeeping)."""
     continuous = [j.name for j in moving if j.type == "continuous"]
     if continuous:
         notes.append(f"continuous joints read as revolute (the angle is the coordinate): {_plain(continuous)}")
@@ -854,7 +860,19 @@ def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None
     if urdf.snapped:
         notes.append(f"rpy angles within {QUARTER_TOLERANCE:g} rad of a multiple of pi/2 taken as that multiple "
                      f"(--exact-angles keeps them as written): {_plain(urdf.snapped)}")
-    return doc, notes
+def _moving_chain(urdf: "_Reader", tip: str | None):
+    """``(tip, chain, on_chain, moving)``: the tip link, the joints from the root to it, their
+    names, and the moving ones among them (at least one, each checked)."""
+    tip = urdf.tip(tip)
+    chain = urdf.chain(tip)
+    on_chain = {j.name for j in chain}
+    for joint in chain:
+        _check_moving(urdf, joint, f"on the chain from {describe(urdf.root)} to {describe(tip)}")
+    moving = [j for j in chain if j.type != "fixed"]
+    if not moving:
+        urdf.fail(f"no moving joint (revolute, continuous or prismatic) on the chain from {describe(urdf.root)} "
+                  f"to {describe(tip)}")
+    return tip, chain, on_chain, moving
 
 
 def _joint_entry(urdf: _Reader, joint: _Joint, pending: Frame, pending_joints: list, taken: set) -> tuple[dict, dict]:
