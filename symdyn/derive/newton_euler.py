@@ -202,46 +202,76 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
         k = i + 1
         # the state of the link this one hangs on (U: None in the textbook form, or at rest)
         omega, omegad, vd, U = base_state if chain.parents[i] < 0 else moving[chain.parents[i]]
-        frame = frames[i]
-        T = frame.pose
-        R = T[:3, :3]
-        Rt = R.T
-        z = frame.axis
-        if link.is_revolute:
-            w_rot = b.vector(f"Rw{k}{tag}", Rt * omega)
-            omega_i = b.vector(f"w{k}{tag}", w_rot + z * qd[i])
-            omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad + cross_nonzero(w_rot, z * qd[i]) + z * qdd[i])
-            r1 = frame.pre[:3, 3]
-            r2 = frame.r2
-            a_joint = vd + _point_acceleration(U, omega, omegad, r1)
-            if not (r1.is_zero_matrix or (omega.is_zero_matrix and omegad.is_zero_matrix)):
-                a_joint = b.vector(f"aJ{k}{tag}", a_joint)
-            U = None if textbook else _acceleration_operator(b, omega_i, omegad_i, f"U{k}{tag}")
-            relative = _relative_acceleration(b, U, omega_i, omegad_i, r2, f"wr{k}{tag}")
-            vd_i = b.vector(f"vd{k}{tag}", Rt * a_joint + relative)
-        else:
-            omega_i = b.vector(f"w{k}{tag}", Rt * omega)
-            omegad_i = b.vector(f"wd{k}{tag}", Rt * omegad)
-            p_star = b.vector(f"p{k}", Rt * T[:3, 3])
-            U = None if textbook else _acceleration_operator(b, omega_i, omegad_i, f"U{k}{tag}")
-            relative = _relative_acceleration(b, U, omega_i, omegad_i, p_star, f"wp{k}{tag}")
-            vd_i = b.vector(f"vd{k}{tag}", Rt * vd + relative
-                            + 2 * cross_nonzero(omega_i, z * qd[i]) + z * qdd[i])
-        if parameters is None:
-            abar, F, N = _body_forces(b, U, omega_i, omegad_i, vd_i, link.mass, frame.com, frame.inertia, f"{k}{tag}")
-        else:
-            m, mx, my, mz, ixx, ixy, iyy, ixz, iyz, izz = parameters[PER_LINK * i:PER_LINK * i + 10]
-            moment = sp.Matrix([mx, my, mz])
-            inertia = sp.Matrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
-            relative = _relative_acceleration(b, U, omega_i, omegad_i, moment, f"wm{k}{tag}")
-            abar = vd_i
-            F = b.vector(f"F{k}{tag}", m * vd_i + relative)
-            Iw = b.vector(f"Iw{k}{tag}", inertia * omega_i)
-            N = b.vector(f"N{k}{tag}", inertia * omegad_i + cross_nonzero(omega_i, Iw)
-                         + cross_nonzero(moment, vd_i))
+        omega_i, omegad_i, vd_i, U = _link_motion(b, link, frames[i], (omega, omegad, vd, U), qd[i], qdd[i], k, tag,
+                                                  textbook)
+        abar, F, N = _link_forces(b, U, omega_i, omegad_i, vd_i, link, frames[i], parameters, i, f"{k}{tag}")
         states.append(LinkState(omega_i, omegad_i, vd_i, abar, F, N))
         moving.append((omega_i, omegad_i, vd_i, U))
 
+    joint_moments = _backward(b, chain, frames, states, parameters, tag, textbook)
+    if robot.floating:
+        wrench = _floating_base_wrench(b, chain, frames, states, joint_moments, base_state, tag, textbook)
+        if base_wrench is not None:
+            base_wrench.extend(wrench)
+    return states
+
+
+def _link_motion(b, link, frame: "_LinkFrame", parent: tuple, qd_i, qdd_i, number: int, tag: str,
+                 textbook: bool) -> tuple:
+    """``(omega_i, omegad_i, vd_i, U_i)`` of link ``number`` (1-based, in its frame) from the
+    ``parent`` link's ``(omega, omegad, vd, U)`` and its joint's rate and acceleration (the
+    forward lines of Table 3.2); intermediate symbols are named with the number and ``tag``."""
+    omega, omegad, vd, U = parent
+    hint = f"{number}{tag}"
+    T = frame.pose
+    R = T[:3, :3]
+    Rt = R.T
+    z = frame.axis
+    if link.is_revolute:
+        w_rot = b.vector(f"Rw{hint}", Rt * omega)
+        omega_i = b.vector(f"w{hint}", w_rot + z * qd_i)
+        omegad_i = b.vector(f"wd{hint}", Rt * omegad + cross_nonzero(w_rot, z * qd_i) + z * qdd_i)
+        r1 = frame.pre[:3, 3]
+        r2 = frame.r2
+        a_joint = vd + _point_acceleration(U, omega, omegad, r1)
+        if not (r1.is_zero_matrix or (omega.is_zero_matrix and omegad.is_zero_matrix)):
+            a_joint = b.vector(f"aJ{hint}", a_joint)
+        U = None if textbook else _acceleration_operator(b, omega_i, omegad_i, f"U{hint}")
+        relative = _relative_acceleration(b, U, omega_i, omegad_i, r2, f"wr{hint}")
+        vd_i = b.vector(f"vd{hint}", Rt * a_joint + relative)
+    else:
+        omega_i = b.vector(f"w{hint}", Rt * omega)
+        omegad_i = b.vector(f"wd{hint}", Rt * omegad)
+        p_star = b.vector(f"p{number}", Rt * T[:3, 3])
+        U = None if textbook else _acceleration_operator(b, omega_i, omegad_i, f"U{hint}")
+        relative = _relative_acceleration(b, U, omega_i, omegad_i, p_star, f"wp{hint}")
+        vd_i = b.vector(f"vd{hint}", Rt * vd + relative
+                        + 2 * cross_nonzero(omega_i, z * qd_i) + z * qdd_i)
+    return omega_i, omegad_i, vd_i, U
+
+
+def _link_forces(b, U, omega_i, omegad_i, vd_i, link, frame: "_LinkFrame", parameters, i: int, hint: str) -> tuple:
+    """``(abar, F, N)`` of link ``i``: from its mass, centre of mass and inertia, or from its
+    standard parameters (Khalil's form: F and N about O_i, abar the origin's acceleration)."""
+    if parameters is None:
+        abar, F, N = _body_forces(b, U, omega_i, omegad_i, vd_i, link.mass, frame.com, frame.inertia, hint)
+    else:
+        m, mx, my, mz, ixx, ixy, iyy, ixz, iyz, izz = parameters[PER_LINK * i:PER_LINK * i + 10]
+        moment = sp.Matrix([mx, my, mz])
+        inertia = sp.Matrix([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+        relative = _relative_acceleration(b, U, omega_i, omegad_i, moment, f"wm{hint}")
+        abar = vd_i
+        F = b.vector(f"F{hint}", m * vd_i + relative)
+        Iw = b.vector(f"Iw{hint}", inertia * omega_i)
+        N = b.vector(f"N{hint}", inertia * omegad_i + cross_nonzero(omega_i, Iw)
+                     + cross_nonzero(moment, vd_i))
+    return abar, F, N
+
+
+def _backward(b, chain: Chain, frames, states, parameters, tag: str, textbook: bool) -> dict:
+    """The backward lines of Table 3.2: each link's f_i, n_i and tau_i set on its state, tip to
+    base; returns each revolute link's moment about its joint point (for a floating base's wrench)."""
+    robot = chain.robot
     # n_c + r2_c x f_c: link c's moment about its joint point (revolute joints), per link
     joint_moments: dict[int, sp.Matrix] = {}
     for i in reversed(range(robot.dof)):
@@ -263,11 +293,7 @@ def recursion(chain: Chain, qd: Sequence[sp.Expr], qdd: Sequence[sp.Expr],
             st.tau = b.define(f"tau{k}{tag}", (z.T * moment)[0])
         else:
             st.tau = b.define(f"tau{k}{tag}", (z.T * st.f)[0])
-    if robot.floating:
-        wrench = _floating_base_wrench(b, chain, frames, states, joint_moments, base_state, tag, textbook)
-        if base_wrench is not None:
-            base_wrench.extend(wrench)
-    return states
+    return joint_moments
 
 
 def _body_forces(b, U, omega: sp.Matrix, omegad: sp.Matrix, vd: sp.Matrix, mass, com: sp.Matrix, inertia: sp.Matrix,
