@@ -458,9 +458,35 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         warn(f"robot name '{prefix}': the generated function names {', '.join(clashing)} are not "
              "distinct in their first 31 characters, all that C99 guarantees a linker to compare; "
              "a shorter robot name is safer with old toolchains")
+    context = _file_context(eqs, functions, precision, built, header_only, source_name, source_hash, notes, locked,
+                            batch)
+    context.update(banner_fields(prefix, precision, context["method"], eqs.robot.dof, eqs.robot.convention))
+    env = template_environment()
+    header = env.get_template("dynamics.h.j2").render(**context)
+    files = {f"{prefix}_dynamics.h": header}
+    if not header_only:
+        files[f"{prefix}_dynamics.c"] = env.get_template("dynamics.c.j2").render(**context)
+    if size_report is not None and not header_only:
+        report = size_report(dict(files))
+        for f in built:
+            text, stack = report.sizes.get(f"{prefix}_{f.name}", (None, None))
+            if text is not None:
+                f.size_text = f"Cortex-M4: {text} bytes of code, {stack} bytes of stack (measured as stated at the top)."
+        context["size_target"] = comment_text(report.toolchain)
+        context["size_command"] = comment_text(getattr(report, "command", ""))
+        context["size_doubles"] = ", ".join(report.doubles) or "none"
+        files[f"{prefix}_dynamics.h"] = env.get_template("dynamics.h.j2").render(**context)
+    return files
+
+
+def _file_context(eqs: Equations, functions, precision: str, built, header_only: bool, source_name: str,
+                  source_hash: str, notes, locked, batch: bool) -> dict:
+    """The templates' context of the generated files (templates/dynamics.h.j2 and .c.j2): the
+    robot's description for the header, the built functions (``built``) and what they need."""
+    prefix = eqs.robot.name
     robot = eqs.robot
     parents = robot.parent_indices
-    context = {
+    return {
         "prefix": prefix,
         "guard": f"{prefix.upper()}_DYNAMICS_H",
         "version": __version__,
@@ -518,20 +544,3 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
         "vector": any(f.batch and f.batch["lanes"] is not None for f in built),
         "vector_functions": sorted(set().union(*(f.batch["vector_functions"] for f in built if f.batch))),
     }
-    context.update(banner_fields(prefix, precision, context["method"], robot.dof, robot.convention))
-    env = template_environment()
-    header = env.get_template("dynamics.h.j2").render(**context)
-    files = {f"{prefix}_dynamics.h": header}
-    if not header_only:
-        files[f"{prefix}_dynamics.c"] = env.get_template("dynamics.c.j2").render(**context)
-    if size_report is not None and not header_only:
-        report = size_report(dict(files))
-        for f in built:
-            text, stack = report.sizes.get(f"{prefix}_{f.name}", (None, None))
-            if text is not None:
-                f.size_text = f"Cortex-M4: {text} bytes of code, {stack} bytes of stack (measured as stated at the top)."
-        context["size_target"] = comment_text(report.toolchain)
-        context["size_command"] = comment_text(getattr(report, "command", ""))
-        context["size_doubles"] = ", ".join(report.doubles) or "none"
-        files[f"{prefix}_dynamics.h"] = env.get_template("dynamics.h.j2").render(**context)
-    return files

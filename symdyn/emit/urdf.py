@@ -142,43 +142,8 @@ def robot_to_urdf(robot: Robot) -> str:
         what = f"link {k + 1} ('{link.name}')"
         up = robot.parent_indices[k]
         parent, post = (root, sp.eye(4)) if up < 0 else placed[up]
-        fixed = sp.eye(4) if link.fixed is None else sp.Matrix(4, 4, list(link.fixed))
-        if robot.convention == "general":
-            origin = post * fixed * sp.Matrix(link.origin.matrix())
-            axis = _triple(link.axis, f"{what} axis")
-            body = sp.eye(4)
-        else:
-            geometry = joint_geometry(link, robot.convention)  # includes the fixed transform
-            origin = post * sp.Matrix(geometry.pre) * (rot_z(link.theta) if link.is_revolute else sp.eye(4))
-            axis = "0.0 0.0 1.0"
-            body = sp.Matrix(geometry.post)
-        kind = "revolute" if link.is_revolute else "prismatic"
-        child = f"{link.name}_link"
-        lines += [f'  <joint name="{link.name}" type="{kind}">', f"    {_origin(origin, what)}",
-                  f'    <parent link="{parent}"/>', f'    <child link="{child}"/>', f'    <axis xyz="{axis}"/>']
-        limits = dict(DEFAULT_LIMITS[kind])
-        if link.limits is not None:
-            for key in limits:
-                if getattr(link.limits, key) is not None:
-                    limits[key] = _float(getattr(link.limits, key), f"{what} limit {key}")
-        lines.append(f'    <limit lower="{limits["lower"]!r}" upper="{limits["upper"]!r}" '
-                     f'effort="{limits["effort"]!r}" velocity="{limits["velocity"]!r}"/>')
-        if link.damping != 0 or link.coulomb != 0:
-            lines.append(f'    <dynamics damping="{_number(link.damping, what)}" '
-                         f'friction="{_number(link.coulomb, what)}"/>')
-        if link.armature != 0:
-            armature.append(link.name)
-            unit = "kg m^2" if link.is_revolute else "kg"
-            lines.append("    " + _comment(f"armature {_number(link.armature, what)} {unit}: URDF has no rotor "
-                                          "inertia, left out"))
-        if not link.actuated:
-            passive.append(link.name)
-            lines.append("    " + _comment("passive joint (actuated: false, tau = 0): URDF has no such "
-                                          "attribute"))
-        lines.append("  </joint>")
-        lines.append(f'  <link name="{child}">')
-        lines += _inertial(link, body, what)
-        lines.append("  </link>")
+        link_lines, child, body = _link_lines(robot, link, what, parent, post, armature, passive)
+        lines += link_lines
         placed.append((child, body))
     if not robot.is_tree:
         parent, post = placed[-1]
@@ -205,3 +170,47 @@ def robot_to_urdf(robot: Robot) -> str:
              f"{'is a passive joint' if len(passive) == 1 else 'are passive joints'} (actuated: false), which "
              "URDF cannot say: written as ordinary joints, with a comment")
     return "\n".join(lines)
+
+
+def _link_lines(robot: Robot, link, what: str, parent: str, post, armature: list, passive: list):
+    """``(lines, child, body)``: the URDF joint and link of ``link`` on the URDF link ``parent``
+    (whose frame is ``post`` in it), the child link's name and the link frame in it; the link's
+    name is added to ``armature``/``passive`` where URDF cannot hold what it has."""
+    fixed = sp.eye(4) if link.fixed is None else sp.Matrix(4, 4, list(link.fixed))
+    if robot.convention == "general":
+        origin = post * fixed * sp.Matrix(link.origin.matrix())
+        axis = _triple(link.axis, f"{what} axis")
+        body = sp.eye(4)
+    else:
+        geometry = joint_geometry(link, robot.convention)  # includes the fixed transform
+        origin = post * sp.Matrix(geometry.pre) * (rot_z(link.theta) if link.is_revolute else sp.eye(4))
+        axis = "0.0 0.0 1.0"
+        body = sp.Matrix(geometry.post)
+    kind = "revolute" if link.is_revolute else "prismatic"
+    child = f"{link.name}_link"
+    out = [f'  <joint name="{link.name}" type="{kind}">', f"    {_origin(origin, what)}",
+           f'    <parent link="{parent}"/>', f'    <child link="{child}"/>', f'    <axis xyz="{axis}"/>']
+    limits = dict(DEFAULT_LIMITS[kind])
+    if link.limits is not None:
+        for key in limits:
+            if getattr(link.limits, key) is not None:
+                limits[key] = _float(getattr(link.limits, key), f"{what} limit {key}")
+    out.append(f'    <limit lower="{limits["lower"]!r}" upper="{limits["upper"]!r}" '
+               f'effort="{limits["effort"]!r}" velocity="{limits["velocity"]!r}"/>')
+    if link.damping != 0 or link.coulomb != 0:
+        out.append(f'    <dynamics damping="{_number(link.damping, what)}" '
+                   f'friction="{_number(link.coulomb, what)}"/>')
+    if link.armature != 0:
+        armature.append(link.name)
+        unit = "kg m^2" if link.is_revolute else "kg"
+        out.append("    " + _comment(f"armature {_number(link.armature, what)} {unit}: URDF has no rotor "
+                                        "inertia, left out"))
+    if not link.actuated:
+        passive.append(link.name)
+        out.append("    " + _comment("passive joint (actuated: false, tau = 0): URDF has no such "
+                                        "attribute"))
+    out.append("  </joint>")
+    out.append(f'  <link name="{child}">')
+    out += _inertial(link, body, what)
+    out.append("  </link>")
+    return out, child, body
