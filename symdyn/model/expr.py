@@ -126,95 +126,10 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
     tokens = _tokenize(text)
     if not tokens:
         raise ExpressionError("empty expression")
-    pos = 0
-    depth = 0
-
-    def nested(parse):
-        """Run ``parse()`` one nesting level deeper (parentheses, signs, exponents)."""
-        nonlocal depth
-        depth += 1
-        if depth > MAX_DEPTH:
-            raise ExpressionError(f"expression nested more than {MAX_DEPTH} levels deep")
-        try:
-            return parse()
-        finally:
-            depth -= 1
-
-    def peek() -> tuple[str, str] | None:
-        return tokens[pos] if pos < len(tokens) else None
-
-    def take(value: str | None = None) -> tuple[str, str]:
-        nonlocal pos
-        tok = peek()
-        if tok is None:
-            raise ExpressionError(f"expression '{_short(text)}' ends too early")
-        if value is not None and tok[1] != value:
-            raise ExpressionError(f"expected '{value}' but found '{tok[1]}' in expression '{_short(text)}'")
-        pos += 1
-        return tok
-
-    def expr() -> sp.Expr:
-        value = term()
-        while peek() is not None and peek()[1] in ("+", "-"):
-            op = take()[1]
-            rhs = term()
-            value = value + rhs if op == "+" else value - rhs
-        return value
-
-    def term() -> sp.Expr:
-        value = unary()
-        while peek() is not None and peek()[1] in ("*", "/"):
-            op = take()[1]
-            rhs = unary()
-            if op == "/":
-                if rhs == 0:
-                    raise ExpressionError(f"division by zero in expression '{_short(text)}'")
-                value = value / rhs
-            else:
-                value = value * rhs
-        return value
-
-    def unary() -> sp.Expr:
-        tok = peek()
-        if tok is not None and tok[1] in ("+", "-"):
-            take()
-            value = nested(unary)
-            return -value if tok[1] == "-" else value
-        return power()
-
-    def power() -> sp.Expr:
-        base = atom()
-        tok = peek()
-        if tok is not None and tok[1] == "**":
-            take()
-            exponent = nested(unary)
-            _check_power(base, exponent, text)
-            if base.is_number and exponent.is_number and not exponent.is_integer and base.is_extended_negative:
-                raise ExpressionError(f"expression '{_short(text)}': a negative number to a fractional power "
-                                      "has no real value")
-            return base**exponent
-        return base
-
-    def atom() -> sp.Expr:
-        kind, value = take()
-        if kind == "num":
-            return number_to_rational(value)
-        if kind == "name":
-            if peek() is not None and peek()[1] == "(":
-                raise ExpressionError(f"'{value}(...)': functions are not allowed in expression "
-                                      f"'{_short(text)}' (give the value as a number)")
-            if value == "pi":
-                return sp.pi
-            return resolve_name(value)
-        if value == "(":
-            inner = nested(expr)
-            take(")")
-            return inner
-        raise ExpressionError(f"unexpected '{value}' in expression '{_short(text)}'")
-
-    result = expr()
-    if pos != len(tokens):
-        raise ExpressionError(f"unexpected '{tokens[pos][1]}' in expression '{_short(text)}'")
+    parser = _Parser(text, tokens, resolve_name)
+    result = parser.expr()
+    if parser.pos != len(tokens):
+        raise ExpressionError(f"unexpected '{tokens[parser.pos][1]}' in expression '{_short(text)}'")
     if result.has(sp.zoo, sp.oo, -sp.oo, sp.nan, sp.I) or (result.is_number and result.is_extended_real is not True):
         raise ExpressionError(f"expression '{_short(text)}' has no finite real value")
     limit = 10 ** MAX_DIGITS
@@ -222,3 +137,94 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
         raise ExpressionError(f"expression '{_short(text)}' makes an exact number of more than {MAX_DIGITS} digits "
                               "(parameters defined by repeated products of earlier ones?): write a decimal value")
     return result
+
+
+class _Parser:
+    """The recursive-descent parser of :func:`parse_expression` over ``tokens`` (sums, products,
+    signs, powers, numbers, names, parentheses; nesting bounded by :data:`MAX_DEPTH`)."""
+
+    def __init__(self, text: str, tokens: list, resolve_name: Callable[[str], sp.Expr]):
+        self.text, self.tokens, self.resolve_name = text, tokens, resolve_name
+        self.pos = 0
+        self.depth = 0
+
+    def nested(self, parse):
+        """Run ``parse()`` one nesting level deeper (parentheses, signs, exponents)."""
+        self.depth += 1
+        if self.depth > MAX_DEPTH:
+            raise ExpressionError(f"expression nested more than {MAX_DEPTH} levels deep")
+        try:
+            return parse()
+        finally:
+            self.depth -= 1
+
+    def peek(self) -> tuple[str, str] | None:
+        return self.tokens[self.pos] if self.pos < len(self.tokens) else None
+
+    def take(self, value: str | None = None) -> tuple[str, str]:
+        tok = self.peek()
+        if tok is None:
+            raise ExpressionError(f"expression '{_short(self.text)}' ends too early")
+        if value is not None and tok[1] != value:
+            raise ExpressionError(f"expected '{value}' but found '{tok[1]}' in expression '{_short(self.text)}'")
+        self.pos += 1
+        return tok
+
+    def expr(self) -> sp.Expr:
+        value = self.term()
+        while self.peek() is not None and self.peek()[1] in ("+", "-"):
+            op = self.take()[1]
+            rhs = self.term()
+            value = value + rhs if op == "+" else value - rhs
+        return value
+
+    def term(self) -> sp.Expr:
+        value = self.unary()
+        while self.peek() is not None and self.peek()[1] in ("*", "/"):
+            op = self.take()[1]
+            rhs = self.unary()
+            if op == "/":
+                if rhs == 0:
+                    raise ExpressionError(f"division by zero in expression '{_short(self.text)}'")
+                value = value / rhs
+            else:
+                value = value * rhs
+        return value
+
+    def unary(self) -> sp.Expr:
+        tok = self.peek()
+        if tok is not None and tok[1] in ("+", "-"):
+            self.take()
+            value = self.nested(self.unary)
+            return -value if tok[1] == "-" else value
+        return self.power()
+
+    def power(self) -> sp.Expr:
+        base = self.atom()
+        tok = self.peek()
+        if tok is not None and tok[1] == "**":
+            self.take()
+            exponent = self.nested(self.unary)
+            _check_power(base, exponent, self.text)
+            if base.is_number and exponent.is_number and not exponent.is_integer and base.is_extended_negative:
+                raise ExpressionError(f"expression '{_short(self.text)}': a negative number to a fractional power "
+                                      "has no real value")
+            return base**exponent
+        return base
+
+    def atom(self) -> sp.Expr:
+        kind, value = self.take()
+        if kind == "num":
+            return number_to_rational(value)
+        if kind == "name":
+            if self.peek() is not None and self.peek()[1] == "(":
+                raise ExpressionError(f"'{value}(...)': functions are not allowed in expression "
+                                      f"'{_short(self.text)}' (give the value as a number)")
+            if value == "pi":
+                return sp.pi
+            return self.resolve_name(value)
+        if value == "(":
+            inner = self.nested(self.expr)
+            self.take(")")
+            return inner
+        raise ExpressionError(f"unexpected '{value}' in expression '{_short(self.text)}'")
