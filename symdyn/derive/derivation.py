@@ -805,20 +805,9 @@ def _named_results(eqs, notation: _Notation):
 _SPATIAL = ("wx", "wy", "wz", "x", "y", "z")  # entry labels of spatial vectors [angular; linear]
 
 
-def _articulated_body_steps(robot: Robot, steps: str, report=lambda text: None) -> Derivation:
-    """The articulated-body algorithm (the force-to-torque articulated-body note, Algorithm 1) written out for ``robot`` in the
-    named form, and for a robot with passive joints the force-to-torque map (eqs. 3-14)."""
-    report("the three sweeps" + (" and the reaction map" if robot.passive_joints else ""))
-    chain = make_chain(robot)
-    notation = _Notation(chain)
-    n = chain.n
-    friction = friction_terms(robot, chain.qd, [sp.S.Zero] * n)
-    sw = sweeps(chain, chain.tau, friction)
-    a_prime, qdd, accel = accelerations(chain, sw)
-    rm = reaction_map(chain, friction) if robot.passive_joints else None
-    program = chain.builder.build()
-    namer = _Namer(program, notation)
-
+def _name_sweeps(namer: "_Namer", notation: "_Notation", sw, a_prime, qdd, rm, n: int) -> None:
+    """Give the sweeps' entries (and the reaction map's, ``rm``) the names the printout shows:
+    X_k, v_k, c_k, p_k, d_k, u_k, Ia_k, pa_k, IA_k, pA_k, ap_k, the accelerations, b_k, k_k, W, D."""
     def name_vec(vec, label):
         for m in range(6):
             namer.name(vec[m], sp.Symbol(f"{label},{_SPATIAL[m]}", real=True))
@@ -864,6 +853,49 @@ def _articulated_body_steps(robot: Robot, steps: str, report=lambda text: None) 
             name_vec(w, f"W_{j + 1},{i + 1}")
         for col, j in zip(rm.columns, rm.actuated):
             name_vec(col, f"D_{j + 1}")
+
+
+def _reaction_map_sections(q, namer: "_Namer", rm, n: int, steps: str) -> list:
+    """The printout's sections of the force-to-torque map (eqs. 3-14): gains, bias sweep,
+    wrench, columns and results; ``q`` shows a quantity (see :func:`_articulated_body_steps`)."""
+    out: list = []
+    rsw = rm.sweeps
+    out.append(Section("rm_gains", tuple(
+        [q("b", (j + 1,), rm.b[j], f"b_{j + 1},") for j in range(n)] + [q("A", (j + 1,), rm.A[j]) for j in range(n)])))
+    if steps == "all":
+        bias = []
+        for j in reversed(range(1, n)):
+            k = j + 1
+            bias += [q("aba_u", (k,), rsw.u[j], f"u0_{k}"), q("pa0", (k,), rsw.pa[j], f"pa0_{k},"), q("k", (k,), rsw.pA[j - 1], f"k_{k},")]
+        out.append(Section("rm_bias", tuple(bias)))
+    out.append(Section("rm_wrench", (q("k1", (1,), rm.k1, "k_1,"), q("k0", (0,), rm.k0, "k_0,"))))
+    columns = []
+    for col, j in zip(rm.columns, rm.actuated):
+        columns += [q("W", (j + 1, i + 1), w, f"W_{j + 1},{i + 1},") for jj, i, w in rm.partials if jj == j]
+        columns.append(q("column", (j + 1,), col, f"D_{j + 1},"))
+    out.append(Section("rm_columns", tuple(columns)))
+    out.append(Section("rm_results", (
+        Quantity("k0", (0,), sp.ImmutableMatrix([namer.names.get(e, e) for e in rm.k0])),
+        Quantity("Dmap", (), sp.ImmutableMatrix(sp.Matrix.hstack(*[
+            sp.Matrix([namer.names.get(e, e) for e in col]) for col in rm.columns]))))))
+    return out
+
+
+def _articulated_body_steps(robot: Robot, steps: str, report=lambda text: None) -> Derivation:
+    """The articulated-body algorithm (the force-to-torque articulated-body note, Algorithm 1) written out for ``robot`` in the
+    named form, and for a robot with passive joints the force-to-torque map (eqs. 3-14)."""
+    report("the three sweeps" + (" and the reaction map" if robot.passive_joints else ""))
+    chain = make_chain(robot)
+    notation = _Notation(chain)
+    n = chain.n
+    friction = friction_terms(robot, chain.qd, [sp.S.Zero] * n)
+    sw = sweeps(chain, chain.tau, friction)
+    a_prime, qdd, accel = accelerations(chain, sw)
+    rm = reaction_map(chain, friction) if robot.passive_joints else None
+    program = chain.builder.build()
+    namer = _Namer(program, notation)
+
+    _name_sweeps(namer, notation, sw, a_prime, qdd, rm, n)
     def q(kind, indices, value, own=""):
         """A quantity shown by the definitions of the entries it names (prefix ``own``) and by
         name where an entry is another quantity's."""
@@ -898,25 +930,7 @@ def _articulated_body_steps(robot: Robot, steps: str, report=lambda text: None) 
         acc += [q("ap", (j + 1,), a_prime[j], f"ap_{j + 1},"), q("qdd", (j + 1,), qdd[j], notation.qddot[j].name), q("a", (j + 1,), accel[j])]
     sections.append(Section("aba_accel", tuple(acc)))
     if rm is not None:
-        rsw = rm.sweeps
-        sections.append(Section("rm_gains", tuple(
-            [q("b", (j + 1,), rm.b[j], f"b_{j + 1},") for j in range(n)] + [q("A", (j + 1,), rm.A[j]) for j in range(n)])))
-        if steps == "all":
-            bias = []
-            for j in reversed(range(1, n)):
-                k = j + 1
-                bias += [q("aba_u", (k,), rsw.u[j], f"u0_{k}"), q("pa0", (k,), rsw.pa[j], f"pa0_{k},"), q("k", (k,), rsw.pA[j - 1], f"k_{k},")]
-            sections.append(Section("rm_bias", tuple(bias)))
-        sections.append(Section("rm_wrench", (q("k1", (1,), rm.k1, "k_1,"), q("k0", (0,), rm.k0, "k_0,"))))
-        columns = []
-        for col, j in zip(rm.columns, rm.actuated):
-            columns += [q("W", (j + 1, i + 1), w, f"W_{j + 1},{i + 1},") for jj, i, w in rm.partials if jj == j]
-            columns.append(q("column", (j + 1,), col, f"D_{j + 1},"))
-        sections.append(Section("rm_columns", tuple(columns)))
-        sections.append(Section("rm_results", (
-            Quantity("k0", (0,), sp.ImmutableMatrix([namer.names.get(e, e) for e in rm.k0])),
-            Quantity("Dmap", (), sp.ImmutableMatrix(sp.Matrix.hstack(*[
-                sp.Matrix([namer.names.get(e, e) for e in col]) for col in rm.columns]))))))
+        sections += _reaction_map_sections(q, namer, rm, n, steps)
     named = namer.definitions(notation.trig)
     joint = tuple(zip(notation.qdot, chain.qd))
     return Derivation(robot=robot, method="articulated-body", steps=steps, closed_form=False,
