@@ -195,3 +195,20 @@ def test_users_read_no_seeds():
             if word.search(line) and not allowed.search(line):
                 found.append(f"{where}:{number}: {line.strip()[:120]}")
     assert not found, "\n".join(found)
+
+
+#: the longest a function in symdyn/ may be (lines, docstring included): a longer one is split
+#: into functions that each say what they do
+MAX_FUNCTION_LINES = 100
+
+
+def test_no_function_over_a_hundred_lines():
+    import ast
+    long = []
+    for path in sorted((REPO / "symdyn").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                lines = node.end_lineno - node.lineno + 1
+                if lines > MAX_FUNCTION_LINES:
+                    long.append(f"{path.relative_to(REPO)}:{node.lineno} {node.name}: {lines} lines")
+    assert not long, "\n".join(long)

@@ -98,29 +98,13 @@ class _Leg:
         return theta
 
 
-def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=None) -> ParallelDerivation:
-    """The notes' quantities at platform state (``pose``: p and quaternion (x, y, z, w), default
-    the home pose; ``twist`` t_M, default 0; ``accelerations`` q_ddot, default 0)."""
-    where = robot.source or robot.name
-    if robot.parameters:
-        raise SymdynError(f"{where}: runtime parameters ({', '.join(s.name for s in robot.parameters)}) are not "
-                          "supported for platform robots yet: give numbers")
-    legs = [_Leg(leg, where) for leg in robot.legs]
-    pose = np.asarray(home_pose(robot) if pose is None else pose, dtype=float)
-    twist = np.zeros(6) if twist is None else np.asarray(twist, dtype=float)
-    qdd = np.zeros(6) if accelerations is None else np.asarray(accelerations, dtype=float)
-    p, R = pose[:3], _rotation(pose[3:7])
-    plat = robot.platform
-    mass = float(plat.mass)
-    c = p + R @ np.array([float(x) for x in plat.com])
-    inertia = R @ np.array(plat.inertia_matrix, dtype=float) @ R.T
-    MM = np.zeros((6, 6))
-    MM[:3, :3], MM[3:, 3:] = inertia, mass * np.eye(3)
-    gravity = np.array([float(g) for g in robot.gravity])
-    steps = []
-
+def _twist_shape_steps(robot: ParallelRobot, legs: list, p, R, c, steps: list) -> tuple:
+    """Steps 1-3 of the natural orthogonal complement at the platform pose (p, R) with the
+    platform's centre of mass at ``c``: each leg's Jacobian at C_M, the A_J that eliminate the
+    spherical pair's rates and the scalar twist-shape relations; appended to ``steps``.
+    Returns ``(thetas, jacobians, zetas, ys)``."""
     # 1. leg Jacobians at C_M
-    thetas, jacobians, axes, r1s, parts = [], [], [], [], []
+    thetas, jacobians, axes, r1s = [], [], [], []
     for J, leg in enumerate(legs):
         theta = leg.joints(p, R)
         frame6 = np.asarray(leg.eqs.forward_kinematics(theta, []), dtype=float).reshape(4, 4)
@@ -162,6 +146,31 @@ def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=No
                       "zeta_J q_dot_J = y_J^T t_M,  u_J = [e_5 x (r_5 - r_1)] x [e_6 x (r_5 - r_1)],  "
                       "zeta_J = u_J . e_k x (r_k - r_1),  y_J = [-r_1 x u_J; u_J]  (k: the actuated joint; "
                       "u_J from the other two of joints 4-6)", tuple(values)))
+    return thetas, jacobians, zetas, ys
+
+
+def parallel_steps(robot: ParallelRobot, pose=None, twist=None, accelerations=None) -> ParallelDerivation:
+    """The notes' quantities at platform state (``pose``: p and quaternion (x, y, z, w), default
+    the home pose; ``twist`` t_M, default 0; ``accelerations`` q_ddot, default 0)."""
+    where = robot.source or robot.name
+    if robot.parameters:
+        raise SymdynError(f"{where}: runtime parameters ({', '.join(s.name for s in robot.parameters)}) are not "
+                          "supported for platform robots yet: give numbers")
+    legs = [_Leg(leg, where) for leg in robot.legs]
+    pose = np.asarray(home_pose(robot) if pose is None else pose, dtype=float)
+    twist = np.zeros(6) if twist is None else np.asarray(twist, dtype=float)
+    qdd = np.zeros(6) if accelerations is None else np.asarray(accelerations, dtype=float)
+    p, R = pose[:3], _rotation(pose[3:7])
+    plat = robot.platform
+    mass = float(plat.mass)
+    c = p + R @ np.array([float(x) for x in plat.com])
+    inertia = R @ np.array(plat.inertia_matrix, dtype=float) @ R.T
+    MM = np.zeros((6, 6))
+    MM[:3, :3], MM[3:, 3:] = inertia, mass * np.eye(3)
+    gravity = np.array([float(g) for g in robot.gravity])
+    steps = []
+
+    thetas, jacobians, zetas, ys = _twist_shape_steps(robot, legs, p, R, c, steps)
     Y = np.array(ys)
     Z = np.diag(zetas)
     for J in range(6):
