@@ -125,11 +125,14 @@ class CasadiTarget:
         return call
 
 
-def target_errors(target, reference, robot, eqs, functions, states, p, values, floor: float = 0.0) -> dict[str, float]:
+def target_errors(target, reference, robot, eqs, functions, states, p, values, floor: float = 0.0,
+                  task_regular: float = TASK_REGULAR) -> dict[str, float]:
     """The normalized error of each function of ``target`` (a compiled library, a
     :class:`NumpyTarget` or a :class:`CasadiTarget`) against ``reference`` over ``states``
     (regressors as torques, task-space functions at regular states: NaN when there is none;
-    ``floor``: see :func:`symdyn.check.pinocchio_model.normalized_error`)."""
+    ``floor``: see :func:`symdyn.check.pinocchio_model.normalized_error`; ``task_regular``: the
+    smallest relative pivot of the task's J M^-1 J^T at the states the task-space functions are
+    compared at)."""
     functions = list(functions)
     regressors = [f for f in functions if f in REGRESSORS]
     if regressors:
@@ -138,6 +141,6 @@ def target_errors(target, reference, robot, eqs, functions, states, p, values, f
     task = [f for f in functions if f in TASK_OUTPUTS]
     errors = compare(target, reference, states, [f for f in functions if f not in task], p, floor)
     if task:
-        regular = [state for state in states if reference.task_pivot_ratio(state[0]) > TASK_REGULAR]
+        regular = [state for state in states if reference.task_pivot_ratio(state[0]) > task_regular]
         errors.update(compare(target, reference, regular, task, p, floor) if regular else {f: float("nan") for f in task})
     return errors

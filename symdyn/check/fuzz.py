@@ -35,14 +35,22 @@ import numpy as np
 from ..model.tolerances import VERIFY_TOLERANCE
 
 #: normalized error (per joint, see :func:`symdyn.check.pinocchio_model.normalized_error`)
-#: allowed for each precision of the C (mixed: float inputs and results, double inside, so its
-#: results carry float's rounding); numpy and CasADi evaluate in double
+#: allowed for each precision of the C (mixed: float arguments, and float inside but for forward
+#: dynamics, which is double inside); numpy and CasADi evaluate in double
 TOLERANCE = {"double": 1e-9, "mixed": VERIFY_TOLERANCE["mixed"], "float": VERIFY_TOLERANCE["float"]}
 #: the random robots' quantities are of order 1 in SI units (masses 0.2-4 kg, lengths up to
 #: 0.4 m): an output whose reference's RMS is below this is measured against it, not against
 #: its own rounding noise (:func:`symdyn.check.pinocchio_model.normalized_error`'s ``floor``)
 FLOOR = 1e-3
+#: the task-space functions are compared at states whose task's smallest relative pivot is above
+#: this: in float (and mixed, float but for forward dynamics) a factorization's rounding grows
+#: with the task's condition, so the float code is held to its tolerance where that condition is
+#: moderate (case 197: 2.4e-3 at pivots near 1e-3, 1e-11 in double at the same states)
+TASK_REGULAR = {"double": 1e-3, "mixed": 0.05, "float": 0.05}
 STATES = 6
+#: the compiled C is called at more states (cheap): the task-space functions in float are compared
+#: only at well-conditioned ones (:data:`TASK_REGULAR`)
+C_STATES = 24
 #: after the warning flags (-Wall -Wextra -Wpedantic -Werror): -O1 keeps the flow analysis the
 #: warnings need at a third of -O2's compile time on a 13,700-line file (6.4 s against 10.7 s);
 #: the bundled robots' tests build at -O2
@@ -285,10 +293,10 @@ def _reference(case: Case, path: str, robot, values):
                          frames=list(case.frames) or None)
 
 
-def _states(robot, precision: str, number: int):
+def _states(robot, precision: str, number: int, count: int = STATES):
     from .states import random_state
     rng = np.random.default_rng(number)
-    states = [random_state(robot, rng) for _ in range(STATES)]
+    states = [random_state(robot, rng) for _ in range(count)]
     if precision != "double":  # judge the arithmetic, not the rounding of the inputs
         states = [[x.astype(np.float32).astype(float) for x in s] for s in states]
     return states
@@ -342,13 +350,13 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
         outcome.functions = functions
         stage = outcome.enter("reference")
         reference = _reference(case, path, robot, values)
-        states = _states(robot, case.precision, case.number)
+        states = _states(robot, case.precision, case.number, C_STATES)
         if "c" in targets:
             stage = outcome.enter("compile")
             lib = _compiled(case, eqs, robot, functions, workdir, path)
             stage = outcome.enter("c")
-            _record(outcome, "c", target_errors(lib, reference, robot, eqs, functions, states, p, values, FLOOR),
-                    TOLERANCE[case.precision])
+            _record(outcome, "c", target_errors(lib, reference, robot, eqs, functions, states, p, values, FLOOR,
+                                                TASK_REGULAR[case.precision]), TOLERANCE[case.precision])
         double_states = _states(robot, "double", case.number)
         for target, build in (("numpy", NumpyTarget), ("casadi", CasadiTarget)):
             if target in targets:
