@@ -42,6 +42,20 @@ def derive_supported(robot, method: str, functions, fd_method: str = "ldlt", use
                              parameters), functions
 
 
+def compile_equations(eqs, functions, precision: str, workdir: str, source_name: str = "", extra_flags=()):
+    """Generate the C of ``functions`` of ``eqs``, compile it in ``workdir`` and load it, with
+    every size the library needs (joints, actuated joints, task rows, frames, base parameters)."""
+    from ..emit.cgen import generate_c
+    from .cbuild import build_and_load
+    robot = eqs.robot
+    files = generate_c(eqs, functions, precision, source_name=source_name, source_hash=robot.source_hash)
+    lib = build_and_load(files, robot.name, robot.nv, len(robot.parameters), precision, workdir,
+                         actuated=len(robot.actuated_joints), task=len(robot.task_rows), frames=len(robot.frames),
+                         extra_flags=extra_flags)
+    lib.base_columns = len(eqs.base_parameters)
+    return lib
+
+
 def parameter_values(robot, eqs, values):
     """``(pi, beta)``: the robot's standard and base parameters as numbers (``values``: a number
     for each of its symbols)."""

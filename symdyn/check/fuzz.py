@@ -185,7 +185,7 @@ def random_dh(rng, name: str) -> tuple[str, list[str]]:
     """A Denavit-Hartenberg table in the robot file format (see the module docstring)."""
     n = int(rng.integers(2, 7))
     lines = ["format: 1", f"name: {name}", f"convention: {rng.choice(['standard', 'modified'])}",
-             "gravity: " + (f"[0, 0, -9.81]" if rng.random() < 0.7 else
+             "gravity: " + ("[0, 0, -9.81]" if rng.random() < 0.7 else
                             "[" + ", ".join(_number(x) for x in rng.uniform(-6, 6, 3)) + "]")]
     if rng.random() < 0.4:
         lines.append(f"tool: {{xyz: [{', '.join(_number(x) for x in rng.uniform(-0.1, 0.1, 3))}], "
@@ -302,6 +302,15 @@ def _states(robot, precision: str, number: int, count: int = STATES):
     return states
 
 
+def _parameter_values(robot, number: int):
+    """``(values, p)``: each runtime parameter's nominal value, else a seeded one in [0.3, 1.5]
+    ({symbol: number}), and the same as the array ``p`` in the robot's order."""
+    rng = np.random.default_rng(number)
+    values = {s: float(v) if v is not None else float(rng.uniform(0.3, 1.5))
+              for s, v in zip(robot.parameters, robot.nominal)}
+    return values, np.array([values[s] for s in robot.parameters])
+
+
 def _derive(case: Case, robot, functions, use_cache: bool = True):
     """``(eqs, functions)`` (see :func:`symdyn.check.agreement.derive_supported`); one case in
     four of a Newton-Euler chain solves forward dynamics by the articulated-body algorithm."""
@@ -331,7 +340,7 @@ def _record(outcome: Outcome, target: str, errors: dict, tolerance: float) -> No
 
 def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache")) -> Outcome:
     """Check every supported output of ``case`` in every target (see the module docstring)."""
-    from .agreement import CasadiTarget, NumpyTarget, target_errors
+    from .agreement import CasadiTarget, NumpyTarget, compile_equations, target_errors
     from ..model.scene import load_input
     started = time.perf_counter()
     outcome = Outcome(case)
@@ -341,10 +350,7 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
         robot, scene = load_input(path, floating_base=case.floating, frames=list(case.frames) or None)
         functions = _supported(case, robot)
         outcome.functions = functions
-        rng = np.random.default_rng(case.number)
-        values = {s: float(v) if v is not None else float(rng.uniform(0.3, 1.5))
-                  for s, v in zip(robot.parameters, robot.nominal)}
-        p = np.array([values[s] for s in robot.parameters])
+        values, p = _parameter_values(robot, case.number)
         stage = outcome.enter("derive")
         eqs, functions = _derive(case, robot, functions)
         outcome.functions = functions
@@ -353,7 +359,7 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
         states = _states(robot, case.precision, case.number, C_STATES)
         if "c" in targets:
             stage = outcome.enter("compile")
-            lib = _compiled(case, eqs, robot, functions, workdir, path)
+            lib = compile_equations(eqs, functions, case.precision, workdir, os.path.basename(path), COMPILE_FLAGS)
             stage = outcome.enter("c")
             _record(outcome, "c", target_errors(lib, reference, robot, eqs, functions, states, p, values, FLOOR,
                                                 TASK_REGULAR[case.precision]), TOLERANCE[case.precision])
@@ -372,18 +378,6 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
     outcome.enter("done")
     outcome.seconds = time.perf_counter() - started
     return outcome
-
-
-def _compiled(case: Case, eqs, robot, functions, workdir: str, path: str):
-    from .cbuild import build_and_load
-    from ..emit.cgen import generate_c
-    files = generate_c(eqs, functions, case.precision, source_name=os.path.basename(path),
-                       source_hash=robot.source_hash)
-    lib = build_and_load(files, robot.name, robot.nv, len(robot.parameters), case.precision, workdir,
-                         actuated=len(robot.actuated_joints), task=len(robot.task_rows), frames=len(robot.frames),
-                         extra_flags=COMPILE_FLAGS)
-    lib.base_columns = len(eqs.base_parameters)
-    return lib
 
 
 def changed_robot(robot):
@@ -410,10 +404,7 @@ def _check_cache(case: Case, robot, functions, outcome: Outcome) -> None:
     from .pinocchio_model import PinocchioReference, compare
     other = changed_robot(robot)
     cached, _ = _derive(case, other, functions)
-    rng = np.random.default_rng(case.number)
-    values = {s: float(v) if v is not None else float(rng.uniform(0.3, 1.5))
-              for s, v in zip(other.parameters, other.nominal)}
-    p = np.array([values[s] for s in other.parameters])
+    values, p = _parameter_values(other, case.number)
     checked = [name for name in CACHE_CHECKED if name in functions]
     from .agreement import NumpyTarget
     errors = compare(NumpyTarget(cached), PinocchioReference(other, values), _states(other, "double", case.number + 1),

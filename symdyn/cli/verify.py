@@ -8,8 +8,6 @@ import numpy as np
 
 from ..derive.cache import derive_cached
 from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
-from ..check.cbuild import build_and_load
-from ..emit.cgen import generate_c
 from ..emit.cgen import PRECISION_CHOICES
 from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import scene_choices
@@ -56,7 +54,7 @@ def run(args) -> int:
         import pinocchio  # noqa: F401
     except ImportError:
         raise SymdynError("symdyn verify needs Pinocchio: pip install 'symdyn[verify]' (the pin package)") from None
-    from ..check.agreement import REGRESSORS, TASK_REGULAR, derive_supported, target_errors
+    from ..check.agreement import REGRESSORS, TASK_REGULAR, compile_equations, derive_supported, target_errors
     from ..check.pinocchio_model import PinocchioReference
     from ..check.states import random_state
     from ..model.scene import is_urdf
@@ -84,12 +82,8 @@ def run(args) -> int:
     else:
         eqs = derive_cached(robot, args.method, with_requirements(functions), progress=progress_printer(args),
                             fd_method=fd_method, parameters=args.parameters)
-    files = generate_c(eqs, functions, precision, source_name=args.robot, source_hash=robot.source_hash)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
-        lib = build_and_load(files, robot.name, robot.nv, len(robot.parameters), precision, workdir,
-                             actuated=len(robot.actuated_joints), task=len(robot.task_rows),
-                             frames=len(robot.frames))
-        lib.base_columns = len(eqs.base_parameters)
+        lib = compile_equations(eqs, functions, precision, workdir, args.robot)
         regressors = [f for f in functions if f in REGRESSORS]
         if is_urdf(args.robot) and scene is None:  # Pinocchio reads the file itself: an independent reading
             ref, reading = _urdf_reference(args, robot, values)
