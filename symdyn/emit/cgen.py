@@ -25,7 +25,7 @@ from .emission import banner_fields, comment_text, constant_rows, source_label, 
 from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
-from ..model.outputs import ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS
+from ..model.outputs import ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, factors_mass_matrix
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -48,7 +48,8 @@ FLOATING_ARG_DOCS = {
 }
 
 #: precisions of the generated C: double, float (float all the way: no double operation, for
-#: single-precision FPUs), mixed (float arguments, forward dynamics computed in double inside)
+#: single-precision FPUs), mixed (float arguments; every function that solves with the mass
+#: matrix, forward dynamics first, computed in double inside)
 PRECISION_CHOICES = ("double", "float", "mixed")
 
 
@@ -258,10 +259,11 @@ def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_a
     multiply-add macro (:attr:`BodyContext.fused`; also for any body of
     :data:`FUSE_FROM_STATEMENTS` statements or more)."""
     reduced = reduce_targets(eqs, plan)
-    # precision "mixed": float arguments everywhere, but forward dynamics computed inside in
-    # double (for robots whose D is too ill-conditioned for float); "float" is float all the way.
+    # precision "mixed": float arguments everywhere, but every function that solves with D
+    # computed inside in double (for robots whose D is too ill-conditioned for float: forward
+    # dynamics, its derivatives, M^-1, the task-space functions); "float" is float all the way.
     scalar = scalar_type(precision)
-    internal = "double" if (precision == "mixed" and plan.name == "forward_dynamics") else scalar
+    internal = "double" if (precision == "mixed" and factors_mass_matrix(plan.name)) else scalar
     real = f"{prefix}_real"
     cast = "(double)" if internal != scalar else ""
     names: dict[sp.Symbol, str] = dict(given or {})
@@ -367,7 +369,7 @@ def _task_context(eqs: Equations, precision: str) -> dict:
     default of the singularity tolerance macro."""
     rows = eqs.robot.task_rows
     return {"count": len(rows), "rows": ", ".join(f"{row} ({JACOBIAN_ROWS[row]})" for row in rows),
-            "rtol": repr(pivot_rtol("double" if precision == "double" else "float"))}
+            "rtol": repr(pivot_rtol("float" if precision == "float" else "double"))}
 
 
 def _status_list(built, prefix: str) -> str:

@@ -413,6 +413,13 @@ def returns_status(name: str) -> bool:
     return name != "forward_dynamics" and all(REGISTRY[part].status for part in parts)
 
 
+def factors_mass_matrix(name: str) -> bool:
+    """Whether the generated function ``name`` (an output, or a combined function) solves with
+    the mass matrix (forward dynamics, its derivatives, the inverse mass matrix, the task-space
+    functions): the functions precision ``mixed`` computes in double inside."""
+    return any(REGISTRY[part].status for part in COMBINED.get(name, (name,)))
+
+
 def default_outputs(robot) -> tuple[str, ...]:
     """What is derived and generated when nothing is asked for: :data:`OUTPUTS`, the reaction
     map when the robot has passive joints, and the task-space outputs when it names a task;

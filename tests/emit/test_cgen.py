@@ -172,16 +172,19 @@ def test_float_output_has_no_double_literals_or_functions(tmp_path):
 
 
 def test_mixed_precision_computes_forward_dynamics_in_double(tmp_path):
-    """--precision mixed: float arguments, forward dynamics computed inside in double (and
-    said so in the header); the other functions are float."""
+    """--precision mixed: float arguments, forward dynamics and every other function that
+    solves with D (M^-1 here) computed inside in double (and said so in the header); the other
+    functions are float."""
     assert main(["generate", str(REPO / "robots" / "chain12.yaml"), "--out", str(tmp_path), "--precision", "mixed",
                  "--functions", "gravity,forward_dynamics", "--quiet"]) == 0
     header = (tmp_path / "chain12_dynamics.h").read_text()
     assert "typedef float chain12_real" in header and "Computed internally in double" in header
     import symdyn
-    eqs = symdyn.derive(symdyn.load(str(REPO / "robots" / "chain12.yaml")), outputs=["gravity", "forward_dynamics"])
+    eqs = symdyn.derive(symdyn.load(str(REPO / "robots" / "chain12.yaml")),
+                        outputs=["gravity", "forward_dynamics", "mass_matrix_inverse"])
     assert build_function(eqs, "gravity", "mixed", "chain12").trig_type == "float"
     assert build_function(eqs, "forward_dynamics", "mixed", "chain12").trig_type == "double"
+    assert build_function(eqs, "mass_matrix_inverse", "mixed", "chain12").trig_type == "double"
     assert main(["verify", str(REPO / "robots" / "chain12.yaml"), "--precision", "mixed",
                  "--functions", "forward_dynamics", "--states", "20"]) == 0
 
