@@ -34,6 +34,7 @@ from symdyn.check.cbuild import CompiledDynamics, compile_shared  # noqa: E402
 from symdyn.check.pinocchio_model import normalized_error  # noqa: E402
 from symdyn.check.reference import MpReference  # noqa: E402
 from symdyn.emit.cgen import generate_c  # noqa: E402
+from symdyn.model.outputs import Dimensions  # noqa: E402
 
 FUNCTIONS = ("inverse_dynamics", "mass_matrix", "coriolis_matrix", "forward_dynamics")
 #: the gcc flags of the accuracy builds beyond -O3 (symdyn.check.cbuild) and the harness's flag sets
@@ -56,7 +57,7 @@ def accuracy(name: str, workdir: str) -> dict:
         folder = os.path.join(workdir, mode)
         os.makedirs(folder, exist_ok=True)
         lib = CompiledDynamics(compile_shared(os.path.join(workdir, f"{name}_dynamics.c"), folder,
-                                              extra_flags=flags), name, robot.dof, 0)
+                                              extra_flags=flags), name, Dimensions.of(robot), 0)
         for f in FUNCTIONS:
             mine = [np.asarray(getattr(lib, f)(*[s[k] for k in INPUTS[f]]), dtype=float) for s in states]
             errors[mode, f] = normalized_error(mine, refs[f])

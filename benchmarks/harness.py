@@ -298,7 +298,7 @@ class Case:
 
     label: str
     prefix: str
-    dof: int
+    dims: "Dimensions"  # the robot's sizes (symdyn.model.outputs.Dimensions.of)
     folder: str
     functions: tuple
     header: str
@@ -308,10 +308,20 @@ class Case:
     peer_difference: float = 0.0  # the largest relative difference of the cross-checks
     precision: str = "double"
     generate_seconds: float = 0.0  # derivation and emission (through symdyn's cache unless use_cache=False)
-    nq: int = 0  # entries of q (0: dof; a floating base has dof + 1)
-    frames: int = 0  # frames of the frame functions
     parameters: tuple = ()  # the values of the runtime parameters (a scene's), passed as p
     sides: tuple = ()  # symdyn's extra sides timed: "casadi" (--target casadi-c), "batch" (--batch)
+
+    @property
+    def dof(self) -> int:
+        return self.dims.dof
+
+    @property
+    def nq(self) -> int:
+        return self.dims.nq
+
+    @property
+    def frames(self) -> int:
+        return self.dims.frames
 
     @property
     def source(self) -> str:
@@ -348,11 +358,12 @@ def robot_file(spec: str, folder: str) -> str:
     raise SystemExit(f"no robot '{spec}' (robots/{spec}.yaml) and no such file")
 
 
-def output_sizes(function: str, dof: int, frames: int = 0) -> list[int]:
-    """The sizes of NAME_<function>'s output arguments, in order."""
-    from symdyn.model.outputs import COMBINED, REGISTRY, Dimensions
+def output_sizes(function: str, dims) -> list[int]:
+    """The sizes of NAME_<function>'s output arguments, in order (``dims``: the robot's
+    :class:`symdyn.model.outputs.Dimensions`)."""
+    from symdyn.model.outputs import COMBINED, REGISTRY
     return [rows * cols for part in COMBINED.get(function, (function,))
-            for _, (rows, cols) in REGISTRY[part].argument_shapes(Dimensions(dof, dof, dof, frames=frames))]
+            for _, (rows, cols) in REGISTRY[part].argument_shapes(dims)]
 
 
 def symdyn_inputs(function: str, precision: str = "double", parameters: bool = False, whole: bool = False) -> list[str]:
@@ -366,28 +377,27 @@ def symdyn_inputs(function: str, precision: str = "double", parameters: bool = F
     return names + ([f"P{suffix}"] if parameters else [])
 
 
-def output_pointers(function: str, dof: int, frames: int = 0, buffer: str = "OUT") -> list[str]:
+def output_pointers(function: str, dims, buffer: str = "OUT") -> list[str]:
     """Where NAME_<function>'s outputs go in the harness: each at its offset in ``buffer``."""
     pointers, offset = [], 0
-    for size in output_sizes(function, dof, frames):
+    for size in output_sizes(function, dims):
         pointers.append(buffer if offset == 0 else f"{buffer} + {offset}")
         offset += size
     return pointers
 
 
-def symdyn_arguments(function: str, dof: int, precision: str = "double", frames: int = 0,
-                     parameters: bool = False) -> str:
+def symdyn_arguments(function: str, dims, precision: str = "double", parameters: bool = False) -> str:
     """The arguments of NAME_<function> in the harness: :func:`symdyn_inputs`, then each output
     at its offset in OUT (float C: OUTF)."""
     buffer = "OUTF" if precision == "float" else "OUT"
-    return ", ".join(symdyn_inputs(function, precision, parameters) + output_pointers(function, dof, frames, buffer))
+    return ", ".join(symdyn_inputs(function, precision, parameters) + output_pointers(function, dims, buffer))
 
 
 def casadi_call(case: Case, function: str) -> str:
     """One call of symdyn's CasADi function compiled from CasADi's C (a comma expression: the
     argument and result pointers, then the call with the harness's work vectors)."""
     inputs = symdyn_inputs(function, parameters=bool(case.parameters))
-    outputs = output_pointers(function, case.dof, case.frames)
+    outputs = output_pointers(function, case.dims)
     setters = [f"casadi_arg[{k}] = {a}" for k, a in enumerate(inputs)]
     setters += [f"casadi_res[{k}] = {r}" for k, r in enumerate(outputs)]
     return f"({', '.join(setters)}, {case.prefix}_casadi_{function}(casadi_arg, casadi_res, casadi_iw, casadi_w, 0))"
@@ -396,7 +406,7 @@ def casadi_call(case: Case, function: str) -> str:
 def batch_call(case: Case, function: str) -> str:
     """One call of symdyn's batch function over all S states, into OUTB (OUTBF)."""
     suffix = "F" if case.precision == "float" else ""
-    if len(output_sizes(function, case.dof, case.frames)) != 1:
+    if len(output_sizes(function, case.dims)) != 1:
         raise SystemExit(f"the harness times batch functions of one output; {function} has more")
     inputs = symdyn_inputs(function, case.precision, bool(case.parameters), whole=True)
     return f"{case.prefix}_{function}_batch((int)S, {', '.join(inputs)}, OUTB{suffix})"
@@ -419,7 +429,7 @@ def cases_header(case: Case, peer: bool) -> str:
                   "#define HARNESS_CASADI_FUNCTIONS(X) " + " ".join(f"X({case.prefix}_casadi_{f})"
                                                                     for f in case.functions)]
     if "batch" in case.sides:
-        size = max(output_sizes(f, case.dof, case.frames)[0] for f in case.functions)
+        size = max(output_sizes(f, case.dims)[0] for f in case.functions)
         lines += [f"#define HARNESS_BATCH_SIZE {size}",
                   f"#define SCALAR_RESULT OUT{'F' if case.precision == 'float' else ''}"]
     floating = bool(case.nq) and case.nq != case.dof
@@ -435,14 +445,14 @@ def cases_header(case: Case, peer: bool) -> str:
     cases, checks, peer_functions, batch_checks = [], [], [], []
     for function in case.functions:
         call = (f"{case.prefix}_{function}("
-                f"{symdyn_arguments(function, case.dof, case.precision, case.frames, bool(case.parameters))})")
+                f"{symdyn_arguments(function, case.dims, case.precision, bool(case.parameters))})")
         cases.append(f"X({function}, symdyn, {call}, {result}, 0)")
         if "casadi" in case.sides:
             cases.append(f"X({function}, casadi, {casadi_call(case, function)}, OUT[0], 0)")
         if "batch" in case.sides:
             outb, whole_call = ("OUTBF" if case.precision == "float" else "OUTB"), batch_call(case, function)
             cases.append(f"X({function}, batch, {whole_call}, {outb}[0], 1)")
-            batch_checks.append(f"X({function}, {call}, {output_sizes(function, case.dof, case.frames)[0]}, "
+            batch_checks.append(f"X({function}, {call}, {output_sizes(function, case.dims)[0]}, "
                                 f"{whole_call}, {outb})")
         for variant in pinocchio_of(function)[0]:
             pin_call = f"pin_{pin_name(variant)}({PINOCCHIO_ARGUMENTS[variant]}, OUT)"
@@ -489,6 +499,7 @@ def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, see
     harness_cases.h into ``folder``."""
     from symdyn.check.pinocchio_model import build_model
     from symdyn.emit.pipeline import GenerateOptions, configure, generate
+    from symdyn.model.outputs import Dimensions
     os.makedirs(folder, exist_ok=True)
     generate_options = dict(generate_options or {})
     if generate_options.get("precision", "double") not in ("double", "float"):
@@ -515,9 +526,9 @@ def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, see
     prefix = next(name[:-len("_dynamics.h")] for name in files if name.endswith("_dynamics.h"))
     label = f"{robot.name} (n={robot.dof}{', floating base' if robot.floating else ''})"
     parameters = tuple(float(v) for v in robot.nominal) if getattr(robot, "parameters", None) else ()
-    case = Case(label, prefix, robot.nv, folder, tuple(functions),
+    case = Case(label, prefix, Dimensions.of(robot), folder, tuple(functions),
                 files[f"{prefix}_dynamics.h"].decode(), precision=config.precision,
-                generate_seconds=generate_seconds, nq=robot.nq, frames=len(robot.frames),
+                generate_seconds=generate_seconds,
                 parameters=parameters, sides=tuple(sides))
     model, _ = build_model(robot, dict(zip(robot.parameters, robot.nominal)) if parameters else None)
     model.saveToText(os.path.join(folder, "model.txt"))

@@ -42,9 +42,7 @@ def everything(tmp_path_factory):
     eqs = symdyn.derive(robot, outputs=ALL_OUTPUTS)
     files = generate_c(eqs, ALL_OUTPUTS)
     workdir = tmp_path_factory.mktemp("registry")
-    lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), workdir=str(workdir),
-                         actuated=len(robot.actuated_joints), task=len(robot.task_rows), frames=len(robot.frames))
-    lib.base_columns = len(eqs.base_parameters)
+    lib = build_and_load(files, robot.name, eqs.dimensions, len(robot.parameters), workdir=str(workdir))
     return robot, eqs, lib, files, workdir
 
 
@@ -130,10 +128,10 @@ def test_every_output_as_casadi(everything):
 @pytest.mark.skipif(shutil.which("gcc") is None and shutil.which("cc") is None, reason="no C compiler")
 def test_every_output_can_be_timed(everything):
     """The timing harness calls every generated function (compiled and linked, not run)."""
-    robot, _, _, files, workdir = everything
+    robot, eqs, _, files, workdir = everything
     names = list(ALL_OUTPUTS) + [c.name for c in COMBINED_SPECS]
     harness = workdir / "bench.c"
-    harness.write_text(symdyn_harness(robot.name, robot.dof, names, frames=len(robot.frames)))
+    harness.write_text(symdyn_harness(robot.name, eqs.dimensions, names))
     result = subprocess.run([find_compiler(), "-std=c99", "-Wall", "-Werror", "-O0", str(harness),
                              str(workdir / f"{robot.name}_dynamics.c"), "-o", str(workdir / "bench"), "-lm"],
                             capture_output=True, text=True)

@@ -49,11 +49,7 @@ def compile_equations(eqs, functions, precision: str, workdir: str, source_name:
     from .cbuild import build_and_load
     robot = eqs.robot
     files = generate_c(eqs, functions, precision, source_name=source_name, source_hash=robot.source_hash)
-    lib = build_and_load(files, robot.name, robot.nv, len(robot.parameters), precision, workdir,
-                         actuated=len(robot.actuated_joints), task=len(robot.task_rows), frames=len(robot.frames),
-                         extra_flags=extra_flags)
-    lib.base_columns = len(eqs.base_parameters)
-    return lib
+    return build_and_load(files, robot.name, eqs.dimensions, len(robot.parameters), precision, workdir, extra_flags)
 
 
 def parameter_values(robot, eqs, values):

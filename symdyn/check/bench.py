@@ -165,9 +165,8 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
             files = generate_c(eqs, fns, precision)
             folder = os.path.join(workdir, f"{name}-{variant}")
             os.makedirs(folder, exist_ok=True)
-            frames = len(eqs.robot.frames)
-            lib = build_and_load(files, name, n, 0, precision, folder, frames=frames)
-            timings = time_generated(files, name, n, fns, precision, folder, frames=frames)
+            lib = build_and_load(files, name, eqs.dimensions, 0, precision, folder)
+            timings = time_generated(files, name, eqs.dimensions, fns, precision, folder)
             for f in fns:
                 results.append(Result(name, variant, f, timings[f], _c_ops(eqs, f, precision),
                                       error_of(getattr(lib, f), f, precision == "float")))
@@ -254,7 +253,7 @@ def _casadi_c_time(n, folder, name, source):
             f"{name}(arg, res, iw, w, 0)));\n    }}\n    return 0;\n}}\n")
     harness = os.path.join(folder, "bench.c")
     with open(harness, "w") as handle:
-        handle.write(PRELUDE.replace("%(includes)s", includes) % {"dof": n} + body)
+        handle.write(PRELUDE.replace("%(includes)s", includes) % {"dof": n, "nq": n} + body)
     exe = os.path.join(folder, "bench")
     subprocess.run([find_compiler(), "-O3", "-march=native", "-std=c99", "-w", harness, source, "-o", exe, "-lm"],
                    check=True)

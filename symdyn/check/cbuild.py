@@ -4,6 +4,7 @@ tests and benchmarks)."""
 from __future__ import annotations
 
 import ctypes
+import dataclasses
 import os
 import shutil
 import subprocess
@@ -36,16 +37,14 @@ def compile_shared(c_file: str, out_dir: str, extra_flags=()) -> str:
 
 class CompiledDynamics:
     """ctypes access to a compiled ``NAME_dynamics`` library; methods mirror
-    :class:`symdyn.derive.numeric.NumericEquations` (numpy in, numpy out)."""
+    :class:`symdyn.derive.numeric.NumericEquations` (numpy in, numpy out).  ``dims``: the sizes
+    of its outputs (:meth:`Dimensions.of` the robot; an int is a chain of that many actuated
+    joints, the pose task and no frames); ``n_params``: its runtime parameters (``p``)."""
 
-    def __init__(self, library: str, prefix: str, dof: int, n_params: int, precision: str = "double",
-                 actuated: int | None = None):
+    def __init__(self, library: str, prefix: str, dims: Dimensions | int, n_params: int, precision: str = "double"):
         self.lib = ctypes.CDLL(library)
-        self.prefix, self.n, self.np = prefix, dof, n_params
-        self.actuated = dof if actuated is None else actuated
-        self.base_columns = 0  # set by callers of base_regressor (the number of base parameters)
-        self.task = 6  # rows of the task of the task-space functions (build_and_load sets it)
-        self.frames = 0  # frames of the frame functions (build_and_load sets it)
+        self.dims = dims if isinstance(dims, Dimensions) else Dimensions(dims)
+        self.prefix, self.n, self.np = prefix, self.dims.dof, n_params
         single = precision in ("float", "mixed")
         self.ctype = ctypes.c_float if single else ctypes.c_double
         self.dtype = np.float32 if single else np.float64
@@ -89,7 +88,7 @@ class CompiledDynamics:
         (a vector for one column), each filled with ``fill`` before the call, so that entries the
         function did not write keep it."""
         parts = COMBINED.get(name, (name.removesuffix("_checked"),))
-        dims = _dims(self)
+        dims = self.dims
         specs = [REGISTRY[part] for part in parts]
         blocks = [(spec, shape) for spec in specs for _, shape in spec.argument_shapes(dims)]
         code, flat = self._call_outputs(name, args, p, [r * c for _, (r, c) in blocks], status=True, fill=fill)
@@ -101,20 +100,17 @@ class CompiledDynamics:
         return self._call("forward_dynamics_checked", (q, qd, tau), p, self.n, out=qdd, status=True)
 
 
-def _dims(lib, columns=None) -> Dimensions:
-    return Dimensions(lib.n, lib.actuated, columns or lib.base_columns, lib.task, lib.frames)
-
-
 def _compiled_method(spec):
     """``CompiledDynamics.<output>(*inputs, p=None)``: calls ``NAME_<output>`` and returns the
     output as numpy (a vector for one column, else the matrix; split arguments side by side)."""
     def method(self, *args, p=None, columns: int | None = None):
         if len(args) == len(spec.inputs) + 1 and p is None:
             *args, p = args
-        dims = _dims(self, columns)
+        dims = self.dims if columns is None else dataclasses.replace(self.dims, base_parameters=columns)
         shape = spec.shape(dims)
         if 0 in shape and spec.name == "base_regressor":
-            raise ValueError("base_regressor: give the number of base parameters (columns, or set base_columns)")
+            raise ValueError("base_regressor: give the number of base parameters (columns, or in the library's "
+                             "Dimensions)")
         blocks = spec.argument_shapes(dims)
         flat = self._outputs_of(spec.name, (spec.name,), args, p, [rows * cols for _, (rows, cols) in blocks])
         if len(blocks) > 1:
@@ -132,7 +128,7 @@ def _combined_method(combined):
     def method(self, *args, p=None):
         if len(args) == len(combined.inputs) + 1 and p is None:
             *args, p = args
-        dims = _dims(self)
+        dims = self.dims
         flat = self._outputs_of(combined.name, combined.parts, args, p,
                                 [r * c for part in parts for _, (r, c) in part.argument_shapes(dims)])
         return tuple(f if part.is_vector else f.reshape(part.shape(dims)) for f, part in zip(flat, parts))
@@ -147,21 +143,17 @@ for _combined in COMBINED_SPECS:
     setattr(CompiledDynamics, _combined.name, _combined_method(_combined))
 
 
-def build_and_load(files: dict[str, str], prefix: str, dof: int, n_params: int, precision: str = "double",
-                   workdir: str | None = None, actuated: int | None = None, task: int = 6,
-                   frames: int = 0, extra_flags=()) -> CompiledDynamics:
+def build_and_load(files: dict[str, str], prefix: str, dims: Dimensions | int, n_params: int,
+                   precision: str = "double", workdir: str | None = None, extra_flags=()) -> CompiledDynamics:
     """Write generated ``files`` to ``workdir`` (a new temporary directory by default), compile
-    (``extra_flags`` after the defaults) and load (``task``: rows of the task-space functions'
-    task; ``frames``: frames of the frame functions)."""
+    (``extra_flags`` after the defaults) and load; ``dims``: the sizes of the outputs
+    (:meth:`Dimensions.of` the robot, or ``eqs.dimensions``)."""
     workdir = workdir or tempfile.mkdtemp(prefix="symdyn_")
     for name, text in files.items():
         with open(os.path.join(workdir, name), "w") as handle:
             handle.write(text)
     lib = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir, extra_flags)
-    compiled = CompiledDynamics(lib, prefix, dof, n_params, precision, actuated)
-    compiled.task = task
-    compiled.frames = frames
-    return compiled
+    return CompiledDynamics(lib, prefix, dims, n_params, precision)
 
 
 __all__ = ["compile_shared", "build_and_load", "CompiledDynamics", "find_compiler"]

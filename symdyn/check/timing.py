@@ -10,7 +10,7 @@ from ..model.outputs import COMBINED, REGISTRY, Dimensions, function_inputs
 #: TIME(label, call): median of 7 repeats of 20000 calls, printed as "label ns".  The includes
 #: of the code under test go in %(includes)s (which may #define REAL, the scalar type of the
 #: state arrays, default double, and OUT_SIZE, the size of the output buffer, default
-#: N * N + 6 N + 16); N is %(dof)d.  Follow it with the body of main
+#: N * N + 6 N + 16); N is %(dof)d, NQ (the entries of q) %(nq)d.  Follow it with the body of main
 #: and "return 0; }".
 PRELUDE = r"""#define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -24,10 +24,11 @@ PRELUDE = r"""#define _POSIX_C_SOURCE 199309L
 #define OUT_SIZE (N * N + 6 * N + 16)
 #endif
 #define N %(dof)d
+#define NQ %(nq)d
 #define S 10000 /* distinct random states, cycled */
 static double now(void) { struct timespec t; clock_gettime(CLOCK_MONOTONIC, &t); return t.tv_sec * 1e9 + t.tv_nsec; }
 static int cmp(const void *a, const void *b) { double x = *(const double *)a, y = *(const double *)b; return (x > y) - (x < y); }
-static REAL q[S][N], qd[S][N], qdd[S][N], out[OUT_SIZE];
+static REAL q[S][NQ], qd[S][N], qdd[S][N], out[OUT_SIZE];
 static volatile double sink;
 #define TIME(label, call) do { double runs[7]; int r, i; for (r = 0; r < 7; ++r) { double t0 = now(); \
     for (i = 0; i < 20000; ++i) { int k = i %% S; call; sink += out[0]; } runs[r] = (now() - t0) / 20000; } \
@@ -35,9 +36,9 @@ static volatile double sink;
 int main(void) {
     int k, j;
     srand(1);
-    for (k = 0; k < S; ++k) for (j = 0; j < N; ++j) {
-        q[k][j] = (REAL)(6.0 * rand() / RAND_MAX - 3); qd[k][j] = (REAL)(2.0 * rand() / RAND_MAX - 1);
-        qdd[k][j] = (REAL)(2.0 * rand() / RAND_MAX - 1); }
+    for (k = 0; k < S; ++k) for (j = 0; j < NQ; ++j) {
+        q[k][j] = (REAL)(6.0 * rand() / RAND_MAX - 3);
+        if (j < N) { qd[k][j] = (REAL)(2.0 * rand() / RAND_MAX - 1); qdd[k][j] = (REAL)(2.0 * rand() / RAND_MAX - 1); } }
 """
 
 
@@ -46,22 +47,21 @@ def parse(text):
     return {m.group(1): float(m.group(2)) for m in re.finditer(r"^(\w+) ([\d.]+)$", text, re.M)}
 
 
-def call_arguments(function: str, dof: int, base_parameters: int = 0, task: int = 6,
-                   frames: int = 0) -> tuple[str, list[str], int]:
+def call_arguments(function: str, dims: Dimensions) -> tuple[str, list[str], int]:
     """The harness's arguments of ``NAME_<function>`` before ``p`` and its output arrays: the
     inputs (state k; tau is read from the qdd array), then every output argument at its own
-    offset in ``out`` (the first at ``out``); and the numbers the outputs take."""
+    offset in ``out`` (the first at ``out``); and the numbers the outputs take (``dims``: the
+    robot's, :meth:`Dimensions.of`)."""
     parts = COMBINED.get(function, (function,))
-    dims = Dimensions(dof, dof, base_parameters or dof, task, frames)
     inputs = ", ".join(f"{'qdd' if g == 'tau' else g}[k]" for g in function_inputs(function))
     sizes = [rows * cols for part in parts for _, (rows, cols) in REGISTRY[part].argument_shapes(dims)]
     offsets = [sum(sizes[:k]) for k in range(len(sizes))]
     return inputs, [("out" if offset == 0 else f"out + {offset}") for offset in offsets], sum(sizes)
 
 
-def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", parameters=(), frames: int = 0) -> str:
-    """A C program timing symdyn's generated ``prefix_<function>`` (``parameters``: the values
-    of its runtime parameters, passed as ``p``; ``frames``: the robot's frames)."""
+def symdyn_harness(prefix: str, dims: Dimensions, functions, precision: str = "double", parameters=()) -> str:
+    """A C program timing symdyn's generated ``prefix_<function>`` (``dims``: the robot's sizes,
+    :meth:`Dimensions.of`; ``parameters``: the values of its runtime parameters, passed as ``p``)."""
     real = "double" if precision == "double" else "float"
     includes = f'#define REAL {real}\n#include "{prefix}_dynamics.h"'
     extra = ""
@@ -70,15 +70,15 @@ def symdyn_harness(prefix: str, dof: int, functions, precision: str = "double", 
         extra = ", p"
     body, out_size = "", 1
     for f in functions:
-        inputs, outputs, size = call_arguments(f, dof, frames=frames)
+        inputs, outputs, size = call_arguments(f, dims)
         out_size = max(out_size, size)
         body += f'    TIME("{f}", {prefix}_{f}({inputs}{extra}, {", ".join(outputs)}));\n'
     includes += f"\n#define OUT_SIZE {out_size}"
-    return PRELUDE.replace("%(includes)s", includes) % {"dof": dof} + body + "    return 0;\n}\n"
+    return PRELUDE.replace("%(includes)s", includes) % {"dof": dims.dof, "nq": dims.nq} + body + "    return 0;\n}\n"
 
 
-def time_generated(files: dict[str, str], prefix: str, dof: int, functions, precision: str, workdir: str,
-                   parameters=(), frames: int = 0) -> dict[str, float]:
+def time_generated(files: dict[str, str], prefix: str, dims: Dimensions, functions, precision: str, workdir: str,
+                   parameters=()) -> dict[str, float]:
     """Write symdyn's generated ``files`` to ``workdir``, compile them with the timing harness
     (-O3 -march=native) and return ``{function: ns per call}``."""
     from .cbuild import find_compiler
@@ -87,7 +87,7 @@ def time_generated(files: dict[str, str], prefix: str, dof: int, functions, prec
             handle.write(text)
     harness = os.path.join(workdir, "bench.c")
     with open(harness, "w") as handle:
-        handle.write(symdyn_harness(prefix, dof, functions, precision, parameters, frames))
+        handle.write(symdyn_harness(prefix, dims, functions, precision, parameters))
     exe = os.path.join(workdir, "bench")
     subprocess.run([find_compiler(), "-O3", "-march=native", "-std=c99", "-w", harness,
                     os.path.join(workdir, f"{prefix}_dynamics.c"), "-o", exe, "-lm"], check=True)

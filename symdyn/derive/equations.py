@@ -61,7 +61,8 @@ from .program import Program, ProgramBuilder, differentiate
 from .tangents import vector_tangents
 from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
-                             CENTROIDAL_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, default_outputs, spec,
+                             CENTROIDAL_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
+                             spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
@@ -177,6 +178,11 @@ class Equations:
     def nq(self) -> int:
         """Entries of q (the joints, and a floating base's 7)."""
         return self.robot.nq
+
+    @property
+    def dimensions(self) -> Dimensions:
+        """The sizes of the outputs (the base parameters' count among them)."""
+        return Dimensions.of(self.robot, len(self.base_parameters))
 
     @property
     def parameters(self) -> tuple[sp.Symbol, ...]:

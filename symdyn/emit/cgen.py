@@ -18,7 +18,7 @@ import sympy as sp
 from .._version import __version__
 from ..model.errors import warn
 from .cbody import ARGUMENTS, BodyContext, fma_macro, product_loop, write_body
-from .cplan import (FunctionPlan, Target, collect_targets, dimensions, minv_targets, product_targets, reduce_targets,
+from .cplan import (FunctionPlan, Target, collect_targets, minv_targets, product_targets, reduce_targets,
                     tangent_width)
 from .cprinter import VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
@@ -356,7 +356,7 @@ def _batch_form(eqs: Equations, plan, reduced, context: BodyContext, group_of, p
                 read = {group_of[s] for s in lanes_body.used if s in group_of}
                 lanes_unused = [a for a in [*plan.inputs, *(["p"] if eqs.parameters else [])] if a not in read]
     sizes = [(argument.name, rows * cols) for part in plan.parts
-             for argument, (rows, cols) in REGISTRY[part].argument_shapes(dimensions(eqs))]
+             for argument, (rows, cols) in REGISTRY[part].argument_shapes(eqs.dimensions)]
     return {"name": f"{plan.name}_batch", "lanes": lanes, "lanes_unused": lanes_unused,
             "vector_functions": sorted(vector_functions), "checked": plan.checked,
             "inputs": [(group, len(getattr(eqs, group))) for group in plan.inputs],

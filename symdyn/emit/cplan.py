@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..derive.equations import Equations
-from ..model.outputs import COMBINED, FORWARD_DERIVATIVES, REGISTRY, Dimensions, function_inputs, returns_status
+from ..model.outputs import COMBINED, FORWARD_DERIVATIVES, REGISTRY, function_inputs, returns_status
 from .emission import factor_coefficients, fold_constants, fresh_symbols, pair_cse
 
 #: functions of at least this many statements get the pair CSE (:func:`emission.pair_cse`) instead
@@ -167,12 +167,6 @@ class ReducedPlan:
     checks: list[sp.Expr]
 
 
-def dimensions(eqs: Equations) -> Dimensions:
-    """The sizes the outputs of ``eqs`` depend on."""
-    return Dimensions(eqs.n, len(eqs.robot.actuated_joints), len(eqs.base_parameters), len(eqs.robot.task_rows),
-                      len(eqs.robot.frames))
-
-
 def _factor_targets(motions, momenta, size: int) -> list[Target]:
     """The scratch entries of the mass matrix's factors: ``mass_s`` (component k of S_i at
     ``k * (size - 1) + i``) and ``mass_f`` (F_j's 6 components at ``6 j``)."""
@@ -184,7 +178,7 @@ def _output_targets(eqs: Equations, plan: FunctionPlan, part: str) -> None:
     """Add the entries of output ``part`` (each of its arguments, row-major) to ``plan``."""
     output = REGISTRY[part]
     matrix = eqs.output(part)
-    dims = dimensions(eqs)
+    dims = eqs.dimensions
     if output.shape(dims) != matrix.shape:
         raise AssertionError(f"{part}: derived {matrix.shape}, registered {output.shape(dims)}")
     factored = part == "mass_matrix" and bool(eqs.mass_factors)
@@ -216,7 +210,7 @@ def _checked_targets(eqs: Equations, plan: FunctionPlan) -> None:
     """A function that returns a status (task space, the inverse mass matrix, the
     forward-dynamics derivatives): every result to a local first (``result0``, ...), written to
     its output entries only when every pivot check has passed; the checks of its factorizations."""
-    dims = dimensions(eqs)
+    dims = eqs.dimensions
     k = 0
     for part in plan.parts:
         output = REGISTRY[part]

@@ -27,7 +27,9 @@ INPUT_GROUPS = ("q", "qd", "qdd", "tau")
 
 @dataclass(frozen=True)
 class Dimensions:
-    """What an output's size depends on: joints, actuated joints, base parameters (0 when unknown)."""
+    """Every size an output's shape depends on, in one object (:meth:`of` a robot): the
+    velocity coordinates (``dof``: the joints, and 6 for a floating base), the actuated joints,
+    the base parameters (0 when not derived), the task's rows and the frames."""
 
     dof: int
     actuated: int | None = None
@@ -36,10 +38,23 @@ class Dimensions:
     task: int = 6
     #: frames of the frame functions (``frames:``)
     frames: int = 0
+    #: entries of q (``dof`` but for a floating base, whose quaternion has 4; None: ``dof``)
+    configuration: int | None = None
+
+    @classmethod
+    def of(cls, robot, base_parameters: int = 0) -> "Dimensions":
+        """The sizes of a serial robot's outputs (``base_parameters``: how many the derivation
+        found, for the base regressor)."""
+        return cls(robot.nv, len(robot.actuated_joints), base_parameters, len(robot.task_rows), len(robot.frames),
+                   robot.nq)
 
     @property
     def na(self) -> int:
         return self.dof if self.actuated is None else self.actuated
+
+    @property
+    def nq(self) -> int:
+        return self.dof if self.configuration is None else self.configuration
 
 
 @dataclass(frozen=True)

@@ -10,6 +10,7 @@ import shutil
 import numpy as np
 import pytest
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import normalized_error, robot_path
 from symdyn.check.bench import INPUTS
@@ -100,7 +101,7 @@ def compiled(case, precision, tmp_path_factory):
         robot, eqs = _DERIVED[robot.name]
         files = generate_c(eqs, FUNCTIONS, precision=precision)
         workdir = tmp_path_factory.mktemp(f"{robot.name}_{precision}")
-        _BUILT[key] = (robot, build_and_load(files, robot.name, robot.dof, 0, precision, str(workdir)))
+        _BUILT[key] = (robot, build_and_load(files, robot.name, Dimensions.of(robot), 0, precision, str(workdir)))
     return _BUILT[key]
 
 

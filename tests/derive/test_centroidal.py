@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import REPO, TOL, example_robot_data, robot_path
 from symdyn.check.cbuild import build_and_load
@@ -37,13 +38,13 @@ def _check(robot, reference, tmp_path, compiled=True, float_too=False):
     if compiled:
         files = generate_c(eqs, CENTROIDAL_OUTPUTS, "double")
         assert f"{robot.name}_TOTAL_MASS" in files[f"{robot.name}_dynamics.h"]
-        lib = build_and_load(files, robot.name, robot.nv, 0, workdir=str(tmp_path))
+        lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
         errors = compare(lib, reference, states, CENTROIDAL_OUTPUTS)
         assert all(e <= TOL for e in errors.values()), (robot.name, errors)
     if float_too:
         files = generate_c(eqs, CENTROIDAL_OUTPUTS, "float")
         (tmp_path / "float").mkdir()
-        lib = build_and_load(files, robot.name, robot.nv, 0, "float", workdir=str(tmp_path / "float"))
+        lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, "float", workdir=str(tmp_path / "float"))
         rounded = [[np.asarray(x, dtype=np.float32).astype(float) for x in s] for s in states[:10]]
         errors = compare(lib, reference, rounded, CENTROIDAL_OUTPUTS)
         assert all(e <= 2e-5 for e in errors.values()), (robot.name, errors)

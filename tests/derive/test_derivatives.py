@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import REPO, ROBOTS, TOL, fma_hardware, parameter_values, random_states, robot_path
 from symdyn.check.cbuild import build_and_load
@@ -125,7 +126,7 @@ def test_floating_base_mass_matrix_inverse(tmp_path):
     rng = np.random.default_rng(36)
     states = [[random_configuration(robot, rng)] for _ in range(50)]
     reference = PinocchioReference(robot)
-    lib = build_and_load(generate_c(eqs, ["mass_matrix_inverse"]), robot.name, robot.nv, 0, workdir=str(tmp_path))
+    lib = build_and_load(generate_c(eqs, ["mass_matrix_inverse"]), robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     mine = [eqs.numeric.mass_matrix_inverse(q) for q, in states]
     theirs = [reference.mass_matrix_inverse(q) for q, in states]
     compiled = [lib.mass_matrix_inverse(q) for q, in states]
@@ -195,7 +196,7 @@ def test_tangent_loops_in_c_agree_with_pinocchio(name, budget, tmp_path, monkeyp
                                                          ("forward_dynamics_dq", "forward_dynamics_dqd")]
     files = generate_c(eqs, functions + ("inverse_dynamics_derivatives", "forward_dynamics_derivatives"))
     assert files[f"{robot.name}_dynamics.c"].count("dv_t[") > 100  # the loops, not the straight-line form
-    lib = build_and_load(files, robot.name, robot.dof, 0, workdir=str(tmp_path))
+    lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     states = random_states(robot.dof, 20, seed=36)
     errors = compare(lib, PinocchioReference(robot), states, functions)
     assert all(e <= TOL for e in errors.values()), errors
@@ -218,7 +219,7 @@ def _check_fused_multiply_adds(files, robot, lib, states, functions, tmp_path):
     tests/emit/test_cgen.py.)"""
     if not fma_hardware():
         pytest.skip("no FMA hardware (x86-64 with fma) to run the fused build on")
-    fused = build_and_load(files, robot.name, robot.dof, 0, workdir=str(_fresh(tmp_path / "fma")),
+    fused = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(_fresh(tmp_path / "fma")),
                            extra_flags=["-mfma", "-fno-tree-slp-vectorize"])
     assert all(e <= TOL for e in compare(fused, PinocchioReference(robot), states, functions).values())
     differs = False

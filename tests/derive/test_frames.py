@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import REPO, TOL
 from symdyn.check.cbuild import build_and_load
@@ -54,13 +55,13 @@ def test_frames_agree_with_pinocchio(tmp_path, source):
     files = generate_c(eqs, FRAME_OUTPUTS + ("frame_kinematics",), "double")
     header = files[f"{robot.name}_dynamics.h"]
     assert f"#define {robot.name}_NFRAMES 3" in header
-    lib = build_and_load(files, robot.name, robot.nv, 0, workdir=str(tmp_path), frames=3)
+    lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     errors = compare(lib, reference, states, FRAME_OUTPUTS)
     assert all(e <= TOL for e in errors.values()), errors
     if source.endswith("general_arm.yaml"):  # float all the way: within float's precision
         (tmp_path / "float").mkdir()
-        single = build_and_load(generate_c(eqs, FRAME_OUTPUTS, "float"), robot.name, robot.nv, 0, "float",
-                                workdir=str(tmp_path / "float"), frames=3)
+        single = build_and_load(generate_c(eqs, FRAME_OUTPUTS, "float"), robot.name, Dimensions.of(robot), 0, "float",
+                                workdir=str(tmp_path / "float"))
         rounded = [[np.asarray(x, dtype=np.float32).astype(float) for x in state] for state in states[:10]]
         errors = compare(single, reference, rounded, FRAME_OUTPUTS)
         assert all(e <= 2e-5 for e in errors.values()), errors
@@ -140,8 +141,7 @@ def test_solo12_feet_agree_with_pinocchio_urdf_parser(tmp_path, capsys):
     states = [random_state(robot, rng) for _ in range(50)]
     errors = compare(eqs.numeric, reference, states, FRAME_OUTPUTS)
     assert all(e <= TOL for e in errors.values()), errors
-    lib = build_and_load(generate_c(eqs, FRAME_OUTPUTS, "double"), robot.name, robot.nv, 0, workdir=str(tmp_path),
-                         frames=4)
+    lib = build_and_load(generate_c(eqs, FRAME_OUTPUTS, "double"), robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     errors = compare(lib, reference, states, FRAME_OUTPUTS)
     assert all(e <= TOL for e in errors.values()), errors
     scene = tmp_path / "solo.yaml"

@@ -184,7 +184,7 @@ def test_generated_c_for_general_robot_compiles_and_agrees(tmp_path, capsys, gen
     assert "void general_arm_kinematics(const general_arm_real *q, general_arm_real *T, general_arm_real *J);" in header
     assert "base.xyz = [0.1, -0.2, 0.5]; base.rpy = [0.1, -0.2, pi/2 = 1.5707963267948966]" in header
     lib = CompiledDynamics(compile_shared(str(tmp_path / "general_arm_dynamics.c"), str(tmp_path)),
-                           "general_arm", general.n, 0)
+                           "general_arm", general.dimensions, 0)
     for q, *_ in random_states(general.n, 5, seed=9):
         T, J = lib.kinematics(q)
         assert np.allclose(T, lib.forward_kinematics(q), rtol=1e-14, atol=1e-15)

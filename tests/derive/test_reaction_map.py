@@ -14,6 +14,7 @@ from symdyn.check.cbuild import build_and_load
 from symdyn.cli import main
 from symdyn.emit.cgen import generate_c
 from symdyn.model.errors import SymdynError
+from symdyn.model.outputs import Dimensions
 
 LEG = robot_path("pendulum_leg")
 MIDDLE = str(REPO / "tests" / "data" / "passive_middle.yaml")
@@ -93,7 +94,7 @@ def test_compiled_c_agrees_with_pinocchio(leg_eqs, tmp_path):
     float_files = generate_c(leg_eqs, ["reaction_map"], "float")
     for precision, built, tolerance in (("double", files, 1e-10), ("float", float_files, 1e-4)):
         (tmp_path / precision).mkdir()
-        lib = build_and_load(built, "pendulum_leg", 6, 0, precision, str(tmp_path / precision), actuated=3)
+        lib = build_and_load(built, "pendulum_leg", Dimensions(6, actuated=3), 0, precision, str(tmp_path / precision))
         mine = []
         for q, qd, tau_h in states:
             if precision == "float":

@@ -152,8 +152,7 @@ def test_generated_c_and_casadi(tmp_path):
     header = files["puma560_dynamics.h"]
     assert "pi[77] = fc6" in header and "beta[0] = " in header
     assert "void puma560_regressor(const puma560_real *q, const puma560_real *qd, const puma560_real *qdd, puma560_real *Y);" in header
-    lib = build_and_load(files, "puma560", 6, 0, "double", str(tmp_path))
-    lib.base_columns = len(eqs.base_parameters)
+    lib = build_and_load(files, "puma560", eqs.dimensions, 0, "double", str(tmp_path))
     regressor_fn = casadi_function(eqs, "regressor")
     for q, qd, qdd, _ in random_states(6, 5, seed=57):
         expected = eqs.numeric.regressor(q, qd, qdd)

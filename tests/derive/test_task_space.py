@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import REPO, normalized_error, random_states, robot_path
 from symdyn.check.cbuild import build_and_load
@@ -39,8 +40,7 @@ def compiled(name, tmp_path_factory):
             robot = dataclasses.replace(robot, task=ARMS[name])
         eqs = symdyn.derive(robot, outputs=TASK_OUTPUTS)
         files = generate_c(eqs, TASK_OUTPUTS, batch=name == BATCH_ARM)  # one compile serves the batch test too
-        lib = build_and_load(files, robot.name, robot.dof, 0, "double", str(tmp_path_factory.mktemp(name)),
-                             task=len(robot.task_rows))
+        lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, "double", str(tmp_path_factory.mktemp(name)))
         _BUILT[name] = (robot, lib, PinocchioReference(robot))
     return _BUILT[name]
 

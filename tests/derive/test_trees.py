@@ -12,6 +12,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import REPO, TOL, example_robot_data, random_states
 from symdyn.check.cbuild import build_and_load
@@ -58,7 +59,7 @@ def test_yaml_tree_with_dh_placements_agrees_with_pinocchio(hand_tree, tmp_path)
     errors = compare(eqs.numeric, reference, states, TREE_OUTPUTS)
     assert all(e <= TOL for e in errors.values()), errors
     files = generate_c(eqs, TREE_OUTPUTS, "double")
-    lib = build_and_load(files, robot.name, robot.dof, 0, workdir=str(tmp_path))
+    lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     errors = compare(lib, reference, states, TREE_OUTPUTS)
     assert all(e <= TOL for e in errors.values()), errors
     precise = MpReference(robot)
@@ -222,7 +223,7 @@ def test_floating_base_quadruped_agrees_with_pinocchio_free_flyer(tmp_path):
     errors = compare(eqs.numeric, reference, states, functions)
     assert all(e <= TOL for e in errors.values()), errors
     compiled = ("inverse_dynamics", "mass_matrix", "forward_dynamics")  # the others' C: the satellite's test
-    lib = build_and_load(generate_c(eqs, compiled, "double"), robot.name, robot.nv, 0, workdir=str(tmp_path))
+    lib = build_and_load(generate_c(eqs, compiled, "double"), robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     errors = compare(lib, reference, states, compiled)
     assert all(e <= TOL for e in errors.values()), errors
     for q, qd, qdd, tau in states[:5]:
@@ -257,7 +258,7 @@ def test_floating_base_robot_file_and_its_checks(tmp_path):
         assert all(e <= TOL for e in errors.values()), (source, errors)
     # the compiled C of the functions Solo-12's test leaves to numpy
     rest = ("coriolis", "coriolis_matrix", "gravity")
-    lib = build_and_load(generate_c(eqs, rest, "double"), robot.name, robot.nv, 0, workdir=str(tmp_path))
+    lib = build_and_load(generate_c(eqs, rest, "double"), robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     errors = compare(lib, PinocchioReference(robot), states, rest)
     assert all(e <= TOL for e in errors.values()), errors
     for bad, expected in ((text.replace("base: floating\n", ""), ["field 'base_body'", "needs 'base: floating'"]),

@@ -11,6 +11,7 @@ import sys
 import numpy as np
 import pytest
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from symdyn.check.pinocchio_model import compare
 from symdyn.check.cbuild import build_and_load
@@ -40,7 +41,7 @@ def test_loops_agree_with_pinocchio_and_keep_the_status_contract(precision, tole
     assert collect_targets(eqs, "forward_dynamics").sweeps is not None
     files = generate_c(eqs, ["forward_dynamics"], precision)
     assert "fd_table[13][" in files["frictional13_dynamics.c"]
-    lib = build_and_load(files, robot.name, robot.dof, 0, precision, str(tmp_path))
+    lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, precision, str(tmp_path))
     states = []
     for state in random_states(robot.dof, 12, seed=3):
         if precision != "double":

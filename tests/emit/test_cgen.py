@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from helpers import REPO, ROBOTS, PinocchioReference, parameter_values, random_states, run_sanitized
+from symdyn.model.outputs import Dimensions
 from symdyn.check.pinocchio_model import compare
 from symdyn import OUTPUTS
 from symdyn.check.cbuild import WARNING_FLAGS, CompiledDynamics, build_and_load, compile_shared
@@ -69,7 +70,7 @@ def test_compiled_double_agrees_with_pinocchio(name, tmp_path):
     from helpers import robot_path
     robot = symdyn.load(robot_path(name))
     files = {f.name: f.read_text() for f in GENERATED.glob(f"{name}_dynamics.*")}
-    lib = build_and_load(files, name, robot.dof, len(robot.parameters), "double", str(tmp_path))
+    lib = build_and_load(files, name, Dimensions.of(robot), len(robot.parameters), "double", str(tmp_path))
     _compare(lib, name, "double", 1e-10)
 
 
@@ -92,7 +93,7 @@ def test_compiled_float_agrees_with_pinocchio(name, tmp_path):
     eqs = symdyn.derive(robot, outputs=with_requirements(checked), fd_method="aba")
     kinds = {build_function(eqs, f, "float", name).trig_type for f in checked}
     assert kinds <= {"float", ""} and "float" in kinds, kinds  # (a SCARA's gravity has no angle)
-    lib = build_and_load(files, name, robot.dof, len(robot.parameters), "float", str(tmp_path))
+    lib = build_and_load(files, name, Dimensions.of(robot), len(robot.parameters), "float", str(tmp_path))
     _compare(lib, name, "float", 1e-4, functions)
 
 
@@ -220,7 +221,7 @@ def test_projected_mass_matrix_agrees_with_pinocchio(name, tmp_path, monkeypatch
             for fname, text in files.items():
                 (workdir / fname).write_text(text)
             library = compile_shared(str(workdir / f"{name}_dynamics.c"), str(workdir), flags)
-            lib = CompiledDynamics(library, name, robot.dof, len(robot.parameters), precision)
+            lib = CompiledDynamics(library, name, Dimensions.of(robot), len(robot.parameters), precision)
             _compare(lib, name, precision, tolerance, ("mass_matrix",))
 
 
@@ -258,7 +259,7 @@ def test_looped_forward_dynamics_agrees_with_pinocchio(name, projected, tmp_path
         files = generate_c(eqs, ["forward_dynamics"], precision)
         assert collect_targets(eqs, "forward_dynamics").looped  # the emitter's plan: the LDL^T loop
         (tmp_path / precision).mkdir()
-        lib = build_and_load(files, robot.name, robot.dof, len(robot.parameters), precision, str(tmp_path / precision))
+        lib = build_and_load(files, robot.name, Dimensions.of(robot), len(robot.parameters), precision, str(tmp_path / precision))
         states = []
         for state in random_states(robot.dof, 20, seed=11):
             if precision != "double":
@@ -297,7 +298,7 @@ def test_pair_cse_agrees_with_pinocchio(tmp_path, monkeypatch):
     paired = cgen.build_function(eqs, "coriolis_matrix", "double", "panda").ops
     assert paired["mul"] < plain["mul"] and paired["add"] == plain["add"], (paired, plain)
     files = cgen.generate_c(eqs)
-    lib = build_and_load(files, "panda", robot.dof, len(robot.parameters), "double", str(tmp_path))
+    lib = build_and_load(files, "panda", Dimensions.of(robot), len(robot.parameters), "double", str(tmp_path))
     _compare(lib, "panda", "double", 1e-10)
 
 
@@ -418,8 +419,8 @@ def test_long_bodies_fused_agree_with_pinocchio(tmp_path, monkeypatch):
     fused, plain = tmp_path / "fused", tmp_path / "plain"
     fused.mkdir()
     plain.mkdir()
-    fused_lib = build_and_load(files, robot.name, robot.dof, 0, workdir=str(fused), extra_flags=["-mfma"])
-    plain_lib = build_and_load(files, robot.name, robot.dof, 0, workdir=str(plain))
+    fused_lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(fused), extra_flags=["-mfma"])
+    plain_lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(plain))
     _compare(fused_lib, "puma560", "double", 1e-10)
     states = random_states(robot.dof, 5, seed=8)
     differs = False

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from symdyn.check.cbuild import CompiledDynamics, compile_shared
 from symdyn.emit.cgen import generate_c
@@ -29,7 +30,7 @@ def test_vector_and_plain_loops_agree_bit_for_bit_and_with_pinocchio(tmp_path):
         for name, text in files.items():
             (folder / name).write_text(text)
         library = compile_shared(str(folder / "chain12_dynamics.c"), str(folder), flags)
-        lib = CompiledDynamics(library, "chain12", robot.dof, len(robot.parameters))
+        lib = CompiledDynamics(library, "chain12", Dimensions.of(robot), len(robot.parameters))
         results[label] = np.array([lib.coriolis_matrix(q, qd) for q, qd, _, _ in states])
     assert results["vector"].tobytes() == results["plain"].tobytes()
     ref = PinocchioReference(robot)

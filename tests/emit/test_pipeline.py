@@ -4,6 +4,7 @@ defaults applied), the same files as the command line."""
 
 import pytest
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import REPO
 from symdyn.emit.pipeline import (KINDS, PLATFORM, SERIAL, GenerateOptions, check_options, configure, generate,
@@ -100,7 +101,7 @@ def test_forward_dynamics_method_chosen_by_operation_count(tmp_path, monkeypatch
     assert "by the articulated-body algorithm" in header
     robot = symdyn.load(str(path))
     files = {k: v.decode() for k, v in first.items()}
-    lib = build_and_load(files, robot.name, robot.dof, 0, "double", str(tmp_path))
+    lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, "double", str(tmp_path))
     errors = compare(lib, PinocchioReference(robot), random_states(robot.dof, 10, seed=5), ("forward_dynamics",), np.zeros(0))
     assert errors["forward_dynamics"] <= 1e-10, errors
     asked = generate(configure(path, GenerateOptions(functions="forward_dynamics", fd_method="ldlt")))

@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import REPO, normalized_error, random_states
 from symdyn.check.cbuild import build_and_load
@@ -231,6 +232,6 @@ def test_locking_joints_of_a_tree_agrees_with_pinocchio_reduced_model(tmp_path, 
     errors = compare(eqs.numeric, reference, states, functions)
     assert all(e <= TOL for e in errors.values()), errors
     compiled = ("inverse_dynamics", "mass_matrix")
-    lib = build_and_load(generate_c(eqs, compiled, "double"), robot.name, robot.nv, 0, workdir=str(tmp_path))
+    lib = build_and_load(generate_c(eqs, compiled, "double"), robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     errors = compare(lib, reference, states, compiled)
     assert all(e <= TOL for e in errors.values()), errors
