@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import symdyn
-from helpers import robot_path
+from helpers import REPO, robot_path
 from symdyn.check.cbuild import build_and_load, find_compiler
 from symdyn.check.timing import symdyn_harness
 from symdyn.cli import main
@@ -21,7 +21,7 @@ from symdyn.emit.casadi_backend import casadi_function
 from symdyn.emit.cgen import generate_c
 from symdyn.model.outputs import (ALL_OUTPUTS, COMBINED_SPECS, OUTPUTS, SPECS, Dimensions, default_outputs,
                                   functions_help, with_requirements)
-from symdyn.model.outputs import REGISTRY
+from symdyn.model.outputs import REGISTRY, functions_table
 from symdyn.model.robot import TASKS, NamedFrame, Placement
 
 #: passive joints (a nontrivial reaction map) and a numeric geometry (base parameters)
@@ -60,8 +60,29 @@ def test_specs_are_consistent():
 
 
 def test_every_output_has_a_derivation():
-    missing = [name for name in ALL_OUTPUTS if name not in DERIVATIONS]
+    missing = [spec.name for spec in SPECS if spec.derivation not in DERIVATIONS]
     assert not missing, f"registered without a derivation: {missing}"
+    unused = set(DERIVATIONS) - {spec.derivation for spec in SPECS} - {"fd_bias"}  # (forward dynamics' bias)
+    assert not unused, f"derivations no output names: {unused}"
+
+
+def test_readme_table_is_the_registry():
+    """README's table of outputs is the one written from the specs (names, meanings, shapes,
+    Pinocchio's equivalents, the combined functions)."""
+    assert functions_table() in (REPO / "README.md").read_text(encoding="utf-8"), \
+        "README's table of outputs is stale: paste symdyn.model.outputs.functions_table()"
+
+
+def test_shapes_are_written_as_they_are():
+    """The shape's text and whether an output is a vector come from its shape function alone."""
+    dims = Dimensions(dof=5, actuated=3, base_parameters=7, task=2, frames=4)
+    for spec in SPECS:
+        rows, cols = spec.shape(dims)
+        text = spec.shape_text.replace("NA", "3").replace("NB", "7").replace("N", "5").replace("M", "2").replace("K", "4")
+        sizes = [eval(part.replace(" ", "*").replace("(", "").replace(")", "").replace("*+*", "+"))
+                 for part in text.split(" x ")]
+        assert sizes == ([rows] if spec.is_vector else [rows, cols]), spec.name
+        assert spec.is_vector == (cols == 1 and spec.shape(Dimensions(9, 9, 9, 9, 9))[1] == 1), spec.name
 
 
 def test_functions_option_knows_every_output():

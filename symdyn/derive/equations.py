@@ -59,7 +59,7 @@ from .lagrange_euler import LagrangeEuler
 from .newton_euler import joint_forces
 from .program import Program, ProgramBuilder, differentiate
 from .tangents import vector_tangents
-from ..model.outputs import (ALL_OUTPUTS, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
+from ..model.outputs import (ALL_OUTPUTS, REGISTRY, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
                              CENTROIDAL_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
                              spec,
@@ -488,7 +488,8 @@ class _Derivation:
 
     def get(self, name: str) -> sp.Matrix:
         if name not in self.values:  # (a derivation that writes several outputs stores them itself)
-            value = DERIVATIONS[name](self)  # (which may replace self.values: read it after)
+            value = DERIVATIONS[REGISTRY[name].derivation if name in REGISTRY else name](self)  # (which may
+            # replace self.values: read it after)
             self.values.setdefault(name, value)
         return self.values[name]
 
@@ -904,16 +905,16 @@ def _base_regressor(d: _Derivation) -> sp.Matrix:
 #: dynamics is assembled from them).  A test checks every registered output has an entry.
 DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "gravity": _gravity, "coriolis": _coriolis, "coriolis_matrix": _coriolis_matrix, "mass_matrix": _mass_matrix,
-    "inverse_dynamics": _inverse_dynamics, "fd_bias": _bias,
-    **{name: _tool for name in KINEMATIC_OUTPUTS},
+    "inverse_dynamics": _inverse_dynamics, "fd_bias": _bias, "tool": _tool,
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
-    "base_regressor": _base_regressor, **{name: _task for name in TASK_OUTPUTS},
-    "inverse_dynamics_dq": _inverse_dynamics_derivatives, "inverse_dynamics_dqd": _inverse_dynamics_derivatives,
-    "gravity_derivative": _gravity_derivative, **{name: _inverse_outputs for name in INVERSE_OUTPUTS},
-    **{name: _frames for name in FRAME_OUTPUTS},
-    **{name: _centroidal for name in CENTROIDAL_OUTPUTS},
+    "base_regressor": _base_regressor, "task": _task, "inverse_dynamics_derivatives": _inverse_dynamics_derivatives,
+    "gravity_derivative": _gravity_derivative, "inverse": _inverse_outputs, "frames": _frames,
+    "centroidal": _centroidal,
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")
+#: the outputs visited before the others (then registry order): the intermediate symbols are
+#: numbered in the order they are built, and the generated code keeps the names it always had
+_VISITED_FIRST = ("gravity", "coriolis", "coriolis_matrix", "mass_matrix", "inverse_dynamics", "fd_bias") + KINEMATIC_OUTPUTS
 
 
 def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | None = None,
@@ -964,7 +965,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     if parameters == "base" and "inverse_dynamics" in need:
         need.add("base_regressor")
     d = _Derivation(robot, method, need, fd_method, parameters, report)
-    order = (_LAGRANGE_ORDER if method == "lagrange-euler" else ()) + tuple(DERIVATIONS)
+    order = (_LAGRANGE_ORDER if method == "lagrange-euler" else ()) + _VISITED_FIRST + ALL_OUTPUTS
     for name in dict.fromkeys(order):
         if name in need:
             d.get(name)

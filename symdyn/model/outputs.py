@@ -14,6 +14,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Callable, Iterable
 
+import sympy as sp
+
 #: the standard inertial, drive and friction parameters of one link (the regressor's columns):
 #: mass, first moment (m * com, 3), inertia about the link origin (6), armature, viscous and
 #: Coulomb friction
@@ -79,39 +81,90 @@ class OutputArgument:
 
 
 @dataclass(frozen=True)
+class Family:
+    """A family of outputs: what the generated header groups them under, and which robots have
+    them (``trees``: kinematic trees and floating bases too; ``floating``: floating bases too)."""
+
+    name: str
+    title: str
+    trees: bool = False
+    floating: bool = False
+
+
+#: the families of outputs, in the order the documentation lists them
+FAMILIES: dict[str, Family] = {f.name: f for f in (
+    Family("dynamics", "joint-space dynamics", trees=True, floating=True),
+    Family("tool", "the tool frame's kinematics"),
+    Family("reaction", "the base reaction of a chain with passive joints"),
+    Family("identification", "identification"),
+    Family("task", "task-space dynamics of the tool"),
+    Family("derivatives", "derivatives of the dynamics", trees=True),
+    Family("frames", "the frames' kinematics", trees=True, floating=True),
+    Family("centroidal", "centre of mass and centroidal momentum", trees=True, floating=True),
+)}
+
+#: the letters the documentation writes each size with (``shape_text``)
+_SIZE_LETTERS = Dimensions(*sp.symbols("N NA NB M K", positive=True, integer=True))
+
+
+@dataclass(frozen=True)
 class OutputSpec:
-    """One output symdyn can derive and generate.
+    """One output symdyn can derive and generate: everything about it is here, and every
+    consumer (derivation, emission, the compiled library, numpy and CasADi evaluation, timing,
+    verify, the fuzzer, ``--functions`` and README's table) reads it from here.
 
     ``shape`` maps :class:`Dimensions` to (rows, columns) of the output matrix (a vector is
-    one column); ``arguments`` are the output arguments it is written to (most outputs one,
-    the reaction map two); ``requires`` lists outputs its derivation or emission needs derived
-    beside it; ``status`` documents the return value of the function that checks its inputs,
-    formatted with ``rtol`` and ``real`` (empty: none).
+    one column, whatever the robot); ``arguments`` are the output arguments it is written to
+    (most outputs one, the reaction map two); ``family`` one of :data:`FAMILIES`;
+    ``derivation`` the key of the function that derives it (``symdyn.derive.equations``; by
+    default its own name: outputs derived together share one); ``requires`` lists outputs its
+    derivation or emission needs derived beside it; ``status`` documents the return value of
+    the function that checks its inputs (and solves with the mass matrix), formatted with
+    ``rtol``, ``real`` and ``prefix`` (empty: none); ``meaning`` and ``pinocchio`` are README's
+    table (what it is, and Pinocchio's equivalent, which the references compute it with).
     """
 
     name: str
     symbol: str
+    family: str
     inputs: tuple[str, ...]
     shape: Callable[[Dimensions], tuple[int, int]]
-    shape_text: str
     units: str
     summary: str
     arguments: tuple[OutputArgument, ...]
+    meaning: str
+    pinocchio: str
+    derivation: str = ""
     default: bool = True
-    kinematic: bool = False
     requires: tuple[str, ...] = ()
     symmetric: bool = False
-    #: numeric evaluation returns the matrix even when it has one column
-    always_matrix: bool = False
     status: str = ""
     #: summaries and statuses that replace the above for another forward-dynamics method
     fd_variants: tuple[tuple[str, str, str], ...] = ()
+
+    def __post_init__(self):
+        if self.family not in FAMILIES:
+            raise ValueError(f"{self.name}: unknown family {self.family!r}")
+        if not self.derivation:
+            object.__setattr__(self, "derivation", self.name)
+
+    @property
+    def kinematic(self) -> bool:
+        """Whether it is about the tool frame (the joint-space outputs are not)."""
+        return self.family == "tool"
+
+    @property
+    def shape_text(self) -> str:
+        """The shape as the documentation writes it: ``N x N``, ``6``, ``6 x (1 + NA)``..."""
+        rows, cols = (sp.sympify(e) for e in self.shape(_SIZE_LETTERS))
+        text = [_size_text(rows)] + ([] if cols == 1 else [_size_text(cols)])
+        return " x ".join(text)
 
     @property
     def is_vector(self) -> bool:
         """Whether the output is a vector (one column whatever the robot), not a matrix that
         may have one column (the Jacobian of a one-joint robot is 6 x 1, still a matrix)."""
-        return " x " not in self.shape_text and not self.always_matrix
+        return sp.sympify(self.shape(_SIZE_LETTERS)[1]) == 1
 
     def summary_for(self, fd_method: str = "") -> str:
         return next((s for m, s, _ in self.fd_variants if m == fd_method), self.summary)
@@ -122,6 +175,14 @@ class OutputSpec:
     def argument_shapes(self, dims: Dimensions) -> list[tuple[OutputArgument, tuple[int, int]]]:
         full = self.shape(dims)
         return [(arg, arg.shape(full)) for arg in self.arguments]
+
+
+def _size_text(size) -> str:
+    """A size in the documentation's letters: ``13 N``, ``(1 + NA)``, ``4 K``."""
+    if size.is_Add:
+        constant, rest = size.as_coeff_Add()
+        return f"({int(constant)} + {_size_text(rest)})" if constant else str(size)
+    return str(size).replace("*", " ")
 
 
 @dataclass(frozen=True)
@@ -163,30 +224,48 @@ _TASK_UNITS = "kg, kg m or kg m^2 (rows: N and N m per m/s^2 and rad/s^2)"
 
 SPECS: tuple[OutputSpec, ...] = (
     OutputSpec(
-        "inverse_dynamics", "tau", ("q", "qd", "qdd"), lambda d: (d.dof, 1), "N", "N m or N",
-        "Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).",
-        (OutputArgument("tau", "joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)"),)),
+        name="inverse_dynamics", symbol="tau", family="dynamics", inputs=("q", "qd", "qdd"),
+        shape=lambda d: (d.dof, 1), units="N m or N",
+        summary="Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).",
+        arguments=(OutputArgument("tau", "joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)"),),
+        meaning="τ(q, q̇, q̈) incl. armature and friction",
+        pinocchio="`rnea` + friction terms"),
     OutputSpec(
-        "mass_matrix", "D", ("q",), lambda d: (d.dof, d.dof), "N x N", "kg m^2, kg m or kg",
-        "Mass (joint-space inertia) matrix D(q), without armature.",
-        (OutputArgument("D", "joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)"),),
+        name="mass_matrix", symbol="D", family="dynamics", inputs=("q",),
+        shape=lambda d: (d.dof, d.dof), units="kg m^2, kg m or kg",
+        summary="Mass (joint-space inertia) matrix D(q), without armature.",
+        arguments=(OutputArgument("D", "joint-space inertia matrix D(q), N*N row-major, symmetric (kg m^2, kg m or kg)"),),
+        meaning="D(q)",
+        pinocchio="`crba` (armature 0)",
         symmetric=True),
     OutputSpec(
-        "coriolis", "h", ("q", "qd"), lambda d: (d.dof, 1), "N", "N m or N",
-        "Coriolis and centrifugal torques h(q, qd).",
-        (OutputArgument("h", "Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)"),)),
+        name="coriolis", symbol="h", family="dynamics", inputs=("q", "qd"),
+        shape=lambda d: (d.dof, 1), units="N m or N",
+        summary="Coriolis and centrifugal torques h(q, qd).",
+        arguments=(OutputArgument("h", "Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)"),),
+        meaning="h(q, q̇) = C q̇",
+        pinocchio="`nonLinearEffects − computeGeneralizedGravity`"),
     OutputSpec(
-        "coriolis_matrix", "C", ("q", "qd"), lambda d: (d.dof, d.dof), "N x N", "N m s or N s",
-        "Coriolis matrix C(q, qd), C qd = h.",
-        (OutputArgument("C", "Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)"),)),
+        name="coriolis_matrix", symbol="C", family="dynamics", inputs=("q", "qd"),
+        shape=lambda d: (d.dof, d.dof), units="N m s or N s",
+        summary="Coriolis matrix C(q, qd), C qd = h.",
+        arguments=(OutputArgument("C", "Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)"),),
+        meaning="C(q, q̇), Christoffel symbols of D",
+        pinocchio="`computeCoriolisMatrix`"),
     OutputSpec(
-        "gravity", "c", ("q",), lambda d: (d.dof, 1), "N", "N m or N",
-        "Gravity torques c(q).",
-        (OutputArgument("c", "gravity vector c(q), N (N m or N)"),)),
+        name="gravity", symbol="c", family="dynamics", inputs=("q",),
+        shape=lambda d: (d.dof, 1), units="N m or N",
+        summary="Gravity torques c(q).",
+        arguments=(OutputArgument("c", "gravity vector c(q), N (N m or N)"),),
+        meaning="c(q)",
+        pinocchio="`computeGeneralizedGravity`"),
     OutputSpec(
-        "forward_dynamics", "qdd", ("q", "qd", "tau"), lambda d: (d.dof, 1), "N", "rad/s^2 or m/s^2",
-        "Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint).",
-        (OutputArgument("qdd", "joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N"),),
+        name="forward_dynamics", symbol="qdd", family="dynamics", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.dof, 1), units="rad/s^2 or m/s^2",
+        summary="Forward dynamics: accelerations for torques tau at state (q, qd), by an LDL^T factorization unrolled for this robot (no inverse, at most one division per joint).",
+        arguments=(OutputArgument("qdd", "joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N"),),
+        meaning="q̈(q, q̇, τ)",
+        pinocchio="`aba`",
         requires=("mass_matrix",),
         status=_PIVOTS.format(why="a pivot d_j of its LDL^T factorization is not above {rtol:g} times its "
                                   "diagonal entry, or is not a number"),
@@ -199,136 +278,233 @@ SPECS: tuple[OutputSpec, ...] = (
                                    "the joints; at most one division per joint, no mass matrix).",
                       _ABA_PIVOTS))),
     OutputSpec(
-        "forward_kinematics", "T", ("q",), lambda d: (4, 4), "4 x 4", "m",
-        "Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",
-        (OutputArgument("T", "pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)"),),
-        kinematic=True),
+        name="forward_kinematics", symbol="T", family="tool", inputs=("q",),
+        shape=lambda d: (4, 4), units="m",
+        summary="Forward kinematics: pose of the tool frame in the world (base placement * chain * tool).",
+        arguments=(OutputArgument("T", "pose of the tool frame in the world, 4*4 row-major homogeneous transform [R p; 0 0 0 1] (p in m)"),),
+        meaning="tool pose T(q) in the world",
+        pinocchio="`framesForwardKinematics`, `oMf`",
+        derivation="tool"),
     OutputSpec(
-        "jacobian", "J", ("q",), lambda d: (6, d.dof), "6 x N", "m/s and rad/s per unit qd",
-        "Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.",
-        (OutputArgument("J", "tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)"),),
-        kinematic=True),
+        name="jacobian", symbol="J", family="tool", inputs=("q",),
+        shape=lambda d: (6, d.dof), units="m/s and rad/s per unit qd",
+        summary="Geometric Jacobian of the tool frame: [v; omega] = J qd, world axes.",
+        arguments=(OutputArgument("J", "tool Jacobian, 6*N row-major, world axes at the tool origin (Pinocchio's LOCAL_WORLD_ALIGNED): rows 0-2 map qd to the tool origin's linear velocity (m/s), rows 3-5 to the angular velocity (rad/s)"),),
+        meaning="tool Jacobian J(q), world axes (linear rows first)",
+        pinocchio="`getFrameJacobian`, `LOCAL_WORLD_ALIGNED`",
+        derivation="tool"),
     OutputSpec(
-        "jacobian_dot_qd", "a", ("q", "qd"), lambda d: (6, 1), "6", "m/s^2 and rad/s^2",
-        "J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.",
-        (OutputArgument("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),),
-        kinematic=True),
+        name="jacobian_dot_qd", symbol="a", family="tool", inputs=("q", "qd"),
+        shape=lambda d: (6, 1), units="m/s^2 and rad/s^2",
+        summary="J-dot qd: the tool's acceleration bias, so that [a; alpha] = J qdd + J-dot qd (classical acceleration), world axes.",
+        arguments=(OutputArgument("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),),
+        meaning="J̇ q̇: the tool's classical acceleration at q̈ = 0",
+        pinocchio="`getFrameClassicalAcceleration`",
+        derivation="tool"),
     OutputSpec(
-        "reaction_map", "k0_D", ("q", "qd"), lambda d: (6, 1 + d.na), "6 x (1 + NA)", "N m and N",
-        "Force-to-torque map (the note 'Force to Torque - Articulated Body Mapping Analysis', eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).",
-        (OutputArgument("k0", "base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) "
+        name="reaction_map", symbol="k0_D", family="reaction", inputs=("q", "qd"),
+        shape=lambda d: (6, 1 + d.na), units="N m and N",
+        summary="Force-to-torque map (the note 'Force to Torque - Articulated Body Mapping Analysis', eqs. 5-14): the wrench the base exerts on body 1 through joint 1 is [n; f] = k0 + D tau_H, affine in the actuated joints' torques tau_H with the passive joints' torques zero; derived from the articulated-body recursion (k0 at tau = 0, D's columns X_1^T A_1 ... X_j^T b_j).",
+        arguments=(OutputArgument("k0", "base wrench at zero actuated torques, 6: [n; f], the moment (N m, about the base origin) "
                               "and force (N) the base exerts on body 1 through joint 1, base-frame axes", 0, 1),
          OutputArgument("D", "wrench per unit actuated torque, 6*NA row-major (column j: actuated joint j in the order "
                              "listed above): [n; f] = k0 + D tau_H", 1, None)),
-        default=False, always_matrix=True),
-    OutputSpec(
-        "regressor", "Y", ("q", "qd", "qdd"), lambda d: (d.dof, PARAMETERS_PER_LINK * d.dof), "N x 13 N",
-        "N m or N per unit parameter",
-        "Inverse dynamics in linear form: the regressor Y(q, qd, qdd) with tau = Y pi, pi the standard parameters (13 per link: mass, first moment, inertia about the link origin, armature, viscous and Coulomb friction).",
-        (OutputArgument("Y", "regressor, N*P row-major (P = 13 N standard parameters in the order listed above): tau = Y pi"),),
+        meaning="`[k0 \\| D]`: base wrench on body 1 = k0 + D τ_H",
+        pinocchio="`aba`, `rnea`, `data.f[1]` in the base frame",
         default=False),
     OutputSpec(
-        "base_regressor", "Yb", ("q", "qd", "qdd"), lambda d: (d.dof, d.base_parameters), "N x NB",
-        "N m or N per unit parameter",
-        "Inverse dynamics in the base parameters: the columns of the regressor that the identifiable combinations beta of the standard parameters multiply, tau = Yb beta.",
-        (OutputArgument("Yb", "base regressor, N*NB row-major (NB base parameters in the order listed above): tau = Yb beta"),),
+        name="regressor", symbol="Y", family="identification", inputs=("q", "qd", "qdd"),
+        shape=lambda d: (d.dof, PARAMETERS_PER_LINK * d.dof), units="N m or N per unit parameter",
+        summary="Inverse dynamics in linear form: the regressor Y(q, qd, qdd) with tau = Y pi, pi the standard parameters (13 per link: mass, first moment, inertia about the link origin, armature, viscous and Coulomb friction).",
+        arguments=(OutputArgument("Y", "regressor, N*P row-major (P = 13 N standard parameters in the order listed above): tau = Y pi"),),
+        meaning="Y(q, q̇, q̈): τ = Y π, 13 standard parameters per link",
+        pinocchio="`computeJointTorqueRegressor` (10 per body) + armature and friction columns",
         default=False),
     OutputSpec(
-        "task_mass_matrix", "Lambda", ("q",), lambda d: (d.task, d.task), "M x M", _TASK_UNITS,
-        "Task-space mass matrix M_x = Lambda = (J M^-1 J^T)^-1 of the tool (J: the task's rows of NAME_jacobian, M = D + "
+        name="base_regressor", symbol="Yb", family="identification", inputs=("q", "qd", "qdd"),
+        shape=lambda d: (d.dof, d.base_parameters), units="N m or N per unit parameter",
+        summary="Inverse dynamics in the base parameters: the columns of the regressor that the identifiable combinations beta of the standard parameters multiply, tau = Yb beta.",
+        arguments=(OutputArgument("Yb", "base regressor, N*NB row-major (NB base parameters in the order listed above): tau = Yb beta"),),
+        meaning="Y_b(q, q̇, q̈): τ = Y_b β in the base parameters",
+        pinocchio="Y_b β against `rnea` + friction terms",
+        default=False),
+    OutputSpec(
+        name="task_mass_matrix", symbol="Lambda", family="task", inputs=("q",),
+        shape=lambda d: (d.task, d.task), units=_TASK_UNITS,
+        summary="Task-space mass matrix M_x = Lambda = (J M^-1 J^T)^-1 of the tool (J: the task's rows of NAME_jacobian, M = D + "
         "diag(armature)); for a square, regular J it equals J^-T M J^-1.",
-        (OutputArgument("Lambda", "task-space mass matrix Lambda, M*M row-major, symmetric (M task rows, as listed "
+        arguments=(OutputArgument("Lambda", "task-space mass matrix Lambda, M*M row-major, symmetric (M task rows, as listed "
                                   "above): F = Lambda xdd + mu + Gx"),),
-        default=False, requires=_TASK_REQUIRES, symmetric=True, status=_TASK_STATUS),
+        meaning="Λ = M_x = (J M⁻¹ Jᵀ)⁻¹ for the task's m rows of the tool Jacobian",
+        pinocchio="inverse of `getFrameJacobian` · `computeMinverse` · Jᵀ",
+        derivation="task",
+        default=False,
+        requires=_TASK_REQUIRES,
+        symmetric=True,
+        status=_TASK_STATUS),
     OutputSpec(
-        "task_bias", "mu", ("q", "qd"), lambda d: (d.task, 1), "M", "N or N m",
-        "Task-space Coriolis and centrifugal force V_x = mu = Lambda (J M^-1 h - J-dot qd) of the tool (friction not included).",
-        (OutputArgument("mu", "task-space Coriolis and centrifugal force mu = V_x, M (N for linear rows, N m for angular ones)"),),
-        default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
+        name="task_bias", symbol="mu", family="task", inputs=("q", "qd"),
+        shape=lambda d: (d.task, 1), units="N or N m",
+        summary="Task-space Coriolis and centrifugal force V_x = mu = Lambda (J M^-1 h - J-dot qd) of the tool (friction not included).",
+        arguments=(OutputArgument("mu", "task-space Coriolis and centrifugal force mu = V_x, M (N for linear rows, N m for angular ones)"),),
+        meaning="V_x = μ = Λ (J M⁻¹ h − J̇ q̇)",
+        pinocchio="the same from `nonLinearEffects`, `getFrameClassicalAcceleration`",
+        derivation="task",
+        default=False,
+        requires=_TASK_REQUIRES,
+        status=_TASK_STATUS),
     OutputSpec(
-        "task_gravity", "Gx", ("q",), lambda d: (d.task, 1), "M", "N or N m",
-        "Task-space gravity force G_x = Lambda J M^-1 c of the tool (= J^-T c for a square J).",
-        (OutputArgument("Gx", "task-space gravity force G_x, M (N for linear rows, N m for angular ones)"),),
-        default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
+        name="task_gravity", symbol="Gx", family="task", inputs=("q",),
+        shape=lambda d: (d.task, 1), units="N or N m",
+        summary="Task-space gravity force G_x = Lambda J M^-1 c of the tool (= J^-T c for a square J).",
+        arguments=(OutputArgument("Gx", "task-space gravity force G_x, M (N for linear rows, N m for angular ones)"),),
+        meaning="G_x = Λ J M⁻¹ c",
+        pinocchio="the same from `computeGeneralizedGravity`",
+        derivation="task",
+        default=False,
+        requires=_TASK_REQUIRES,
+        status=_TASK_STATUS),
     OutputSpec(
-        "task_inverse", "Jbar", ("q",), lambda d: (d.dof, d.task), "N x M", "(rad/s or m/s) per (m/s or rad/s)",
-        "Dynamically consistent inverse of the task Jacobian, Jbar = M^-1 J^T Lambda: the null-space projector "
+        name="task_inverse", symbol="Jbar", family="task", inputs=("q",),
+        shape=lambda d: (d.dof, d.task), units="(rad/s or m/s) per (m/s or rad/s)",
+        summary="Dynamically consistent inverse of the task Jacobian, Jbar = M^-1 J^T Lambda: the null-space projector "
         "of joint torques is 1 - J^T Jbar^T.",
-        (OutputArgument("Jbar", "dynamically consistent inverse Jbar = M^-1 J^T Lambda, N*M row-major: tau = J^T F "
+        arguments=(OutputArgument("Jbar", "dynamically consistent inverse Jbar = M^-1 J^T Lambda, N*M row-major: tau = J^T F "
                                 "+ (1 - J^T Jbar^T) tau0 leaves the tool's acceleration to F"),),
-        default=False, requires=_TASK_REQUIRES, status=_TASK_STATUS),
+        meaning="J̄ = M⁻¹ Jᵀ Λ, the dynamically consistent inverse",
+        pinocchio="`computeMinverse`, `getFrameJacobian`",
+        derivation="task",
+        default=False,
+        requires=_TASK_REQUIRES,
+        status=_TASK_STATUS),
     OutputSpec(
-        "inverse_dynamics_dq", "dtau_dq", ("q", "qd", "qdd"), lambda d: (d.dof, d.dof), "N x N", "N m or N per rad or m",
-        "Derivative of inverse dynamics by the joint positions, dtau/dq (Pinocchio's computeRNEADerivatives), by forward-mode differentiation of the Newton-Euler recursion.",
-        (OutputArgument("dtau_dq", "dtau/dq, N*N row-major: row i = tau_i, column j = q_j"),),
+        name="inverse_dynamics_dq", symbol="dtau_dq", family="derivatives", inputs=("q", "qd", "qdd"),
+        shape=lambda d: (d.dof, d.dof), units="N m or N per rad or m",
+        summary="Derivative of inverse dynamics by the joint positions, dtau/dq (Pinocchio's computeRNEADerivatives), by forward-mode differentiation of the Newton-Euler recursion.",
+        arguments=(OutputArgument("dtau_dq", "dtau/dq, N*N row-major: row i = tau_i, column j = q_j"),),
+        meaning="∂τ/∂q (fixed bases)",
+        pinocchio="`computeRNEADerivatives`",
+        derivation="inverse_dynamics_derivatives",
         default=False),
     OutputSpec(
-        "inverse_dynamics_dqd", "dtau_dqd", ("q", "qd", "qdd"), lambda d: (d.dof, d.dof), "N x N",
-        "N m s or N s per rad or m",
-        "Derivative of inverse dynamics by the joint velocities, dtau/dqd, viscous friction included (Coulomb friction's derivative is zero away from qd = 0, and is left out); dtau/dqdd is the mass matrix plus the armature.",
-        (OutputArgument("dtau_dqd", "dtau/dqd, N*N row-major: row i = tau_i, column j = qd_j (viscous damping on the diagonal)"),),
+        name="inverse_dynamics_dqd", symbol="dtau_dqd", family="derivatives", inputs=("q", "qd", "qdd"),
+        shape=lambda d: (d.dof, d.dof), units="N m s or N s per rad or m",
+        summary="Derivative of inverse dynamics by the joint velocities, dtau/dqd, viscous friction included (Coulomb friction's derivative is zero away from qd = 0, and is left out); dtau/dqdd is the mass matrix plus the armature.",
+        arguments=(OutputArgument("dtau_dqd", "dtau/dqd, N*N row-major: row i = tau_i, column j = qd_j (viscous damping on the diagonal)"),),
+        meaning="∂τ/∂q̇, viscous damping included (fixed bases)",
+        pinocchio="`computeRNEADerivatives`",
+        derivation="inverse_dynamics_derivatives",
         default=False),
     OutputSpec(
-        "gravity_derivative", "dc_dq", ("q",), lambda d: (d.dof, d.dof), "N x N", "N m or N per rad or m",
-        "Derivative of the gravity torques, dc/dq (gravity compensation gains, static stiffness; Pinocchio's computeGeneralizedGravityDerivatives), by forward-mode differentiation of c's recursion.",
-        (OutputArgument("dc_dq", "derivative of the gravity vector, N*N row-major: row i = c_i, column j = q_j"),),
+        name="gravity_derivative", symbol="dc_dq", family="derivatives", inputs=("q",),
+        shape=lambda d: (d.dof, d.dof), units="N m or N per rad or m",
+        summary="Derivative of the gravity torques, dc/dq (gravity compensation gains, static stiffness; Pinocchio's computeGeneralizedGravityDerivatives), by forward-mode differentiation of c's recursion.",
+        arguments=(OutputArgument("dc_dq", "derivative of the gravity vector, N*N row-major: row i = c_i, column j = q_j"),),
+        meaning="∂c/∂q (fixed bases)",
+        pinocchio="`computeGeneralizedGravityDerivatives`",
         default=False),
     OutputSpec(
-        "mass_matrix_inverse", "Minv", ("q",), lambda d: (d.dof, d.dof), "N x N", "1/(kg m^2), 1/(kg m) or 1/kg",
-        "Inverse of the mass matrix with armature, (D + diag(armature))^-1 (Pinocchio's computeMinverse), from the LDL^T factorization forward dynamics uses (no general inverse).",
-        (OutputArgument("Minv", "inverse mass matrix (D + diag(armature))^-1, N*N row-major, symmetric"),),
-        default=False, symmetric=True, status=_INVERSE_STATUS),
+        name="mass_matrix_inverse", symbol="Minv", family="derivatives", inputs=("q",),
+        shape=lambda d: (d.dof, d.dof), units="1/(kg m^2), 1/(kg m) or 1/kg",
+        summary="Inverse of the mass matrix with armature, (D + diag(armature))^-1 (Pinocchio's computeMinverse), from the LDL^T factorization forward dynamics uses (no general inverse).",
+        arguments=(OutputArgument("Minv", "inverse mass matrix (D + diag(armature))^-1, N*N row-major, symmetric"),),
+        meaning="M⁻¹ = (D + diag(armature))⁻¹, with a status (singular M)",
+        pinocchio="`computeMinverse`",
+        derivation="inverse",
+        default=False,
+        symmetric=True,
+        status=_INVERSE_STATUS),
     OutputSpec(
-        "forward_dynamics_dq", "dqdd_dq", ("q", "qd", "tau"), lambda d: (d.dof, d.dof), "N x N",
-        "rad/s^2 or m/s^2 per rad or m",
-        "Derivative of forward dynamics by the joint positions, dqdd/dq = -M^-1 dtau/dq at qdd = forward_dynamics(q, qd, tau) (Pinocchio's computeABADerivatives).",
-        (OutputArgument("dqdd_dq", "dqdd/dq, N*N row-major: row i = qdd_i, column j = q_j"),),
-        default=False, status=_INVERSE_STATUS),
+        name="forward_dynamics_dq", symbol="dqdd_dq", family="derivatives", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.dof, d.dof), units="rad/s^2 or m/s^2 per rad or m",
+        summary="Derivative of forward dynamics by the joint positions, dqdd/dq = -M^-1 dtau/dq at qdd = forward_dynamics(q, qd, tau) (Pinocchio's computeABADerivatives).",
+        arguments=(OutputArgument("dqdd_dq", "dqdd/dq, N*N row-major: row i = qdd_i, column j = q_j"),),
+        meaning="∂q̈/∂q, with a status (fixed bases)",
+        pinocchio="`computeABADerivatives`",
+        derivation="inverse",
+        default=False,
+        status=_INVERSE_STATUS),
     OutputSpec(
-        "forward_dynamics_dqd", "dqdd_dqd", ("q", "qd", "tau"), lambda d: (d.dof, d.dof), "N x N",
-        "rad/s^2 or m/s^2 per rad/s or m/s",
-        "Derivative of forward dynamics by the joint velocities, dqdd/dqd = -M^-1 dtau/dqd at qdd = forward_dynamics(q, qd, tau), viscous friction included (Coulomb friction's derivative is zero away from qd = 0); dqdd/dtau is NAME_mass_matrix_inverse.",
-        (OutputArgument("dqdd_dqd", "dqdd/dqd, N*N row-major: row i = qdd_i, column j = qd_j"),),
-        default=False, status=_INVERSE_STATUS),
+        name="forward_dynamics_dqd", symbol="dqdd_dqd", family="derivatives", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.dof, d.dof), units="rad/s^2 or m/s^2 per rad/s or m/s",
+        summary="Derivative of forward dynamics by the joint velocities, dqdd/dqd = -M^-1 dtau/dqd at qdd = forward_dynamics(q, qd, tau), viscous friction included (Coulomb friction's derivative is zero away from qd = 0); dqdd/dtau is NAME_mass_matrix_inverse.",
+        arguments=(OutputArgument("dqdd_dqd", "dqdd/dqd, N*N row-major: row i = qdd_i, column j = qd_j"),),
+        meaning="∂q̈/∂q̇, with a status (fixed bases)",
+        pinocchio="`computeABADerivatives`",
+        derivation="inverse",
+        default=False,
+        status=_INVERSE_STATUS),
     OutputSpec(
-        "frame_poses", "T", ("q",), lambda d: (4 * d.frames, 4), "K x 4 x 4", "m",
-        "Poses of the frames listed above in the world, each a homogeneous transform (Pinocchio's framesForwardKinematics, oMf).",
-        (OutputArgument("T", "poses of the K frames in the world, K*4*4 row-major: frame k's [R p; 0 0 0 1] at T + 16 k (p in m)"),),
+        name="frame_poses", symbol="T", family="frames", inputs=("q",),
+        shape=lambda d: (4 * d.frames, 4), units="m",
+        summary="Poses of the frames listed above in the world, each a homogeneous transform (Pinocchio's framesForwardKinematics, oMf).",
+        arguments=(OutputArgument("T", "poses of the K frames in the world, K*4*4 row-major: frame k's [R p; 0 0 0 1] at T + 16 k (p in m)"),),
+        meaning="the poses of the robot's frames in the world",
+        pinocchio="`framesForwardKinematics`, `oMf`",
+        derivation="frames",
         default=False),
     OutputSpec(
-        "frame_jacobians", "J", ("q",), lambda d: (6 * d.frames, d.dof), "K x 6 x N", "m/s and rad/s per unit qd",
-        "Geometric Jacobians of the frames listed above, world axes at each frame's origin (Pinocchio's getFrameJacobian, LOCAL_WORLD_ALIGNED).",
-        (OutputArgument("J", "frame Jacobians, K*6*N row-major: frame k's 6 x N block at J + 6 N k, rows 0-2 map qd to its origin's linear velocity (m/s), rows 3-5 to its angular velocity (rad/s), world axes"),),
+        name="frame_jacobians", symbol="J", family="frames", inputs=("q",),
+        shape=lambda d: (6 * d.frames, d.dof), units="m/s and rad/s per unit qd",
+        summary="Geometric Jacobians of the frames listed above, world axes at each frame's origin (Pinocchio's getFrameJacobian, LOCAL_WORLD_ALIGNED).",
+        arguments=(OutputArgument("J", "frame Jacobians, K*6*N row-major: frame k's 6 x N block at J + 6 N k, rows 0-2 map qd to its origin's linear velocity (m/s), rows 3-5 to its angular velocity (rad/s), world axes"),),
+        meaning="their Jacobians, world axes at each frame's origin",
+        pinocchio="`getFrameJacobian`, `LOCAL_WORLD_ALIGNED`",
+        derivation="frames",
         default=False),
     OutputSpec(
-        "frame_jacobian_dot_v", "a", ("q", "qd"), lambda d: (6 * d.frames, 1), "6 K", "m/s^2 and rad/s^2",
-        "J-dot qd of each frame listed above: its classical acceleration at zero accelerations, world axes (Pinocchio's getFrameClassicalAcceleration, LOCAL_WORLD_ALIGNED).",
-        (OutputArgument("a", "J-dot times qd, K*6: frame k's origin's classical linear acceleration (m/s^2) then its angular acceleration (rad/s^2) at qdd = 0, at a + 6 k, world axes"),),
+        name="frame_jacobian_dot_v", symbol="a", family="frames", inputs=("q", "qd"),
+        shape=lambda d: (6 * d.frames, 1), units="m/s^2 and rad/s^2",
+        summary="J-dot qd of each frame listed above: its classical acceleration at zero accelerations, world axes (Pinocchio's getFrameClassicalAcceleration, LOCAL_WORLD_ALIGNED).",
+        arguments=(OutputArgument("a", "J-dot times qd, K*6: frame k's origin's classical linear acceleration (m/s^2) then its angular acceleration (rad/s^2) at qdd = 0, at a + 6 k, world axes"),),
+        meaning="their J̇ q̇ (classical accelerations at q̈ = 0)",
+        pinocchio="`getFrameClassicalAcceleration`",
+        derivation="frames",
         default=False),
     OutputSpec(
-        "center_of_mass", "com", ("q",), lambda d: (3, 1), "3", "m",
-        "Centre of mass of the whole robot (every link, and a floating base's body) in the world, as Pinocchio's centerOfMass.",
-        (OutputArgument("com", "centre of mass c = sum(m_i c_i) / m in the world, 3 (m)"),),
+        name="center_of_mass", symbol="com", family="centroidal", inputs=("q",),
+        shape=lambda d: (3, 1), units="m",
+        summary="Centre of mass of the whole robot (every link, and a floating base's body) in the world, as Pinocchio's centerOfMass.",
+        arguments=(OutputArgument("com", "centre of mass c = sum(m_i c_i) / m in the world, 3 (m)"),),
+        meaning="c(q): the whole robot's centre of mass in the world",
+        pinocchio="`centerOfMass`",
+        derivation="centroidal",
         default=False),
     OutputSpec(
-        "center_of_mass_jacobian", "Jcom", ("q",), lambda d: (3, d.dof), "3 x N", "m/s per unit qd",
-        "Jacobian of the centre of mass, c-dot = Jcom qd, world axes (Pinocchio's jacobianCenterOfMass).",
-        (OutputArgument("Jcom", "centre-of-mass Jacobian, 3*N row-major, world axes: c-dot = Jcom qd (m/s)"),),
+        name="center_of_mass_jacobian", symbol="Jcom", family="centroidal", inputs=("q",),
+        shape=lambda d: (3, d.dof), units="m/s per unit qd",
+        summary="Jacobian of the centre of mass, c-dot = Jcom qd, world axes (Pinocchio's jacobianCenterOfMass).",
+        arguments=(OutputArgument("Jcom", "centre-of-mass Jacobian, 3*N row-major, world axes: c-dot = Jcom qd (m/s)"),),
+        meaning="J_c(q), world axes: ċ = J_c q̇",
+        pinocchio="`jacobianCenterOfMass`",
+        derivation="centroidal",
         default=False),
     OutputSpec(
-        "center_of_mass_bias", "acom", ("q", "qd"), lambda d: (3, 1), "3", "m/s^2",
-        "Jcom-dot qd: the centre of mass's acceleration at zero accelerations, so that c-ddot = Jcom qdd + Jcom-dot qd, world axes.",
-        (OutputArgument("acom", "Jcom-dot times qd, 3: the centre of mass's acceleration at qdd = 0 (m/s^2), world axes"),),
+        name="center_of_mass_bias", symbol="acom", family="centroidal", inputs=("q", "qd"),
+        shape=lambda d: (3, 1), units="m/s^2",
+        summary="Jcom-dot qd: the centre of mass's acceleration at zero accelerations, so that c-ddot = Jcom qdd + Jcom-dot qd, world axes.",
+        arguments=(OutputArgument("acom", "Jcom-dot times qd, 3: the centre of mass's acceleration at qdd = 0 (m/s^2), world axes"),),
+        meaning="J̇_c q̇: ċ's rate at q̈ = 0",
+        pinocchio="`centerOfMass(q, v, 0)`, `acom`",
+        derivation="centroidal",
         default=False),
     OutputSpec(
-        "centroidal_momentum_matrix", "Ag", ("q",), lambda d: (6, d.dof), "6 x N", "kg m/s and kg m^2/s per unit qd",
-        "Centroidal momentum matrix A_G (Orin's): the momentum about the centre of mass h_G = A_G qd, linear rows first, world axes (Pinocchio's ccrba).",
-        (OutputArgument("Ag", "centroidal momentum matrix, 6*N row-major: rows 0-2 map qd to the linear momentum m c-dot (kg m/s), rows 3-5 to the angular momentum about the centre of mass (kg m^2/s), world axes"),),
+        name="centroidal_momentum_matrix", symbol="Ag", family="centroidal", inputs=("q",),
+        shape=lambda d: (6, d.dof), units="kg m/s and kg m^2/s per unit qd",
+        summary="Centroidal momentum matrix A_G (Orin's): the momentum about the centre of mass h_G = A_G qd, linear rows first, world axes (Pinocchio's ccrba).",
+        arguments=(OutputArgument("Ag", "centroidal momentum matrix, 6*N row-major: rows 0-2 map qd to the linear momentum m c-dot (kg m/s), rows 3-5 to the angular momentum about the centre of mass (kg m^2/s), world axes"),),
+        meaning="A_G(q): momentum about the centre of mass h_G = A_G q̇ (linear rows first)",
+        pinocchio="`ccrba`, `Ag`",
+        derivation="centroidal",
         default=False),
     OutputSpec(
-        "centroidal_bias", "dhg", ("q", "qd"), lambda d: (6, 1), "6", "N and N m",
-        "A_G-dot qd: the rate of the centroidal momentum at zero accelerations, so that h_G-dot = A_G qdd + A_G-dot qd, world axes (Pinocchio's computeCentroidalMomentumTimeVariation at zero acceleration).",
-        (OutputArgument("dhg", "A_G-dot times qd, 6: the rate of the linear momentum (N, rows 0-2) and of the angular momentum about the centre of mass (N m, rows 3-5) at qdd = 0, world axes"),),
+        name="centroidal_bias", symbol="dhg", family="centroidal", inputs=("q", "qd"),
+        shape=lambda d: (6, 1), units="N and N m",
+        summary="A_G-dot qd: the rate of the centroidal momentum at zero accelerations, so that h_G-dot = A_G qdd + A_G-dot qd, world axes (Pinocchio's computeCentroidalMomentumTimeVariation at zero acceleration).",
+        arguments=(OutputArgument("dhg", "A_G-dot times qd, 6: the rate of the linear momentum (N, rows 0-2) and of the angular momentum about the centre of mass (N m, rows 3-5) at qdd = 0, world axes"),),
+        meaning="Ȧ_G q̇: ḣ_G at q̈ = 0",
+        pinocchio="`computeCentroidalMomentumTimeVariation(q, v, 0)`, `dhg`",
+        derivation="centroidal",
         default=False),
 )
 
@@ -369,12 +545,21 @@ EXTRA_OUTPUTS = tuple(s.name for s in SPECS if not s.default)
 #: every output symdyn can produce
 ALL_OUTPUTS = OUTPUTS + EXTRA_OUTPUTS
 
+
+
+def family(name: str) -> tuple[str, ...]:
+    """The outputs of a family (:data:`FAMILIES`), in registry order."""
+    if name not in FAMILIES:
+        raise ValueError(f"unknown family {name!r}")
+    return tuple(s.name for s in SPECS if s.family == name)
+
+
 #: the outputs about the tool frame (the others are joint-space dynamics)
-KINEMATIC_OUTPUTS = tuple(s.name for s in SPECS if s.kinematic)
+KINEMATIC_OUTPUTS = family("tool")
 
 #: the task-space outputs (derived together; generated when asked for, or when the robot file
 #: or scene names a task)
-TASK_OUTPUTS = ("task_mass_matrix", "task_bias", "task_gravity", "task_inverse")
+TASK_OUTPUTS = family("task")
 
 #: the inputs each output depends on, in the order of the generated functions' arguments
 OUTPUT_INPUTS = {s.name: s.inputs for s in SPECS}
@@ -391,32 +576,31 @@ def spec(name: str) -> OutputSpec:
         raise ValueError(f"unknown output {name!r}; known: {', '.join(ALL_OUTPUTS)}") from None
 
 
-#: the outputs of a kinematic tree (links with ``parent:``) or a floating base: its joint-space
-#: dynamics (the others are about one tool, or written for serial chains)
-TREE_OUTPUTS = tuple(s.name for s in SPECS if s.default and not s.kinematic)
+#: the outputs of a kinematic tree (links with ``parent:``) or a floating base by default: its
+#: joint-space dynamics (the others are about one tool, or written for serial chains)
+TREE_OUTPUTS = tuple(s.name for s in SPECS if s.default and FAMILIES[s.family].trees)
 
 #: the centre of mass and the centroidal momentum (derived together; when asked for)
-CENTROIDAL_OUTPUTS = ("center_of_mass", "center_of_mass_jacobian", "center_of_mass_bias",
-                      "centroidal_momentum_matrix", "centroidal_bias")
+CENTROIDAL_OUTPUTS = family("centroidal")
 
 #: the frame functions (the robot's ``frames:``; by default when it lists frames)
-FRAME_OUTPUTS = ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v")
+FRAME_OUTPUTS = family("frames")
 
 #: the derivatives of the dynamics and the inverse mass matrix (when asked for)
-DERIVATIVE_OUTPUTS = ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_derivative", "mass_matrix_inverse",
-                      "forward_dynamics_dq", "forward_dynamics_dqd")
+DERIVATIVE_OUTPUTS = family("derivatives")
 
-#: the derivatives of forward dynamics (-M^-1 dtau/dq and -M^-1 dtau/dqd)
-FORWARD_DERIVATIVES = ("forward_dynamics_dq", "forward_dynamics_dqd")
+#: the derivatives of forward dynamics (-M^-1 dtau/dq and -M^-1 dtau/dqd: the derivatives that
+#: are functions of tau)
+FORWARD_DERIVATIVES = tuple(name for name in DERIVATIVE_OUTPUTS if "tau" in REGISTRY[name].inputs)
 
 #: the outputs that share the factorization of M and return its status (mass_matrix_inverse and
 #: the forward-dynamics derivatives)
-INVERSE_OUTPUTS = ("mass_matrix_inverse",) + FORWARD_DERIVATIVES
+INVERSE_OUTPUTS = tuple(name for name in DERIVATIVE_OUTPUTS if REGISTRY[name].status)
 
-#: what a kinematic tree or a floating base can have derived: its joint-space dynamics, the
-#: derivatives (fixed bases), its frames' kinematics and the whole robot's centre of mass and
-#: centroidal momentum
-TREE_AVAILABLE = TREE_OUTPUTS + DERIVATIVE_OUTPUTS + FRAME_OUTPUTS + CENTROIDAL_OUTPUTS
+#: what a kinematic tree or a floating base can have derived: the outputs of the families trees
+#: have (its joint-space dynamics, the derivatives on fixed bases, its frames' kinematics and
+#: the whole robot's centre of mass and centroidal momentum)
+TREE_AVAILABLE = tuple(s.name for s in SPECS if FAMILIES[s.family].trees)
 
 
 def returns_status(name: str) -> bool:
@@ -453,9 +637,7 @@ def supported_outputs(robot) -> tuple[str, ...]:
     reaction map when it has passive joints); the frame functions need frames."""
     names = set(ALL_OUTPUTS)
     if getattr(robot, "is_tree", False):
-        names &= set(TREE_AVAILABLE)
-        if robot.floating:
-            names -= set(DERIVATIVE_OUTPUTS)
+        names = {s.name for s in SPECS if FAMILIES[s.family].trees and (FAMILIES[s.family].floating or not robot.floating)}
     elif not robot.passive_joints:
         names.discard("reaction_map")
     if not getattr(robot, "frames", ()):
@@ -495,6 +677,16 @@ def output_shape(name: str, n: int, actuated: int | None = None, base_parameters
     default all; ``base_parameters`` columns of the base regressor; ``task`` rows of the task;
     ``frames`` frames of the frame functions)."""
     return spec(name).shape(Dimensions(n, actuated, base_parameters, task, frames))
+
+
+def functions_table() -> str:
+    """README's table of the outputs, from the registry: each output's name, what it is, its
+    shape and Pinocchio's equivalent (the references compute it with)."""
+    rows = ["| symdyn | meaning | shape | Pinocchio |", "|---|---|---|---|"]
+    rows += [f"| `{s.name}` | {s.meaning} | {s.shape_text} | {s.pinocchio} |" for s in SPECS]
+    rows += [f"| `{c.name}` | " + ", ".join(f"`{part}`" for part in c.parts) + " in one call (shared work) | | |"
+             for c in COMBINED_SPECS]
+    return "\n".join(rows) + "\n"
 
 
 def functions_help() -> str:
