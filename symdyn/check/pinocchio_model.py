@@ -467,6 +467,10 @@ class PinocchioReference:
     def coriolis_matrix(self, q, qd):
         return self.pin.computeCoriolisMatrix(self.model, self.data, q, qd).copy()
 
+    def kinetic_energy(self, q, qd):
+        """The bodies' kinetic energy (J), one entry: Pinocchio's sum over the bodies."""
+        return np.array([self.pin.computeKineticEnergy(self.model, self.data, q, qd)])
+
     def friction(self, qd):
         return self.damping * qd + self.coulomb * np.sign(qd)
 

@@ -231,6 +231,19 @@ class MpReference:
         zero = [0.0] * self.n
         return self._floats(self.rigid(q, zero, zero))
 
+    def kinetic_energy(self, q, qd):
+        """``sum_i 1/2 (m_i |v_ci|^2 + omega_i . I_i omega_i + armature_i qd_i^2)`` over the bodies
+        and rotors (one entry, J): the forward pass at zero rates and accelerations ``qd`` without
+        gravity gives each body's velocities in its acceleration slots (linear in qdd there)."""
+        ctx, zero = self.ctx, [0.0] * self.n
+        _, _, data, moving = self._motion([self._mp(v) for v in q], zero, [self._mp(v) for v in qd], gravity=False)
+        energy = ctx.mpf(0)
+        for row, (_, _, _, com, _, spin), (_, omega, velocity, _) in zip(self.links, data, moving):
+            v_com = velocity + self._cross(omega, com)
+            energy += (row["mass"] * self._dot(v_com, v_com) + self._dot(omega, spin)) / 2
+        energy += sum(row["armature"] * self._mp(v) ** 2 for row, v in zip(self.links, qd)) / 2
+        return self._floats([energy])
+
     def _central(self, function, point, j):
         """d function / d point_j by central differences at the reference's precision."""
         step = self.ctx.mpf(10) ** (-(self.ctx.dps * 2 // 5))

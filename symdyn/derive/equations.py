@@ -615,6 +615,16 @@ def _centroidal(d: _Derivation) -> sp.Matrix:
     return d.values[wanted[0]]
 
 
+def _kinetic_energy(d: _Derivation) -> sp.Matrix:
+    """``1/2 qd^T (D + diag(armature)) qd``, the bodies' and the rotors' kinetic energy, with
+    ``D qd`` the joint forces of the recursion at zero rates, zero gravity and accelerations
+    ``qd`` (linear in the accelerations there: O(n), no D)."""
+    d.report("kinetic_energy (D qd by the recursion at zero rates, accelerations qd)")
+    qd = list(d.chain.qd)
+    momenta = d.forces(d.zero, qd, sp.zeros(3, 1), "K") + armature_matrix(d.robot) * sp.Matrix(qd)
+    return sp.Matrix([sp.Rational(1, 2) * sum((v * p for v, p in zip(qd, momenta)), sp.Integer(0))])
+
+
 def _fixed_base_only(d: _Derivation, name: str) -> None:
     robot = d.robot
     if robot.floating:
@@ -909,7 +919,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, "task": _task, "inverse_dynamics_derivatives": _inverse_dynamics_derivatives,
     "gravity_derivative": _gravity_derivative, "inverse": _inverse_outputs, "frames": _frames,
-    "centroidal": _centroidal,
+    "centroidal": _centroidal, "kinetic_energy": _kinetic_energy,
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")
 #: the outputs visited before the others (then registry order): the intermediate symbols are

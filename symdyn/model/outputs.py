@@ -506,6 +506,14 @@ SPECS: tuple[OutputSpec, ...] = (
         pinocchio="`computeCentroidalMomentumTimeVariation(q, v, 0)`, `dhg`",
         derivation="centroidal",
         default=False),
+    OutputSpec(
+        name="kinetic_energy", symbol="Ek", family="dynamics", inputs=("q", "qd"),
+        shape=lambda d: (1, 1), units="J",
+        summary="Kinetic energy of the bodies and the rotors, Ek = 1/2 qd^T (D(q) + diag(armature)) qd, from D qd "
+                "by the Newton-Euler recursion at zero rates (O(n), no mass matrix).",
+        arguments=(OutputArgument("Ek", "kinetic energy, 1: 1/2 qd^T (D + diag(armature)) qd (J)"),),
+        meaning="E_k(q, q̇) = ½ q̇ᵀ (D + diag(armature)) q̇", pinocchio="`computeKineticEnergy`",
+        default=False),
 )
 
 #: every output by name, in the order generated code and documentation list them
