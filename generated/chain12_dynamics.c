@@ -4157,7 +4157,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return CHAIN12_NOT_FINITE;
         }
     }
     chain12_real trig_sin[9], trig_cos[9];
@@ -4395,7 +4395,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real IA11s_13 = -0.096492 + IAm12cy_3;
     const chain12_real IA11s_22 = 0.052195878 + (0.155)*IAm12cy_7;
     if (!(IA11s_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real IA11s_23 = -0.112101 + IAm12cy_6;
     const chain12_real IA11s_24 = 0.126291 + IAm12cy_7;
@@ -4519,7 +4519,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real pA10s_5 = pA10_5 - pAm11mf_1;
     const chain12_real aba_d10 = 0.163 + IA10s_55;
     if (!(aba_d10 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real aba_u10 = tau[9] - pA10s_5 - (0.54)*qd[9];
     const chain12_real aba_inv10 = 1.0/aba_d10;
@@ -4580,7 +4580,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real IA9s_15 = -0.25584 + IAm10cy_5;
     const chain12_real IA9s_22 = 0.078158 + IAm10m_00 + (0.155)*(Iq10m_2 - Ib10m_1) + (0.012)*(IAm10cy_7 + Ia10_05);
     if (!(IA9s_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real IA9s_24 = 0.25584 + IAm10cy_7;
     const chain12_real IA9s_44 = 3.12 + Ia10_55;
@@ -4726,7 +4726,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real IA8s_15 = 0.054164 + IAm9cy_5;
     const chain12_real IA8s_22 = 0.028313991 + cse53 + (0.109)*(IAm9cy_7 - IAm9cb_9) - 0.033234018715767734*IAm9cy_6;
     if (!(IA8s_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real IA8s_23 = 0.006155 + IAm9cy_6;
     const chain12_real IA8s_24 = -0.054164 + IAm9cy_7;
@@ -4876,7 +4876,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real pA7s_5 = pA7_5 + pa8_5;
     const chain12_real aba_d7 = 0.195 + IA7s_22;
     if (!(aba_d7 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real aba_u7 = tau[6] - pA7s_2 - (0.75)*qd[6];
     const chain12_real aba_inv7 = 1.0/aba_d7;
@@ -4977,7 +4977,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real IA6s_44 = 1.772 + Ia7_55;
     const chain12_real IA6s_55 = 1.772 + IAm7mb_18;
     if (!(IA6s_55 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real Iv6_0 = -(0.000119728)*svc5mw_0 + (0.109864)*sv6_5 + (0.017911568)*w5h_2;
     const chain12_real Iv6_1 = -(0.000119728)*w5h_2 - (0.003544)*sv6_5 + (0.042907088)*svc5mw_0;
@@ -5061,7 +5061,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real IA5s_15 = -0.282906 + IAm6cy_5;
     const chain12_real IA5s_22 = 0.088964308 + IAm6m_00 + (0.059)*(-IAm6cy_6 - IAm6my_1);
     if (!(IA5s_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real IA5s_23 = -0.28899 + IAm6cy_6;
     const chain12_real IA5s_33 = 3.042 + Ia6_44;
@@ -5233,7 +5233,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real pA4s_5 = pA4_5 + pAm5cf_2;
     const chain12_real aba_d4 = 0.148 + IA4s_22;
     if (!(aba_d4 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real aba_u4 = tau[3] - pA4s_2 - (1.23)*qd[3];
     const chain12_real aba_inv4 = 1.0/aba_d4;
@@ -5336,7 +5336,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real IA3s_44 = 0.713 + Ia4_55;
     const chain12_real IA3s_55 = 0.713 + IAm4mb_18;
     if (!(IA3s_55 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real Iv3_0 = -(0.054297064)*Rw2h_1 - (0.000418358)*Rw2h_0 + (0.001426)*sv3_5 + (0.058466)*svc3mt_1 + (0.004852678)*qd[1];
     const chain12_real Iv3_1 = -(0.059179)*sv3_5 - (0.058466)*svc3mt_0 + (0.000116932)*qd[1] + (0.000418358)*Rw2h_1 + (0.057606069)*Rw2h_0;
@@ -5418,7 +5418,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real IA2s_13 = 0.068352 + IAm3cy_3;
     const chain12_real IA2s_22 = 0.04967774 + Ia3_22 + (0.253)*(IAm3cy_7 - Ia3_23);
     if (!(IA2s_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real IA2s_23 = 0.093984 + IAm3cy_6;
     const chain12_real IA2s_24 = 0.086508 + IAm3cy_7;
@@ -5490,7 +5490,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
     const chain12_real pA1s_2 = -pAm2mn_1 - (0.11)*pAm2mf_0 + (0.044)*pa2_5;
     const chain12_real aba_d1 = 0.202 + IA1s_22;
     if (!(aba_d1 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return CHAIN12_SINGULAR;
     }
     const chain12_real aba_u1 = tau[0] - pA1s_2 - (1.16)*qd[0];
     const chain12_real aba_inv1 = 1.0/aba_d1;
@@ -5638,7 +5638,7 @@ int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *
         || !(fabs(qdd10_aba) <= DBL_MAX)
         || !(fabs(qdd11_aba) <= DBL_MAX)
         || !(fabs(qdd12_aba) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return CHAIN12_NOT_FINITE;
     }
     qdd[0] = qdd1_aba;
     qdd[1] = qdd2_aba;

@@ -18,10 +18,26 @@ extern "C" {
 typedef double chain12_real;
 
 /* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
-#define chain12_DOF 12
+#define CHAIN12_DOF 12
 
 /* Number of runtime parameters NP (the array p, when present, is the last input). */
-#define chain12_NP 0
+#define CHAIN12_NP 0
+
+/* Status codes of the functions that return one (CHAIN12_OK: success; on any other code no output is written): */
+#define CHAIN12_OK 0 /* success: every output written */
+#define CHAIN12_SINGULAR 1 /* the mass matrix M = D + diag(armature) is singular at q: a pivot of its factorization is not above CHAIN12_PIVOT_RTOL times its diagonal entry (the articulated-body algorithm: an articulated inertia is not positive) */
+#define CHAIN12_NOT_FINITE 2 /* an input is NaN or infinite, or a result is not finite (NaN, or beyond the range of the scalar type) */
+
+/*
+ * Relative pivot tolerance: a pivot at most CHAIN12_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the factorizations of the mass matrix (each LDL^T pivot against its diagonal entry).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef CHAIN12_PIVOT_RTOL
+#define CHAIN12_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * Model constants folded into the code, as symdyn read them from chain12.yaml, under the
@@ -206,7 +222,7 @@ void chain12_gravity(const chain12_real *q, chain12_real *c);
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (an articulated inertia d_j about joint j's axis, by which the algorithm divides, is not positive, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns CHAIN12_OK (0) on success; CHAIN12_SINGULAR (1) when the mass matrix is singular at q (an articulated inertia d_j about joint j's axis, by which the algorithm divides, is not positive, or is not a number); CHAIN12_NOT_FINITE (2) when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 2055 multiplications, 1830 additions/subtractions, 11 divisions, 18 sin/cos.
  */
 int chain12_forward_dynamics_checked(const chain12_real *q, const chain12_real *qd, const chain12_real *tau, chain12_real *qdd);

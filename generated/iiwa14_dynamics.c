@@ -1793,7 +1793,7 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return IIWA14_NOT_FINITE;
         }
     }
     iiwa14_real trig_sin[6], trig_cos[6];
@@ -2065,7 +2065,7 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
     const iiwa14_real Ib2R_22 = Ib2D + Ic2J_22;
     const iiwa14_real Ic1J_22 = 0.0236 + Ib2R_22;
     if (!(Ic1J_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return IIWA14_SINGULAR;
     }
     const iiwa14_real F3q2n_1 = Iq3R_02*s2 - Ic3J_22*c2;
     const iiwa14_real F4b4n_1 = -Ic4J_22 - (0.42)*Iq4h_1;
@@ -2203,8 +2203,8 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
     const iiwa14_real ldl_L61 = -F6q2n_1*ldl_inv1;
     const iiwa14_real ldl_L71 = -F7q2n_1*ldl_inv1;
     const iiwa14_real ldl_d2 = Ic2J_22 - Ic1J_22*ldl_L21*ldl_L21;
-    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d2 > (double)IIWA14_PIVOT_RTOL*(Ic2J_22))) {
+        return IIWA14_SINGULAR;
     }
     const iiwa14_real ldl_inv2 = 1.0/ldl_d2;
     const iiwa14_real ldl_L32 = ldl_inv2*(Iq3R_12 - ldl_L31*cse14);
@@ -2216,8 +2216,8 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
     const iiwa14_real ldl_L62 = ldl_inv2*(F6q3n_1 - ldl_L61*cse14);
     const iiwa14_real ldl_L72 = ldl_inv2*(F7q3n_1 - ldl_L71*cse14);
     const iiwa14_real ldl_d3 = Ic3J_22 - Ic1J_22*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
-    if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d3 > (double)IIWA14_PIVOT_RTOL*(Ic3J_22))) {
+        return IIWA14_SINGULAR;
     }
     const iiwa14_real ldl_inv3 = 1.0/ldl_d3;
     const iiwa14_real ldl_L43 = ldl_inv3*(-cse9 - ldl_L41*cse15 - ldl_L42*cse16);
@@ -2227,8 +2227,8 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
     const iiwa14_real ldl_L63 = ldl_inv3*(F6q4n_1 - ldl_L61*cse15 - ldl_L62*cse16);
     const iiwa14_real ldl_L73 = ldl_inv3*(F7q4n_1 - ldl_L71*cse15 - ldl_L72*cse16);
     const iiwa14_real ldl_d4 = Ic4J_22 - Ic1J_22*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
-    if (!(ldl_d4 > 1e-12*(Ic4J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d4 > (double)IIWA14_PIVOT_RTOL*(Ic4J_22))) {
+        return IIWA14_SINGULAR;
     }
     const iiwa14_real ldl_inv4 = 1.0/ldl_d4;
     const iiwa14_real ldl_L54 = ldl_inv4*(-Iq5R_12 - ldl_L51*cse17 - ldl_L52*cse18 - ldl_L53*cse19);
@@ -2236,21 +2236,21 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
     const iiwa14_real ldl_L64 = ldl_inv4*(-F6q5n_1 - ldl_L61*cse17 - ldl_L62*cse18 - ldl_L63*cse19);
     const iiwa14_real ldl_L74 = ldl_inv4*(-F7q5n_1 - ldl_L71*cse17 - ldl_L72*cse18 - ldl_L73*cse19);
     const iiwa14_real ldl_d5 = Ic5J_22 - Ic1J_22*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
-    if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d5 > (double)IIWA14_PIVOT_RTOL*(Ic5J_22))) {
+        return IIWA14_SINGULAR;
     }
     const iiwa14_real ldl_inv5 = 1.0/ldl_d5;
     const iiwa14_real ldl_L65 = ldl_inv5*(-Iq6R_12 - ldl_L61*cse20 - ldl_L62*cse21 - ldl_L63*cse22 - ldl_L64*cse23);
     const iiwa14_real ldl_L75 = ldl_inv5*(-F7q6n_1 - ldl_L71*cse20 - ldl_L72*cse21 - ldl_L73*cse22 - ldl_L74*cse23);
     const iiwa14_real ldl_d6 = 0.005820648 - Ic1J_22*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
-    if (!(ldl_d6 > 1e-12*(0.005820648))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d6 > (double)IIWA14_PIVOT_RTOL*(0.005820648))) {
+        return IIWA14_SINGULAR;
     }
     const iiwa14_real ldl_inv6 = 1.0/ldl_d6;
     const iiwa14_real ldl_L76 = ldl_inv6*(-Ic1J_22*ldl_L61*ldl_L71 - ldl_L62*ldl_L72*ldl_d2 - ldl_L63*ldl_L73*ldl_d3 - ldl_L64*ldl_L74*ldl_d4 - ldl_L65*ldl_L75*ldl_d5);
     const iiwa14_real ldl_d7 = 0.001 - Ic1J_22*ldl_L71*ldl_L71 - ldl_d2*ldl_L72*ldl_L72 - ldl_d3*ldl_L73*ldl_L73 - ldl_d4*ldl_L74*ldl_L74 - ldl_d5*ldl_L75*ldl_L75 - ldl_d6*ldl_L76*ldl_L76;
-    if (!(ldl_d7 > 1e-12*(0.001))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d7 > (double)IIWA14_PIVOT_RTOL*(0.001))) {
+        return IIWA14_SINGULAR;
     }
     const iiwa14_real ldl_inv7 = 1.0/ldl_d7;
     const iiwa14_real ldl_y2 = rhs2 - ldl_L21*rhs1;
@@ -2273,7 +2273,7 @@ int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd,
         || !(fabs(qdd5_fd) <= DBL_MAX)
         || !(fabs(qdd6_fd) <= DBL_MAX)
         || !(fabs(qdd7_fd) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return IIWA14_NOT_FINITE;
     }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;

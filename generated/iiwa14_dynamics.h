@@ -17,10 +17,26 @@ extern "C" {
 typedef double iiwa14_real;
 
 /* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
-#define iiwa14_DOF 7
+#define IIWA14_DOF 7
 
 /* Number of runtime parameters NP (the array p, when present, is the last input). */
-#define iiwa14_NP 0
+#define IIWA14_NP 0
+
+/* Status codes of the functions that return one (IIWA14_OK: success; on any other code no output is written): */
+#define IIWA14_OK 0 /* success: every output written */
+#define IIWA14_SINGULAR 1 /* the mass matrix M = D + diag(armature) is singular at q: a pivot of its factorization is not above IIWA14_PIVOT_RTOL times its diagonal entry (the articulated-body algorithm: an articulated inertia is not positive) */
+#define IIWA14_NOT_FINITE 2 /* an input is NaN or infinite, or a result is not finite (NaN, or beyond the range of the scalar type) */
+
+/*
+ * Relative pivot tolerance: a pivot at most IIWA14_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the factorizations of the mass matrix (each LDL^T pivot against its diagonal entry).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef IIWA14_PIVOT_RTOL
+#define IIWA14_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * Model constants folded into the code, as symdyn read them from iiwa14.yaml, under the
@@ -162,7 +178,7 @@ void iiwa14_gravity(const iiwa14_real *q, iiwa14_real *c);
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns IIWA14_OK (0) on success; IIWA14_SINGULAR (1) when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above IIWA14_PIVOT_RTOL, 1e-12 unless defined, times its diagonal entry, or is not a number); IIWA14_NOT_FINITE (2) when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 584 multiplications, 439 additions/subtractions, 7 divisions, 12 sin/cos.
  */
 int iiwa14_forward_dynamics_checked(const iiwa14_real *q, const iiwa14_real *qd, const iiwa14_real *tau, iiwa14_real *qdd);

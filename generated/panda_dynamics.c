@@ -1995,7 +1995,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return PANDA_NOT_FINITE;
         }
     }
     panda_real trig_sin[6], trig_cos[6];
@@ -2349,7 +2349,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real Ib2R_22 = Ib2D + Ic2J_22;
     const panda_real Ic1J_22 = 0.009213163777211224 + Ib2R_22;
     if (!(Ic1J_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return PANDA_SINGULAR;
     }
     const panda_real F3q2n_1 = -Ib3J_01*s2 - Ic3J_22*c2;
     const panda_real F4b4n_1 = -Ic4J_22 - (0.0825)*Iq4h_0;
@@ -2539,8 +2539,8 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real ldl_L61 = -F6q2n_1*ldl_inv1;
     const panda_real ldl_L71 = -F7q2n_1*ldl_inv1;
     const panda_real ldl_d2 = Ic2J_22 - Ic1J_22*ldl_L21*ldl_L21;
-    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d2 > (double)PANDA_PIVOT_RTOL*(Ic2J_22))) {
+        return PANDA_SINGULAR;
     }
     const panda_real ldl_inv2 = 1.0/ldl_d2;
     const panda_real ldl_L32 = ldl_inv2*(-Ib3J_12 - ldl_L31*cse32);
@@ -2552,8 +2552,8 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real ldl_L62 = ldl_inv2*(F6b3n_2 - ldl_L61*cse32);
     const panda_real ldl_L72 = ldl_inv2*(F7b3n_2 - ldl_L71*cse32);
     const panda_real ldl_d3 = Ic3J_22 - Ic1J_22*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
-    if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d3 > (double)PANDA_PIVOT_RTOL*(Ic3J_22))) {
+        return PANDA_SINGULAR;
     }
     const panda_real ldl_inv3 = 1.0/ldl_d3;
     const panda_real ldl_L43 = ldl_inv3*(Iq4R_12 - ldl_L41*cse33 - ldl_L42*cse34);
@@ -2563,8 +2563,8 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real ldl_L63 = ldl_inv3*(F6b4n_2 - ldl_L61*cse33 - ldl_L62*cse34);
     const panda_real ldl_L73 = ldl_inv3*(F7b4n_2 - ldl_L71*cse33 - ldl_L72*cse34);
     const panda_real ldl_d4 = Ic4J_22 - Ic1J_22*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
-    if (!(ldl_d4 > 1e-12*(Ic4J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d4 > (double)PANDA_PIVOT_RTOL*(Ic4J_22))) {
+        return PANDA_SINGULAR;
     }
     const panda_real ldl_inv4 = 1.0/ldl_d4;
     const panda_real ldl_L54 = ldl_inv4*(Ib5J_12 - ldl_L51*cse35 - ldl_L52*cse36 - ldl_L53*cse37);
@@ -2572,21 +2572,21 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
     const panda_real ldl_L64 = ldl_inv4*(F6b5n_2 - ldl_L61*cse35 - ldl_L62*cse36 - ldl_L63*cse37);
     const panda_real ldl_L74 = ldl_inv4*(F7b5n_2 - ldl_L71*cse35 - ldl_L72*cse36 - ldl_L73*cse37);
     const panda_real ldl_d5 = Ic5J_22 - Ic1J_22*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
-    if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d5 > (double)PANDA_PIVOT_RTOL*(Ic5J_22))) {
+        return PANDA_SINGULAR;
     }
     const panda_real ldl_inv5 = 1.0/ldl_d5;
     const panda_real ldl_L65 = ldl_inv5*(-cse24 - ldl_L61*cse38 - ldl_L62*cse39 - ldl_L63*cse40 - ldl_L64*cse41);
     const panda_real ldl_L75 = ldl_inv5*(-cse26 - ldl_L71*cse38 - ldl_L72*cse39 - ldl_L73*cse40 - ldl_L74*cse41);
     const panda_real ldl_d6 = Ic6J_22 - Ic1J_22*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
-    if (!(ldl_d6 > 1e-12*(Ic6J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d6 > (double)PANDA_PIVOT_RTOL*(Ic6J_22))) {
+        return PANDA_SINGULAR;
     }
     const panda_real ldl_inv6 = 1.0/ldl_d6;
     const panda_real ldl_L76 = ldl_inv6*(Iq7R_12 - Ic1J_22*ldl_L61*ldl_L71 - ldl_L62*ldl_L72*ldl_d2 - ldl_L63*ldl_L73*ldl_d3 - ldl_L64*ldl_L74*ldl_d4 - ldl_L65*ldl_L75*ldl_d5);
     const panda_real ldl_d7 = 0.004909651967360946 - Ic1J_22*ldl_L71*ldl_L71 - ldl_d2*ldl_L72*ldl_L72 - ldl_d3*ldl_L73*ldl_L73 - ldl_d4*ldl_L74*ldl_L74 - ldl_d5*ldl_L75*ldl_L75 - ldl_d6*ldl_L76*ldl_L76;
-    if (!(ldl_d7 > 1e-12*(0.004909651967360946))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d7 > (double)PANDA_PIVOT_RTOL*(0.004909651967360946))) {
+        return PANDA_SINGULAR;
     }
     const panda_real ldl_inv7 = 1.0/ldl_d7;
     const panda_real ldl_y2 = rhs2 - ldl_L21*rhs1;
@@ -2609,7 +2609,7 @@ int panda_forward_dynamics_checked(const panda_real *q, const panda_real *qd, co
         || !(fabs(qdd5_fd) <= DBL_MAX)
         || !(fabs(qdd6_fd) <= DBL_MAX)
         || !(fabs(qdd7_fd) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return PANDA_NOT_FINITE;
     }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;

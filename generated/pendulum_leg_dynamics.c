@@ -1153,7 +1153,7 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return PENDULUM_LEG_NOT_FINITE;
         }
     }
     pendulum_leg_real trig_sin[6], trig_cos[6];
@@ -1331,7 +1331,7 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
     const pendulum_leg_real Iq2t2 = -2.0*Iq2cs*Iq3R_02;
     const pendulum_leg_real Iq2R_00 = -Iq2t1 - Iq2t2 - cse10;
     if (!(Iq2R_00 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return PENDULUM_LEG_SINGULAR;
     }
     const pendulum_leg_real Iq2R_02 = Iq3R_01*c2 + Iq3R_12*s2;
     const pendulum_leg_real F3q2n_0 = Ic3J_22*s2 + Iq3R_02*c2;
@@ -1423,8 +1423,8 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
     const pendulum_leg_real ldl_L51 = F5q2n_0*ldl_inv1;
     const pendulum_leg_real ldl_L61 = F6q2n_0*ldl_inv1;
     const pendulum_leg_real ldl_d2 = Ib3R_22 - Iq2R_00*ldl_L21*ldl_L21;
-    if (!(ldl_d2 > 1e-12*(Ib3R_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d2 > (double)PENDULUM_LEG_PIVOT_RTOL*(Ib3R_22))) {
+        return PENDULUM_LEG_SINGULAR;
     }
     const pendulum_leg_real ldl_inv2 = 1.0/ldl_d2;
     const pendulum_leg_real ldl_L32 = ldl_inv2*(Iq3R_12 - ldl_L31*cse13);
@@ -1434,8 +1434,8 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
     const pendulum_leg_real ldl_L52 = ldl_inv2*(F5q3n_1 - ldl_L51*cse13);
     const pendulum_leg_real ldl_L62 = ldl_inv2*(F6q3n_1 - ldl_L61*cse13);
     const pendulum_leg_real ldl_d3 = Ic3J_22 - Iq2R_00*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
-    if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d3 > (double)PENDULUM_LEG_PIVOT_RTOL*(Ic3J_22))) {
+        return PENDULUM_LEG_SINGULAR;
     }
     const pendulum_leg_real ldl_inv3 = 1.0/ldl_d3;
     const pendulum_leg_real ldl_L43 = ldl_inv3*(-Iq4R_02 - ldl_L41*cse14 - ldl_L42*cse15);
@@ -1443,21 +1443,21 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
     const pendulum_leg_real ldl_L53 = ldl_inv3*(-F5q4n_0 - ldl_L51*cse14 - ldl_L52*cse15);
     const pendulum_leg_real ldl_L63 = ldl_inv3*(-F6q4n_0 - ldl_L61*cse14 - ldl_L62*cse15);
     const pendulum_leg_real ldl_d4 = -cse5 - Iq2R_00*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
-    if (!(ldl_d4 > 1e-12*(Iq5R_00))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d4 > (double)PENDULUM_LEG_PIVOT_RTOL*(Iq5R_00))) {
+        return PENDULUM_LEG_SINGULAR;
     }
     const pendulum_leg_real ldl_inv4 = 1.0/ldl_d4;
     const pendulum_leg_real ldl_L54 = ldl_inv4*(-cse11 - ldl_L51*cse16 - ldl_L52*cse17 - ldl_L53*cse18);
     const pendulum_leg_real ldl_L64 = ldl_inv4*(-cse12 - ldl_L61*cse16 - ldl_L62*cse17 - ldl_L63*cse18);
     const pendulum_leg_real ldl_d5 = Ic5J_22 - Iq2R_00*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
-    if (!(ldl_d5 > 1e-12*(Ic5J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d5 > (double)PENDULUM_LEG_PIVOT_RTOL*(Ic5J_22))) {
+        return PENDULUM_LEG_SINGULAR;
     }
     const pendulum_leg_real ldl_inv5 = 1.0/ldl_d5;
     const pendulum_leg_real ldl_L65 = ldl_inv5*(Iq6R_12 - Iq2R_00*ldl_L51*ldl_L61 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const pendulum_leg_real ldl_d6 = 0.43628 - Iq2R_00*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
-    if (!(ldl_d6 > 1e-12*(0.43628))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d6 > (double)PENDULUM_LEG_PIVOT_RTOL*(0.43628))) {
+        return PENDULUM_LEG_SINGULAR;
     }
     const pendulum_leg_real ldl_inv6 = 1.0/ldl_d6;
     const pendulum_leg_real ldl_y2 = rhs2 - ldl_L21*rhs1;
@@ -1477,7 +1477,7 @@ int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pend
         || !(fabs(qdd4_fd) <= DBL_MAX)
         || !(fabs(qdd5_fd) <= DBL_MAX)
         || !(fabs(qdd6_fd) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return PENDULUM_LEG_NOT_FINITE;
     }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;

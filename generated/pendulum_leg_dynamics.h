@@ -17,10 +17,26 @@ extern "C" {
 typedef double pendulum_leg_real;
 
 /* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
-#define pendulum_leg_DOF 6
+#define PENDULUM_LEG_DOF 6
 
 /* Number of runtime parameters NP (the array p, when present, is the last input). */
-#define pendulum_leg_NP 0
+#define PENDULUM_LEG_NP 0
+
+/* Status codes of the functions that return one (PENDULUM_LEG_OK: success; on any other code no output is written): */
+#define PENDULUM_LEG_OK 0 /* success: every output written */
+#define PENDULUM_LEG_SINGULAR 1 /* the mass matrix M = D + diag(armature) is singular at q: a pivot of its factorization is not above PENDULUM_LEG_PIVOT_RTOL times its diagonal entry (the articulated-body algorithm: an articulated inertia is not positive) */
+#define PENDULUM_LEG_NOT_FINITE 2 /* an input is NaN or infinite, or a result is not finite (NaN, or beyond the range of the scalar type) */
+
+/*
+ * Relative pivot tolerance: a pivot at most PENDULUM_LEG_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the factorizations of the mass matrix (each LDL^T pivot against its diagonal entry).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef PENDULUM_LEG_PIVOT_RTOL
+#define PENDULUM_LEG_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * Model constants folded into the code, as symdyn read them from pendulum_leg.yaml, under the
@@ -73,7 +89,7 @@ typedef double pendulum_leg_real;
  */
 
 /* Number of actuated joints NA (columns of the reaction map's D; the others are passive, tau = 0). */
-#define pendulum_leg_NA 3
+#define PENDULUM_LEG_NA 3
 
 /*
  * Joints (index: name, type):
@@ -161,7 +177,7 @@ void pendulum_leg_gravity(const pendulum_leg_real *q, pendulum_leg_real *c);
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns PENDULUM_LEG_OK (0) on success; PENDULUM_LEG_SINGULAR (1) when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above PENDULUM_LEG_PIVOT_RTOL, 1e-12 unless defined, times its diagonal entry, or is not a number); PENDULUM_LEG_NOT_FINITE (2) when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 395 multiplications, 271 additions/subtractions, 6 divisions, 12 sin/cos.
  */
 int pendulum_leg_forward_dynamics_checked(const pendulum_leg_real *q, const pendulum_leg_real *qd, const pendulum_leg_real *tau, pendulum_leg_real *qdd);

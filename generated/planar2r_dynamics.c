@@ -245,7 +245,7 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return PLANAR2R_NOT_FINITE;
         }
     }
     planar2r_real trig_sin[2], trig_cos[2];
@@ -270,7 +270,7 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
     const planar2r_real Ib2J_22 = Ic2J_22 + 2.0*cse0 + p[5]*p[4]*p[4];
     const planar2r_real Ic1J_22 = p[3] + Ib2J_22 + p[1]*p[2]*p[2];
     if (!(Ic1J_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return PLANAR2R_SINGULAR;
     }
     const planar2r_real F2b2n_2 = Ic2J_22 + cse0;
     const planar2r_real aJ2_0 = vd1g_0 - U1h_zz*p[4];
@@ -287,8 +287,8 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
     const planar2r_real ldl_inv1 = 1.0/Ic1J_22;
     const planar2r_real ldl_L21 = F2b2n_2*ldl_inv1;
     const planar2r_real ldl_d2 = Ic2J_22 - Ic1J_22*ldl_L21*ldl_L21;
-    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d2 > (double)PLANAR2R_PIVOT_RTOL*(Ic2J_22))) {
+        return PLANAR2R_SINGULAR;
     }
     const planar2r_real ldl_inv2 = 1.0/ldl_d2;
     const planar2r_real ldl_y2 = rhs2 - ldl_L21*rhs1;
@@ -296,7 +296,7 @@ int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_rea
     const planar2r_real qdd1_fd = ldl_inv1*rhs1 - ldl_L21*qdd2_fd;
     if (!(fabs(qdd1_fd) <= DBL_MAX)
         || !(fabs(qdd2_fd) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return PLANAR2R_NOT_FINITE;
     }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;

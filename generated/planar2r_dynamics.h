@@ -17,10 +17,10 @@ extern "C" {
 typedef double planar2r_real;
 
 /* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
-#define planar2r_DOF 2
+#define PLANAR2R_DOF 2
 
 /* Number of runtime parameters NP (the array p, when present, is the last input). */
-#define planar2r_NP 8
+#define PLANAR2R_NP 8
 /*
  * Runtime parameters, in the order of p (where each enters the model, with its unit):
  *   p[0] = g  (runtime parameter, no nominal value)
@@ -40,6 +40,22 @@ typedef double planar2r_real;
  *   p[7] = I2  (runtime parameter, no nominal value)
  *          link 2 (elbow): inertia (kg m^2)
  */
+
+/* Status codes of the functions that return one (PLANAR2R_OK: success; on any other code no output is written): */
+#define PLANAR2R_OK 0 /* success: every output written */
+#define PLANAR2R_SINGULAR 1 /* the mass matrix M = D + diag(armature) is singular at q: a pivot of its factorization is not above PLANAR2R_PIVOT_RTOL times its diagonal entry (the articulated-body algorithm: an articulated inertia is not positive) */
+#define PLANAR2R_NOT_FINITE 2 /* an input is NaN or infinite, or a result is not finite (NaN, or beyond the range of the scalar type) */
+
+/*
+ * Relative pivot tolerance: a pivot at most PLANAR2R_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the factorizations of the mass matrix (each LDL^T pivot against its diagonal entry).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef PLANAR2R_PIVOT_RTOL
+#define PLANAR2R_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * Model constants folded into the code, as symdyn read them from planar2r.yaml, under the
@@ -158,7 +174,7 @@ void planar2r_gravity(const planar2r_real *q, const planar2r_real *p, planar2r_r
  *   tau: joint torques/forces, N (N m or N)
  *   p: runtime parameters, NP, in the order listed above
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns PLANAR2R_OK (0) on success; PLANAR2R_SINGULAR (1) when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above PLANAR2R_PIVOT_RTOL, 1e-12 unless defined, times its diagonal entry, or is not a number); PLANAR2R_NOT_FINITE (2) when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 35 multiplications, 19 additions/subtractions, 2 divisions, 4 sin/cos.
  */
 int planar2r_forward_dynamics_checked(const planar2r_real *q, const planar2r_real *qd, const planar2r_real *tau, const planar2r_real *p, planar2r_real *qdd);

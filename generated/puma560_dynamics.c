@@ -1323,7 +1323,7 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return PUMA560_NOT_FINITE;
         }
     }
     puma560_real trig_sin[5], trig_cos[5];
@@ -1634,8 +1634,8 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
     const puma560_real rhs5 = tau[4] - n5b_2 - (0.4272830209354)*qd[4] - (0.85444524)*((double)((qd[4] > 0) - (qd[4] < 0)));
     const puma560_real rhs6 = tau[5] - N6h_2 - (0.2158232532732)*qd[5] - (0.55443978)*((double)((qd[5] > 0) - (qd[5] < 0)));
     const puma560_real ldl_d1 = cse7;
-    if (!(ldl_d1 > 1e-12*(cse7))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d1 > (double)PUMA560_PIVOT_RTOL*(cse7))) {
+        return PUMA560_SINGULAR;
     }
     const puma560_real ldl_inv1 = 1.0/ldl_d1;
     const puma560_real ldl_L21 = Iq2R_12*ldl_inv1;
@@ -1647,8 +1647,8 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
     const puma560_real ldl_L51 = F5q2n_1*ldl_inv1;
     const puma560_real ldl_L61 = F6q2n_1*ldl_inv1;
     const puma560_real ldl_d2 = cse8 - ldl_d1*ldl_L21*ldl_L21;
-    if (!(ldl_d2 > 1e-12*(cse8))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d2 > (double)PUMA560_PIVOT_RTOL*(cse8))) {
+        return PUMA560_SINGULAR;
     }
     const puma560_real ldl_inv2 = 1.0/ldl_d2;
     const puma560_real ldl_L32 = ldl_inv2*(F3b3n_2 - ldl_L31*cse9);
@@ -1658,8 +1658,8 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
     const puma560_real ldl_L52 = ldl_inv2*(F5b3n_2 - ldl_L51*cse9);
     const puma560_real ldl_L62 = ldl_inv2*(-F6q4n_1 - ldl_L61*cse9);
     const puma560_real ldl_d3 = cse10 - ldl_d1*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
-    if (!(ldl_d3 > 1e-12*(cse10))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d3 > (double)PUMA560_PIVOT_RTOL*(cse10))) {
+        return PUMA560_SINGULAR;
     }
     const puma560_real ldl_inv3 = 1.0/ldl_d3;
     const puma560_real ldl_L43 = ldl_inv3*(-Iq4R_12 - ldl_L41*cse11 - ldl_L42*cse12);
@@ -1667,21 +1667,21 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
     const puma560_real ldl_L53 = ldl_inv3*(F5b4n_2 - ldl_L51*cse11 - ldl_L52*cse12);
     const puma560_real ldl_L63 = ldl_inv3*(-F6q4n_1 - ldl_L61*cse11 - ldl_L62*cse12);
     const puma560_real ldl_d4 = 0.19079062612368 + Ic4J_22 - ldl_d1*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
-    if (!(ldl_d4 > 1e-12*(0.19079062612368 + Ic4J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d4 > (double)PUMA560_PIVOT_RTOL*(0.19079062612368 + Ic4J_22))) {
+        return PUMA560_SINGULAR;
     }
     const puma560_real ldl_inv4 = 1.0/ldl_d4;
     const puma560_real ldl_L54 = ldl_inv4*(-ldl_L51*cse13 - ldl_L52*cse14 - ldl_L53*cse15);
     const puma560_real ldl_L64 = ldl_inv4*(F6q5n_1 - ldl_L61*cse13 - ldl_L62*cse14 - ldl_L63*cse15);
     const puma560_real ldl_d5 = 0.171348451657 - ldl_d1*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
-    if (!(ldl_d5 > 1e-12*(0.171348451657))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d5 > (double)PUMA560_PIVOT_RTOL*(0.171348451657))) {
+        return PUMA560_SINGULAR;
     }
     const puma560_real ldl_inv5 = 1.0/ldl_d5;
     const puma560_real ldl_L65 = ldl_inv5*(-ldl_L51*ldl_L61*ldl_d1 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const puma560_real ldl_d6 = 0.194104505668 - ldl_d1*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
-    if (!(ldl_d6 > 1e-12*(0.194104505668))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d6 > (double)PUMA560_PIVOT_RTOL*(0.194104505668))) {
+        return PUMA560_SINGULAR;
     }
     const puma560_real ldl_inv6 = 1.0/ldl_d6;
     const puma560_real ldl_y2 = rhs2 - ldl_L21*rhs1;
@@ -1701,7 +1701,7 @@ int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *
         || !(fabs(qdd4_fd) <= DBL_MAX)
         || !(fabs(qdd5_fd) <= DBL_MAX)
         || !(fabs(qdd6_fd) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return PUMA560_NOT_FINITE;
     }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;

@@ -17,10 +17,26 @@ extern "C" {
 typedef double puma560_real;
 
 /* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
-#define puma560_DOF 6
+#define PUMA560_DOF 6
 
 /* Number of runtime parameters NP (the array p, when present, is the last input). */
-#define puma560_NP 0
+#define PUMA560_NP 0
+
+/* Status codes of the functions that return one (PUMA560_OK: success; on any other code no output is written): */
+#define PUMA560_OK 0 /* success: every output written */
+#define PUMA560_SINGULAR 1 /* the mass matrix M = D + diag(armature) is singular at q: a pivot of its factorization is not above PUMA560_PIVOT_RTOL times its diagonal entry (the articulated-body algorithm: an articulated inertia is not positive) */
+#define PUMA560_NOT_FINITE 2 /* an input is NaN or infinite, or a result is not finite (NaN, or beyond the range of the scalar type) */
+
+/*
+ * Relative pivot tolerance: a pivot at most PUMA560_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the factorizations of the mass matrix (each LDL^T pivot against its diagonal entry).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef PUMA560_PIVOT_RTOL
+#define PUMA560_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * Model constants folded into the code, as symdyn read them from puma560.yaml, under the
@@ -156,7 +172,7 @@ void puma560_gravity(const puma560_real *q, puma560_real *c);
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns PUMA560_OK (0) on success; PUMA560_SINGULAR (1) when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above PUMA560_PIVOT_RTOL, 1e-12 unless defined, times its diagonal entry, or is not a number); PUMA560_NOT_FINITE (2) when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 451 multiplications, 341 additions/subtractions, 6 divisions, 10 sin/cos, 6 other (sign, pow).
  */
 int puma560_forward_dynamics_checked(const puma560_real *q, const puma560_real *qd, const puma560_real *tau, puma560_real *qdd);

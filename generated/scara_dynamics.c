@@ -318,7 +318,7 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return SCARA_NOT_FINITE;
         }
     }
     scara_real trig_sin[2], trig_cos[2];
@@ -366,21 +366,21 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
     const scara_real rhs3 = 15.696 + tau[2] - 10.0*qd[2] - 4.0*((double)((qd[2] > 0) - (qd[2] < 0)));
     const scara_real rhs4 = tau[3] - (0.2)*((double)((qd[3] > 0) - (qd[3] < 0))) - (0.1)*qd[3];
     const scara_real ldl_d1 = cse1;
-    if (!(ldl_d1 > 1e-12*(cse1))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d1 > (double)SCARA_PIVOT_RTOL*(cse1))) {
+        return SCARA_SINGULAR;
     }
     const scara_real ldl_inv1 = 1.0/ldl_d1;
     const scara_real ldl_L21 = F2b2n_2*ldl_inv1;
     const scara_real ldl_L41 = -(0.0003)*ldl_inv1;
     const scara_real ldl_d2 = 0.4756166666666667 - ldl_d1*ldl_L21*ldl_L21;
-    if (!(ldl_d2 > 1e-12*(0.4756166666666667))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d2 > (double)SCARA_PIVOT_RTOL*(0.4756166666666667))) {
+        return SCARA_SINGULAR;
     }
     const scara_real ldl_inv2 = 1.0/ldl_d2;
     const scara_real ldl_L42 = ldl_inv2*(-0.0003 - ldl_L21*ldl_L41*ldl_d1);
     const scara_real ldl_d4 = 0.0503 - ldl_d1*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42;
-    if (!(ldl_d4 > 1e-12*(0.0503))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d4 > (double)SCARA_PIVOT_RTOL*(0.0503))) {
+        return SCARA_SINGULAR;
     }
     const scara_real ldl_inv4 = 1.0/ldl_d4;
     const scara_real ldl_y2 = rhs2 - ldl_L21*rhs1;
@@ -393,7 +393,7 @@ int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, co
         || !(fabs(qdd2_fd) <= DBL_MAX)
         || !(fabs(qdd3_fd) <= DBL_MAX)
         || !(fabs(qdd4_fd) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return SCARA_NOT_FINITE;
     }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;

@@ -17,10 +17,26 @@ extern "C" {
 typedef double scara_real;
 
 /* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
-#define scara_DOF 4
+#define SCARA_DOF 4
 
 /* Number of runtime parameters NP (the array p, when present, is the last input). */
-#define scara_NP 0
+#define SCARA_NP 0
+
+/* Status codes of the functions that return one (SCARA_OK: success; on any other code no output is written): */
+#define SCARA_OK 0 /* success: every output written */
+#define SCARA_SINGULAR 1 /* the mass matrix M = D + diag(armature) is singular at q: a pivot of its factorization is not above SCARA_PIVOT_RTOL times its diagonal entry (the articulated-body algorithm: an articulated inertia is not positive) */
+#define SCARA_NOT_FINITE 2 /* an input is NaN or infinite, or a result is not finite (NaN, or beyond the range of the scalar type) */
+
+/*
+ * Relative pivot tolerance: a pivot at most SCARA_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the factorizations of the mass matrix (each LDL^T pivot against its diagonal entry).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef SCARA_PIVOT_RTOL
+#define SCARA_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * Model constants folded into the code, as symdyn read them from scara.yaml, under the
@@ -144,7 +160,7 @@ void scara_gravity(const scara_real *q, scara_real *c);
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns SCARA_OK (0) on success; SCARA_SINGULAR (1) when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above SCARA_PIVOT_RTOL, 1e-12 unless defined, times its diagonal entry, or is not a number); SCARA_NOT_FINITE (2) when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 58 multiplications, 39 additions/subtractions, 3 divisions, 4 sin/cos, 4 other (sign, pow).
  */
 int scara_forward_dynamics_checked(const scara_real *q, const scara_real *qd, const scara_real *tau, scara_real *qdd);

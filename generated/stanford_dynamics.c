@@ -1227,7 +1227,7 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return STANFORD_NOT_FINITE;
         }
     }
     stanford_real trig_sin[4], trig_cos[4];
@@ -1493,8 +1493,8 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
     const stanford_real rhs5 = tau[4] - n5b_2;
     const stanford_real rhs6 = tau[5] - N6h_2;
     const stanford_real ldl_d1 = cse7;
-    if (!(ldl_d1 > 1e-12*(cse7))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d1 > (double)STANFORD_PIVOT_RTOL*(cse7))) {
+        return STANFORD_SINGULAR;
     }
     const stanford_real ldl_inv1 = 1.0/ldl_d1;
     const stanford_real ldl_L21 = -Iq2R_12*ldl_inv1;
@@ -1506,8 +1506,8 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
     const stanford_real ldl_L51 = -F5q2n_1*ldl_inv1;
     const stanford_real ldl_L61 = -F6q2n_1*ldl_inv1;
     const stanford_real ldl_d2 = cse8 - ldl_d1*ldl_L21*ldl_L21;
-    if (!(ldl_d2 > 1e-12*(cse8))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d2 > (double)STANFORD_PIVOT_RTOL*(cse8))) {
+        return STANFORD_SINGULAR;
     }
     const stanford_real ldl_inv2 = 1.0/ldl_d2;
     const stanford_real ldl_L32 = ldl_inv2*(-Iq4h_1 - ldl_L31*cse9);
@@ -1517,8 +1517,8 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
     const stanford_real ldl_L52 = ldl_inv2*(F5q3n_1 - ldl_L51*cse9);
     const stanford_real ldl_L62 = ldl_inv2*(-F6q4n_0 - ldl_L61*cse9);
     const stanford_real ldl_d3 = 7.252 - ldl_d1*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
-    if (!(ldl_d3 > 1e-12*(7.252))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d3 > (double)STANFORD_PIVOT_RTOL*(7.252))) {
+        return STANFORD_SINGULAR;
     }
     const stanford_real ldl_inv3 = 1.0/ldl_d3;
     const stanford_real ldl_L43 = ldl_inv3*(-ldl_L41*cse10 - ldl_L42*cse11);
@@ -1526,21 +1526,21 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
     const stanford_real ldl_L53 = ldl_inv3*(-Iq5h_0 - ldl_L51*cse10 - ldl_L52*cse11);
     const stanford_real ldl_L63 = ldl_inv3*(-ldl_L61*cse10 - ldl_L62*cse11);
     const stanford_real ldl_d4 = 0.106 + Ic4J_22 - ldl_d1*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
-    if (!(ldl_d4 > 1e-12*(0.106 + Ic4J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d4 > (double)STANFORD_PIVOT_RTOL*(0.106 + Ic4J_22))) {
+        return STANFORD_SINGULAR;
     }
     const stanford_real ldl_inv4 = 1.0/ldl_d4;
     const stanford_real ldl_L54 = ldl_inv4*(-Iq5R_12 - ldl_L51*cse12 - ldl_L52*cse13 - ldl_L53*cse14);
     const stanford_real ldl_L64 = ldl_inv4*(-F6q5n_1 - ldl_L61*cse12 - ldl_L62*cse13 - ldl_L63*cse14);
     const stanford_real ldl_d5 = 0.152568111683 - ldl_d1*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
-    if (!(ldl_d5 > 1e-12*(0.152568111683))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d5 > (double)STANFORD_PIVOT_RTOL*(0.152568111683))) {
+        return STANFORD_SINGULAR;
     }
     const stanford_real ldl_inv5 = 1.0/ldl_d5;
     const stanford_real ldl_L65 = ldl_inv5*(-ldl_L51*ldl_L61*ldl_d1 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const stanford_real ldl_d6 = 0.0203 - ldl_d1*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
-    if (!(ldl_d6 > 1e-12*(0.0203))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d6 > (double)STANFORD_PIVOT_RTOL*(0.0203))) {
+        return STANFORD_SINGULAR;
     }
     const stanford_real ldl_inv6 = 1.0/ldl_d6;
     const stanford_real ldl_y2 = rhs2 - ldl_L21*rhs1;
@@ -1560,7 +1560,7 @@ int stanford_forward_dynamics_checked(const stanford_real *q, const stanford_rea
         || !(fabs(qdd4_fd) <= DBL_MAX)
         || !(fabs(qdd5_fd) <= DBL_MAX)
         || !(fabs(qdd6_fd) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return STANFORD_NOT_FINITE;
     }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;

@@ -1342,7 +1342,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
         if (!(fabs(q[i]) <= DBL_MAX)
             || !(fabs(qd[i]) <= DBL_MAX)
             || !(fabs(tau[i]) <= DBL_MAX)) {
-            return 2; /* an input is NaN or infinite */
+            return UR5_NOT_FINITE;
         }
     }
     ur5_real trig_sin[5], trig_cos[5];
@@ -1565,7 +1565,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
     const ur5_real Ib2R_22 = Ib2D + Ic2J_22;
     const ur5_real Ic1J_22 = 0.00667378213 + Ib2R_22;
     if (!(Ic1J_22 > 0)) {
-        return 1; /* singular mass matrix at q */
+        return UR5_SINGULAR;
     }
     const ur5_real F3b3n_2 = Ic3J_22 - (0.425)*Iq3h_0;
     const ur5_real F3q2n_1 = cse10 + Iq3R_02*s2;
@@ -1683,8 +1683,8 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
     const ur5_real ldl_L51 = F5q2n_1*ldl_inv1;
     const ur5_real ldl_L61 = F6q2n_1*ldl_inv1;
     const ur5_real ldl_d2 = Ic2J_22 - Ic1J_22*ldl_L21*ldl_L21;
-    if (!(ldl_d2 > 1e-12*(Ic2J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d2 > (double)UR5_PIVOT_RTOL*(Ic2J_22))) {
+        return UR5_SINGULAR;
     }
     const ur5_real ldl_inv2 = 1.0/ldl_d2;
     const ur5_real ldl_L32 = ldl_inv2*(F3b3n_2 - ldl_L31*cse15);
@@ -1694,8 +1694,8 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
     const ur5_real ldl_L52 = ldl_inv2*(F5b3n_2 - ldl_L51*cse15);
     const ur5_real ldl_L62 = ldl_inv2*(-cIh6_21 - ldl_L61*cse15);
     const ur5_real ldl_d3 = Ic3J_22 - Ic1J_22*ldl_L31*ldl_L31 - ldl_d2*ldl_L32*ldl_L32;
-    if (!(ldl_d3 > 1e-12*(Ic3J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d3 > (double)UR5_PIVOT_RTOL*(Ic3J_22))) {
+        return UR5_SINGULAR;
     }
     const ur5_real ldl_inv3 = 1.0/ldl_d3;
     const ur5_real ldl_L43 = ldl_inv3*(F4b4n_2 - ldl_L41*cse16 - ldl_L42*cse17);
@@ -1703,21 +1703,21 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
     const ur5_real ldl_L53 = ldl_inv3*(F5b4n_2 - ldl_L51*cse16 - ldl_L52*cse17);
     const ur5_real ldl_L63 = ldl_inv3*(-cIh6_21 - ldl_L61*cse16 - ldl_L62*cse17);
     const ur5_real ldl_d4 = Ic4J_22 - Ic1J_22*ldl_L41*ldl_L41 - ldl_d2*ldl_L42*ldl_L42 - ldl_d3*ldl_L43*ldl_L43;
-    if (!(ldl_d4 > 1e-12*(Ic4J_22))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d4 > (double)UR5_PIVOT_RTOL*(Ic4J_22))) {
+        return UR5_SINGULAR;
     }
     const ur5_real ldl_inv4 = 1.0/ldl_d4;
     const ur5_real ldl_L54 = ldl_inv4*(-cse11 - ldl_L51*cse18 - ldl_L52*cse19 - ldl_L53*cse20);
     const ur5_real ldl_L64 = ldl_inv4*(-cIh6_21 - ldl_L61*cse18 - ldl_L62*cse19 - ldl_L63*cse20);
     const ur5_real ldl_d5 = 0.004294592310173233 - Ic1J_22*ldl_L51*ldl_L51 - ldl_d2*ldl_L52*ldl_L52 - ldl_d3*ldl_L53*ldl_L53 - ldl_d4*ldl_L54*ldl_L54;
-    if (!(ldl_d5 > 1e-12*(0.004294592310173233))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d5 > (double)UR5_PIVOT_RTOL*(0.004294592310173233))) {
+        return UR5_SINGULAR;
     }
     const ur5_real ldl_inv5 = 1.0/ldl_d5;
     const ur5_real ldl_L65 = ldl_inv5*(-Ic1J_22*ldl_L51*ldl_L61 - ldl_L52*ldl_L62*ldl_d2 - ldl_L53*ldl_L63*ldl_d3 - ldl_L54*ldl_L64*ldl_d4);
     const ur5_real ldl_d6 = 0.0001321171875 - Ic1J_22*ldl_L61*ldl_L61 - ldl_d2*ldl_L62*ldl_L62 - ldl_d3*ldl_L63*ldl_L63 - ldl_d4*ldl_L64*ldl_L64 - ldl_d5*ldl_L65*ldl_L65;
-    if (!(ldl_d6 > 1e-12*(0.0001321171875))) {
-        return 1; /* singular mass matrix at q */
+    if (!(ldl_d6 > (double)UR5_PIVOT_RTOL*(0.0001321171875))) {
+        return UR5_SINGULAR;
     }
     const ur5_real ldl_inv6 = 1.0/ldl_d6;
     const ur5_real ldl_y2 = rhs2 - ldl_L21*rhs1;
@@ -1737,7 +1737,7 @@ int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur
         || !(fabs(qdd4_fd) <= DBL_MAX)
         || !(fabs(qdd5_fd) <= DBL_MAX)
         || !(fabs(qdd6_fd) <= DBL_MAX)) {
-        return 2; /* a result is NaN or out of range */
+        return UR5_NOT_FINITE;
     }
     qdd[0] = qdd1_fd;
     qdd[1] = qdd2_fd;

@@ -17,10 +17,26 @@ extern "C" {
 typedef double ur5_real;
 
 /* Number of joints N: q, qd, qdd, tau and vector outputs hold N numbers, matrices N*N (row-major). */
-#define ur5_DOF 6
+#define UR5_DOF 6
 
 /* Number of runtime parameters NP (the array p, when present, is the last input). */
-#define ur5_NP 0
+#define UR5_NP 0
+
+/* Status codes of the functions that return one (UR5_OK: success; on any other code no output is written): */
+#define UR5_OK 0 /* success: every output written */
+#define UR5_SINGULAR 1 /* the mass matrix M = D + diag(armature) is singular at q: a pivot of its factorization is not above UR5_PIVOT_RTOL times its diagonal entry (the articulated-body algorithm: an articulated inertia is not positive) */
+#define UR5_NOT_FINITE 2 /* an input is NaN or infinite, or a result is not finite (NaN, or beyond the range of the scalar type) */
+
+/*
+ * Relative pivot tolerance: a pivot at most UR5_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the factorizations of the mass matrix (each LDL^T pivot against its diagonal entry).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef UR5_PIVOT_RTOL
+#define UR5_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * Model constants folded into the code, as symdyn read them from ur5.yaml, under the
@@ -156,7 +172,7 @@ void ur5_gravity(const ur5_real *q, ur5_real *c);
  *   qd: joint velocities, N (rad/s or m/s)
  *   tau: joint torques/forces, N (N m or N)
  *   qdd (out): joint accelerations solving (D + diag(armature)) qdd = tau - h - c - damping qd - coulomb sign(qd), N
- * Returns 0 on success; 1 when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above 1e-12 times its diagonal entry, or is not a number); 2 when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
+ * Returns UR5_OK (0) on success; UR5_SINGULAR (1) when the mass matrix is singular at q (a pivot d_j of its LDL^T factorization is not above UR5_PIVOT_RTOL, 1e-12 unless defined, times its diagonal entry, or is not a number); UR5_NOT_FINITE (2) when an input is NaN or infinite, or a result is not finite (NaN or beyond the range of double). On a nonzero return qdd is not written.
  * Cost: 456 multiplications, 336 additions/subtractions, 6 divisions, 10 sin/cos.
  */
 int ur5_forward_dynamics_checked(const ur5_real *q, const ur5_real *qd, const ur5_real *tau, ur5_real *qdd);

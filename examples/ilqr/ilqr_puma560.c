@@ -25,7 +25,7 @@
 
 #include "puma560_dynamics.h"
 
-#define NQ puma560_DOF
+#define NQ PUMA560_DOF
 #define NX (2 * NQ)
 #define NU NQ
 #define STEPS 150

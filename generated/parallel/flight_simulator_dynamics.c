@@ -11,10 +11,6 @@
 
 #include "flight_simulator_dynamics.h"
 
-#ifndef FLIGHT_SIMULATOR_PIVOT_RTOL
-#define FLIGHT_SIMULATOR_PIVOT_RTOL 1e-12
-#endif
-
 /* LU factorization with partial pivoting of the 6x6 row-major matrix a, in place: P a = L U,
  * L unit lower triangular below the diagonal, U above it, the reciprocals of U's pivots on the
  * diagonal; piv[k] the row swapped with row k at step k.  Returns 1 (singular) when a pivot is

@@ -19,11 +19,24 @@ typedef double flight_simulator_real;
 /* Degrees of freedom of the platform = actuated joints (one per leg): q, qd, qdd and phi hold 6 numbers. */
 #define FLIGHT_SIMULATOR_DOF 6
 
-/* Status codes (0: success): */
+/* Status codes of the functions that return one (FLIGHT_SIMULATOR_OK: success; on any other code no output is written): */
+#define FLIGHT_SIMULATOR_OK 0 /* success: every output written */
 #define FLIGHT_SIMULATOR_UNREACHABLE 1 /* the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero */
 #define FLIGHT_SIMULATOR_LEG_SINGULAR 2 /* a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined) */
 #define FLIGHT_SIMULATOR_SINGULAR 3 /* the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular */
 #define FLIGHT_SIMULATOR_NOT_FINITE 4 /* a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow) */
+
+/*
+ * Relative pivot tolerance: a pivot at most FLIGHT_SIMULATOR_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the 6x6 LU factorizations (against the matrix's largest entry) and of the inverse
+ * kinematics' denominators (PIVOT_RTOL^2 against the square of their length scale).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef FLIGHT_SIMULATOR_PIVOT_RTOL
+#define FLIGHT_SIMULATOR_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * State.  pose[7]: the position of the platform frame P's origin (m, world frame), then P's
@@ -118,8 +131,7 @@ typedef double flight_simulator_real;
  *
  * Every function returns a status: 0, or one of the codes above, and then writes no output.
  * Near a singular configuration the 6x6 LU factorizations (partial pivoting) report it where a
- * pivot is at most FLIGHT_SIMULATOR_PIVOT_RTOL (1e-12 unless defined when compiling the source)
- * times the matrix's largest entry.  The closed-form inverse kinematics checks each radicand
+ * pivot is at most FLIGHT_SIMULATOR_PIVOT_RTOL (above) times the matrix's largest entry.  The closed-form inverse kinematics checks each radicand
  * before taking its square root (negative: out of reach) and each denominator (a sum of squares)
  * before dividing by it (not above PIVOT_RTOL^2 times the square of its length scale: an angle
  * of a leg that is not defined, a serial singularity).  No NaN is written for a finite input.
@@ -140,7 +152,7 @@ typedef double flight_simulator_real;
  *   twist[6]: platform twist t = [omega; c_dot]: angular velocity (rad/s) and velocity of the platform's mass centre (m/s), world axes
  *   twist_rate[6]: t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   phi[6] (out): actuator forces (N) or torques (N m), leg by leg
- * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 4716 multiplications, 3452 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_inverse_dynamics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], const flight_simulator_real twist_rate[6], flight_simulator_real phi[6]);
@@ -152,7 +164,7 @@ int flight_simulator_inverse_dynamics(const flight_simulator_real pose[7], const
  *   phi[6]: actuator forces (N) or torques (N m), leg by leg
  *   twist_rate[6] (out): t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   qdd[6] (out): actuated joint accelerations (rad/s^2 or m/s^2), leg by leg
- * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is defined at a parallel singularity and returns 0 there; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is defined at a parallel singularity and returns 0 there; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 5478 multiplications, 3944 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_forward_dynamics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], const flight_simulator_real phi[6], flight_simulator_real twist_rate[6], flight_simulator_real qdd[6]);
@@ -161,7 +173,7 @@ int flight_simulator_forward_dynamics(const flight_simulator_real pose[7], const
  * The mass matrix M (6x6, row-major) in actuated coordinates: the kinetic energy is qd^T M qd / 2 (M = T^T M_M T + sum_J L_J^T I_J L_J, natural orthogonal complement).
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   M[36] (out): mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)
- * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 3753 multiplications, 2725 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_mass_matrix(const flight_simulator_real pose[7], flight_simulator_real M[36]);
@@ -170,7 +182,7 @@ int flight_simulator_mass_matrix(const flight_simulator_real pose[7], flight_sim
  * The twist map T (6x6, row-major): the platform's twist t = T qd for actuated joint rates qd (T = K^-1).
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   T[36] (out): the notes' T, 6x6 row-major: t = T qd
- * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 1233 multiplications, 979 additions/subtractions, 32 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_twist_map(const flight_simulator_real pose[7], flight_simulator_real T[36]);
@@ -179,7 +191,7 @@ int flight_simulator_twist_map(const flight_simulator_real pose[7], flight_simul
  * The leg rate maps L_J for the six legs (6 blocks of 6x6, row-major, leg by leg): leg J's joint rates are L_J qd.
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   L[216] (out): the notes' L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)
- * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 4209 multiplications, 3001 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_leg_rate_maps(const flight_simulator_real pose[7], flight_simulator_real L[216]);
@@ -190,7 +202,7 @@ int flight_simulator_leg_rate_maps(const flight_simulator_real pose[7], flight_s
  *   twist[6]: platform twist t = [omega; c_dot]: angular velocity (rad/s) and velocity of the platform's mass centre (m/s), world axes
  *   q[6] (out): actuated joint positions (rad or m), leg by leg
  *   qd[6] (out): actuated joint rates (rad/s or m/s), leg by leg
- * Returns 0 on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 965 multiplications, 774 additions/subtractions, 26 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_inverse_kinematics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], flight_simulator_real q[6], flight_simulator_real qd[6]);

@@ -11,10 +11,6 @@
 
 #include "sru_platform_dynamics.h"
 
-#ifndef SRU_PLATFORM_PIVOT_RTOL
-#define SRU_PLATFORM_PIVOT_RTOL 1e-12
-#endif
-
 /* LU factorization with partial pivoting of the 6x6 row-major matrix a, in place: P a = L U,
  * L unit lower triangular below the diagonal, U above it, the reciprocals of U's pivots on the
  * diagonal; piv[k] the row swapped with row k at step k.  Returns 1 (singular) when a pivot is

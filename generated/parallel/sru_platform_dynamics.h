@@ -19,11 +19,24 @@ typedef double sru_platform_real;
 /* Degrees of freedom of the platform = actuated joints (one per leg): q, qd, qdd and phi hold 6 numbers. */
 #define SRU_PLATFORM_DOF 6
 
-/* Status codes (0: success): */
+/* Status codes of the functions that return one (SRU_PLATFORM_OK: success; on any other code no output is written): */
+#define SRU_PLATFORM_OK 0 /* success: every output written */
 #define SRU_PLATFORM_UNREACHABLE 1 /* the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero */
 #define SRU_PLATFORM_LEG_SINGULAR 2 /* a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined) */
 #define SRU_PLATFORM_SINGULAR 3 /* the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular */
 #define SRU_PLATFORM_NOT_FINITE 4 /* a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow) */
+
+/*
+ * Relative pivot tolerance: a pivot at most SRU_PLATFORM_PIVOT_RTOL (1e-12 by default, for the
+ * arithmetic the pivots are computed in) times its scale is reported as singular.  Checked in
+ * the 6x6 LU factorizations (against the matrix's largest entry) and of the inverse
+ * kinematics' denominators (PIVOT_RTOL^2 against the square of their length scale).
+ * Define a larger value before including this header (in every file that includes it, the
+ * generated source too) to stop further from a singularity.
+ */
+#ifndef SRU_PLATFORM_PIVOT_RTOL
+#define SRU_PLATFORM_PIVOT_RTOL 1e-12
+#endif
 
 /*
  * State.  pose[7]: the position of the platform frame P's origin (m, world frame), then P's
@@ -118,8 +131,7 @@ typedef double sru_platform_real;
  *
  * Every function returns a status: 0, or one of the codes above, and then writes no output.
  * Near a singular configuration the 6x6 LU factorizations (partial pivoting) report it where a
- * pivot is at most SRU_PLATFORM_PIVOT_RTOL (1e-12 unless defined when compiling the source)
- * times the matrix's largest entry.  The closed-form inverse kinematics checks each radicand
+ * pivot is at most SRU_PLATFORM_PIVOT_RTOL (above) times the matrix's largest entry.  The closed-form inverse kinematics checks each radicand
  * before taking its square root (negative: out of reach) and each denominator (a sum of squares)
  * before dividing by it (not above PIVOT_RTOL^2 times the square of its length scale: an angle
  * of a leg that is not defined, a serial singularity).  No NaN is written for a finite input.
@@ -140,7 +152,7 @@ typedef double sru_platform_real;
  *   twist[6]: platform twist t = [omega; c_dot]: angular velocity (rad/s) and velocity of the platform's mass centre (m/s), world axes
  *   twist_rate[6]: t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   phi[6] (out): actuator forces (N) or torques (N m), leg by leg
- * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 6444 multiplications, 4748 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_inverse_dynamics(const sru_platform_real pose[7], const sru_platform_real twist[6], const sru_platform_real twist_rate[6], sru_platform_real phi[6]);
@@ -152,7 +164,7 @@ int sru_platform_inverse_dynamics(const sru_platform_real pose[7], const sru_pla
  *   phi[6]: actuator forces (N) or torques (N m), leg by leg
  *   twist_rate[6] (out): t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   qdd[6] (out): actuated joint accelerations (rad/s^2 or m/s^2), leg by leg
- * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is defined at a parallel singularity and returns 0 there; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is defined at a parallel singularity and returns 0 there; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 7644 multiplications, 5666 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_forward_dynamics(const sru_platform_real pose[7], const sru_platform_real twist[6], const sru_platform_real phi[6], sru_platform_real twist_rate[6], sru_platform_real qdd[6]);
@@ -161,7 +173,7 @@ int sru_platform_forward_dynamics(const sru_platform_real pose[7], const sru_pla
  * The mass matrix M (6x6, row-major) in actuated coordinates: the kinetic energy is qd^T M qd / 2 (M = T^T M_M T + sum_J L_J^T I_J L_J, natural orthogonal complement).
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   M[36] (out): mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)
- * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 5283 multiplications, 3955 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_mass_matrix(const sru_platform_real pose[7], sru_platform_real M[36]);
@@ -170,7 +182,7 @@ int sru_platform_mass_matrix(const sru_platform_real pose[7], sru_platform_real 
  * The twist map T (6x6, row-major): the platform's twist t = T qd for actuated joint rates qd (T = K^-1).
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   T[36] (out): the notes' T, 6x6 row-major: t = T qd
- * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 2367 multiplications, 1759 additions/subtractions, 32 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_twist_map(const sru_platform_real pose[7], sru_platform_real T[36]);
@@ -179,7 +191,7 @@ int sru_platform_twist_map(const sru_platform_real pose[7], sru_platform_real T[
  * The leg rate maps L_J for the six legs (6 blocks of 6x6, row-major, leg by leg): leg J's joint rates are L_J qd.
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   L[216] (out): the notes' L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)
- * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 5301 multiplications, 3805 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_leg_rate_maps(const sru_platform_real pose[7], sru_platform_real L[216]);
@@ -190,7 +202,7 @@ int sru_platform_leg_rate_maps(const sru_platform_real pose[7], sru_platform_rea
  *   twist[6]: platform twist t = [omega; c_dot]: angular velocity (rad/s) and velocity of the platform's mass centre (m/s), world axes
  *   q[6] (out): actuated joint positions (rad or m), leg by leg
  *   qd[6] (out): actuated joint rates (rad/s or m/s), leg by leg
- * Returns 0 on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
+ * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
  * Cost: 2099 multiplications, 1554 additions/subtractions, 26 divisions, 0 sin/cos, 18 square roots, 10 other (sign, pow).
  */
 int sru_platform_inverse_kinematics(const sru_platform_real pose[7], const sru_platform_real twist[6], sru_platform_real q[6], sru_platform_real qd[6]);

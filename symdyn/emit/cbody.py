@@ -19,6 +19,7 @@ from ..derive import articulated_loops as al
 from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan, tangent_width
 from .cprinter import CPrinter, VectorUnsupported, count_operations, fused_sum
 from .emission import fold_constants, template_environment
+from ..model.outputs import STATUS_CODES
 
 #: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
 ROWS = 4
@@ -127,14 +128,16 @@ def coriolis_ops(n: int) -> Counter:
 
 
 def looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name: str, store: str,
-                 internal: str, scalar: str) -> tuple[list[str], Counter]:
+                 internal: str, scalar: str, prefix: str) -> tuple[list[str], Counter]:
     """C lines solving ``fd_M qdd = fd_b`` by an LDL^T loop (M's lower triangle given, L
     written over it), with the same pivot and finiteness checks as the unrolled
-    form: status 1 when a pivot ``d_j`` is not above ``rtol * M_jj``, 2 when a result is not
-    finite; qdd is written only on success.  ``vector``: the lanes function's form (checks
-    gathered in ``all_ok``, ``*ok`` set).  Returns the lines and their operation counts."""
+    form: status SINGULAR when a pivot ``d_j`` is not above ``rtol * M_jj``, NOT_FINITE when a
+    result is not finite (:func:`status_macros`); qdd is written only on success.  ``vector``:
+    the lanes function's form (checks gathered in ``all_ok``, ``*ok`` set).  Returns the lines
+    and their operation counts."""
     limit, fabs = _limit(internal, scalar)
-    lines = _macro_lines(_loops().looped_solve(n, ltype, rtol, one, vector, out_name, store, ROWS, limit, fabs))
+    lines = _macro_lines(_loops().looped_solve(n, ltype, rtol, one, vector, out_name, store, ROWS, limit, fabs,
+                                               status_macros(prefix)))
     mul = add = div = 0
     for j in range(n):
         div += 1
@@ -145,6 +148,17 @@ def looped_solve(n: int, ltype: str, rtol: str, one: str, vector: bool, out_name
     return lines, Counter({"mul": mul, "add": add, "div": div})
 
 
+def status_macros(prefix: str) -> dict[str, str]:
+    """The header's name of each status code (:data:`symdyn.model.outputs.STATUS_CODES`):
+    ``{"SINGULAR": "PUMA560_SINGULAR", ...}``."""
+    return {name: f"{prefix.upper()}_{name}" for name in STATUS_CODES}
+
+
+def pivot_rtol_macro(prefix: str) -> str:
+    """The header's pivot tolerance macro (its default per precision, overridable)."""
+    return f"{prefix.upper()}_PIVOT_RTOL"
+
+
 def fma_macro(prefix: str) -> str:
     """The name of the fused multiply-add macro of a generated file (``templates/fma.j2``):
     ``fma`` where the target has a fast one (``FP_FAST_FMA``), else ``c + a*b``; its twin
@@ -152,7 +166,7 @@ def fma_macro(prefix: str) -> str:
     return f"{prefix.upper()}_FMA"
 
 
-def product_loop(products, store: str, internal: str, scalar: str, fma: str) -> tuple[list[str], Counter]:
+def product_loop(products, store: str, internal: str, scalar: str, fma: str, prefix: str) -> tuple[list[str], Counter]:
     """C lines forming the forward-dynamics derivatives ``-Minv dtau/dx`` from the scratch arrays
     (``products``: a :attr:`FunctionPlan.products`), checking every result and writing the
     outputs, ending with ``return 0``; and their operation counts.  Each row of a result is one
@@ -165,7 +179,8 @@ def product_loop(products, store: str, internal: str, scalar: str, fma: str) -> 
         for i in range(n):
             terms = [(True, f"fdd_m[{i * n + k}]", f"{array}[{k * stride} + j]") for k in range(n)]
             rows.append((b * n * stride + i * stride, fused_sum(terms, fma)))
-    lines = _macro_lines(_loops().inverse_products(n, stride, blocks, minv, rows, store, limit, fabs))
+    lines = _macro_lines(_loops().inverse_products(n, stride, blocks, minv, rows, store, limit, fabs,
+                                                   status_macros(prefix)))
     return lines, Counter({"mul": len(blocks) * n * n * stride, "add": len(blocks) * n * (n - 1) * stride})
 
 
@@ -259,7 +274,7 @@ FUSED_ARTICULATED_LOOPS = True
 
 
 def articulated_body_loops(loops, printer: CPrinter, ltype: str, out_name: str, store: str, internal: str,
-                           scalar: str, fma: str = "") -> tuple[list[str], Counter]:
+                           scalar: str, prefix: str, fma: str = "") -> tuple[list[str], Counter]:
     """C lines of forward dynamics by the articulated-body algorithm as three loops over the
     joints (:class:`symdyn.derive.articulated_loops.ArticulatedLoops`): a ``static const`` table
     of the joints' constants, the velocity loop (base to tip), the backward loop (tip to joint
@@ -281,7 +296,8 @@ def articulated_body_loops(loops, printer: CPrinter, ltype: str, out_name: str, 
 
     joint = {**entries(loops.slots, "fd_table[j]"), al.COS_SIN[0]: "fd_c[j]", al.COS_SIN[1]: "fd_s[j]"}
     pivot = loops.backward_outputs[0]
-    check = {pivot: [f"if (!({pivot.name} > 0)) {{", "    return 1; /* singular mass matrix at q */", "}"]}
+    status = status_macros(prefix)
+    check = {pivot: [f"if (!({pivot.name} > 0)) {{", f"    return {status['SINGULAR']};", "}"]}
     backward_inputs = {**joint, al.TAU: "fd_t[j]", **entries(al.VELOCITY, "fd_v", "6 * j + 6 + "),
                        **entries(al.BIAS_ACCEL, "fd_z", "6 * j + "), **entries(al.CARRIED_INERTIA, "fd_K"),
                        **entries(al.CARRIED_FORCE, "fd_k")}
@@ -306,7 +322,7 @@ def articulated_body_loops(loops, printer: CPrinter, ltype: str, out_name: str, 
     table = [", ".join(local.literal(v) for v in row) for row in loops.table]
     lines = _macro_lines(_loops().articulated_loops(
         n, ltype, table, max(1, len(loops.slots)), printed, [local.doprint(sp.sympify(g)) for g in loops.gravity],
-        out_name, store, limit, fabs))
+        out_name, store, limit, fabs, status))
     return lines, ops
 
 
@@ -341,9 +357,9 @@ FD_PART_STATEMENTS = 1500
 ARGUMENTS, PART = "@ARGS@", "@PART"
 
 #: the status a task-space function returns at a singular task (J M^-1 J^T not positive definite)
-TASK_SINGULAR = 3
-#: the comment beside each status a pivot check returns
-STATUS_COMMENTS = {1: "singular mass matrix at q", TASK_SINGULAR: "singular task at q (J M^-1 J^T)"}
+TASK_SINGULAR = STATUS_CODES["TASK_SINGULAR"][0]
+#: the name of each status code a check returns
+STATUS_NAMES = {value: name for name, (value, _) in STATUS_CODES.items()}
 
 
 #: a function whose results hold more distinct values than this (twice the 16 vector registers of
@@ -503,7 +519,7 @@ class BodyWriter:
             tests = "\n            || ".join(f"!({fabs}({name}[i]) <= {limit})" for name in names)
             self.lines += [f"for (int i = 0; i < {size}; ++i) {{",
                            f"    if ({tests}) {{",
-                           "        return 2; /* an input is NaN or infinite */",
+                           f"        return {status_macros(self.ctx.prefix)['NOT_FINITE']};",
                            "    }",
                            "}"]
 
@@ -540,8 +556,9 @@ class BodyWriter:
             if not sp.sympify(d).free_symbols and not sp.sympify(m).free_symbols and \
                     float(d) > (0.0 if sp.sympify(d - m) == 0 else self.ctx.rtol * float(m)):
                 continue  # a constant pivot that passes: no test that is always false (clang's -Wunreachable-code)
-            rtol = (f"({self.ctx.real}){self.ctx.prefix}_TASK_RTOL" if code == TASK_SINGULAR  # whatever type the user's macro has
-                    else self.printer.literal(self.ctx.rtol))
+            macro = (f"{self.ctx.prefix.upper()}_TASK_RTOL" if code == TASK_SINGULAR
+                     else pivot_rtol_macro(self.ctx.prefix))
+            rtol = f"({self.ctx.internal}){macro}"  # (whatever type the user's macro has)
             at = max(_position_of(d, self.position), _position_of(m, self.position))
             self.check_symbols.setdefault(at, set()).update(sp.sympify(d).free_symbols | sp.sympify(m).free_symbols)
             pd = self.printer.doprint(d)
@@ -561,7 +578,7 @@ class BodyWriter:
             return
         for code in sorted({code for _, code in checks[at]}):
             self.lines += ["if (" + "\n        || ".join(test for test, c in checks[at] if c == code) + ") {",
-                           f"    return {code}; /* {STATUS_COMMENTS[code]} */",
+                           f"    return {self.ctx.prefix.upper()}_{STATUS_NAMES[code]};",
                            "}"]
 
     def _placed_writes(self) -> None:
@@ -638,7 +655,7 @@ class BodyWriter:
             self.lines.append("*ok = all_ok;")
         else:
             self.lines += ["if (" + "\n        || ".join(f"!({fabs}({r}) <= {limit})" for r in results) + ") {",
-                           "    return 2; /* a result is NaN or out of range */",
+                           f"    return {status_macros(self.ctx.prefix)['NOT_FINITE']};",
                            "}"]
             self.lines += [f"{final} = {self.store}{result};" for final, result in writes]
             self.lines.append("return 0;")
@@ -656,17 +673,18 @@ class BodyWriter:
             self.lines += coriolis_loop(out, n, self.ltype, self.store, ctx.prefix, self.vector)
             self.ops += coriolis_ops(n)
         if plan.products:
-            lines, ops = product_loop(plan.products, self.store, ctx.internal, ctx.scalar, self._loop_fma())
+            lines, ops = product_loop(plan.products, self.store, ctx.internal, ctx.scalar, self._loop_fma(), ctx.prefix)
             self.lines += lines
             self.ops += ops
         if plan.looped:
-            solve, solve_ops = looped_solve(ctx.n, self.ltype, self.printer.literal(ctx.rtol), self.printer.literal(1.0),
-                                            self.vector, plan.out_name, self.store, ctx.internal, ctx.scalar)
+            solve, solve_ops = looped_solve(ctx.n, self.ltype, f"({ctx.internal}){pivot_rtol_macro(ctx.prefix)}",
+                                            self.printer.literal(1.0), self.vector, plan.out_name, self.store,
+                                            ctx.internal, ctx.scalar, ctx.prefix)
             self.lines += solve
             self.ops += solve_ops
         if plan.sweeps:
             lines, loop_ops = articulated_body_loops(plan.sweeps, self.printer, self.ltype, plan.out_name, self.store,
-                                                     ctx.internal, ctx.scalar, self._loop_fma())
+                                                     ctx.internal, ctx.scalar, ctx.prefix, self._loop_fma())
             self.lines += lines
             self.ops += loop_ops
 

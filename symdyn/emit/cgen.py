@@ -20,12 +20,13 @@ from ..model.errors import warn
 from .cbody import ARGUMENTS, BodyContext, fma_macro, product_loop, write_body
 from .cplan import (FunctionPlan, Target, collect_targets, minv_targets, product_targets, reduce_targets,
                     tangent_width)
-from .cprinter import VectorUnsupported
+from .cprinter import CPrinter, VectorUnsupported
 from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
 from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
-from ..model.outputs import ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, factors_mass_matrix
+from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
+                             factors_mass_matrix)
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -211,7 +212,7 @@ def build_function(eqs: Equations, name: str, precision: str, prefix: str, batch
     if plan.checked:
         status = REGISTRY[plan.parts[0]].status_for(fd_variant if name == "forward_dynamics" else "")
         return CFunction(name=checked_name(name), returns="int",
-                         returns_doc=status.format(rtol=context.rtol, real=scalar, prefix=prefix), **common)
+                         returns_doc=status.format(rtol=context.rtol, real=scalar, prefix=prefix.upper()), **common)
     return CFunction(name=name, **common)
 
 
@@ -318,7 +319,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     arrays = ([("fdd_m", n * n), ("fdd_a", n)] + [(array, n * stride) for array, _ in blocks]
               + [("fdd_r", len(blocks) * n * stride)] + second.given)
     store = f"({real})" if context.internal != context.scalar else ""
-    loop, loop_ops = product_loop(plan.products, store, context.internal, context.scalar, fma_macro(prefix))
+    loop, loop_ops = product_loop(plan.products, store, context.internal, context.scalar, fma_macro(prefix), prefix)
     lines = ([f"{ltype} " + ", ".join(f"{a}[{size}]" for a, size in arrays) + ";",
               f"const int status = {own}_part1({names}, fdd_m, fdd_a);",
               "if (status != 0) {", "    return status;", "}",
@@ -333,7 +334,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     return CFunction(name=plan.name, summary=summary.replace("NAME", prefix), args=args, lines=lines, parts=parts,
                      ops=first.ops + second.ops + loop_ops, unused=[], trig_type=context.internal if context.angles else "",
                      batch=batch, returns="int", fma_type=context.internal,
-                     returns_doc=status.format(rtol=context.rtol, real=context.scalar, prefix=prefix))
+                     returns_doc=status.format(rtol=context.rtol, real=context.scalar, prefix=prefix.upper()))
 
 
 def _batch_form(eqs: Equations, plan, reduced, context: BodyContext, group_of, precision: str) -> dict:
@@ -370,6 +371,21 @@ def _task_context(eqs: Equations, precision: str) -> dict:
     rows = eqs.robot.task_rows
     return {"count": len(rows), "rows": ", ".join(f"{row} ({JACOBIAN_ROWS[row]})" for row in rows),
             "rtol": repr(pivot_rtol("float" if precision == "float" else "double"))}
+
+
+def _contract_context(eqs: Equations, precision: str, built) -> dict:
+    """The header's status codes (:data:`STATUS_CODES`, the task's only with task-space
+    functions; none when no function returns a status) and the pivot tolerance's default, in
+    the arithmetic the pivots are computed in (double in mixed precision)."""
+    if not any(f.returns == "int" for f in built):
+        return {"statuses": [], "pivot_rtol": "", "pivot_rtol_text": ""}
+    task = any(f.name in TASK_OUTPUTS or f.name == "task_space" for f in built)
+    internal = "float" if precision == "float" else "double"
+    text = eqs.robot.name.upper()
+    return {"statuses": [(name, value, doc.replace("NAME_", f"{text}_")) for name, (value, doc) in STATUS_CODES.items()
+                         if task or name != "TASK_SINGULAR"],
+            "pivot_rtol": CPrinter({}, internal).literal(pivot_rtol(internal)),
+            "pivot_rtol_text": repr(pivot_rtol(internal))}
 
 
 def _status_list(built, prefix: str) -> str:
@@ -529,6 +545,7 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
         "notes": [comment_text(note) for note in notes],
         "math_header": True,
         "float_header": any(f.returns == "int" for f in built),
+        **_contract_context(eqs, precision, built),
         "status_list": _status_list(built, prefix),
         "size_target": "",
         "size_command": "",

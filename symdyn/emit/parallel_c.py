@@ -154,7 +154,7 @@ def _emit_function(eqs: ParallelEquations, name: str, precision: str, prefix: st
     args += [(f"{real} ", f"{arg}[{m.rows * m.cols}]", OUTPUT_DOCS[arg], True) for arg, m in function.outputs]
     statuses = function.statuses
     docs = dict(STATUS_DOC, singular=FORWARD_SINGULAR_DOC) if name == "forward_dynamics" else STATUS_DOC
-    returns_doc = "Returns 0 on success; " + "; ".join(
+    returns_doc = f"Returns {prefix.upper()}_OK (0) on success; " + "; ".join(
         f"{prefix.upper()}_{s.upper()} ({STATUS[s]}) when {docs[s]}" for s in statuses) + \
         ". On a nonzero return no output is written."
     return CFunction(name=name, summary=function.summary, args=args, lines=body.lines, ops=body.ops,
@@ -192,7 +192,7 @@ def generate_parallel_c(eqs: ParallelEquations, functions=None, precision: str =
         **banner_fields(prefix, precision),
         "rtol": CPrinter({}, precision).literal(PIVOT_RTOL[precision]),
         "rtol_text": repr(PIVOT_RTOL[precision]),
-        "statuses": [(k.upper(), v, STATUS_DOC[k]) for k, v in STATUS.items()],
+        "statuses": [("OK", 0, "success: every output written")] + [(k.upper(), v, STATUS_DOC[k]) for k, v in STATUS.items()],
         "legs": legs,
         # rounded to 1e-9: the file's home configuration holds the pose to about 1e-10
         "home": ", ".join(f"{(round(x, 9) or 0.0):.10g}" for x in eqs.home_pose),

@@ -201,22 +201,36 @@ class CombinedSpec:
         return tuple(group for group in INPUT_GROUPS if group in wanted)
 
 
-_PIVOTS = ("Returns 0 on success; 1 when the mass matrix is singular at q ({why}); 2 when an input is NaN or "
-           "infinite, or a result is not finite (NaN or beyond the range of {{real}}). On a nonzero return qdd is "
-           "not written.")
+#: the status codes of the functions that check their inputs and solve with the mass matrix, as
+#: the generated header names them (``NAME_<code>``, NAME in capitals): value and meaning
+STATUS_CODES: dict[str, tuple[int, str]] = {
+    "OK": (0, "success: every output written"),
+    "SINGULAR": (1, "the mass matrix M = D + diag(armature) is singular at q: a pivot of its factorization is not "
+                    "above NAME_PIVOT_RTOL times its diagonal entry (the articulated-body algorithm: an articulated "
+                    "inertia is not positive)"),
+    "NOT_FINITE": (2, "an input is NaN or infinite, or a result is not finite (NaN, or beyond the range of the "
+                      "scalar type)"),
+    "TASK_SINGULAR": (3, "the task is singular at q: a pivot of the factorization of J M^-1 J^T is not above "
+                         "NAME_TASK_RTOL times its diagonal entry"),
+}
+
+_PIVOTS = ("Returns {{prefix}}_OK (0) on success; {{prefix}}_SINGULAR (1) when the mass matrix is singular at q ({why}); "
+           "{{prefix}}_NOT_FINITE (2) when an input is NaN or infinite, or a result is not finite (NaN or beyond the "
+           "range of {{real}}). On a nonzero return qdd is not written.")
 _ABA_PIVOTS = _PIVOTS.format(why="an articulated inertia d_j about joint j's axis, by which the algorithm divides, is "
                                  "not positive, or is not a number")
 
-_TASK_STATUS = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot of its LDL^T factorization "
-                "is not above {rtol:g} times its diagonal entry, or is not a number); 2 when an input is NaN or "
-                "infinite, or a result is not finite (NaN or beyond the range of {real}); 3 when the task is "
+_TASK_STATUS = ("Returns {prefix}_OK (0) on success; {prefix}_SINGULAR (1) when the mass matrix is singular at q (a "
+                "pivot of its LDL^T factorization is not above {prefix}_PIVOT_RTOL, {rtol:g} unless defined, times its "
+                "diagonal entry, or is not a number); {prefix}_NOT_FINITE (2) when an input is NaN or infinite, or a "
+                "result is not finite (NaN or beyond the range of {real}); {prefix}_TASK_SINGULAR (3) when the task is "
                 "singular at q: a pivot of the LDL^T factorization of J M^-1 J^T (the inverse of Lambda) is not "
                 "above {prefix}_TASK_RTOL times its diagonal entry (a kinematic singularity, or a task direction "
                 "the joints cannot move the tool in). On a nonzero return nothing is written.")
-_INVERSE_STATUS = ("Returns 0 on success; 1 when the mass matrix is singular at q (a pivot of its LDL^T factorization "
-                   "is not above {rtol:g} times its diagonal entry, or is not a number); 2 when an input is NaN or "
-                   "infinite, or a result is not finite (NaN or beyond the range of {real}). On a nonzero return "
-                   "nothing is written.")
+_INVERSE_STATUS = ("Returns {prefix}_OK (0) on success; {prefix}_SINGULAR (1) when the mass matrix is singular at q (a "
+                   "pivot of its LDL^T factorization is not above {prefix}_PIVOT_RTOL, {rtol:g} unless defined, times its "
+                   "diagonal entry, or is not a number); {prefix}_NOT_FINITE (2) when an input is NaN or infinite, or a "
+                   "result is not finite (NaN or beyond the range of {real}). On a nonzero return nothing is written.")
 
 #: what the task-space outputs are derived from
 _TASK_REQUIRES = ("mass_matrix", "coriolis", "gravity", "jacobian", "jacobian_dot_qd")
@@ -267,8 +281,8 @@ SPECS: tuple[OutputSpec, ...] = (
         meaning="q̈(q, q̇, τ)",
         pinocchio="`aba`",
         requires=("mass_matrix",),
-        status=_PIVOTS.format(why="a pivot d_j of its LDL^T factorization is not above {rtol:g} times its "
-                                  "diagonal entry, or is not a number"),
+        status=_PIVOTS.format(why="a pivot d_j of its LDL^T factorization is not above {prefix}_PIVOT_RTOL, {rtol:g} "
+                                  "unless defined, times its diagonal entry, or is not a number"),
         fd_variants=(("aba", "Forward dynamics: accelerations for torques tau at state (q, qd), by the articulated-body "
                              "algorithm written out for this robot (three sweeps, at most one division per joint, no mass matrix).",
                       _ABA_PIVOTS),

@@ -71,11 +71,12 @@ def test_verify_platform_fails_on_poisoned_code(monkeypatch, capsys):
 
     def poisoned(*args, **kwargs):
         files = real(*args, **kwargs)
-        name = next(k for k in files if k.endswith(".c"))
-        text = files[name].replace("result[7] = sol_T[7];", "result[7] = 1.0000001 * sol_T[7];", 1)
-        text = re.sub(r"(#define SRU_PLATFORM_PIVOT_RTOL) \S+", r"\1 0.0", text, count=1)
-        assert "1.0000001 *" in text and "PIVOT_RTOL 0.0" in text
-        files[name] = text
+        source = next(k for k in files if k.endswith(".c"))
+        header = next(k for k in files if k.endswith(".h"))
+        text = files[source].replace("result[7] = sol_T[7];", "result[7] = 1.0000001 * sol_T[7];", 1)
+        rtol = re.sub(r"(#define SRU_PLATFORM_PIVOT_RTOL) \S+", r"\1 0.0", files[header], count=1)
+        assert "1.0000001 *" in text and "PIVOT_RTOL 0.0" in rtol
+        files[source], files[header] = text, rtol
         return files
     monkeypatch.setattr(verify, "generate_parallel_c", poisoned)
     assert main(["verify", SRU, "--functions", "twist_map", "--states", "5"]) == 1

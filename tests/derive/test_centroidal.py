@@ -37,7 +37,7 @@ def _check(robot, reference, tmp_path, compiled=True, float_too=False):
     assert all(e <= TOL for e in errors.values()), (robot.name, errors)
     if compiled:
         files = generate_c(eqs, CENTROIDAL_OUTPUTS, "double")
-        assert f"{robot.name}_TOTAL_MASS" in files[f"{robot.name}_dynamics.h"]
+        assert f"{robot.name.upper()}_TOTAL_MASS" in files[f"{robot.name}_dynamics.h"]
         lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
         errors = compare(lib, reference, states, CENTROIDAL_OUTPUTS)
         assert all(e <= TOL for e in errors.values()), (robot.name, errors)

@@ -54,7 +54,7 @@ def test_frames_agree_with_pinocchio(tmp_path, source):
     assert all(e <= TOL for e in errors.values()), errors
     files = generate_c(eqs, FRAME_OUTPUTS + ("frame_kinematics",), "double")
     header = files[f"{robot.name}_dynamics.h"]
-    assert f"#define {robot.name}_NFRAMES 3" in header
+    assert f"#define {robot.name.upper()}_NFRAMES 3" in header
     lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
     errors = compare(lib, reference, states, FRAME_OUTPUTS)
     assert all(e <= TOL for e in errors.values()), errors

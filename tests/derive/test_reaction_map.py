@@ -87,7 +87,7 @@ def test_compiled_c_agrees_with_pinocchio(leg_eqs, tmp_path):
     files = {p.name: p.read_text() for p in (REPO / "generated").glob("pendulum_leg_dynamics.*")}
     assert "void pendulum_leg_reaction_map(const pendulum_leg_real *q, const pendulum_leg_real *qd, " \
            "pendulum_leg_real *k0, pendulum_leg_real *D);" in files["pendulum_leg_dynamics.h"]
-    assert "#define pendulum_leg_NA 3" in files["pendulum_leg_dynamics.h"]
+    assert "#define PENDULUM_LEG_NA 3" in files["pendulum_leg_dynamics.h"]
     ref = PinocchioReference(robot)
     states = _states(robot, 20, seed=43)
     theirs = [ref.base_wrench(q, qd, tau_h) for q, qd, tau_h in states]
@@ -122,7 +122,7 @@ def test_cli_defaults_and_verify(tmp_path, capsys):
     assert main(["generate", robot_path("planar2r"), "--out", str(tmp_path), "--quiet",
                  "--functions", "gravity,reaction_map"]) == 0
     header = (tmp_path / "planar2r_dynamics.h").read_text()
-    assert "planar2r_reaction_map(" in header and "#define planar2r_NA 2" in header
+    assert "planar2r_reaction_map(" in header and "#define PLANAR2R_NA 2" in header
     assert "reaction_map" not in symdyn.derive(symdyn.load(robot_path("scara")), outputs=None,
                                                fd_method="ldlt").output_names
     assert main(["verify", MIDDLE, "--functions", "reaction_map", "--states", "10"]) == 0
@@ -148,4 +148,4 @@ def test_every_joint_passive(tmp_path, capsys):
     assert not symdyn.load(str(path)).actuated_joints
     assert main(["verify", str(path), "--functions", "reaction_map", "--states", "10"]) == 0
     assert main(["generate", str(path), "--out", str(tmp_path / "out"), "--quiet"]) == 0
-    assert "#define passive_middle_NA 0" in (tmp_path / "out" / "passive_middle_dynamics.h").read_text()
+    assert "#define PASSIVE_MIDDLE_NA 0" in (tmp_path / "out" / "passive_middle_dynamics.h").read_text()

@@ -4,7 +4,8 @@
  * bits) and as a decimal; then the instructions each function takes, measured with SysTick.
  *
  * Build: make (puma560) or make ROBOT=panda; run: make run (QEMU's mps2-an386 board).
- * ROBOT_HEADER and ROBOT (the generated files' prefix) come from the Makefile.
+ * ROBOT_HEADER, ROBOT (the generated files' prefix) and ROBOT_MACROS (the prefix of the header's
+ * macros, in capitals) come from the Makefile.
  */
 
 #include <math.h>
@@ -16,13 +17,14 @@
 #define CAT2(a, b) a##_##b
 #define CAT(a, b) CAT2(a, b)
 #define FN(name) CAT(ROBOT, name)
-#define N FN(DOF)
+#define MACRO(name) CAT(ROBOT_MACROS, name)
+#define N MACRO(DOF)
 #define TEXT2(x) #x
 #define TEXT(x) TEXT2(x)
 
 typedef FN(real) real;
 
-#if FN(NP) != 0
+#if MACRO(NP) != 0
 #error "this example calls robots without runtime parameters: pass your values of p (the header lists them) and remove this line"
 #endif
 
