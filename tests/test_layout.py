@@ -212,3 +212,49 @@ def test_no_function_over_a_hundred_lines():
                 if lines > MAX_FUNCTION_LINES:
                     long.append(f"{path.relative_to(REPO)}:{node.lineno} {node.name}: {lines} lines")
     assert not long, "\n".join(long)
+
+
+#: where the kind of a robot (a serial robot or a platform) may be tested: its description, and
+#: the pipeline that resolves it (symdyn.emit.pipeline.kind_of); every command dispatches on
+#: the kind through its own BY_KIND table
+KIND_TESTS_ALLOWED = ("model/", "emit/pipeline.py")
+ROBOT_TYPES = {"Robot", "ParallelRobot"}
+KINDS = {"SERIAL", "PLATFORM"}
+
+
+def kind_tests(source: str) -> list[int]:
+    """The lines of ``source`` that test a robot's kind: ``isinstance(x, Robot or ParallelRobot)``
+    (alone or in a tuple) and comparisons with a kind object (``is SERIAL``, ``== PLATFORM``)."""
+    lines = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "isinstance" and len(node.args) == 2:
+            kinds = node.args[1].elts if isinstance(node.args[1], ast.Tuple) else [node.args[1]]
+            if any(getattr(k, "id", getattr(k, "attr", None)) in ROBOT_TYPES for k in kinds):
+                lines.append(node.lineno)
+        elif isinstance(node, ast.Compare):
+            names = [node.left, *node.comparators]
+            if any(getattr(n, "id", getattr(n, "attr", None)) in KINDS for n in names):
+                lines.append(node.lineno)
+    return lines
+
+
+def test_no_command_branches_on_the_robot_kind():
+    """Outside the model and the pipeline, nothing tests whether a robot is serial or a platform:
+    the commands look their kind's function up in their BY_KIND table."""
+    found = [f"{path.relative_to(PACKAGE)}:{line}" for path in MODULES
+             if not str(path.relative_to(PACKAGE)).startswith(KIND_TESTS_ALLOWED)
+             for line in kind_tests(path.read_text(encoding="utf-8"))]
+    assert not found, "kind tests outside the model and the pipeline: " + ", ".join(found)
+
+
+def test_kind_check_sees_kind_tests():
+    assert kind_tests("isinstance(robot, ParallelRobot)\nisinstance(r, (int, model.Robot))\n"
+                      "x = kind is PLATFORM\ny = SERIAL == k\nz = isinstance(r, dict)") == [1, 2, 3, 4]
+
+
+def test_every_command_handles_every_kind():
+    """Each command's BY_KIND table has an entry for every kind of robot the pipeline knows."""
+    from symdyn.cli import bench, derive, verify
+    from symdyn.emit.pipeline import KINDS
+    for command in (bench, derive, verify):
+        assert set(command.BY_KIND) == {kind.name for kind in KINDS}, command.__name__

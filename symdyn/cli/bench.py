@@ -8,8 +8,10 @@ import tempfile
 
 from ..model.files import output_directory, write_files
 from ..model.errors import SymdynError
-from ..emit.pipeline import parse_platform_functions, scene_choices
-from ..model.parallel import ParallelRobot
+from dataclasses import dataclass
+from typing import Callable
+
+from ..emit.pipeline import PLATFORM, SERIAL, kind_of, parse_platform_functions, scene_choices
 from .common import add_fd_method_option, add_size_options, check_size, load_robot, parse_functions
 
 HELP = "time each generation variant and measure its error against a 50-digit reference"
@@ -58,7 +60,7 @@ def run(args) -> int:
     robots = []
     for path, (robot, scene) in zip(args.robots, loaded):
         check_size(robot, args, path)
-        robots.append((robot, _plan(bench, scene, functions, variants, robot, path, args)))
+        robots.append((robot, BY_KIND[kind_of(robot).name](bench, scene, functions, variants, robot, path, args)))
     if not args.out:
         _bench(args, robots, functions, variants)
         return 0
@@ -71,7 +73,7 @@ def run(args) -> int:
     with output_directory(args.out):  # checked (and created) before the long measurements
         results = _bench(args, robots, functions, variants)
         files = _report_files(args, bench, results, plotting,
-                              [robot.name for robot, _ in robots if isinstance(robot, ParallelRobot)])
+                              [robot.name for robot, plan in robots if plan.closed_loop])
         write_files(args.out, files, protect=protect)  # every file of the report lands together
     _progress(args, "wrote " + ", ".join(os.path.join(args.out, name) for name in files))
     return 0
@@ -117,21 +119,49 @@ def _progress(args, text: str) -> None:
         print(f"symdyn bench: {text}", file=sys.stderr, flush=True)
 
 
-def _plan(bench, scene, functions, variants, robot=None, path="", args=None):
-    """(functions, variants) for one input: the options when given (``functions`` the text of
-    --functions), else what a scene asks for (its functions; its precision picks the symdyn C
-    variants), else the defaults; only the variants that apply to the robot's kind."""
-    if isinstance(robot, ParallelRobot):
-        from ..check.platform_bench import PLATFORM_VARIANTS
-        from ..derive.parallel import check_derivable
-        if args is not None and args.fd_method:
-            raise SymdynError(f"{path}: --fd-method does not apply to a platform robot (kind: parallel)")
-        check_derivable(robot)  # before any work
-        chosen = [v for v in (variants or PLATFORM_VARIANTS) if v in PLATFORM_VARIANTS]
-        if not chosen:
-            raise SymdynError(f"{path}: no variant in --variants applies to a platform robot (its variants: "
-                              f"{', '.join(PLATFORM_VARIANTS)})")
-        return tuple(parse_platform_functions(functions) or bench.DEFAULT_FUNCTIONS), tuple(chosen)
+@dataclass(frozen=True)
+class BenchPlan:
+    """What is measured for one robot: its functions and variants, how (``measure(robot,
+    functions, variants, states, progress, args)``: the results), and whether its errors are
+    against Pinocchio's closed loop (the report says so) rather than the 50-digit reference."""
+
+    functions: tuple
+    variants: tuple
+    measure: Callable
+    closed_loop: bool = False
+
+
+def _platform_plan(bench, scene, functions, variants, robot, path="", args=None) -> BenchPlan:
+    """A platform robot's plan: its functions (default the bench's), the platform variants."""
+    from ..check.platform_bench import PLATFORM_VARIANTS, bench_platform
+    from ..derive.parallel import check_derivable
+    if args is not None and args.fd_method:
+        raise SymdynError(f"{path}: --fd-method does not apply to a platform robot (kind: parallel)")
+    check_derivable(robot)  # before any work
+    chosen = [v for v in (variants or PLATFORM_VARIANTS) if v in PLATFORM_VARIANTS]
+    if not chosen:
+        raise SymdynError(f"{path}: no variant in --variants applies to a platform robot (its variants: "
+                          f"{', '.join(PLATFORM_VARIANTS)})")
+
+    def measure(robot, functions, variants, states, progress, args):
+        return bench_platform(robot, functions, variants, states, progress)
+    return BenchPlan(tuple(parse_platform_functions(functions) or bench.DEFAULT_FUNCTIONS), tuple(chosen), measure,
+                     closed_loop=True)
+
+
+def _serial_plan(bench, scene, functions, variants, robot=None, path="", args=None) -> BenchPlan:
+    """A serial robot's plan: the options when given (``functions`` the text of --functions),
+    else what a scene asks for (its functions; its precision picks the symdyn C variants), else
+    the defaults; only the serial variants."""
+    functions, variants = _serial_choices(bench, scene, functions, variants, path)
+
+    def measure(robot, functions, variants, states, progress, args):
+        return bench.bench_robot(robot, functions, variants, states, progress, fd_method=args.fd_method or "ldlt")
+    return BenchPlan(functions, variants, measure)
+
+
+def _serial_choices(bench, scene, functions, variants, path="") -> tuple[tuple, tuple]:
+    """(functions, variants) of a serial robot from the options, the scene or the defaults."""
     functions = parse_functions(functions) if functions else None
     if variants is not None:
         variants = [v for v in variants if v in bench.VARIANTS]
@@ -151,17 +181,16 @@ def _plan(bench, scene, functions, variants, robot=None, path="", args=None):
 
 
 def _bench(args, robots, functions, variants) -> list:
-    """Measure every robot and print the Markdown table; returns the results."""
+    """Measure every robot by its plan and print the Markdown table; returns the results."""
     from ..check import bench
     results = []
-    for k, robot in enumerate(robots):
-        robot, (functions, variants) = robot
+    for k, (robot, plan) in enumerate(robots):
         _progress(args, f"[{k + 1}/{len(robots)}] {robot.name}")
-        if isinstance(robot, ParallelRobot):
-            from ..check.platform_bench import bench_platform
-            results.extend(bench_platform(robot, functions, variants, args.states, lambda text: _progress(args, text)))
-            continue
-        results.extend(bench.bench_robot(robot, functions, variants, args.states,
-                                         lambda text: _progress(args, text), fd_method=args.fd_method or "ldlt"))
+        results.extend(plan.measure(robot, plan.functions, plan.variants, args.states,
+                                    lambda text: _progress(args, text), args))
     sys.stdout.write(bench.markdown_table(results))
     return results
+
+
+#: how each kind of robot (symdyn.emit.pipeline.KINDS) is benchmarked: its :class:`BenchPlan`
+BY_KIND = {SERIAL.name: _serial_plan, PLATFORM.name: _platform_plan}

@@ -11,6 +11,7 @@ from ..derive.derivation import STEPS, TASK_CLOSED_FORM_MAX_DOF, derive_steps
 from ..model.errors import SymdynError
 from ..emit.printout import DEFAULT_DIGITS, FORMATS, MAX_DIGITS, render
 from ..derive.equations import METHOD_ALIASES
+from ..emit.pipeline import PLATFORM, SERIAL, kind_of
 from .common import add_size_options, check_size, load_robot, progress_printer
 
 HELP = "print the derivation of the equations of motion (text, LaTeX or Markdown)"
@@ -152,12 +153,11 @@ def run(args) -> int:
     long), derive, render (on a terminal with a progress line once it takes over
     :data:`PROGRESS_AFTER` seconds, unless ``--quiet``), and print or write
     (:func:`symdyn.model.files.write_files`, the inputs protected)."""
-    from ..emit.pipeline import PLATFORM, kind_of
     from ..model.scene import input_files
     if not 1 <= args.digits <= MAX_DIGITS:
         raise SymdynError(f"--digits must be from 1 to {MAX_DIGITS}, not {args.digits}")
     robot, _ = load_robot(args.robot, args, parallel=True)
-    text_of = _parallel_text(args, robot) if kind_of(robot) is PLATFORM else _serial_text(args, robot)
+    text_of = BY_KIND[kind_of(robot).name](args, robot)
     if args.out:
         directory, name = os.path.split(os.path.abspath(args.out))
         if not os.path.isdir(directory):
@@ -176,3 +176,8 @@ def run(args) -> int:
     else:
         sys.stdout.write(text)
     return 0
+
+
+#: how each kind of robot (symdyn.emit.pipeline.KINDS) is printed: a function of (args, robot)
+#: giving the renderer of its derivation
+BY_KIND = {SERIAL.name: _serial_text, PLATFORM.name: _parallel_text}

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from ..check.firmware import FLAGS as FIRMWARE_FLAGS
 from ..emit.cgen import PRECISION_CHOICES
-from ..emit.pipeline import (PLATFORM, SERIAL, TARGETS, GenerateOptions, check_inputs, check_options, configure,
+from ..emit.pipeline import (PLATFORM, TARGETS, GenerateOptions, check_inputs, check_options, configure,
                               generate, provenance)
 from ..model.errors import SymdynError
 from ..model.files import output_directory, write_files
@@ -98,8 +98,7 @@ def run(args) -> int:
     configs = []
     for path in args.robots:  # every file is loaded and checked first
         config = configure(path, options, loaded=load_robot(path, args, parallel=True))
-        if config.kind is SERIAL:
-            check_size(config.robot, args, path)
+        check_size(config.robot, args, path)
         configs.append(config)
     protect = [p for path in args.robots for p in input_files(path)]
     # the directory is checked (and created) before deriving, and removed again if the run fails

@@ -10,10 +10,9 @@ from ..derive.cache import derive_cached
 from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
 from ..emit.cgen import PRECISION_CHOICES
 from ..emit.parallel_c import generate_parallel_c
-from ..emit.pipeline import scene_choices
+from ..emit.pipeline import PLATFORM, SERIAL, kind_of, scene_choices
 from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, supported_outputs, with_requirements
 from ..model.errors import SymdynError
-from ..model.parallel import ParallelRobot
 from ..model.tolerances import VERIFY_TOLERANCE
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
@@ -50,22 +49,27 @@ def add_parser(sub) -> None:
 
 
 def run(args) -> int:
+    """Check the options, load the robot and verify it as its kind is verified (:data:`BY_KIND`)."""
     try:
         import pinocchio  # noqa: F401
     except ImportError:
         raise SymdynError("symdyn verify needs Pinocchio: pip install 'symdyn[verify]' (the pin package)") from None
-    from ..check.agreement import REGRESSORS, TASK_REGULAR, compile_equations, derive_supported, target_errors
-    from ..check.pinocchio_model import PinocchioReference
-    from ..check.states import random_state
-    from ..model.scene import is_urdf
     if args.states < 1:
         raise SymdynError("--states must be at least 1")
     if args.seed < 0:
         raise SymdynError(f"--seed must be a non-negative integer, not {args.seed}")
     robot, scene = load_robot(args.robot, args, parallel=True)
     check_size(robot, args, args.robot)
-    if isinstance(robot, ParallelRobot):
-        return _run_platform(args, robot)
+    return BY_KIND[kind_of(robot).name](args, robot, scene)
+
+
+def _run_serial(args, robot, scene) -> int:
+    """verify of a serial robot (a chain, a tree or a floating base): every function asked for,
+    compiled, against Pinocchio (of the URDF itself where it can read it); one table of errors."""
+    from ..check.agreement import REGRESSORS, TASK_REGULAR, compile_equations, derive_supported, target_errors
+    from ..check.pinocchio_model import PinocchioReference
+    from ..check.states import random_state
+    from ..model.scene import is_urdf
     if args.all and args.functions:
         raise SymdynError("--all and --functions choose the functions two ways: give one")
     asked = supported_outputs(robot) if args.all else parse_functions(args.functions) if args.functions else None
@@ -121,14 +125,14 @@ def run(args) -> int:
     return 1 if failed else 0
 
 
-def _run_platform(args, robot) -> int:
+def _run_platform(args, robot, scene=None) -> int:
     """verify of a platform robot: every generated function against Pinocchio's closed loop
     (symdyn.check.platform_verify), one table of errors and one of statuses."""
     from ..check.cbuild import build_platform
     from ..check.closed_loop import ClosedLoopReference
     from ..check.platform_verify import STATUS_NAMES, check_platform, random_states, special_states
     from ..derive.parallel import derive_parallel
-    from ..emit.pipeline import PLATFORM, GenerateOptions, check_kind_options, parse_platform_functions
+    from ..emit.pipeline import GenerateOptions, check_kind_options, parse_platform_functions
     check_kind_options(PLATFORM, GenerateOptions(precision=args.precision, method=args.method, fd_method=args.fd_method,
                                                  parameters=args.parameters), args.robot)
     functions = parse_platform_functions(args.functions) or tuple(PLATFORM_FUNCTIONS)
@@ -162,6 +166,10 @@ def _run_platform(args, robot) -> int:
         for problem in result.mismatches[name][:3]:
             print(f"{name}: {problem}")
     return 0 if result.ok(tolerance) else 1
+
+
+#: how each kind of robot (symdyn.emit.pipeline.KINDS) is verified
+BY_KIND = {SERIAL.name: _run_serial, PLATFORM.name: _run_platform}
 
 
 def _urdf_reference(args, robot, values):

@@ -64,7 +64,7 @@ from ..model.outputs import (ALL_OUTPUTS, REGISTRY, EXTRA_OUTPUTS, KINEMATIC_OUT
                              CENTROIDAL_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
                              spec,
                              with_requirements)
-from ..model.robot import JACOBIAN_ROWS, Robot
+from ..model.robot import JACOBIAN_ROWS, Robot, serial_robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
 from .kinematics import joint_symbols
 from .numeric import NumericEquations, compile_function
@@ -951,9 +951,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
     -------
     Equations, immutable.
     """
-    if not isinstance(robot, Robot):
-        raise SymdynError(f"{getattr(robot, 'source', '') or getattr(robot, 'name', robot)}: not a serial robot; "
-                          "a platform robot (kind: parallel) is derived by symdyn.derive.parallel.derive_parallel")
+    robot = serial_robot(robot)
     method = normalize_method(method)
     if parameters not in PARAMETER_FORMS:
         raise ValueError(f"parameters must be one of {', '.join(PARAMETER_FORMS)}, not {parameters!r}")

@@ -30,7 +30,7 @@ import sympy as sp
 
 from .emission import fold_constants
 from ..derive.equations import Equations
-from ..model.outputs import ALL_OUTPUTS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, OUTPUTS, REGISTRY, default_outputs, with_requirements
+from ..model.outputs import ALL_OUTPUTS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, REGISTRY, default_outputs, with_requirements
 from ..model.errors import SymdynError
 
 INPUT_DOCS = {
@@ -207,20 +207,19 @@ def to_casadi(source, functions: Iterable[str] | None = None, method: str = "new
     ``fns["inverse_dynamics"](q, qd, qdd) -> tau`` (DM in, DM out; SX or MX in, expressions out).
     """
     from ..derive.cache import derive_cached
-    from ..model.robot import Robot, load
+    from ..model.robot import load, serial_robot
 
     unknown = [f for f in (functions or ()) if f not in ALL_OUTPUTS]
     if unknown:
         raise SymdynError(f"unknown function {unknown[0]!r} (known: {', '.join(ALL_OUTPUTS)})")
     if isinstance(source, (str, os.PathLike)):
         source = load(os.fspath(source))
-    default = default_outputs(source) if isinstance(source, Robot) else (
-        source.output_names if isinstance(source, Equations) else OUTPUTS)
-    wanted = tuple(f for f in ALL_OUTPUTS if f in (functions or default))
-    if isinstance(source, Robot):
-        source = derive_cached(source, method, with_requirements(wanted), use_cache=use_cache, fd_method=fd_method)
-    if not isinstance(source, Equations):
-        raise TypeError("to_casadi takes Equations, a Robot or a robot file path")
+    if isinstance(source, Equations):
+        wanted = tuple(f for f in ALL_OUTPUTS if f in (functions or source.output_names))
+    else:  # a robot (anything else is refused in one line, naming it)
+        robot = serial_robot(source)
+        wanted = tuple(f for f in ALL_OUTPUTS if f in (functions or default_outputs(robot)))
+        source = derive_cached(robot, method, with_requirements(wanted), use_cache=use_cache, fd_method=fd_method)
     return {name: casadi_function(source, name, prefix + name) for name in wanted}
 
 

@@ -18,7 +18,7 @@ from typing import Any, Iterable, Mapping
 
 import numpy as np
 import sympy as sp
-from .errors import RobotFileError, describe, one_line, warn
+from .errors import RobotFileError, SymdynError, describe, one_line, warn
 from .expr import NAME_PATTERN, ExpressionError, number_to_rational, parse_expression
 from .inputs import decode_text, load_yaml, read_input
 
@@ -880,6 +880,16 @@ def task_rows(raw, fail) -> tuple[int, ...]:
             fail(f"task row {value} is listed twice")
         rows.append(value)
     return tuple(rows)
+
+
+def serial_robot(robot) -> Robot:
+    """``robot`` when it is a serial robot (a chain, a tree or a floating base, which symdyn.derive
+    derives); else a SymdynError in one line naming it (a platform robot is derived by
+    symdyn.derive.parallel.derive_parallel)."""
+    if not isinstance(robot, Robot):
+        raise SymdynError(f"{getattr(robot, 'source', '') or getattr(robot, 'name', robot)}: not a serial robot; "
+                          "a platform robot (kind: parallel) is derived by symdyn.derive.parallel.derive_parallel")
+    return robot
 
 
 def load(path: str | os.PathLike) -> Robot:
