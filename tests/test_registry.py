@@ -73,6 +73,16 @@ def test_readme_table_is_the_registry():
         "README's table of outputs is stale: paste symdyn.model.outputs.functions_table()"
 
 
+def test_platform_table_is_the_registry():
+    """docs/parallel-dynamics.md's table of the platform functions is the one written from their
+    specs, and the platform derivation's function table is read from them."""
+    from symdyn.derive.parallel import FUNCTIONS
+    from symdyn.model.outputs import PLATFORM_SPECS, platform_functions_table
+    assert platform_functions_table() in (REPO / "docs" / "parallel-dynamics.md").read_text(encoding="utf-8"), \
+        "docs/parallel-dynamics.md's table of functions is stale: paste symdyn.model.outputs.platform_functions_table()"
+    assert list(FUNCTIONS) == [spec.name for spec in PLATFORM_SPECS]
+
+
 def test_shapes_are_written_as_they_are():
     """The shape's text and whether an output is a vector come from its shape function alone."""
     dims = Dimensions(dof=5, actuated=3, base_parameters=7, task=2, frames=4)

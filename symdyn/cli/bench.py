@@ -20,7 +20,7 @@ HELP = "time each generation variant and measure its error against a 50-digit re
 def add_parser(sub) -> None:
     from ..check.bench import DEFAULT_FUNCTIONS, VARIANTS
     from ..check.platform_bench import PLATFORM_VARIANTS
-    from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
+    from ..model.outputs import PLATFORM_REGISTRY as PLATFORM_FUNCTIONS
     p = sub.add_parser("bench", help=HELP, description=HELP + ": symdyn C (Newton-Euler double and "
                        "float, Lagrange-Euler, expanded closed form), CasADi SX and CasADi C, and "
                        "Pinocchio. Writes a Markdown table, the data as CSV and (with matplotlib) a PNG plot of time against error. "

@@ -7,7 +7,7 @@ import tempfile
 import numpy as np
 
 from ..derive.cache import derive_cached
-from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
+from ..model.outputs import PLATFORM_REGISTRY as PLATFORM_FUNCTIONS
 from ..emit.cgen import PRECISION_CHOICES
 from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import PLATFORM, SERIAL, kind_of, scene_choices

@@ -47,6 +47,7 @@ import sympy as sp
 
 from ..model.errors import SymdynError
 from ..model.parallel import ParallelRobot
+from ..model.outputs import PLATFORM_SPECS, platform_outputs
 from ..model.tolerances import PIVOT_RTOL_SYMBOL
 from .parallel_ik import LegIK, LegStructureError, leg_error
 from .program import ProgramBuilder
@@ -68,28 +69,9 @@ STATUS_DOC = {
 FORWARD_SINGULAR_DOC = ("the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is "
                         "defined at a parallel singularity and returns 0 there")
 
-#: the generated functions: name -> (inputs, outputs (name, rows, cols), summary)
-FUNCTIONS = {
-    "inverse_dynamics": (("pose", "twist", "twist_rate"), (("phi", 6, 1),),
-                         "Actuator forces phi (N or N m, leg by leg) that give the platform the twist rate "
-                         "t_dot at state (pose, t): inverse dynamics."),
-    "forward_dynamics": (("pose", "twist", "phi"), (("twist_rate", 6, 1), ("qdd", 6, 1)),
-                         "The platform's twist rate t_dot = [omega_dot; c_ddot] and the actuated joints' "
-                         "accelerations qdd under actuator forces phi at state (pose, t): forward dynamics."),
-    "mass_matrix": (("pose",), (("M", 6, 6),),
-                    "The mass matrix M (6x6, row-major) in actuated coordinates: the kinetic energy is "
-                    "qd^T M qd / 2 (M = T^T M_M T + sum_J L_J^T I_J L_J, natural orthogonal complement)."),
-    "twist_map": (("pose",), (("T", 6, 6),),
-                  "The twist map T (6x6, row-major): the platform's twist t = T qd for actuated joint "
-                  "rates qd (T = K^-1)."),
-    "leg_rate_maps": (("pose",), (("L", 36, 6),),
-                      "The leg rate maps L_J for the six legs (6 blocks of 6x6, row-major, leg by leg): leg J's "
-                      "joint rates are L_J qd."),
-    "inverse_kinematics": (("pose", "twist"), (("q", 6, 1), ("qd", 6, 1)),
-                           "The actuated joints' positions q (rad or m) and rates qd at state (pose, t): "
-                           "inverse kinematics (the closed form of each leg, on the branch of the robot "
-                           "file's home configuration)."),
-}
+#: the generated functions, read from their specs (symdyn.model.outputs.PLATFORM_SPECS): name ->
+#: (inputs, outputs (name, rows, cols), summary)
+FUNCTIONS = {spec.name: (spec.inputs, platform_outputs(spec.name), spec.summary) for spec in PLATFORM_SPECS}
 INPUT_SIZES = {"pose": 7, "twist": 6, "twist_rate": 6, "phi": 6}
 #: the relative tolerance of the singularity checks, a symbol: emitters give its value for the
 #: precision (the C functions' ``NAME_PIVOT_RTOL``; :mod:`symdyn.model.tolerances`)

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .._version import __version__
+from ..model.outputs import PLATFORM_SPECS
 from ..model.tolerances import PIVOT_RTOL, PIVOT_RTOL_SYMBOL as RTOL_SYMBOL
 from ..derive.parallel import (FORWARD_SINGULAR_DOC, FUNCTIONS, INPUT_SIZES, STATUS, STATUS_DOC, Block, Factor,
                                ParallelEquations, Require, Solve)
@@ -36,16 +37,8 @@ INPUT_DOCS = {
     "twist_rate": "t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)",
     "phi": "actuator forces (N) or torques (N m), leg by leg",
 }
-OUTPUT_DOCS = {
-    "phi": "actuator forces (N) or torques (N m), leg by leg",
-    "twist_rate": "t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)",
-    "qdd": "actuated joint accelerations (rad/s^2 or m/s^2), leg by leg",
-    "M": "mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)",
-    "T": "the notes' T, 6x6 row-major: t = T qd",
-    "L": "the notes' L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)",
-    "q": "actuated joint positions (rad or m), leg by leg",
-    "qd": "actuated joint rates (rad/s or m/s), leg by leg",
-}
+#: what each output argument holds, from the functions' specs
+OUTPUT_DOCS = {argument.name: argument.doc for spec in PLATFORM_SPECS for argument in spec.arguments}
 #: operations of the LU helpers (6x6): factorization, and one solve (either side) per column
 LU_OPS = Counter(mul=70, add=55, div=6)
 SOLVE_OPS = Counter(mul=36, add=30)

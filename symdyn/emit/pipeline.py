@@ -24,7 +24,7 @@ from typing import Callable
 from ..derive.articulated_loops import LOOPED_ABA_FROM_DOF
 from ..derive.articulated_loops import applies as loops_apply
 from ..derive.cache import derive_cached
-from ..derive.parallel import FUNCTIONS as PLATFORM_FUNCTIONS
+from ..model.outputs import PLATFORM_REGISTRY as PLATFORM_FUNCTIONS
 from ..model.errors import SymdynError, describe
 from ..model.files import Provenance
 from ..model.outputs import ALL_OUTPUTS, COMBINED, OUTPUTS, default_outputs, with_requirements

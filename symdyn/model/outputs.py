@@ -101,6 +101,7 @@ FAMILIES: dict[str, Family] = {f.name: f for f in (
     Family("derivatives", "derivatives of the dynamics", trees=True),
     Family("frames", "the frames' kinematics", trees=True, floating=True),
     Family("centroidal", "centre of mass and centroidal momentum", trees=True, floating=True),
+    Family("platform", "a platform robot's functions (kind: parallel, by the natural orthogonal complement)"),
 )}
 
 #: the letters the documentation writes each size with (``shape_text``)
@@ -533,6 +534,76 @@ SPECS: tuple[OutputSpec, ...] = (
 #: every output by name, in the order generated code and documentation list them
 REGISTRY: dict[str, OutputSpec] = {spec.name: spec for spec in SPECS}
 
+_PHI = "actuator forces (N) or torques (N m), leg by leg"
+_TWIST_RATE = "t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)"
+_CLOSED_LOOP = "Pinocchio's closed-loop model (symdyn.check.closed_loop)"
+
+#: the functions of a platform robot (kind: parallel: six legs, by the natural orthogonal
+#: complement), specs of the same kind as the serial outputs' (their sizes are fixed: six
+#: actuated joints; inputs pose[7], twist[6], twist_rate[6], phi[6]; every function returns a
+#: status, its codes derived with it, symdyn.derive.parallel)
+PLATFORM_SPECS: tuple[OutputSpec, ...] = (
+    OutputSpec(
+        name="inverse_dynamics", symbol="phi", family="platform", inputs=("pose", "twist", "twist_rate"),
+        shape=lambda d: (6, 1), units="N or N m",
+        summary="Actuator forces phi (N or N m, leg by leg) that give the platform the twist rate t_dot at state "
+                "(pose, t): inverse dynamics.",
+        arguments=(OutputArgument("phi", _PHI),),
+        meaning="φ(pose, t, ṫ): the actuator forces", pinocchio="`rnea` + constraint Jacobian + LU on " + _CLOSED_LOOP),
+    OutputSpec(
+        name="forward_dynamics", symbol="twist_rate", family="platform", inputs=("pose", "twist", "phi"),
+        shape=lambda d: (6, 2), units="rad/s^2, m/s^2",
+        summary="The platform's twist rate t_dot = [omega_dot; c_ddot] and the actuated joints' accelerations qdd "
+                "under actuator forces phi at state (pose, t): forward dynamics.",
+        arguments=(OutputArgument("twist_rate", _TWIST_RATE, 0, 1),
+                   OutputArgument("qdd", "actuated joint accelerations (rad/s^2 or m/s^2), leg by leg", 1, 2)),
+        meaning="ṫ and q̈(pose, t, φ)", pinocchio="`constraintDynamics`, `lcaba` on " + _CLOSED_LOOP),
+    OutputSpec(
+        name="mass_matrix", symbol="M", family="platform", inputs=("pose",),
+        shape=lambda d: (6, 6), units="kg m^2, kg m or kg",
+        summary="The mass matrix M (6x6, row-major) in actuated coordinates: the kinetic energy is qd^T M qd / 2 "
+                "(M = T^T M_M T + sum_J L_J^T I_J L_J, natural orthogonal complement).",
+        arguments=(OutputArgument("M", "mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as "
+                                       "the joints are)"),),
+        meaning="M(pose) in actuated coordinates", pinocchio="G^T `crba` G on " + _CLOSED_LOOP),
+    OutputSpec(
+        name="twist_map", symbol="T", family="platform", inputs=("pose",),
+        shape=lambda d: (6, 6), units="m/s and rad/s per unit qd",
+        summary="The twist map T (6x6, row-major): the platform's twist t = T qd for actuated joint rates qd "
+                "(T = K^-1).",
+        arguments=(OutputArgument("T", "the notes' T, 6x6 row-major: t = T qd"),),
+        meaning="T(pose): t = T q̇", pinocchio="K^-1, K from the closures' constraint Jacobian on " + _CLOSED_LOOP),
+    OutputSpec(
+        name="leg_rate_maps", symbol="L", family="platform", inputs=("pose",),
+        shape=lambda d: (36, 6), units="rad/s or m/s per unit qd",
+        summary="The leg rate maps L_J for the six legs (6 blocks of 6x6, row-major, leg by leg): leg J's joint "
+                "rates are L_J qd.",
+        arguments=(OutputArgument("L", "the notes' L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint "
+                                       "rates = L_J qd)"),),
+        meaning="L_J(pose): leg J's joint rates = L_J q̇", pinocchio="each leg's block of the closures' constraint "
+                                                                "Jacobian on " + _CLOSED_LOOP),
+    OutputSpec(
+        name="inverse_kinematics", symbol="q", family="platform", inputs=("pose", "twist"),
+        shape=lambda d: (6, 2), units="rad or m, rad/s or m/s",
+        summary="The actuated joints' positions q (rad or m) and rates qd at state (pose, t): inverse kinematics "
+                "(the closed form of each leg, on the branch of the robot file's home configuration).",
+        arguments=(OutputArgument("q", "actuated joint positions (rad or m), leg by leg", 0, 1),
+                   OutputArgument("qd", "actuated joint rates (rad/s or m/s), leg by leg", 1, 2)),
+        meaning="q, q̇(pose, t) of the actuated joints", pinocchio="Gauss-Newton on each closure (`log6`) on "
+                                                                  + _CLOSED_LOOP),
+)
+
+#: every platform function by name, in the order generated code and documentation list them
+PLATFORM_REGISTRY: dict[str, OutputSpec] = {spec.name: spec for spec in PLATFORM_SPECS}
+#: the sizes of every platform robot (six actuated joints)
+PLATFORM_DIMENSIONS = Dimensions(6)
+
+
+def platform_outputs(name: str) -> tuple[tuple[str, int, int], ...]:
+    """``(argument, rows, columns)`` of each output argument of platform function ``name``."""
+    return tuple((argument.name, rows, cols)
+                 for argument, (rows, cols) in PLATFORM_REGISTRY[name].argument_shapes(PLATFORM_DIMENSIONS))
+
 #: functions that write several outputs in one call
 COMBINED_SPECS: tuple[CombinedSpec, ...] = (
     CombinedSpec("kinematics", ("forward_kinematics", "jacobian"),
@@ -703,11 +774,22 @@ def output_shape(name: str, n: int, actuated: int | None = None, base_parameters
 
 def functions_table() -> str:
     """README's table of the outputs, from the registry: each output's name, what it is, its
-    shape and Pinocchio's equivalent (the references compute it with)."""
+    shape and Pinocchio's equivalent (the references compute it with), then the combined
+    functions."""
     rows = ["| symdyn | meaning | shape | Pinocchio |", "|---|---|---|---|"]
     rows += [f"| `{s.name}` | {s.meaning} | {s.shape_text} | {s.pinocchio} |" for s in SPECS]
     rows += [f"| `{c.name}` | " + ", ".join(f"`{part}`" for part in c.parts) + " in one call (shared work) | | |"
              for c in COMBINED_SPECS]
+    return "\n".join(rows) + "\n"
+
+
+def platform_functions_table() -> str:
+    """docs/parallel-dynamics.md's table of the platform functions, from their specs: inputs,
+    output arguments with their sizes, what they are, the reference they are checked against."""
+    rows = ["| function | inputs | outputs | meaning | checked against |", "|---|---|---|---|---|"]
+    rows += [f"| `{s.name}` | {', '.join(s.inputs)} | "
+             + ", ".join(f"`{name}[{r * c}]`" for name, r, c in platform_outputs(s.name))
+             + f" | {s.meaning} | {s.pinocchio} |" for s in PLATFORM_SPECS]
     return "\n".join(rows) + "\n"
 
 
