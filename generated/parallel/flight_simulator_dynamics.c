@@ -91,11 +91,10 @@ int flight_simulator_inverse_dynamics(const flight_simulator_real pose[7], const
 {
     const flight_simulator_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return FLIGHT_SIMULATOR_UNREACHABLE;
-    const flight_simulator_real quat_im = 1.0/quat_m;
-    const flight_simulator_real quat_x = quat_im*pose[3];
-    const flight_simulator_real quat_y = quat_im*pose[4];
-    const flight_simulator_real quat_z = quat_im*pose[5];
-    const flight_simulator_real quat_w = quat_im*pose[6];
+    const flight_simulator_real quat_x = pose[3]/quat_m;
+    const flight_simulator_real quat_y = pose[4]/quat_m;
+    const flight_simulator_real quat_z = pose[5]/quat_m;
+    const flight_simulator_real quat_w = pose[6]/quat_m;
     const flight_simulator_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const flight_simulator_real quat_s = 2.0/quat_n2;
     const flight_simulator_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -2100,11 +2099,10 @@ int flight_simulator_forward_dynamics(const flight_simulator_real pose[7], const
 {
     const flight_simulator_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return FLIGHT_SIMULATOR_UNREACHABLE;
-    const flight_simulator_real quat_im = 1.0/quat_m;
-    const flight_simulator_real quat_x = quat_im*pose[3];
-    const flight_simulator_real quat_y = quat_im*pose[4];
-    const flight_simulator_real quat_z = quat_im*pose[5];
-    const flight_simulator_real quat_w = quat_im*pose[6];
+    const flight_simulator_real quat_x = pose[3]/quat_m;
+    const flight_simulator_real quat_y = pose[4]/quat_m;
+    const flight_simulator_real quat_z = pose[5]/quat_m;
+    const flight_simulator_real quat_w = pose[6]/quat_m;
     const flight_simulator_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const flight_simulator_real quat_s = 2.0/quat_n2;
     const flight_simulator_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -4361,11 +4359,10 @@ int flight_simulator_mass_matrix(const flight_simulator_real pose[7], flight_sim
 {
     const flight_simulator_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return FLIGHT_SIMULATOR_UNREACHABLE;
-    const flight_simulator_real quat_im = 1.0/quat_m;
-    const flight_simulator_real quat_x = quat_im*pose[3];
-    const flight_simulator_real quat_y = quat_im*pose[4];
-    const flight_simulator_real quat_z = quat_im*pose[5];
-    const flight_simulator_real quat_w = quat_im*pose[6];
+    const flight_simulator_real quat_x = pose[3]/quat_m;
+    const flight_simulator_real quat_y = pose[4]/quat_m;
+    const flight_simulator_real quat_z = pose[5]/quat_m;
+    const flight_simulator_real quat_w = pose[6]/quat_m;
     const flight_simulator_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const flight_simulator_real quat_s = 2.0/quat_n2;
     const flight_simulator_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -5947,11 +5944,10 @@ int flight_simulator_twist_map(const flight_simulator_real pose[7], flight_simul
 {
     const flight_simulator_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return FLIGHT_SIMULATOR_UNREACHABLE;
-    const flight_simulator_real quat_im = 1.0/quat_m;
-    const flight_simulator_real quat_x = quat_im*pose[3];
-    const flight_simulator_real quat_y = quat_im*pose[4];
-    const flight_simulator_real quat_z = quat_im*pose[5];
-    const flight_simulator_real quat_w = quat_im*pose[6];
+    const flight_simulator_real quat_x = pose[3]/quat_m;
+    const flight_simulator_real quat_y = pose[4]/quat_m;
+    const flight_simulator_real quat_z = pose[5]/quat_m;
+    const flight_simulator_real quat_w = pose[6]/quat_m;
     const flight_simulator_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const flight_simulator_real quat_s = 2.0/quat_n2;
     const flight_simulator_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -6498,11 +6494,10 @@ int flight_simulator_leg_rate_maps(const flight_simulator_real pose[7], flight_s
 {
     const flight_simulator_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return FLIGHT_SIMULATOR_UNREACHABLE;
-    const flight_simulator_real quat_im = 1.0/quat_m;
-    const flight_simulator_real quat_x = quat_im*pose[3];
-    const flight_simulator_real quat_y = quat_im*pose[4];
-    const flight_simulator_real quat_z = quat_im*pose[5];
-    const flight_simulator_real quat_w = quat_im*pose[6];
+    const flight_simulator_real quat_x = pose[3]/quat_m;
+    const flight_simulator_real quat_y = pose[4]/quat_m;
+    const flight_simulator_real quat_z = pose[5]/quat_m;
+    const flight_simulator_real quat_w = pose[6]/quat_m;
     const flight_simulator_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const flight_simulator_real quat_s = 2.0/quat_n2;
     const flight_simulator_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -8009,11 +8004,10 @@ int flight_simulator_inverse_kinematics(const flight_simulator_real pose[7], con
 {
     const flight_simulator_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return FLIGHT_SIMULATOR_UNREACHABLE;
-    const flight_simulator_real quat_im = 1.0/quat_m;
-    const flight_simulator_real quat_x = quat_im*pose[3];
-    const flight_simulator_real quat_y = quat_im*pose[4];
-    const flight_simulator_real quat_z = quat_im*pose[5];
-    const flight_simulator_real quat_w = quat_im*pose[6];
+    const flight_simulator_real quat_x = pose[3]/quat_m;
+    const flight_simulator_real quat_y = pose[4]/quat_m;
+    const flight_simulator_real quat_z = pose[5]/quat_m;
+    const flight_simulator_real quat_w = pose[6]/quat_m;
     const flight_simulator_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const flight_simulator_real quat_s = 2.0/quat_n2;
     const flight_simulator_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);

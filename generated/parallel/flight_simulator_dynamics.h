@@ -153,7 +153,7 @@ typedef double flight_simulator_real;
  *   twist_rate[6]: t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   phi[6] (out): actuator forces (N) or torques (N m), leg by leg
  * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 4716 multiplications, 3452 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 4712 multiplications, 3452 additions/subtractions, 53 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_inverse_dynamics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], const flight_simulator_real twist_rate[6], flight_simulator_real phi[6]);
 
@@ -165,7 +165,7 @@ int flight_simulator_inverse_dynamics(const flight_simulator_real pose[7], const
  *   twist_rate[6] (out): t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   qdd[6] (out): actuated joint accelerations (rad/s^2 or m/s^2), leg by leg
  * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is defined at a parallel singularity and returns 0 there; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 5478 multiplications, 3944 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 5474 multiplications, 3944 additions/subtractions, 53 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_forward_dynamics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], const flight_simulator_real phi[6], flight_simulator_real twist_rate[6], flight_simulator_real qdd[6]);
 
@@ -174,7 +174,7 @@ int flight_simulator_forward_dynamics(const flight_simulator_real pose[7], const
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   M[36] (out): mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)
  * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 3753 multiplications, 2725 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 3749 multiplications, 2725 additions/subtractions, 53 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_mass_matrix(const flight_simulator_real pose[7], flight_simulator_real M[36]);
 
@@ -183,7 +183,7 @@ int flight_simulator_mass_matrix(const flight_simulator_real pose[7], flight_sim
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   T[36] (out): the notes' T, 6x6 row-major: t = T qd
  * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 1233 multiplications, 979 additions/subtractions, 32 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 1229 multiplications, 979 additions/subtractions, 35 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_twist_map(const flight_simulator_real pose[7], flight_simulator_real T[36]);
 
@@ -192,7 +192,7 @@ int flight_simulator_twist_map(const flight_simulator_real pose[7], flight_simul
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   L[216] (out): the notes' L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)
  * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 4209 multiplications, 3001 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 4205 multiplications, 3001 additions/subtractions, 53 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_leg_rate_maps(const flight_simulator_real pose[7], flight_simulator_real L[216]);
 
@@ -203,7 +203,7 @@ int flight_simulator_leg_rate_maps(const flight_simulator_real pose[7], flight_s
  *   q[6] (out): actuated joint positions (rad or m), leg by leg
  *   qd[6] (out): actuated joint rates (rad/s or m/s), leg by leg
  * Returns FLIGHT_SIMULATOR_OK (0) on success; FLIGHT_SIMULATOR_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; FLIGHT_SIMULATOR_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); FLIGHT_SIMULATOR_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 965 multiplications, 774 additions/subtractions, 26 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 961 multiplications, 774 additions/subtractions, 29 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int flight_simulator_inverse_kinematics(const flight_simulator_real pose[7], const flight_simulator_real twist[6], flight_simulator_real q[6], flight_simulator_real qd[6]);
 

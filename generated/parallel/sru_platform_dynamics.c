@@ -91,11 +91,10 @@ int sru_platform_inverse_dynamics(const sru_platform_real pose[7], const sru_pla
 {
     const sru_platform_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return SRU_PLATFORM_UNREACHABLE;
-    const sru_platform_real quat_im = 1.0/quat_m;
-    const sru_platform_real quat_x = quat_im*pose[3];
-    const sru_platform_real quat_y = quat_im*pose[4];
-    const sru_platform_real quat_z = quat_im*pose[5];
-    const sru_platform_real quat_w = quat_im*pose[6];
+    const sru_platform_real quat_x = pose[3]/quat_m;
+    const sru_platform_real quat_y = pose[4]/quat_m;
+    const sru_platform_real quat_z = pose[5]/quat_m;
+    const sru_platform_real quat_w = pose[6]/quat_m;
     const sru_platform_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const sru_platform_real quat_s = 2.0/quat_n2;
     const sru_platform_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -2678,11 +2677,10 @@ int sru_platform_forward_dynamics(const sru_platform_real pose[7], const sru_pla
 {
     const sru_platform_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return SRU_PLATFORM_UNREACHABLE;
-    const sru_platform_real quat_im = 1.0/quat_m;
-    const sru_platform_real quat_x = quat_im*pose[3];
-    const sru_platform_real quat_y = quat_im*pose[4];
-    const sru_platform_real quat_z = quat_im*pose[5];
-    const sru_platform_real quat_w = quat_im*pose[6];
+    const sru_platform_real quat_x = pose[3]/quat_m;
+    const sru_platform_real quat_y = pose[4]/quat_m;
+    const sru_platform_real quat_z = pose[5]/quat_m;
+    const sru_platform_real quat_w = pose[6]/quat_m;
     const sru_platform_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const sru_platform_real quat_s = 2.0/quat_n2;
     const sru_platform_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -5715,11 +5713,10 @@ int sru_platform_mass_matrix(const sru_platform_real pose[7], sru_platform_real 
 {
     const sru_platform_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return SRU_PLATFORM_UNREACHABLE;
-    const sru_platform_real quat_im = 1.0/quat_m;
-    const sru_platform_real quat_x = quat_im*pose[3];
-    const sru_platform_real quat_y = quat_im*pose[4];
-    const sru_platform_real quat_z = quat_im*pose[5];
-    const sru_platform_real quat_w = quat_im*pose[6];
+    const sru_platform_real quat_x = pose[3]/quat_m;
+    const sru_platform_real quat_y = pose[4]/quat_m;
+    const sru_platform_real quat_z = pose[5]/quat_m;
+    const sru_platform_real quat_w = pose[6]/quat_m;
     const sru_platform_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const sru_platform_real quat_s = 2.0/quat_n2;
     const sru_platform_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -7836,11 +7833,10 @@ int sru_platform_twist_map(const sru_platform_real pose[7], sru_platform_real T[
 {
     const sru_platform_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return SRU_PLATFORM_UNREACHABLE;
-    const sru_platform_real quat_im = 1.0/quat_m;
-    const sru_platform_real quat_x = quat_im*pose[3];
-    const sru_platform_real quat_y = quat_im*pose[4];
-    const sru_platform_real quat_z = quat_im*pose[5];
-    const sru_platform_real quat_w = quat_im*pose[6];
+    const sru_platform_real quat_x = pose[3]/quat_m;
+    const sru_platform_real quat_y = pose[4]/quat_m;
+    const sru_platform_real quat_z = pose[5]/quat_m;
+    const sru_platform_real quat_w = pose[6]/quat_m;
     const sru_platform_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const sru_platform_real quat_s = 2.0/quat_n2;
     const sru_platform_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -8748,11 +8744,10 @@ int sru_platform_leg_rate_maps(const sru_platform_real pose[7], sru_platform_rea
 {
     const sru_platform_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return SRU_PLATFORM_UNREACHABLE;
-    const sru_platform_real quat_im = 1.0/quat_m;
-    const sru_platform_real quat_x = quat_im*pose[3];
-    const sru_platform_real quat_y = quat_im*pose[4];
-    const sru_platform_real quat_z = quat_im*pose[5];
-    const sru_platform_real quat_w = quat_im*pose[6];
+    const sru_platform_real quat_x = pose[3]/quat_m;
+    const sru_platform_real quat_y = pose[4]/quat_m;
+    const sru_platform_real quat_z = pose[5]/quat_m;
+    const sru_platform_real quat_w = pose[6]/quat_m;
     const sru_platform_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const sru_platform_real quat_s = 2.0/quat_n2;
     const sru_platform_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);
@@ -10596,11 +10591,10 @@ int sru_platform_inverse_kinematics(const sru_platform_real pose[7], const sru_p
 {
     const sru_platform_real quat_m = fabs(pose[3]) + fabs(pose[4]) + fabs(pose[5]) + fabs(pose[6]);
     if (!(quat_m > 0)) return SRU_PLATFORM_UNREACHABLE;
-    const sru_platform_real quat_im = 1.0/quat_m;
-    const sru_platform_real quat_x = quat_im*pose[3];
-    const sru_platform_real quat_y = quat_im*pose[4];
-    const sru_platform_real quat_z = quat_im*pose[5];
-    const sru_platform_real quat_w = quat_im*pose[6];
+    const sru_platform_real quat_x = pose[3]/quat_m;
+    const sru_platform_real quat_y = pose[4]/quat_m;
+    const sru_platform_real quat_z = pose[5]/quat_m;
+    const sru_platform_real quat_w = pose[6]/quat_m;
     const sru_platform_real quat_n2 = quat_w*quat_w + quat_x*quat_x + quat_y*quat_y + quat_z*quat_z;
     const sru_platform_real quat_s = 2.0/quat_n2;
     const sru_platform_real R00 = 1.0 - quat_s*(quat_y*quat_y + quat_z*quat_z);

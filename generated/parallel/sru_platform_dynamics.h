@@ -153,7 +153,7 @@ typedef double sru_platform_real;
  *   twist_rate[6]: t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   phi[6] (out): actuator forces (N) or torques (N m), leg by leg
  * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 6444 multiplications, 4748 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 6440 multiplications, 4748 additions/subtractions, 53 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_inverse_dynamics(const sru_platform_real pose[7], const sru_platform_real twist[6], const sru_platform_real twist_rate[6], sru_platform_real phi[6]);
 
@@ -165,7 +165,7 @@ int sru_platform_inverse_dynamics(const sru_platform_real pose[7], const sru_pla
  *   twist_rate[6] (out): t_dot = [omega_dot; c_ddot] (rad/s^2, m/s^2, world axes)
  *   qdd[6] (out): actuated joint accelerations (rad/s^2 or m/s^2), leg by leg
  * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform's generalized inertia A (twist coordinates) is singular; forward dynamics is defined at a parallel singularity and returns 0 there; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 7644 multiplications, 5666 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 7640 multiplications, 5666 additions/subtractions, 53 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_forward_dynamics(const sru_platform_real pose[7], const sru_platform_real twist[6], const sru_platform_real phi[6], sru_platform_real twist_rate[6], sru_platform_real qdd[6]);
 
@@ -174,7 +174,7 @@ int sru_platform_forward_dynamics(const sru_platform_real pose[7], const sru_pla
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   M[36] (out): mass matrix in actuated coordinates, 6x6 row-major (kg m^2, kg m, kg as the joints are)
  * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 5283 multiplications, 3955 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 5279 multiplications, 3955 additions/subtractions, 53 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_mass_matrix(const sru_platform_real pose[7], sru_platform_real M[36]);
 
@@ -183,7 +183,7 @@ int sru_platform_mass_matrix(const sru_platform_real pose[7], sru_platform_real 
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   T[36] (out): the notes' T, 6x6 row-major: t = T qd
  * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 2367 multiplications, 1759 additions/subtractions, 32 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 2363 multiplications, 1759 additions/subtractions, 35 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_twist_map(const sru_platform_real pose[7], sru_platform_real T[36]);
 
@@ -192,7 +192,7 @@ int sru_platform_twist_map(const sru_platform_real pose[7], sru_platform_real T[
  *   pose[7]: platform pose: position of the platform frame P's origin (m, world frame), then P's orientation as a quaternion (x, y, z, w): any nonzero quaternion, it is normalized
  *   L[216] (out): the notes' L_J, leg by leg: 6 blocks of 6x6 row-major (leg J's joint rates = L_J qd)
  * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_SINGULAR (3) when the platform is at a parallel singularity: K (q_dot = K t, the inverse of the twist map T) is singular; SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 5301 multiplications, 3805 additions/subtractions, 50 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
+ * Cost: 5297 multiplications, 3805 additions/subtractions, 53 divisions, 0 sin/cos, 18 square roots, 4 other (sign, pow).
  */
 int sru_platform_leg_rate_maps(const sru_platform_real pose[7], sru_platform_real L[216]);
 
@@ -203,7 +203,7 @@ int sru_platform_leg_rate_maps(const sru_platform_real pose[7], sru_platform_rea
  *   q[6] (out): actuated joint positions (rad or m), leg by leg
  *   qd[6] (out): actuated joint rates (rad/s or m/s), leg by leg
  * Returns SRU_PLATFORM_OK (0) on success; SRU_PLATFORM_UNREACHABLE (1) when the pose is out of a leg's reach (its closed-form inverse kinematics has no real solution), or the quaternion is zero; SRU_PLATFORM_LEG_SINGULAR (2) when a leg is at a serial singularity at the pose (its Jacobian J_J is singular, or an angle of its inverse kinematics is not defined); SRU_PLATFORM_NOT_FINITE (4) when a result is not finite (NaN, or beyond the range of the scalar type: a twist or force so large that the dynamics overflow). On a nonzero return no output is written.
- * Cost: 2099 multiplications, 1554 additions/subtractions, 26 divisions, 0 sin/cos, 18 square roots, 10 other (sign, pow).
+ * Cost: 2095 multiplications, 1554 additions/subtractions, 29 divisions, 0 sin/cos, 18 square roots, 10 other (sign, pow).
  */
 int sru_platform_inverse_kinematics(const sru_platform_real pose[7], const sru_platform_real twist[6], sru_platform_real q[6], sru_platform_real qd[6]);
 

@@ -104,8 +104,20 @@ class NumericEquations:
                              f"({', '.join(s.name for s in self.eqs.parameters)})")
         if not m and p is not None and np.size(p):
             raise ValueError(f"{name}: this robot has no runtime parameters, but p has {np.size(p)} entries")
+        if self.eqs.robot.floating and "q" in OUTPUT_INPUTS[name]:
+            args = [_scaled_quaternion(a) if label == "q" else a for label, a in zip(OUTPUT_INPUTS[name], args)]
         out = self._function(name)(*args, p if p is not None else [])
         return out[:, 0] if out.shape[1] == 1 and not matrix else out
+
+
+def _scaled_quaternion(q) -> np.ndarray:
+    """A floating base's configuration with its quaternion (entries 3-6) divided by its largest
+    magnitude, as the generated C does: any nonzero scale, subnormal to 1e308, gives the same
+    rotation (a zero quaternion gives NaN)."""
+    q = np.array(q, dtype=float).reshape(-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        q[3:7] = q[3:7] / np.max(np.abs(q[3:7]))
+    return q
 
 
 def _numeric_method(spec):

@@ -342,13 +342,13 @@ def check_derivable(robot: ParallelRobot) -> None:
 
 
 def _platform_rotation(st: "_Steps", quaternion, where: str) -> sp.Matrix:
-    """R (3 x 3, defined steps) from the pose's quaternion (x, y, z, w), normalized: scaled by
-    the sum of its components' magnitudes first, so that 1e-300 or 1e300 components neither
-    underflow nor overflow in the squares; only the zero quaternion is refused."""
+    """R (3 x 3, defined steps) from the pose's quaternion (x, y, z, w), normalized: divided by
+    the sum of its components' magnitudes first (a division each: the reciprocal of a subnormal
+    sum would overflow), so that subnormal, 1e-300 or 1e300 components neither underflow nor
+    overflow in the squares; only the zero quaternion is refused."""
     scale = st.define("quat_m", sum(sp.Abs(c) for c in quaternion))
     st.require(scale, True, "unreachable", where)
-    inverse = st.define("quat_im", 1 / scale)
-    x, y, z, w = (st.define(f"quat_{c}", value * inverse) for c, value in zip("xyzw", quaternion))
+    x, y, z, w = (st.define(f"quat_{c}", value / scale) for c, value in zip("xyzw", quaternion))
     norm2 = st.define("quat_n2", x * x + y * y + z * z + w * w)
     s = st.define("quat_s", 2 / norm2)
     R = sp.Matrix([[1 - s * (y * y + z * z), s * (x * y - z * w), s * (x * z + y * w)],

@@ -131,6 +131,12 @@ def _inputs_for(eqs: Equations, groups: Iterable[str]):
         sym = ca.SX.sym(group, len(getattr(eqs, group)))
         for k, s in enumerate(getattr(eqs, group)):
             env[s] = sym[k]
+        if group == "q" and eqs.robot.floating:
+            # a floating base's quaternion divided by its largest magnitude (as the generated C
+            # does): any nonzero scale, subnormal to 1e308, gives the same rotation
+            scale = ca.fmax(ca.fmax(ca.fabs(sym[3]), ca.fabs(sym[4])), ca.fmax(ca.fabs(sym[5]), ca.fabs(sym[6])))
+            for k, s in enumerate(eqs.q[3:7]):
+                env[s] = sym[3 + k] / scale
         symbols.append(sym)
         names.append(group)
     if eqs.parameters:

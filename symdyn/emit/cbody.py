@@ -50,6 +50,11 @@ class BodyContext:
     #: only the loops': the stages of the forward-dynamics derivatives and the long bodies
     #: (symdyn.emit.cgen.FUSE_FROM_STATEMENTS)
     fused: bool = False
+    #: a floating base's quaternion as the body reads it: the C text of its four input entries,
+    #: divided at the top of the body by the largest magnitude among them (:data:`QUATERNION`)
+    #: so that no square of a component underflows or overflows (any nonzero scale, subnormal
+    #: to 1e308, gives the same rotation); empty when the body does not read it
+    quaternion: tuple = ()
 
     def size(self, group: str) -> int:
         """The entries of input ``group``."""
@@ -356,6 +361,9 @@ FD_PART_STATEMENTS = 1500
 #: and ``@PART<k>@`` the name of part k
 ARGUMENTS, PART = "@ARGS@", "@PART"
 
+#: the local array of a floating base's scaled quaternion (:meth:`BodyWriter._quaternion_block`)
+QUATERNION = "quat_u"
+
 #: the status a task-space function returns at a singular task (J M^-1 J^T not positive definite)
 TASK_SINGULAR = STATUS_CODES["TASK_SINGULAR"][0]
 #: the name of each status code a check returns
@@ -421,10 +429,11 @@ class BodyWriter:
             self._input_checks()
         self._placed_writes()
         self.lines += self.numbers
+        self._quaternion_block()
         self._trig_block()
         checks = self._pivot_checks()
-        self.arrays: list[tuple[str, int]] = [("trig_sin", len(ctx.angles)), ("trig_cos", len(ctx.angles))] \
-            if ctx.angles else []
+        self.arrays: list[tuple[str, int]] = ([("trig_sin", len(ctx.angles)), ("trig_cos", len(ctx.angles))]
+                                              if ctx.angles else []) + ([(QUATERNION, 4)] if ctx.quaternion else [])
         if plan.checked and self.vector:
             self.lines.append(f"{ctx.prefix}_vint all_ok = ({self.vreal}){{0.0}} == 0.0; /* every lane true */")
             limit, _ = _limit(ctx.internal, ctx.scalar)  # a lane whose input is NaN or infinite: the scalar function's 2
@@ -526,6 +535,26 @@ class BodyWriter:
     def _count(self, expr) -> None:
         self.ops += count_operations(expr)
         self.used |= sp.sympify(expr).free_symbols
+
+    def _quaternion_block(self) -> None:
+        """A floating base's quaternion divided by the largest magnitude of its components (a
+        division each: the reciprocal of a subnormal scale would overflow), into ``quat_u``: the
+        rotation of ``quat_u`` is the input's, and its squares are within [1, 4].  A zero
+        quaternion gives NaN (a function with a status returns NAME_NOT_FINITE)."""
+        entries = self.ctx.quaternion
+        if not entries:
+            return
+        if self.vector:
+            raise VectorUnsupported("a floating base's quaternion scaling")
+        fabs, fmax = ("fabsf", "fmaxf") if self.ctx.internal == "float" else ("fabs", "fmax")
+        magnitudes = [f"{fabs}({entry})" for entry in entries]
+        self.lines += [f"{self.ltype} {QUATERNION}[4];",
+                       "{",
+                       f"    const {self.ltype} quat_m = {fmax}({fmax}({magnitudes[0]}, {magnitudes[1]}), "
+                       f"{fmax}({magnitudes[2]}, {magnitudes[3]}));",
+                       *[f"    {QUATERNION}[{k}] = {entry}/quat_m;" for k, entry in enumerate(entries)],
+                       "}"]
+        self.ops += Counter({"div": 4})
 
     def _trig_block(self) -> None:
         """The sines and cosines of the input angles, computed in one call at the top."""

@@ -17,7 +17,7 @@ import sympy as sp
 
 from .._version import __version__
 from ..model.errors import warn
-from .cbody import ARGUMENTS, BodyContext, fma_macro, product_loop, write_body
+from .cbody import ARGUMENTS, QUATERNION, BodyContext, fma_macro, product_loop, write_body
 from .cplan import (FunctionPlan, Target, collect_targets, minv_targets, product_targets, reduce_targets,
                     tangent_width)
 from .cprinter import CPrinter, VectorUnsupported
@@ -144,6 +144,23 @@ def parameter_uses(robot, symbol) -> str:
         if fields:
             uses.append(f"link {k + 1} ({link.name}): " + ", ".join(fields))
     return "; ".join(uses) if uses else "unused"
+
+
+def _scaled_quaternion(eqs: Equations, reduced, names: dict) -> tuple[str, ...]:
+    """When the body reads a floating base's quaternion (q[3..6]): the C text of its four
+    entries, each name then pointing at the scaled copy (:meth:`BodyWriter._quaternion_block`);
+    else ``()``."""
+    if not eqs.robot.floating:
+        return ()
+    symbols = eqs.q[3:7]
+    read = set().union(*(sp.sympify(rhs).free_symbols for _, rhs in reduced.statements),
+                       *(sp.sympify(e).free_symbols for e in list(reduced.outputs) + reduced.checks))
+    if not read & set(symbols):
+        return ()
+    entries = tuple(names[sym] for sym in symbols)
+    for k, sym in enumerate(symbols):
+        names[sym] = f"{QUATERNION}[{k}]"
+    return entries
 
 
 def _hoisted_angles(statements, results, computed) -> list[sp.Expr]:
@@ -274,6 +291,7 @@ def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_a
             names[sym], group_of[sym] = f"{cast}{group}[{k}]", group
     for k, sym in enumerate(eqs.parameters):
         names[sym], group_of[sym] = f"{cast}p[{k}]", "p"
+    quaternion = _scaled_quaternion(eqs, reduced, names) if "q" in plan.inputs else ()
     for sym, _ in reduced.statements:
         names[sym] = sym.name.lstrip("_")
     angles = _hoisted_angles(reduced.statements, list(reduced.outputs) + reduced.checks,
@@ -282,7 +300,7 @@ def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_a
                           local_type=real if internal == scalar else internal, real=real, n=eqs.n,
                           rtol=pivot_rtol(internal),  # checked in the arithmetic the pivots are computed in
                           sizes={"q": eqs.nq} if eqs.nq != eqs.n else {}, given_arrays=frozenset(given_arrays),
-                          fused=fused or len(reduced.statements) >= FUSE_FROM_STATEMENTS)
+                          fused=fused or len(reduced.statements) >= FUSE_FROM_STATEMENTS, quaternion=quaternion)
     return reduced, context, write_body(plan, reduced, context), group_of
 
 

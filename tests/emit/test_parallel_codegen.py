@@ -225,8 +225,9 @@ def test_singular_and_unreachable_poses_return_a_status(platform):
 def test_overflow_returns_a_status_and_tiny_quaternions_are_normalized(platform):
     """Finite inputs never give NaN with status 0: a twist of 1e155 (its products overflow
     double) returns NOT_FINITE (4) from the dynamics, writing nothing; a
-    quaternion scaled by 1e-300 or 1e300 is the same orientation (normalized without underflow
-    or overflow), not 'zero'."""
+    quaternion scaled by 1e-300, a subnormal 4e-320 or 1e300 is the same orientation (normalized
+    without underflow or overflow: divided by its scale, whose reciprocal would overflow), not
+    'zero'."""
     P = platform
     robot, lib = P["robot"], P["lib"]
     pose = _pose(np.array([0.0, 0.0, PLATFORMS[robot.name][0]]), np.eye(3))
@@ -236,7 +237,7 @@ def test_overflow_returns_a_status_and_tiny_quaternions_are_normalized(platform)
         assert status == 4 and all(np.all(o == 0) for o in outputs), (name, status)
     status, q, qd = lib.inverse_kinematics(pose, huge)  # linear in the twist: finite, written
     assert status == 0 and np.all(np.isfinite(qd)) and np.abs(qd).max() > 1e150
-    for scale in (1e-300, 1e300):
+    for scale in (1e-300, 4e-320, 1e300):
         scaled = np.concatenate([pose[:3], pose[3:] * scale])
         assert _statuses(lib, scaled) == _statuses(lib, pose)
         status, M = lib.mass_matrix(scaled)
