@@ -32,6 +32,7 @@ factorization written out for the robot (no inverse).
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -309,9 +310,11 @@ PIVOT_RTOL = TOLERANCES["double"]
 
 def _subtree_scales(robot: Robot, values) -> np.ndarray:
     """For each joint j, an upper bound of the inertia about its axis that links j..n could
-    have (kg m^2 or kg): their masses times the square of their reach from joint j (link
-    offsets, origins and centres of mass added up), their rotational inertias' traces, and joint
-    j's armature; at the parameter ``values``."""
+    have (kg m^2 or kg): a revolute joint's, their masses times the square of their reach from
+    joint j (link offsets, origins and centres of mass added up) and their rotational inertias'
+    traces; a prismatic joint's, their masses (what it moves along its axis is their total
+    mass: a length would mix kg m^2 into kg); and joint j's armature; at the parameter
+    ``values``."""
     def number(e):
         return abs(float(sp.sympify(e).xreplace(values)))
     links = robot.links
@@ -321,6 +324,9 @@ def _subtree_scales(robot: Robot, values) -> np.ndarray:
     for j in range(len(links)):
         total = number(links[j].armature)
         for k in robot.subtree(j):
+            if not links[j].is_revolute:
+                total += number(links[k].mass)
+                continue
             path = [k, *robot.ancestors(k)]
             distance = sum(reach[i] for i in path[:path.index(j) + 1]) + sum(number(c) for c in links[k].com)
             total += number(links[k].mass) * distance ** 2 + sum(number(x) for x in links[k].inertia[:3])
@@ -390,10 +396,15 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
     if not zero_pivot:
         return
     pose, values, scale = witness
-    precise = compile_function([q, robot.parameters], program, M, "mass_matrix_exact", digits=PRECISE_DIGITS)
-    with mpmath.workdps(PRECISE_DIGITS):
+    # the robot's numbers may span many decades (1e100 lengths with 0.1 kg m^2 inertias): the
+    # digits grow with that span, so that a pivot the size of the smallest numbers is resolved
+    span = _decades(robot, dict(zip(robot.parameters, values)))
+    digits = PRECISE_DIGITS + 2 * span
+    precise = compile_function([q, robot.parameters], program, M, "mass_matrix_exact", digits=digits)
+    with mpmath.workdps(digits):
         exact_pivot, exact_diagonal = _zero_pivots(precise(pose, values), [mpmath.mpf(float(x)) for x in scale],
-                                                   mpmath.mpf(10) ** -PRECISE_ZERO_EXPONENT, mpmath.mpf(0))
+                                                   mpmath.mpf(10) ** -(PRECISE_ZERO_EXPONENT + 2 * span),
+                                                   mpmath.mpf(0))
     where = f"{robot.source}: " if robot.source else ""
     exact = zero_pivot & exact_pivot
     if not exact:
@@ -410,6 +421,26 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
     raise SymdynError(f"{where}forward dynamics: the mass matrix is singular for every q: {joint} moves no "
                       "inertia that the joints before it do not already move; give the link inertia or "
                       "an armature, or leave forward_dynamics out")
+
+
+def _decades(robot: Robot, values) -> int:
+    """How many decades the robot's nonzero numbers (lengths, masses, centres of mass,
+    inertias, armatures) span beyond 1e-10..1e10, at the parameter ``values`` (0 for ordinary
+    robots)."""
+    exponents = []
+    for link in robot.links:
+        fields = (link.a, link.d, link.mass, link.armature, *link.com, *link.inertia,
+                  *(link.origin.xyz if link.origin is not None else ()))
+        for e in fields:
+            try:
+                x = abs(float(sp.sympify(e).xreplace(values)))
+            except (TypeError, ValueError):
+                continue
+            if x > 0 and math.isfinite(x):
+                exponents.append(math.log10(x))
+    if not exponents:
+        return 0
+    return int(math.ceil(max(0.0, max(exponents) - 10) + max(0.0, -10 - min(exponents))))
 
 
 def _identically_zero_pivot(j: int):

@@ -232,9 +232,24 @@ def base_parameters(robot, evaluate, states: int | None = None, seed: int = 0, s
     if not np.all(np.isfinite(raw)):
         raise SymdynError(f"{robot.source or robot.name}: base parameters: the regressor is not finite at random "
                           "states (lengths beyond double precision's range?)")
+    with np.errstate(over="ignore", under="ignore", invalid="ignore"):  # judged on the results, said in one line
+        return _base_parameters_of(robot, raw, standard)
+
+
+def _column_norms(W: np.ndarray) -> np.ndarray:
+    """The 2-norm of each column, without overflow or underflow in the squares."""
+    largest = np.max(np.abs(W), axis=0)
+    safe = np.where(largest > 0, largest, 1.0)
+    return np.linalg.norm(W / safe, axis=0) * largest
+
+
+def _base_parameters_of(robot, raw: np.ndarray, standard) -> BaseParameters:
+    """:func:`base_parameters` from the stacked regressor ``raw`` (finite)."""
+    n = robot.dof
+    P = PER_LINK * n
     row_scale, column_scale = _unit_scales(robot, raw.shape[0])
     W = raw * row_scale[:, None] * column_scale[None, :]
-    scale = np.linalg.norm(W, axis=0)
+    scale = _column_norms(W)
     # a column that is zero up to rounding (a parameter with no effect, whose terms cancel in
     # floating point) must not be scaled up to look like an independent one
     null = scale <= 1e-10 * max(scale.max(), 1e-300)
@@ -282,8 +297,13 @@ def _check_regrouping(robot, Y, independent, K, standard) -> None:
     """Refuse, in one line, base parameters whose torques ``Y_B (K pi)`` differ from the
     standard ones ``Y pi`` by more than 1e-9 of their size at the sampled states."""
     full, base = Y @ standard, Y[:, independent] @ (K @ standard)
-    size = float(np.linalg.norm(full))
-    error = float(np.linalg.norm(full - base)) / size if size > 0 else 0.0
+    if not (np.all(np.isfinite(full)) and np.all(np.isfinite(base))):
+        raise SymdynError(f"{robot.source or robot.name}: base parameters: the robot's torques are not finite in "
+                          "double precision at random states (its masses, lengths and inertias multiply beyond "
+                          "1e308): use --parameters standard (or the full regressor)")
+    largest = float(np.max(np.abs(full)))
+    size = float(np.linalg.norm(full / largest)) * largest if largest > 0 else 0.0
+    error = float(np.linalg.norm((full - base) / largest)) * largest / size if size > 0 else 0.0
     if not error <= 1e-9:
         raise SymdynError(f"{robot.source or robot.name}: base parameters: regrouped, the robot's own parameters give "
                           f"torques {error:.1g} (relative) from the standard ones at random states; the regrouping is "

@@ -1,0 +1,49 @@
+"""Hostile input, round three: numbers at the edge of double precision go through every path
+or are refused in one line naming the file, and a pivot is called zero only where it is."""
+
+from __future__ import annotations
+
+import numpy as np
+
+import symdyn
+from symdyn.check.pinocchio_model import PinocchioReference
+from test_hostile import robot_text, run_cli, workspace  # noqa: F401 (the fixture)
+
+#: every number of every link 1e100 (round two's A4_huge_all)
+HUGE = [("{joint: %s, a: 1e100, alpha: %s, d: %s, theta: 0, mass: 1e100, com: [1e100, 1e100, 1e100], "
+         "inertia: [1e100, 1e100, 1e100, 0, 0, 0], damping: 1e100, coulomb: 1e100, armature: 1e100}") % link
+        for link in (("revolute", "0", "1e100"), ("revolute", "1.5707963267948966", "1e100"), ("prismatic", "0", "0"))]
+
+
+def test_huge_numbers_through_the_base_parameters(workspace, capsys):
+    """generate --parameters base, derive --base-parameters and plain generate of a robot whose
+    every number is 1e100: done (the regressor's norms and the regrouping check scaled, no
+    overflow warning), or refused in one line; never a traceback or a numpy warning."""
+    (workspace / "huge.yaml").write_text(robot_text("huge", HUGE, "gravity: [0, 0, -1e100]\n"))
+    robot = workspace / "huge.yaml"
+    for argv in (["generate", robot, "--out", workspace / "out", "--parameters", "base", "--quiet", "--no-cache"],
+                 ["derive", robot, "--base-parameters", "--out", workspace / "huge.txt"],
+                 ["generate", robot, "--out", workspace / "plain", "--quiet", "--no-cache"]):
+        lines, _ = run_cli(argv, capsys, 0)
+        assert not any("RuntimeWarning" in line or "overflow" in line for line in lines), lines
+
+
+def test_a_huge_mass_or_offset_is_not_an_identically_zero_pivot(workspace, capsys):
+    """A prismatic joint moving 1e100 kg (its D entry is 1e100), and a revolute joint 1e100 m
+    from the base along its own axis (its D entry 0.25 kg m^2): forward dynamics generates (the
+    prismatic joint's scale is the mass it moves, not a mass times a length squared; the exact
+    check resolves the robot's span of decades), and agrees with Pinocchio."""
+    heavy = ["{joint: prismatic, a: 0, alpha: 0, d: 0, theta: 0, mass: 1e100, com: [0, 0, 0], "
+             "inertia: [1, 1, 1, 0, 0, 0]}",
+             "{joint: revolute, a: 0.3, alpha: 0, d: 1e100, theta: 0, mass: 1, com: [0.1, 0, 0], "
+             "inertia: [0.05, 0.05, 0.09, 0, 0, 0]}"]
+    (workspace / "heavy.yaml").write_text(robot_text("heavy", heavy))
+    lines, _ = run_cli(["generate", workspace / "heavy.yaml", "--out", workspace / "out", "--quiet", "--no-cache"],
+                       capsys, 0)
+    assert not any("identically" in line for line in lines), lines  # (a nearly-singular warning may come)
+    robot = symdyn.load(str(workspace / "heavy.yaml"))
+    eqs = symdyn.derive(robot, outputs=["mass_matrix", "forward_dynamics"])
+    q, qd, tau = np.array([0.2, 0.7]), np.array([0.1, -0.3]), np.array([1e100, 0.5])
+    expected = PinocchioReference(robot).forward_dynamics(q, qd, tau)
+    np.testing.assert_allclose(eqs.numeric.forward_dynamics(q, qd, tau), expected, rtol=1e-9)
+    np.testing.assert_allclose(eqs.numeric.mass_matrix(q), PinocchioReference(robot).mass_matrix(q), rtol=1e-12)
