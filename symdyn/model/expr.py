@@ -17,7 +17,11 @@ nested parentheses or signs, literals of at most :data:`MAX_LITERAL` characters 
 exponent of magnitude at most :data:`MAX_EXPONENT`; an exponent after ``**`` must be a number of
 magnitude at most :data:`MAX_POWER`, and a numeric power whose result would pass 1e300 (or fall
 below 1e-300) is refused instead of computed (``9**9**9``, ``10**10**10``).  A result that is
-not a finite number or a finite expression (``0**-1``, ``zoo``) is refused.
+not a finite number or a finite expression (``0**-1``, ``zoo``) is refused.  An expression that
+uses earlier parameters is measured on its shared graph, in time linear in it, before anything
+walks it: at most :data:`MAX_TREE_NODES` nodes written out as a tree, and at most
+:data:`MAX_POLYNOMIAL_TERMS` terms expanded (parameters defined by repeated products of earlier
+ones double their size at each step).
 """
 
 from __future__ import annotations
@@ -44,6 +48,16 @@ MAX_POWER = 64
 #: the most terms a power of a sum may expand to ((a+b+c+d)**64 would be 47,905: minutes and
 #: gigabytes once it meets the trigonometry of a derivation)
 MAX_EXPANDED_TERMS = 1000
+#: the most nodes an expression may stand for once written out as a tree (each use of an earlier
+#: parameter copies its expression): counted on the shared graph, in time linear in its size,
+#: before anything walks the tree (a chain of 24 parameters p_i = (p_(i-1) + a)*(p_(i-1) - a) is
+#: a 1.2 kB file and a tree of 10^8 nodes)
+MAX_TREE_NODES = 20000
+#: the most terms an expression may expand to as a polynomial in its symbols (a bound from its
+#: degree: :func:`expanded_terms_bound`); the derivation multiplies fields together, and a
+#: 2-link robot whose fields are polynomials of 153 terms in two runtime parameters ran for
+#: minutes, of 561 terms out of 8 GB
+MAX_POLYNOMIAL_TERMS = 200
 #: the most digits of an exact number in a parsed expression (parameters defined from earlier
 #: ones, p2 = p1*p1, ..., double their digits at every step)
 MAX_DIGITS = 1000
@@ -130,6 +144,16 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
     result = parser.expr()
     if parser.pos != len(tokens):
         raise ExpressionError(f"unexpected '{tokens[parser.pos][1]}' in expression '{_short(text)}'")
+    if tree_size(result, MAX_TREE_NODES) > MAX_TREE_NODES:
+        raise ExpressionError(f"expression '{_short(text)}' stands for more than {MAX_TREE_NODES} terms once the "
+                              "parameters it uses are written out (parameters defined from earlier ones, each use a "
+                              "copy): give it a value, or declare it a runtime parameter")
+    terms = expanded_terms_bound(result)
+    if terms > MAX_POLYNOMIAL_TERMS:
+        raise ExpressionError(f"expression '{_short(text)}' expands to up to {_count_text(terms)} terms, more than "
+                              f"{MAX_POLYNOMIAL_TERMS} (a polynomial of high degree in its runtime parameters, e.g. "
+                              "parameters defined by repeated products of earlier ones): give it a value, or declare "
+                              "it a runtime parameter")
     if result.has(sp.zoo, sp.oo, -sp.oo, sp.nan, sp.I) or (result.is_number and result.is_extended_real is not True):
         raise ExpressionError(f"expression '{_short(text)}' has no finite real value")
     limit = 10 ** MAX_DIGITS
@@ -137,6 +161,65 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
         raise ExpressionError(f"expression '{_short(text)}' makes an exact number of more than {MAX_DIGITS} digits "
                               "(parameters defined by repeated products of earlier ones?): write a decimal value")
     return result
+
+
+def expanded_terms_bound(expr: sp.Basic) -> int:
+    """An upper bound of the terms ``expr`` expands to as a polynomial in its symbols (numerator
+    and denominator alike): the monomials of its degree in its symbols, C(degree + s, s); the
+    degree is computed once per distinct node (a sum: the largest of its terms'; a product:
+    the sum; a power: times the exponent's magnitude, rounded up)."""
+    symbols = expr.free_symbols
+    if not symbols:
+        return 1
+    degrees: dict[sp.Basic, int] = {}
+    stack = [(expr, False)]
+    while stack:
+        node, expanded = stack.pop()
+        if node in degrees:
+            continue
+        if node.is_Symbol:
+            degrees[node] = 1
+        elif not node.args or not node.free_symbols:
+            degrees[node] = 0
+        elif not expanded:
+            stack.append((node, True))
+            stack.extend((arg, False) for arg in node.args if arg not in degrees)
+        elif node.is_Pow:
+            exponent = node.args[1]
+            power = math.ceil(abs(float(exponent))) if exponent.is_number else 64
+            degrees[node] = min(degrees[node.args[0]] * power, 10**6)
+        elif node.is_Mul:
+            degrees[node] = min(sum(degrees[arg] for arg in node.args), 10**6)
+        else:  # a sum, or a function of its arguments
+            degrees[node] = max(degrees[arg] for arg in node.args)
+    return math.comb(degrees[expr] + len(symbols), len(symbols))
+
+
+def _count_text(count: int) -> str:
+    return f"{count}" if count < 10**6 else f"1e{len(str(count)) - 1}"
+
+
+def tree_size(expr: sp.Basic, limit: int) -> int:
+    """The nodes of ``expr`` written out as a tree (a shared subexpression counted at each use),
+    computed once per distinct node (linear in the graph, not in the tree); stops once past
+    ``limit`` (returns a number above it)."""
+    sizes: dict[sp.Basic, int] = {}
+    stack = [(expr, False)]
+    while stack:
+        node, expanded = stack.pop()
+        if node in sizes:
+            continue
+        if not node.args:
+            sizes[node] = 1
+            continue
+        if not expanded:
+            stack.append((node, True))
+            stack.extend((arg, False) for arg in node.args if arg not in sizes)
+            continue
+        sizes[node] = min(1 + sum(sizes[arg] for arg in node.args), limit + 1)
+        if node is expr:
+            break
+    return sizes[expr]
 
 
 class _Parser:

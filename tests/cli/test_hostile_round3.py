@@ -4,6 +4,7 @@ or are refused in one line naming the file, and a pivot is called zero only wher
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
 import symdyn
 from symdyn.check.pinocchio_model import PinocchioReference
@@ -47,3 +48,38 @@ def test_a_huge_mass_or_offset_is_not_an_identically_zero_pivot(workspace, capsy
     expected = PinocchioReference(robot).forward_dynamics(q, qd, tau)
     np.testing.assert_allclose(eqs.numeric.forward_dynamics(q, qd, tau), expected, rtol=1e-9)
     np.testing.assert_allclose(eqs.numeric.mass_matrix(q), PinocchioReference(robot).mass_matrix(q), rtol=1e-12)
+
+
+def _chain(name: str, step: str, count: int, runtime=("a",)) -> str:
+    """A robot whose first link's ``a`` is the last of ``count`` parameters, each defined from
+    the one before by ``step`` (``{v}`` the previous one)."""
+    lines = [f"format: 1\nname: {name}\nconvention: standard\nparameters:\n"]
+    lines += [f"  {r}: {{runtime: true}}\n" for r in runtime] + ["  v0: a\n"]
+    lines += [f"  v{k}: {step.format(v=f'v{k - 1}')}\n" for k in range(1, count + 1)]
+    lines.append(f"links:\n  - {{joint: revolute, a: v{count}, alpha: 0, d: 0, theta: 0, mass: 1, com: [0.1, 0, 0], "
+                 "inertia: [0.01, 0.02, 0.02, 0, 0, 0]}\n")
+    return "".join(lines)
+
+
+@pytest.mark.parametrize("step, runtime, refused_at", [
+    ("({v} + a)*({v} - a)", ("a",), "v9"),           # products of sums: 10^8 nodes at v24 (257 terms at v9)
+    ("{v}*{v} + b*{v} + a", ("a", "b"), "v5"),        # products and sums in two parameters (561 terms)
+    ("{v}*{v}*a", ("a",), "v7"),                      # products alone (degree 255)
+    ("({v} + a)**2 - {v}", ("a",), "v7"),             # powers of sums (the power's own bound)
+    ("{v}*a + {v}*a + {v}/a", ("a",), "v12"),         # each step uses the one before twice: 2^12 copies
+    ("{v} + 2*a", ("a",), None),                      # a sum: stays small, generates
+])
+def test_parameter_chains_refused_in_a_second(workspace, capsys, step, runtime, refused_at):
+    """Parameters defined from earlier ones, 24 steps of every operator: refused in one line
+    naming the parameter where the expression outgrows the bounds (tree nodes on the shared
+    graph, terms of its polynomial), in well under a second of CPU time; a chain that stays
+    small generates."""
+    (workspace / "chain.yaml").write_text(_chain("chain", step, 24, runtime))
+    argv = ["generate", workspace / "chain.yaml", "--out", workspace / "out", "--quiet", "--no-cache",
+            "--functions", "gravity"]
+    if refused_at is None:
+        run_cli(argv, capsys, 0)
+        return
+    (line,), seconds = run_cli(argv, capsys, 1)
+    assert f"parameters.{refused_at}'" in line and "chain.yaml" in line, line
+    assert seconds < 5, seconds
