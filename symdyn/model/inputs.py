@@ -105,8 +105,8 @@ def _check_expanded_size(root) -> None:
             for child in _children(node):
                 total += sizes[id(child)]
                 if total > MAX_NODES:
-                    raise _Limits(f"the document stands for more than {MAX_NODES} values once its "
-                                  "aliases (*name) are expanded")
+                    raise _Limits(f"the document holds more than {MAX_NODES} values (aliases *name count the "
+                                  "values they stand for at each use)")
             sizes[id(node)] = total
             open_nodes.discard(id(node))
             continue

@@ -32,6 +32,9 @@ LINK_NAME_PATTERN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 MAX_NAME = 31
 #: the largest magnitude of a numeric field (products of three such stay finite in double)
 MAX_MAGNITUDE = sp.Integer(10) ** 100
+#: the largest angle read, in every format (rad): cos and sin of 1e6 rad carry an error of about
+#: 1e-10 in double (the angle's own rounding, 1e-10 rad); of 1e100 rad, of order 1
+MAX_ANGLE = 1e6
 # Names the derivation itself uses for joint variables; a parameter may not shadow them.
 #: names that print like symdyn's own symbols (joint variables and their rates in code and
 #: printouts, the sin/cos shorthand c1, s1 of the printouts, the C emitter's temporaries cse0, ...)
@@ -649,13 +652,20 @@ class RobotFileReader:
         return Placement(xyz, rpy)
 
     def axis(self, raw: Any, label: str) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
-        """A joint axis: three numbers, not all zero, normalized exactly."""
+        """A joint axis: three numbers, not all zero, of a length whose square is a normal double
+        (:data:`AXIS_LENGTH_RANGE`), normalized exactly."""
         values = self.vector(raw, 3, label, "axis")
         if any(v.free_symbols for v in values):
             self.fail("the axis must be numbers (no parameter names)", label, "axis")
         norm2 = sum(v * v for v in values)
         if norm2 == 0:
             self.fail("the axis is zero: give a direction such as [0, 0, 1]", label, "axis")
+        low, high = AXIS_LENGTH_RANGE
+        if not low ** 2 <= norm2 <= high ** 2:
+            self.fail(f"the axis has length {float(sp.sqrt(norm2)):.3g}: not a direction double precision can "
+                      f"normalize (its squared length under- or overflows; other readers, Pinocchio's among them, "
+                      f"keep it as written): give a direction of length between {low:g} and {high:g}, such as "
+                      "[0, 0, 1]", label, "axis")
         if norm2 == 1:
             return values
         norm = sp.sqrt(norm2)
@@ -674,13 +684,20 @@ class RobotFileReader:
 
     def angle(self, value: sp.Expr, label: str, fld: str) -> sp.Expr:
         """An angle field in rad: converted from degrees under ``angles: degrees``; a magnitude
-        above 2 pi under radians, and pi in an angle under degrees, draw a warning."""
+        above 2 pi under radians, and pi in an angle under degrees, draw a warning; one above
+        :data:`MAX_ANGLE` rad (in every format) is refused."""
         if self.degrees:
             if value.has(sp.pi):
                 self.warn(f"'{value}' contains pi but the file says 'angles: degrees', so it is read as "
                           f"{float(value):g} degrees; write it in degrees ({value * 180 / sp.pi} if "
                           f"'{value}' is in radians), or write 'angles: radians'", label, fld)
-            return value * sp.pi / 180
+            value = value * sp.pi / 180
+        if value.is_number and abs(value) > MAX_ANGLE:
+            self.fail(f"the angle {float(value):.3g} rad is larger than {MAX_ANGLE:g} rad: its sine and cosine "
+                      "cannot be computed to the promised accuracy in double (did you mean degrees, or a smaller "
+                      "value?)", label, fld)
+        if self.degrees:
+            return value
         if value.is_number and abs(value) > 2 * sp.pi:
             self.warn(f"{float(value):g} rad looks like degrees (more than 2 pi); write 'angles: degrees' "
                       "at the top of the file if the angles are in degrees", label, fld)
@@ -880,6 +897,12 @@ def task_rows(raw, fail) -> tuple[int, ...]:
             fail(f"task row {value} is listed twice")
         rows.append(value)
     return tuple(rows)
+
+
+#: the lengths a joint axis may have (its square a normal double, with margin): it is normalized
+#: exactly, but a reader that normalizes in double (Pinocchio's URDF parser) keeps 1e-300 0 0 as
+#: written, and the Jacobian then differs by 1e300
+AXIS_LENGTH_RANGE = (1e-150, 1e150)
 
 
 def serial_robot(robot) -> Robot:

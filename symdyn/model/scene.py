@@ -273,6 +273,9 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
     degrees = robot_doc.get("angles") == "degrees"
     locked = _scene_locks(path, doc, robot, degrees)
     locked_joints = tuple((k + 1, robot.links[k].name, v) for k, v in sorted(locked.items()))
+    if locked and len(locked) == robot.dof:
+        _fail(path, f"the scene locks every joint of '{robot.name}' ({robot.dof}): leave at least one joint free",
+              "lock")
     if locked:
         notes.append("locked: " + ", ".join(f"joint {k + 1} ({robot.links[k].name}) at {float(v):g}"
                                             for k, v in sorted(locked.items())))

@@ -47,14 +47,12 @@ import sympy as sp
 
 from .errors import RobotFileError, describe, display_path, one_line, warn
 from .expr import MAX_LITERAL, ExpressionError, number_to_rational
-from .robot import FORMAT_VERSION, MAX_MAGNITUDE, MAX_NAME
+from .robot import FORMAT_VERSION, MAX_ANGLE, MAX_MAGNITUDE, MAX_NAME
 
 #: joint types of the URDF specification
 JOINT_TYPES = ("revolute", "continuous", "prismatic", "fixed", "floating", "planar")
 #: the most links (and joints) a URDF may have
 MAX_LINKS = 2000
-#: the largest rpy angle read (rad)
-MAX_ANGLE = 1e6
 #: an rpy angle this close to a multiple of pi/2 (rad) is taken as that multiple
 QUARTER_TOLERANCE = 1e-9
 #: digits of the floating-point arithmetic used where rotations are not quarter turns

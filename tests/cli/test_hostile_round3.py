@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import symdyn
+from helpers import REPO
 from symdyn.check.pinocchio_model import PinocchioReference
 from test_hostile import robot_text, run_cli, workspace  # noqa: F401 (the fixture)
 
@@ -83,3 +84,52 @@ def test_parameter_chains_refused_in_a_second(workspace, capsys, step, runtime, 
     (line,), seconds = run_cli(argv, capsys, 1)
     assert f"parameters.{refused_at}'" in line and "chain.yaml" in line, line
     assert seconds < 5, seconds
+
+
+def test_an_axis_double_cannot_normalize_is_refused(workspace, capsys):
+    """A joint axis of length 1e-300 (URDF and YAML; or 1e200, beyond any number's limit):
+    refused naming the file, link and field (Pinocchio keeps 1e-300 0 0 as written and its
+    Jacobian is then 1e300 off); 1e-100 and 1e100 are normalized exactly and generate."""
+    urdf = (REPO / "tests" / "data" / "urdf" / "handmade.urdf").read_text()
+    first = urdf.index("<axis xyz=\"")
+    end = urdf.index("\"", first + len("<axis xyz=\""))
+    for text, status in (("1e-300 0 0", 1), ("0 0 1e200", 1), ("1e-100 0 0", 0), ("0 1e100 0", 0)):
+        (workspace / "axis.urdf").write_text(urdf[:first] + f"<axis xyz=\"{text}" + urdf[end:])
+        lines, _ = run_cli(["generate", workspace / "axis.urdf", "--out", workspace / "out", "--quiet", "--no-cache",
+                            "--functions", "gravity"], capsys, status)
+        if status:
+            assert "axis.urdf" in lines[0] and "field 'axis" in lines[0], lines
+    general = ("{joint: revolute, origin: {xyz: [0, 0, 0.1], rpy: [0, 0, 0]}, axis: [1e-300, 0, 0], mass: 1, "
+               "com: [0.1, 0, 0], inertia: [0.01, 0.02, 0.02, 0, 0, 0]}")
+    (workspace / "axis.yaml").write_text(robot_text("axis", [general]).replace("convention: standard",
+                                                                              "convention: general"))
+    (line,), _ = run_cli(["generate", workspace / "axis.yaml", "--out", workspace / "out"], capsys, 1)
+    assert "axis.yaml" in line and "field 'axis'" in line
+
+
+def test_one_angle_limit_in_every_format(workspace, capsys):
+    """alpha: 1e100 (YAML) is refused like an rpy of 1e100 in a URDF, at 1e6 rad, naming the
+    file, link and field; 1e5 rad only warns (it looks like degrees); under angles: degrees the
+    limit is on the value in radians."""
+    link = ("{joint: revolute, a: 0.3, alpha: %s, d: 0, theta: 0, mass: 1, com: [0.1, 0, 0], "
+            "inertia: [0.01, 0.02, 0.02, 0, 0, 0]}")
+    for value, extra, status in (("1e100", "", 1), ("2e6", "", 1), ("1e5", "", 0), ("1e9", "angles: degrees\n", 1),
+                                 ("1e7", "angles: degrees\n", 0)):
+        (workspace / "angle.yaml").write_text(robot_text("angle", [link % value], extra))
+        lines, _ = run_cli(["generate", workspace / "angle.yaml", "--out", workspace / "out", "--quiet",
+                            "--no-cache", "--functions", "gravity"], capsys, status)
+        if status:
+            assert "angle.yaml" in lines[0] and "field 'alpha'" in lines[0] and "1e+06 rad" in lines[0], lines
+
+
+def test_long_lists_and_scenes_that_lock_everything_say_what_they_are(workspace, capsys):
+    """A plain 100,001-entry list (no alias) is refused as a document with too many values, not
+    as an alias expansion; a scene that locks every joint is refused naming the scene file."""
+    many = "[" + ", ".join(["0"] * 100001) + "]"
+    (workspace / "long.yaml").write_text(robot_text("long", extra=f"task: {many}\n"))
+    (line,), _ = run_cli(["generate", workspace / "long.yaml", "--out", workspace / "out"], capsys, 1)
+    assert "long.yaml" in line and "more than 100000 values" in line and "expanded" not in line, line
+    (workspace / "locked.yaml").write_text(f"scene: 1\nrobot: {REPO / 'robots' / 'puma560.yaml'}\nlock: "
+                                           "{waist: 0, shoulder: 0, elbow: 0, wrist_roll: 0, wrist_bend: 0, flange: 0}\n")
+    (line,), _ = run_cli(["generate", workspace / "locked.yaml", "--out", workspace / "out"], capsys, 1)
+    assert "locked.yaml" in line and "locks every joint" in line, line
