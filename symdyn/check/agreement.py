@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
+from ..model.tolerances import VERIFY_FLOOR
 from ..model.outputs import REGISTRY, TASK_OUTPUTS
 from .pinocchio_model import compare
 
@@ -135,7 +136,22 @@ class CasadiTarget:
         return call
 
 
-def target_errors(target, reference, robot, eqs, functions, states, p, values, floor: float = 0.0,
+def robot_floors(reference, states, functions, relative: float = VERIFY_FLOOR) -> dict[str, float]:
+    """The floor of each function's normalized error (:func:`normalized_error`), from the
+    robot's own scale at ``states``: ``relative`` times the RMS of the reference's inverse
+    dynamics for an output in torques (its spec's ``floor_scale``), that divided by the RMS
+    joint rate for one in torques per unit rate; 0 (the output's own values) for the others."""
+    scaled = {f: REGISTRY[f].floor_scale for f in functions if f in REGISTRY and REGISTRY[f].floor_scale != "own"}
+    if not scaled:
+        return {}
+    torques = np.array([reference.inverse_dynamics(q, qd, qdd) for q, qd, qdd, _ in states])
+    rates = np.array([qd for _, qd, _, _ in states])
+    torque = float(np.sqrt(np.mean(torques ** 2))) if np.all(np.isfinite(torques)) else 0.0
+    rate = float(np.sqrt(np.mean(rates ** 2))) or 1.0
+    return {f: relative * (torque if scale == "torque" else torque / rate) for f, scale in scaled.items()}
+
+
+def target_errors(target, reference, robot, eqs, functions, states, p, values, floor: float | dict = 0.0,
                   task_regular: float = TASK_REGULAR) -> dict[str, float]:
     """The normalized error of each function of ``target`` (a compiled library, a
     :class:`NumpyTarget` or a :class:`CasadiTarget`) against ``reference`` over ``states``

@@ -378,9 +378,10 @@ def _rms(values) -> float:
     return scale * float(np.sqrt(np.mean((values / scale) ** 2)))
 
 
-def compare(mine, reference, states, functions, p=None, floor: float = 0.0) -> dict[str, float]:
-    """The normalized error (:func:`normalized_error`, with ``floor``) of each named function of
-    ``mine`` against the same function of ``reference``, over ``states`` (each ``[q, qd, qdd, tau]``).
+def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.0) -> dict[str, float]:
+    """The normalized error (:func:`normalized_error`, with ``floor``: one for every function,
+    or each function's) of each named function of ``mine`` against the same function of
+    ``reference``, over ``states`` (each ``[q, qd, qdd, tau]``).
 
     Both take the function's inputs in symdyn's order (:data:`symdyn.model.outputs.OUTPUT_INPUTS`);
     ``p`` (runtime parameters) is passed to ``mine`` only, when given.
@@ -394,7 +395,7 @@ def compare(mine, reference, states, functions, p=None, floor: float = 0.0) -> d
             args = [given[g] for g in OUTPUT_INPUTS[name]]
             values.append(np.asarray(getattr(mine, name)(*args, *extra), dtype=float))
             refs.append(np.asarray(getattr(reference, name)(*args), dtype=float))
-        errors[name] = normalized_error(values, refs, floor)
+        errors[name] = normalized_error(values, refs, floor.get(name, 0.0) if isinstance(floor, dict) else floor)
     return errors
 
 

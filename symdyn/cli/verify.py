@@ -13,7 +13,7 @@ from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import PLATFORM, SERIAL, kind_of, scene_choices
 from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, supported_outputs, with_requirements
 from ..model.errors import SymdynError
-from ..model.tolerances import VERIFY_TOLERANCE
+from ..model.tolerances import VERIFY_FLOOR, VERIFY_TOLERANCE
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
@@ -66,7 +66,8 @@ def run(args) -> int:
 def _run_serial(args, robot, scene) -> int:
     """verify of a serial robot (a chain, a tree or a floating base): every function asked for,
     compiled, against Pinocchio (of the URDF itself where it can read it); one table of errors."""
-    from ..check.agreement import REGRESSORS, TASK_REGULAR, compile_equations, derive_supported, target_errors
+    from ..check.agreement import (REGRESSORS, TASK_REGULAR, compile_equations, derive_supported, robot_floors,
+                                   target_errors)
     from ..check.pinocchio_model import PinocchioReference
     from ..check.states import random_state
     from ..model.scene import is_urdf
@@ -101,13 +102,18 @@ def _run_serial(args, robot, scene) -> int:
                 state = [x.astype(np.float32).astype(float) for x in state]
             states.append(state)
         task = [f for f in functions if f in TASK_OUTPUTS]
-        errors = target_errors(lib, ref, robot, eqs, functions, states, p, values)
+        floors = robot_floors(ref, states, functions)
+        errors = target_errors(lib, ref, robot, eqs, functions, states, p, values, floors)
         regular = [state for state in states if ref.task_pivot_ratio(state[0]) > TASK_REGULAR] if task else []
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
     form = "; inverse dynamics in the base parameters" if args.parameters == "base" else ""
     print(f"symdyn verify {args.robot}: {robot.dof} joints{' on a floating base' if robot.floating else ''}, "
           f"{args.method}{form}, {precision}, "
           f"{args.states} random states, tolerance {tolerance:g}, against {reading}")
+    if floors:
+        print(f"(outputs in torques measured against at least {VERIFY_FLOOR:g} of the robot's own torques at these "
+              "states, the RMS of its inverse dynamics: a value that is zero but for rounding is not judged against "
+              "its own noise)")
     if task:
         print(f"(task-space functions: compared at the {len(regular)} of the {args.states} states whose task is away "
               f"from singularities: every pivot of J M^-1 J^T's factorization above {TASK_REGULAR:g} of its diagonal entry)")

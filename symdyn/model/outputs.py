@@ -142,10 +142,16 @@ class OutputSpec:
     status: str = ""
     #: summaries and statuses that replace the above for another forward-dynamics method
     fd_variants: tuple[tuple[str, str, str], ...] = ()
+    #: what the comparison with a reference measures small values of this output against
+    #: (symdyn.check.agreement.robot_floors): "torque" (the robot's torques: outputs in N m or N,
+    #: or per rad), "torque_per_rate" (outputs in N m s), "own" (the output's own values)
+    floor_scale: str = "own"
 
     def __post_init__(self):
         if self.family not in FAMILIES:
             raise ValueError(f"{self.name}: unknown family {self.family!r}")
+        if self.floor_scale not in ("own", "torque", "torque_per_rate"):
+            raise ValueError(f"{self.name}: unknown floor scale {self.floor_scale!r}")
         if not self.derivation:
             object.__setattr__(self, "derivation", self.name)
 
@@ -244,7 +250,8 @@ SPECS: tuple[OutputSpec, ...] = (
         summary="Inverse dynamics: torques that produce accelerations qdd at state (q, qd) (recursive Newton-Euler when derived by it).",
         arguments=(OutputArgument("tau", "joint torques/forces tau = D qdd + h + c + armature qdd + damping qd + coulomb sign(qd), N (N m or N)"),),
         meaning="τ(q, q̇, q̈) incl. armature and friction",
-        pinocchio="`rnea` + friction terms"),
+        pinocchio="`rnea` + friction terms",
+        floor_scale="torque"),
     OutputSpec(
         name="mass_matrix", symbol="D", family="dynamics", inputs=("q",),
         shape=lambda d: (d.dof, d.dof), units="kg m^2, kg m or kg",
@@ -259,21 +266,24 @@ SPECS: tuple[OutputSpec, ...] = (
         summary="Coriolis and centrifugal torques h(q, qd).",
         arguments=(OutputArgument("h", "Coriolis and centrifugal vector h(q, qd) = C(q, qd) qd, N (N m or N)"),),
         meaning="h(q, q̇) = C q̇",
-        pinocchio="`nonLinearEffects − computeGeneralizedGravity`"),
+        pinocchio="`nonLinearEffects − computeGeneralizedGravity`",
+        floor_scale="torque"),
     OutputSpec(
         name="coriolis_matrix", symbol="C", family="dynamics", inputs=("q", "qd"),
         shape=lambda d: (d.dof, d.dof), units="N m s or N s",
         summary="Coriolis matrix C(q, qd), C qd = h.",
         arguments=(OutputArgument("C", "Coriolis matrix C(q, qd) from the Christoffel symbols of D, N*N row-major (dD/dt - 2C is skew-symmetric)"),),
         meaning="C(q, q̇), Christoffel symbols of D",
-        pinocchio="`computeCoriolisMatrix`"),
+        pinocchio="`computeCoriolisMatrix`",
+        floor_scale="torque_per_rate"),
     OutputSpec(
         name="gravity", symbol="c", family="dynamics", inputs=("q",),
         shape=lambda d: (d.dof, 1), units="N m or N",
         summary="Gravity torques c(q).",
         arguments=(OutputArgument("c", "gravity vector c(q), N (N m or N)"),),
         meaning="c(q)",
-        pinocchio="`computeGeneralizedGravity`"),
+        pinocchio="`computeGeneralizedGravity`",
+        floor_scale="torque"),
     OutputSpec(
         name="forward_dynamics", symbol="qdd", family="dynamics", inputs=("q", "qd", "tau"),
         shape=lambda d: (d.dof, 1), units="rad/s^2 or m/s^2",
@@ -400,7 +410,8 @@ SPECS: tuple[OutputSpec, ...] = (
         meaning="∂τ/∂q (fixed bases)",
         pinocchio="`computeRNEADerivatives`",
         derivation="inverse_dynamics_derivatives",
-        default=False),
+        default=False,
+        floor_scale="torque"),
     OutputSpec(
         name="inverse_dynamics_dqd", symbol="dtau_dqd", family="derivatives", inputs=("q", "qd", "qdd"),
         shape=lambda d: (d.dof, d.dof), units="N m s or N s per rad or m",
@@ -409,7 +420,8 @@ SPECS: tuple[OutputSpec, ...] = (
         meaning="∂τ/∂q̇, viscous damping included (fixed bases)",
         pinocchio="`computeRNEADerivatives`",
         derivation="inverse_dynamics_derivatives",
-        default=False),
+        default=False,
+        floor_scale="torque_per_rate"),
     OutputSpec(
         name="gravity_derivative", symbol="dc_dq", family="derivatives", inputs=("q",),
         shape=lambda d: (d.dof, d.dof), units="N m or N per rad or m",
@@ -417,7 +429,8 @@ SPECS: tuple[OutputSpec, ...] = (
         arguments=(OutputArgument("dc_dq", "derivative of the gravity vector, N*N row-major: row i = c_i, column j = q_j"),),
         meaning="∂c/∂q (fixed bases)",
         pinocchio="`computeGeneralizedGravityDerivatives`",
-        default=False),
+        default=False,
+        floor_scale="torque"),
     OutputSpec(
         name="mass_matrix_inverse", symbol="Minv", family="derivatives", inputs=("q",),
         shape=lambda d: (d.dof, d.dof), units="1/(kg m^2), 1/(kg m) or 1/kg",

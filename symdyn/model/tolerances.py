@@ -33,6 +33,13 @@ IDENTIFICATION_MAX_CONDITION = 1e12
 #: the normalized error ``symdyn verify`` accepts by default, per precision of the generated code
 VERIFY_TOLERANCE = {"double": 1e-10, "float": 1e-4, "mixed": 1e-4}
 
+#: ``symdyn verify`` measures an output in torques (or torques per unit rate) against at least
+#: this much of the robot's own torques at the states (the RMS of its inverse dynamics there,
+#: divided by the RMS rate for the latter): an output that is zero but for rounding (the
+#: Coriolis forces of coaxial links of 1e9 and 0.01 kg m^2) or made of subnormal numbers (a DH
+#: a of 4e-320 m) is not judged against its own rounding noise
+VERIFY_FLOOR = 1e-5
+
 #: the closed-loop reference of platform robots (symdyn.check.closed_loop) solves each leg's loop
 #: closure to this (m per m of leg, and rad); a closure it cannot bring below
 #: ``CLOSED_LOOP_UNREACHABLE`` is out of reach.  It treats a matrix as singular where the

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import symdyn
+import symdyn.cli
 from helpers import REPO
 from symdyn.check.pinocchio_model import PinocchioReference
 from test_hostile import robot_text, run_cli, workspace  # noqa: F401 (the fixture)
@@ -133,3 +134,18 @@ def test_long_lists_and_scenes_that_lock_everything_say_what_they_are(workspace,
                                            "{waist: 0, shoulder: 0, elbow: 0, wrist_roll: 0, wrist_bend: 0, flange: 0}\n")
     (line,), _ = run_cli(["generate", workspace / "locked.yaml", "--out", workspace / "out"], capsys, 1)
     assert "locked.yaml" in line and "locks every joint" in line, line
+
+
+def test_verify_judges_outputs_at_the_robot_scale(workspace, capsys, monkeypatch):
+    """verify's floor comes from the robot's own torques: the Coriolis forces of coaxial links of
+    1e9 and 0.01 kg m^2 (zero but for rounding, 5e-8 by Lagrange-Euler) and of an arm whose DH a
+    is a subnormal 4e-320 m pass (they failed at 3e-7 and 2e-4); a real error of 1e-8 of the
+    Coriolis forces of the Puma 560 still fails."""
+    for name, method in (("coaxial_1e9", "lagrange-euler"), ("subnormal_a", "newton-euler")):
+        lines, _ = run_cli(["verify", REPO / "tests" / "data" / f"{name}.yaml", "--states", "10", "--method", method,
+                            "--functions", "coriolis,coriolis_matrix,inverse_dynamics"], capsys, 0)
+    true_coriolis = PinocchioReference.coriolis
+    monkeypatch.setattr(PinocchioReference, "coriolis", lambda self, q, qd: true_coriolis(self, q, qd) * (1 + 1e-8))
+    assert symdyn.cli.main(["verify", str(REPO / "robots" / "puma560.yaml"), "--states", "5",
+                            "--functions", "coriolis"]) == 1
+    assert "FAIL" in capsys.readouterr().out
