@@ -39,9 +39,10 @@ def main(argv=None) -> int:
     if not args.command:
         parser.print_help()
         return 2
-    from .common import memory_budget
+    from .common import memory_budget, time_budget
     try:
-        with _warnings_as_lines(strict=getattr(args, "strict", False)), memory_budget(getattr(args, "max_memory", None)):
+        with _warnings_as_lines(strict=getattr(args, "strict", False)), memory_budget(getattr(args, "max_memory", None)), \
+                time_budget(getattr(args, "max_seconds", None), _inputs(args)):
             return int(args.run(args) or 0)
     except SymdynError as exc:
         print(f"symdyn: error: {exc}", file=sys.stderr)
@@ -64,6 +65,12 @@ def main(argv=None) -> int:
         print(f"symdyn: internal error: {type(exc).__name__}: {one_line(exc, 300)} "
               "(please report it with the input file)", file=sys.stderr)
         return 3
+
+
+def _inputs(args) -> str:
+    """The robot files a command reads, for its messages."""
+    paths = getattr(args, "robots", None) or ([args.robot] if getattr(args, "robot", None) else [])
+    return ", ".join(str(p) for p in paths)
 
 
 def _out_of_memory(args) -> int:

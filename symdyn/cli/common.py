@@ -27,11 +27,19 @@ def add_method_option(parser) -> None:
 
 
 #: default of --max-joints: derivation time grows quickly with the joint count (every default
-#: function of a generic 40-joint chain: 80-90 s and 430 MB, 150 s with its masses as run-time
-#: parameters, on the 2-core reference machine; docs/untrusted-input.md)
+#: function of a generic 40-joint DH chain: 29 s and 161 MB on the 2-core reference machine,
+#: other 40-joint robots past 240 s: the time budget, --max-seconds, bounds those;
+#: docs/untrusted-input.md)
 DEFAULT_MAX_JOINTS = 40
 #: default of --max-memory (GB): the most memory a run may take before it stops with one line
 DEFAULT_MAX_MEMORY_GB = 8.0
+#: default of --max-seconds: the most CPU time a run may take before it stops with one line (a
+#: run a user can wait for; a generic 40-joint chain takes longer, and says how to go on)
+DEFAULT_MAX_SECONDS = 120.0
+
+
+class TimeBudgetExceeded(SymdynError):
+    """The run took more CPU time than ``--max-seconds``."""
 
 
 def add_urdf_options(parser) -> None:
@@ -64,10 +72,13 @@ def add_size_options(parser) -> None:
                              "look like degrees, a mass without inertia, ...) as an error")
     parser.add_argument("--max-joints", type=int, default=DEFAULT_MAX_JOINTS, metavar="N",
                         help=f"refuse robots with more than N joints before deriving (default "
-                             f"{DEFAULT_MAX_JOINTS}; 40 joints take about a minute and a half)")
+                             f"{DEFAULT_MAX_JOINTS}; 40 joints take from half a minute to several minutes)")
     parser.add_argument("--max-memory", type=float, default=DEFAULT_MAX_MEMORY_GB, metavar="GB",
                         help=f"stop with an error when the run needs more than GB gigabytes of memory "
                              f"(default {DEFAULT_MAX_MEMORY_GB:g}; 0: no limit)")
+    parser.add_argument("--max-seconds", type=float, default=DEFAULT_MAX_SECONDS, metavar="S",
+                        help=f"stop with an error, writing nothing, when the run has taken more than S seconds of "
+                             f"CPU time (default {DEFAULT_MAX_SECONDS:g}; 0: no limit)")
 
 
 def load_robot(path, args, parallel: bool = False):
@@ -152,6 +163,34 @@ def progress_printer(args, after: float = 0.0, rewrite: bool = False):
     if getattr(args, "quiet", False) or not sys.stderr.isatty():
         return None
     return Progress(sys.stderr, after, rewrite)
+
+
+@contextlib.contextmanager
+def time_budget(seconds: float | None, inputs: str = ""):
+    """Stop the block with :class:`TimeBudgetExceeded` (naming ``inputs``, the files the run
+    reads) once this process has used ``seconds`` of CPU time in it (a profiling timer: the
+    derivation's Python code is interrupted between two steps, and the command writes nothing);
+    nothing for 0/None, off the main thread, or where the platform has no such timer."""
+    import signal
+    if not seconds or seconds <= 0 or not hasattr(signal, "setitimer"):
+        yield
+        return
+
+    def expired(signum, frame):
+        raise TimeBudgetExceeded(f"{inputs + ': ' if inputs else ''}stopped after {seconds:g} s of CPU time (--max-seconds): a large robot or many "
+                                 "functions take longer; raise --max-seconds (0: no limit), or ask for fewer "
+                                 "--functions or joints")
+    try:
+        previous = signal.signal(signal.SIGPROF, expired)
+    except ValueError:  # not the main thread
+        yield
+        return
+    signal.setitimer(signal.ITIMER_PROF, seconds, 1.0)  # again each second, should a handler swallow it
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        signal.signal(signal.SIGPROF, previous)
 
 
 @contextlib.contextmanager

@@ -149,3 +149,19 @@ def test_verify_judges_outputs_at_the_robot_scale(workspace, capsys, monkeypatch
     assert symdyn.cli.main(["verify", str(REPO / "robots" / "puma560.yaml"), "--states", "5",
                             "--functions", "coriolis"]) == 1
     assert "FAIL" in capsys.readouterr().out
+
+
+def test_a_run_stops_at_its_time_budget(workspace, capsys):
+    """A robot that takes long (24 generic joints, every default function) with --max-seconds 2
+    stops with one line naming the option, after about that much CPU time, and writes nothing;
+    the default budget is a run a user can wait for (common.DEFAULT_MAX_SECONDS)."""
+    from symdyn.cli.common import DEFAULT_MAX_SECONDS
+    assert 0 < DEFAULT_MAX_SECONDS <= 300
+    link = ("{joint: revolute, a: 0.%d, alpha: 0.%d, d: 0.1, theta: 0, mass: 1.5, com: [0.05, 0.01, 0.02], "
+            "inertia: [0.02, 0.03, 0.025, 0.001, -0.002, 0.0015]}")
+    (workspace / "long.yaml").write_text(robot_text("long", [link % (k % 7 + 1, k % 5 + 3) for k in range(24)]))
+    (line,), seconds = run_cli(["generate", workspace / "long.yaml", "--out", workspace / "out", "--no-cache",
+                                "--max-seconds", "2"], capsys, 1)
+    assert "--max-seconds" in line and "long.yaml" in line, line
+    assert seconds < 10, seconds
+    assert not (workspace / "out").exists()
