@@ -38,44 +38,73 @@ class Identification:
 
 def identify(eqs, samples, weighted: bool = False, p=None, source: str = "the samples") -> Identification:
     """Identify ``eqs``' base parameters (``eqs`` derived with ``base_regressor``) from
-    ``samples`` (:class:`symdyn.model.samples.Samples`); ``p``: runtime parameter values."""
+    ``samples``: a :class:`symdyn.model.samples.Samples`, or an iterable of them (blocks, as
+    :func:`symdyn.model.samples.sample_blocks` reads a file: memory does not grow with the
+    samples); ``p``: runtime parameter values.
+
+    The samples are reduced block by block to one triangle per joint, ``R_j`` of the QR of
+    ``[W_j | T_j]`` (joint j's rows of the stacked regressor and torques): everything follows
+    from them exactly as from the stacked system (the solve, the weights, each joint's residual
+    ``|R_j [-beta; 1]|``, the condition number and the standard deviations)."""
     names = tuple(name for name, _ in eqs.base_parameters)
     nb, n = len(names), eqs.n
-    if samples.count * n <= nb:
-        raise SymdynError(f"{source}: {samples.count} samples give {samples.count * n} equations for {nb} base "
+    triangles, count = _joint_triangles(eqs, [samples] if hasattr(samples, "q") else samples, nb, p)
+    if count * n <= nb:
+        raise SymdynError(f"{source}: {count} samples give {count * n} equations for {nb} base "
                           f"parameters: too short (give at least {nb // n + 1} samples, and many more for "
                           "reliable values)")
-    blocks = [np.asarray(eqs.numeric.base_regressor(q, qd, qdd, p), dtype=float).reshape(n, nb)
-              for q, qd, qdd in zip(samples.q, samples.qd, samples.qdd)]
-    W = np.vstack(blocks)  # rows: sample 0 joints 1..n, sample 1 ...
-    T = samples.tau.reshape(-1)
     weights = np.ones(n)
-    values, condition = _solve(W, T, source)
+    values, condition, _ = _solve(triangles, weights, nb, source)
     if weighted:
-        residual = (T - W @ values).reshape(-1, n)
-        dof = max(samples.count - nb / n, 1.0)
-        sigma = np.sqrt(np.sum(residual ** 2, axis=0) / dof)
+        dof = max(count - nb / n, 1.0)
+        sigma = np.array([_residual(R, values) for R in triangles]) / np.sqrt(dof)
         sigma[sigma <= 0] = 1.0
         weights = 1.0 / sigma
-        scale = np.tile(weights, samples.count)
-        W, T = W * scale[:, None], T * scale
-        values, condition = _solve(W, T, source)
-    residual = T - W @ values
-    rows = W.shape[0]
-    variance = float(residual @ residual) / max(rows - nb, 1)
-    _, R = np.linalg.qr(W)
+        values, condition, _ = _solve(triangles, weights, nb, source)
+    _, _, R = _solve(triangles, weights, nb, source)
+    rows = count * n
+    weighted_residual = np.hypot.reduce([w * _residual(Rj, values) for w, Rj in zip(weights, triangles)])
+    variance = float(weighted_residual ** 2) / max(rows - nb, 1)
     inverse = np.linalg.inv(R)
     std = np.sqrt(variance * np.sum(inverse ** 2, axis=1))
-    rms = np.sqrt(np.mean(((residual / np.tile(weights, samples.count)).reshape(-1, n)) ** 2, axis=0))
+    rms = np.array([_residual(Rj, values) for Rj in triangles]) / np.sqrt(count)
     return Identification(names, values, std, condition, rows, rms, weights)
 
 
-def _solve(W, T, source):
-    singular = np.linalg.svd(W, compute_uv=False)
+def _joint_triangles(eqs, blocks, nb: int, p) -> tuple[list[np.ndarray], int]:
+    """``([R_j], samples)``: per joint, the triangle of the QR of ``[W_j | T_j]`` over every
+    block of samples (updated block by block), and the number of samples."""
+    n = eqs.n
+    triangles = [np.zeros((0, nb + 1)) for _ in range(n)]
+    count = 0
+    for block in blocks:
+        rows = [np.asarray(eqs.numeric.base_regressor(q, qd, qdd, p), dtype=float).reshape(n, nb)
+                for q, qd, qdd in zip(block.q, block.qd, block.qdd)]
+        if not rows:
+            continue
+        W = np.stack(rows)  # samples x joints x base parameters
+        for j in range(n):
+            augmented = np.column_stack([W[:, j, :], block.tau[:, j]])
+            triangles[j] = np.linalg.qr(np.vstack([triangles[j], augmented]), mode="r")
+        count += len(rows)
+    return triangles, count
+
+
+def _residual(R: np.ndarray, values: np.ndarray) -> float:
+    """``|T_j - W_j beta|`` from joint j's triangle: ``|R_j [-beta; 1]|``."""
+    return float(np.linalg.norm(R @ np.append(-values, 1.0)))
+
+
+def _solve(triangles, weights, nb: int, source: str):
+    """``(beta, condition, R)``: the least-squares solution of the stacked system with joint j's
+    rows times ``weights[j]``, from the joints' triangles; the condition number of the stacked
+    regressor (its singular values are R's); R, its triangle."""
+    stacked = np.linalg.qr(np.vstack([w * Rj for w, Rj in zip(weights, triangles)]), mode="r")
+    R, z = stacked[:nb, :nb], stacked[:nb, nb]
+    singular = np.linalg.svd(R, compute_uv=False) if R.shape[0] == nb else np.zeros(1)
     condition = float(singular[0] / singular[-1]) if singular[-1] > 0 else float("inf")
     if not condition <= MAX_CONDITION:
         raise SymdynError(f"{source}: the samples do not excite every base parameter (condition number of the "
                           f"stacked regressor {condition:.3g}): use richer trajectories (every joint moving, "
                           "varied speeds and accelerations)")
-    Q, R = np.linalg.qr(W)
-    return np.linalg.solve(R, Q.T @ T), condition
+    return np.linalg.solve(R, z), condition, R

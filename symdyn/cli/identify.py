@@ -21,7 +21,7 @@ from ..derive.cache import derive_cached
 from ..derive.regressor import LINK_PARAMETERS, PER_LINK, parameter_names, standard_parameters
 from ..model.errors import SymdynError
 from ..model.files import write_atomic
-from ..model.samples import read_samples
+from ..model.samples import sample_blocks
 from .common import add_method_option, add_size_options, check_size, load_robot, progress_printer
 from ..model.scene import input_files
 
@@ -49,7 +49,9 @@ def run(args) -> int:
     from ..check.identify import identify
     robot, _ = load_robot(args.robot, args)
     check_size(robot, args, args.robot)
-    samples = read_samples(args.data, robot.dof)
+    # the whole file is checked before the derivation (a bad line fails at once), and read again
+    # block by block by the fit: memory does not grow with the samples
+    count = sum(block.count for block in sample_blocks(args.data, robot.dof))
     if args.out:
         from ..model.files import check_targets
         directory, name = os.path.split(os.path.abspath(args.out))
@@ -63,10 +65,10 @@ def run(args) -> int:
         if missing:
             raise SymdynError(f"{args.robot}: runtime parameters {', '.join(missing)} have no value; identify needs them")
         p = [float(v) for v in robot.nominal]
-    result = identify(eqs, samples, args.weighted, p, source=os.path.basename(args.data))
+    result = identify(eqs, sample_blocks(args.data, robot.dof), args.weighted, p, source=os.path.basename(args.data))
     nominal = _file_values(eqs)
     if not args.quiet:
-        _print(args, eqs, result, nominal, samples.count)
+        _print(args, eqs, result, nominal, count)
     if args.out:
         text = _identified_robot_file(args, eqs, result)
         _check_readable(text, args.out)

@@ -139,3 +139,39 @@ def test_an_unreadable_robot_file_is_never_written(tmp_path):
         with pytest.raises(symdyn.SymdynError, match="not writing .*symdyn would refuse the identified robot file"):
             _check_readable(bad, str(tmp_path / "bad.yaml"))
 
+
+
+@pytest.mark.parametrize("weighted", [False, True])
+def test_blocks_give_the_stacked_solution(puma, tmp_path, weighted):
+    """Identification block by block (per-joint QR triangles updated as the samples stream in)
+    gives what a least-squares solve of the whole stacked system gives (values, standard
+    deviations, residuals, condition number), and the file read in blocks of 7 rows is the file
+    read whole; a bad line in a later block is named by its line number."""
+    from symdyn.check.identify import identify
+    from symdyn.model.samples import read_samples, sample_blocks
+    robot, eqs, _ = puma
+    samples = _exciting(robot, 300, seed=64)
+    noise = np.random.default_rng(65).normal(0, 0.02, samples.tau.shape)
+    noisy = Samples(samples.q, samples.qd, samples.qdd, samples.tau + noise)
+    data = tmp_path / "data.csv"
+    data.write_text(write_samples(noisy))
+    whole = read_samples(str(data), 6)
+    blocks = list(sample_blocks(str(data), 6, rows=7))
+    assert max(b.count for b in blocks) == 7 and sum(b.count for b in blocks) == 300
+    streamed = identify(eqs, iter(blocks), weighted=weighted)
+    # the reference: the stacked system solved at once (numpy's least squares)
+    n, nb = 6, len(eqs.base_parameters)
+    W = np.vstack([eqs.numeric.base_regressor(q, qd, qdd).reshape(n, nb) for q, qd, qdd in zip(whole.q, whole.qd, whole.qdd)])
+    T = whole.tau.reshape(-1)
+    scale = np.tile(streamed.weights, 300)
+    beta, *_ = np.linalg.lstsq(W * scale[:, None], T * scale, rcond=None)
+    np.testing.assert_allclose(streamed.values, beta, rtol=1e-9, atol=1e-9 * np.max(np.abs(beta)))
+    residual = (T - W @ beta).reshape(-1, n)
+    np.testing.assert_allclose(streamed.residual_rms, np.sqrt(np.mean(residual ** 2, axis=0)), rtol=1e-8)
+    singular = np.linalg.svd(W * scale[:, None], compute_uv=False)
+    assert streamed.condition == pytest.approx(singular[0] / singular[-1], rel=1e-8)
+    lines = data.read_text().splitlines()
+    lines[250] = lines[250].replace(",", ",x", 1)
+    data.write_text("\n".join(lines) + "\n")
+    with pytest.raises(symdyn.SymdynError, match="line 251"):
+        list(sample_blocks(str(data), 6, rows=7))
