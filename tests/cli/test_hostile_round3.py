@@ -165,3 +165,41 @@ def test_a_run_stops_at_its_time_budget(workspace, capsys):
     assert "--max-seconds" in line and "long.yaml" in line, line
     assert seconds < 10, seconds
     assert not (workspace / "out").exists()
+
+
+def test_huge_urdf_mass_and_origin_generate(workspace, capsys):
+    """A URDF whose third link weighs 1e100 kg, or whose first joint sits 1e100 m up, generates
+    forward dynamics (the second with a nearly-singular warning): neither is 'identically 0'."""
+    text = (REPO / "tests" / "data" / "urdf" / "handmade.urdf").read_text()
+    masses = [k for k in range(len(text)) if text.startswith('<mass value="', k)]
+    start = masses[2] + len('<mass value="')
+    heavy = text[:start] + "1e100" + text[text.index('"', start):]
+    first = text.index('<origin xyz="', text.index("<joint")) + len('<origin xyz="')
+    high = text[:first] + "0 0 1e100" + text[text.index('"', first):]
+    for name, urdf in (("heavy", heavy), ("high", high)):
+        (workspace / f"{name}.urdf").write_text(urdf)
+        lines, _ = run_cli(["generate", workspace / f"{name}.urdf", "--out", workspace / name, "--quiet", "--no-cache"],
+                           capsys, 0)
+        assert not any("identically" in line for line in lines), lines
+
+
+@pytest.mark.slow
+def test_forty_joints_within_the_default_budgets(workspace, capsys):
+    """A generic 40-joint chain with full inertia tensors, every default function, with the
+    default budgets: done (about 30 s of CPU time on the reference machine), or stopped at the
+    default time budget with one line naming it; never longer."""
+    from symdyn.cli.common import DEFAULT_MAX_SECONDS
+    rng = np.random.default_rng(40)
+    links = [f"{{joint: revolute, a: {rng.uniform(-0.3, 0.3):.4f}, alpha: {rng.uniform(0.4, 1.0):.4f}, "
+             f"d: {rng.uniform(-0.3, 0.3):.4f}, theta: 0, mass: {rng.uniform(0.5, 3):.3f}, "
+             f"com: [{rng.uniform(-0.1, 0.1):.3f}, {rng.uniform(-0.1, 0.1):.3f}, {rng.uniform(-0.1, 0.1):.3f}], "
+             "inertia: [0.02, 0.03, 0.025, 0.001, -0.002, 0.0015]}" for _ in range(40)]
+    (workspace / "forty.yaml").write_text(robot_text("forty", links))
+    argv = [str(a) for a in ("generate", workspace / "forty.yaml", "--out", workspace / "out", "--quiet", "--no-cache")]
+    import time as clock
+    start = clock.process_time()
+    status = symdyn.cli.main(argv)
+    seconds = clock.process_time() - start
+    err = capsys.readouterr().err
+    assert status == 0 or (status == 1 and "--max-seconds" in err), err
+    assert seconds < DEFAULT_MAX_SECONDS + 15, seconds
