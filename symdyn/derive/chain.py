@@ -10,13 +10,14 @@ rad that rounding alone would cost ~1e-12 in double and ~5e-4 in float.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import sympy as sp
 
 from ..model.geometry import JointGeometry, joint_geometry, joint_motion
 from .kinematics import joint_symbols
 from .program import ProgramBuilder
+from ..model.expr import expanded_terms_bound, tree_size
 from ..model.robot import Robot
 
 
@@ -84,9 +85,41 @@ def _quaternion_rotation(builder: ProgramBuilder, x, y, z, w) -> sp.Matrix:
                       [k * (x * z - y * w), k * (y * z + x * w), 1 - k * (x * x + y * y)]])
 
 
+#: a link field (length, mass, centre of mass, inertia) whose expression in the runtime
+#: parameters is larger than this (nodes written out, or terms expanded) is named once, as an
+#: intermediate computed from them, and the derivation works with the name: a field written as
+#: a polynomial of 45 terms in two parameters took 29 s when the products of the dynamics
+#: expanded it (4 links), 2.7 s named
+LARGE_FIELD_NODES, LARGE_FIELD_TERMS = 40, 8
+
+
+def _named_fields(robot: Robot, builder: ProgramBuilder) -> Robot:
+    """``robot`` with each large expression of its links' lengths and inertial fields replaced
+    by an intermediate symbol defined in ``builder`` (the same expression, one symbol)."""
+    named: dict[sp.Expr, sp.Expr] = {}
+
+    def name(value):
+        value = sp.sympify(value)
+        if not value.free_symbols or value.is_Symbol:
+            return value
+        if value not in named:
+            large = (tree_size(value, LARGE_FIELD_NODES) > LARGE_FIELD_NODES
+                     or expanded_terms_bound(value) > LARGE_FIELD_TERMS)
+            named[value] = builder.define(f"pf{len(named) + 1}", value, force=True) if large else value
+        return named[value]
+
+    links = [replace(link, a=name(link.a), d=name(link.d), mass=name(link.mass),
+                     com=tuple(name(c) for c in link.com), inertia=tuple(name(c) for c in link.inertia))
+             for link in robot.links]
+    if all(new == old for new, old in zip(links, robot.links)):
+        return robot
+    return replace(robot, links=tuple(links))
+
+
 def make_chain(robot: Robot, prefix: str = "_") -> Chain:
     q, qd, qdd, tau = joint_symbols(robot.nq, robot.nv)
     builder = ProgramBuilder(prefix)
+    robot = _named_fields(robot, builder)
     base_rotation = _quaternion_rotation(builder, *q[3:7]) if robot.floating else None
     joint_q = q[7:] if robot.floating else q
     geometry, transforms, motions, trig, joint_trig = [], [], [], {}, []
