@@ -298,7 +298,7 @@ class Case:
 
     label: str
     prefix: str
-    dims: "Dimensions"  # the robot's sizes (symdyn.model.outputs.Dimensions.of)
+    dims: object  # the robot's sizes: a symdyn.model.outputs.Dimensions (Dimensions.of)
     folder: str
     functions: tuple
     header: str
