@@ -993,6 +993,10 @@ def read_tree(urdf: _Reader, name: str, floating: bool = False) -> tuple[dict, l
                      f"{_kg(ground.mass)} kg: links {_plain(ground_links)}")
     elif ground.mass != 0:
         notes.append(f"fixed to the ground, inertia left out ({_kg(ground.mass)} kg): links {_plain(ground_links)}")
+        if on_base > 1:  # branches on a root that carries mass: a legged or mobile robot, most likely
+            urdf.warn(f"the root link {describe(urdf.root)} ({_kg(ground.mass)} kg) is fixed to the ground and its "
+                      f"inertia left out, with {on_base} branches of joints on it: give --floating-base if the robot "
+                      "moves freely (a legged or mobile robot)")
     if any(key in extra for _, extra in entries for key in ("damping", "coulomb")):
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
     if urdf.snapped:

@@ -178,3 +178,19 @@ def test_tip_of_a_chain_with_fixed_leaves_and_the_whole_tree_of_a_branching_one(
     leg = symdyn.load(solo, tip="FL_FOOT")
     assert not leg.is_tree and leg.dof == 3
 
+
+
+def test_a_legged_robot_read_on_a_fixed_base_says_so():
+    """Solo-12 read without --floating-base: its root link's 1.16 kg is fixed to the ground with
+    four legs on it, said in one warning naming the file, the root and --floating-base; read with
+    it, nothing is said."""
+    path = example_robot_data("solo_description/robots/solo12.urdf")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        symdyn.load(path)
+    said = [str(w.message) for w in caught if issubclass(w.category, SymdynWarning) and "--floating-base" in str(w.message)]
+    assert len(said) == 1 and "solo12.urdf" in said[0] and "'base_link'" in said[0] and "4 branches" in said[0], said
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        symdyn.load(path, floating_base=True)
+    assert not [w for w in caught if "--floating-base" in str(w.message)]

@@ -170,7 +170,9 @@ def test_verify_honors_the_scene(capsys):
     assert main(["verify", str(REPO / "robots" / "scenes" / "puma560_gravity.yaml"), "--states", "3"]) == 0
     out, _ = stderr_lines(capsys)
     assert "float" in out.splitlines()[0] and "tolerance 0.0001" in out.splitlines()[0]
-    rows = [line.split()[0] for line in out.splitlines()[2:]]
+    lines = out.splitlines()
+    header = next(k for k, line in enumerate(lines) if line.startswith("function "))
+    rows = [line.split()[0] for line in lines[header + 1:]]
     assert rows == ["gravity"]
 
 
