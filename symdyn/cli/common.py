@@ -26,11 +26,11 @@ def add_method_option(parser) -> None:
                              "jacobian-newton-euler (world-frame link Jacobians, H = sum J_ci^T M_i J_ci)")
 
 
-#: default of --max-joints: derivation time grows quickly with the joint count (every default
-#: function of a generic 40-joint DH chain: 29 s and 161 MB on the 2-core reference machine,
-#: other 40-joint robots past 240 s: the time budget, --max-seconds, bounds those;
-#: docs/untrusted-input.md)
-DEFAULT_MAX_JOINTS = 40
+#: default of --max-joints: no count (None): the cost of a robot follows its structure more than
+#: its joints (a generic 40-joint DH chain: 29 s and 161 MB on the 2-core reference machine;
+#: TIAGo's 48 joints 36 s; other 40-joint robots past 240 s), so the time and memory budgets
+#: (--max-seconds, --max-memory) bound a run, not a joint count; docs/untrusted-input.md
+DEFAULT_MAX_JOINTS = None
 #: default of --max-memory (GB): the most memory a run may take before it stops with one line
 DEFAULT_MAX_MEMORY_GB = 8.0
 #: default of --max-seconds: the most CPU time a run may take before it stops with one line (a
@@ -71,8 +71,8 @@ def add_size_options(parser) -> None:
                         help="treat every warning (inertia breaking the triangle inequality, angles that "
                              "look like degrees, a mass without inertia, ...) as an error")
     parser.add_argument("--max-joints", type=int, default=DEFAULT_MAX_JOINTS, metavar="N",
-                        help=f"refuse robots with more than N joints before deriving (default "
-                             f"{DEFAULT_MAX_JOINTS}; 40 joints take from half a minute to several minutes)")
+                        help="refuse robots with more than N joints before deriving (default: no count; the time "
+                             "and memory budgets, --max-seconds and --max-memory, bound the run)")
     parser.add_argument("--max-memory", type=float, default=DEFAULT_MAX_MEMORY_GB, metavar="GB",
                         help=f"stop with an error when the run needs more than GB gigabytes of memory "
                              f"(default {DEFAULT_MAX_MEMORY_GB:g}; 0: no limit)")
@@ -93,7 +93,7 @@ def load_robot(path, args, parallel: bool = False):
 def check_size(robot, args, path) -> None:
     """Refuse a robot with more joints than ``--max-joints`` before any derivation starts."""
     limit = getattr(args, "max_joints", DEFAULT_MAX_JOINTS)
-    if robot.dof > limit:
+    if limit is not None and robot.dof > limit:
         raise SymdynError(f"{path}: {robot.dof} joints, more than --max-joints {limit}: the derivation "
                           "would take long (about 90 s for 40 joints); raise --max-joints to go on")
 
