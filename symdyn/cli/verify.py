@@ -11,7 +11,7 @@ from ..model.outputs import PLATFORM_REGISTRY as PLATFORM_FUNCTIONS
 from ..emit.cgen import PRECISION_CHOICES
 from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import PLATFORM, SERIAL, kind_of, scene_choices
-from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, supported_outputs, with_requirements
+from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, factors_mass_matrix, supported_outputs, with_requirements
 from ..model.errors import SymdynError
 from ..model.tolerances import VERIFY_FLOOR, VERIFY_TOLERANCE
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
@@ -66,8 +66,7 @@ def run(args) -> int:
 def _run_serial(args, robot, scene) -> int:
     """verify of a serial robot (a chain, a tree or a floating base): every function asked for,
     compiled, against Pinocchio (of the URDF itself where it can read it); one table of errors."""
-    from ..check.agreement import (REGRESSORS, TASK_REGULAR, compile_equations, derive_supported, robot_floors,
-                                   target_errors)
+    from ..check.agreement import REGRESSORS, TASK_REGULAR, compile_equations, robot_floors, target_errors
     from ..check.pinocchio_model import PinocchioReference
     from ..check.states import random_state
     from ..model.scene import is_urdf
@@ -81,12 +80,7 @@ def _run_serial(args, robot, scene) -> int:
         values[sym] = float(nominal) if nominal is not None else (9.81 if sym.name == "g" else float(rng.uniform(0.3, 1.5)))
     p = np.array([values[s] for s in robot.parameters])
     fd_method = args.fd_method or default_fd_method(precision, robot)
-    if args.all:  # without the task-space functions where the robot's task does not exist
-        eqs, functions = derive_supported(robot, args.method, functions, fd_method, progress=progress_printer(args),
-                                          parameters=args.parameters)
-    else:
-        eqs = derive_cached(robot, args.method, with_requirements(functions), progress=progress_printer(args),
-                            fd_method=fd_method, parameters=args.parameters)
+    eqs, functions, skipped = _derive(args, robot, functions, fd_method)
     with tempfile.TemporaryDirectory(prefix="symdyn_verify_") as workdir:
         lib = compile_equations(eqs, functions, precision, workdir, args.robot)
         regressors = [f for f in functions if f in REGRESSORS]
@@ -110,6 +104,8 @@ def _run_serial(args, robot, scene) -> int:
     print(f"symdyn verify {args.robot}: {robot.dof} joints{' on a floating base' if robot.floating else ''}, "
           f"{args.method}{form}, {precision}, "
           f"{args.states} random states, tolerance {tolerance:g}, against {reading}")
+    if skipped:
+        print(f"({skipped})")
     if floors:
         print(f"(outputs in torques measured against at least {VERIFY_FLOOR:g} of the robot's own torques at these "
               "states, the RMS of its inverse dynamics: a value that is zero but for rounding is not judged against "
@@ -172,6 +168,29 @@ def _run_platform(args, robot, scene=None) -> int:
         for problem in result.mismatches[name][:3]:
             print(f"{name}: {problem}")
     return 0 if result.ok(tolerance) else 1
+
+
+def _derive(args, robot, functions, fd_method):
+    """``(eqs, functions, skipped)``: the derivation of the functions to check; where the mass
+    matrix is singular for every q (a massless subtree), without the functions that solve with
+    it, ``skipped`` then saying which and why (else "")."""
+    from ..check.agreement import derive_supported
+    from ..derive.equations import SingularMassMatrix
+
+    def derive(functions):
+        if args.all:  # without the task-space functions where the robot's task does not exist
+            return derive_supported(robot, args.method, functions, fd_method, progress=progress_printer(args),
+                                    parameters=args.parameters)
+        return derive_cached(robot, args.method, with_requirements(functions), progress=progress_printer(args),
+                             fd_method=fd_method, parameters=args.parameters), functions
+    try:
+        return (*derive(functions), "")
+    except SingularMassMatrix as exc:
+        kept = tuple(f for f in functions if not factors_mass_matrix(f))
+        if not kept:
+            raise
+        dropped = [f for f in functions if f not in kept]
+        return (*derive(kept), f"skipped {', '.join(dropped)}: {exc}")
 
 
 #: how each kind of robot (symdyn.emit.pipeline.KINDS) is verified

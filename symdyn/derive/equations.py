@@ -414,13 +414,45 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
              "generated code returns status 1 (singular) wherever a pivot fails its run-time check")
         return
     j = min(exact)
-    joint = f"joint {j + 1} ('{robot.links[j].name}')"
     if j in zero_diagonal and j in exact_diagonal:
-        raise SymdynError(f"{where}forward dynamics: D[{j + 1},{j + 1}] is identically 0: {joint} has no inertia "
-                          "about its axis; give the link inertia or an armature, or leave forward_dynamics out")
-    raise SymdynError(f"{where}forward dynamics: the mass matrix is singular for every q: {joint} moves no "
-                      "inertia that the joints before it do not already move; give the link inertia or "
-                      "an armature, or leave forward_dynamics out")
+        zero = sorted(exact & zero_diagonal & exact_diagonal)
+        raise SingularMassMatrix(f"{where}forward dynamics: D[{j + 1},{j + 1}] is identically 0: {_joints(robot, zero)} "
+                                 f"{'has' if len(zero) == 1 else 'have'} no inertia about {'its' if len(zero) == 1 else 'their'} "
+                                 "axis; give the links inertia or an armature, or leave forward_dynamics out")
+    raise SingularMassMatrix(f"{where}forward dynamics: the mass matrix is singular for every q: "
+                             f"{_joints(robot, sorted(exact))} {'moves' if len(exact) == 1 else 'move'} no inertia that "
+                             "the joints before do not already move; give the links inertia or an armature, or leave "
+                             "forward_dynamics out")
+
+
+class SingularMassMatrix(SymdynError):
+    """The mass matrix (plus armature) is singular for every q: forward dynamics, its derivatives,
+    the inverse mass matrix and the task-space functions cannot be generated (the others can)."""
+
+
+def _joints(robot: Robot, joints: list[int], shown: int = 6) -> str:
+    """``joint 61 ('RThumb3')``, or ``joints 61 ('RThumb3'), 62 (...), ... (24 joints)``."""
+    names = [f"{k + 1} ('{robot.links[k].name}')" for k in joints]
+    if len(names) == 1:
+        return f"joint {names[0]}"
+    more = f", ... ({len(names)} joints)" if len(names) > shown else ""
+    return f"joints {', '.join(names[:shown])}{more}"
+
+
+def _zero_pivot(robot: Robot, M: sp.Matrix, what: str = "forward dynamics", leave: str = "forward_dynamics"):
+    """The callback of a factorization that meets an identically zero pivot: a
+    :class:`SingularMassMatrix` naming every joint whose diagonal entry of ``M`` is zero (a
+    massless subtree without armature), or the joint of the pivot."""
+    def raise_singular(j: int):
+        zero = [k for k in range(M.shape[0]) if sp.sympify(M[k, k]) == 0] or [j]
+        offset = 6 if robot.floating else 0
+        joints = [k - offset for k in zero if k >= offset] or [j - offset]
+        where = f"{robot.source}: " if robot.source else ""
+        raise SingularMassMatrix(f"{where}{what}: pivot {j + 1} of the mass matrix is identically 0: "
+                                 f"{_joints(robot, joints)} {'moves' if len(joints) == 1 else 'move'} no inertia "
+                                 f"(massless links without armature); give them inertia or an armature, or leave "
+                                 f"{leave} out")
+    return raise_singular
 
 
 def _decades(robot: Robot, values) -> int:
@@ -443,16 +475,10 @@ def _decades(robot: Robot, values) -> int:
     return int(math.ceil(max(0.0, max(exponents) - 10) + max(0.0, -10 - min(exponents))))
 
 
-def _identically_zero_pivot(j: int):
-    raise SymdynError(f"forward dynamics: pivot {j + 1} of the mass matrix is identically 0 "
-                      f"(joint {j + 1} moves no inertia); give the link inertia or an armature, "
-                      "or leave forward_dynamics out")
-
-
-def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix) -> tuple[sp.Matrix, tuple[tuple[sp.Expr, sp.Expr], ...]]:
+def _ldlt_solve(b: ProgramBuilder, M: sp.Matrix, rhs: sp.Matrix, robot: Robot) -> tuple[sp.Matrix, tuple[tuple[sp.Expr, sp.Expr], ...]]:
     """Solve M x = rhs for symmetric positive definite M with an unrolled LDL^T (n divisions);
     returns the solution (n x 1) and the n pairs (pivot d_j, diagonal entry M_jj)."""
-    factorization = ldlt.factor(b, M, "ldl", _identically_zero_pivot)
+    factorization = ldlt.factor(b, M, "ldl", _zero_pivot(robot, M))
     x = ldlt.solve(b, factorization, rhs, "ldl_y", "qdd{i}_fd")
     return sp.Matrix(x), factorization.pivots
 
@@ -763,10 +789,12 @@ def _mass_factorization(d: _Derivation):
         M = d.get("mass_matrix") + armature_matrix(robot)
         if "forward_dynamics" not in d.need and not robot.floating:  # (as forward dynamics checks it)
             check_not_singular(robot, b.build(), M)
+        on_zero = _zero_pivot(robot, M, "the inverse mass matrix", "mass_matrix_inverse and the forward-dynamics "
+                                                                  "derivatives")
         if robot.is_tree:
-            d.mass_factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", _identically_zero_pivot)
+            d.mass_factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", on_zero)
         else:
-            d.mass_factorization = ldlt.factor(b, M, "ldl", _identically_zero_pivot)
+            d.mass_factorization = ldlt.factor(b, M, "ldl", on_zero)
     return d.mass_factorization
 
 
@@ -837,10 +865,10 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
     rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
     if robot.is_tree:
         d.report("forward_dynamics (L^T D L of the tree's mass matrix: no fill-in)")
-        factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", _identically_zero_pivot)
+        factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", _zero_pivot(robot, M))
         d.pivots = factorization.pivots
         return sp.Matrix(ldlt.solve_tree(b, factorization, rhs, "ltl_y", "qdd{i}_fd"))
-    qdd, d.pivots = _ldlt_solve(b, M, rhs)
+    qdd, d.pivots = _ldlt_solve(b, M, rhs, robot)
     if d.n >= LOOPED_SOLVE_FROM_DOF:
         d.fd_system = (sp.ImmutableMatrix(M), sp.ImmutableMatrix(rhs), d.mass_factors)
     return qdd
@@ -853,11 +881,7 @@ def _task(d: _Derivation) -> sp.Matrix:
     J, jdot, h, c = d.get("jacobian"), d.get("jacobian_dot_qd"), d.get("coriolis"), d.get("gravity")
     d.report("task space (LDL^T of M, J M^-1 J^T and its LDL^T)")
 
-    def identically_zero(j):
-        raise SymdynError(f"{robot.source or robot.name}: task space: pivot {j + 1} of the mass matrix is identically 0 "
-                          f"(joint {j + 1} moves no inertia); give the link inertia or an armature, or leave the "
-                          "task-space functions out")
-    ts = task_space(d.b, M, J, jdot, h, c, robot.task_rows, identically_zero)
+    ts = task_space(d.b, M, J, jdot, h, c, robot.task_rows, _zero_pivot(robot, M, "task space", "the task-space functions"))
     check_task_regular(robot, d.b.build(), ts.task_pivots)
     d.values.update(ts.outputs())
     d.checks.append((TASK_OUTPUTS, tuple((p, m, 1) for p, m in ts.mass.pivots)

@@ -173,7 +173,7 @@ def test_all_zero_mass_refuses_forward_dynamics_only(workspace, capsys):
     links = ["{joint: revolute, a: 0.4, alpha: 0, d: 0, theta: 0}", "{joint: revolute, a: 0.3, alpha: 0, d: 0, theta: 0}"]
     (workspace / "r.yaml").write_text(robot_text(links=links))
     (line,), _ = run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out", "--no-cache"], capsys, 1)
-    assert "r.yaml: forward dynamics" in line and "joint 1" in line and "leave forward_dynamics out" in line
+    assert "r.yaml: forward dynamics" in line and "joints 1 ('j1'), 2 ('j2')" in line and "leave forward_dynamics out" in line
     assert not (workspace / "out").exists()
     run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out", "--quiet", "--no-cache",
              "--functions", "inverse_dynamics,mass_matrix,coriolis,coriolis_matrix,gravity"], capsys, 0)
