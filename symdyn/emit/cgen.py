@@ -496,7 +496,7 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
              "a shorter robot name is safer with old toolchains")
     context = _file_context(eqs, functions, precision, built, header_only, source_name, source_hash, notes, locked,
                             batch)
-    context.update(banner_fields(prefix, precision, context["method"], eqs.robot.dof, eqs.robot.convention))
+    context.update(banner_fields(prefix, precision, context["method"], eqs.robot))
     env = template_environment()
     header = env.get_template("dynamics.h.j2").render(**context)
     files = {f"{prefix}_dynamics.h": header}

@@ -107,16 +107,25 @@ def _fold_constant(expr: sp.Expr, digits: int) -> sp.Expr:
     return expr.replace(is_const, lambda e: sp.Float(sp.N(e, digits), digits))
 
 
-def banner_fields(prefix: str, precision: str, method: str = "", dof: int = 0, convention: str = "") -> dict:
+def banner_fields(prefix: str, precision: str, method: str = "", robot=None) -> dict:
     """``banner_title`` and ``banner_generator`` of ``templates/banner.j2``: a serial robot's
-    (``method``, ``dof`` joints, ``convention``) or, without a method, a platform robot's."""
+    (``method``, ``robot``: :func:`robot_words`) or, without a method, a platform robot's."""
     if not method:
         return {"banner_title": f"dynamics of platform robot '{prefix}' (6 legs, one actuated joint each; "
                                 "natural orthogonal complement)",
                 "banner_generator": f"platform robot, {precision} precision"}
-    placements = "general joint placements" if convention == "general" else f"{convention} DH"
-    return {"banner_title": f"equations of motion of robot '{prefix}' ({dof} joints, {placements})",
+    return {"banner_title": f"equations of motion of robot '{prefix}' ({robot_words(robot)})",
             "banner_generator": f"{method}, {precision} precision"}
+
+
+def robot_words(robot) -> str:
+    """What a serial robot is, in the words of the generated files: ``6 joints, standard DH``,
+    ``12 joints, a tree, general joint placements``, ``12 joints on a floating base (NV = 18), a
+    tree, general joint placements``."""
+    placements = "general joint placements" if robot.convention == "general" else f"{robot.convention} DH"
+    floating = f" on a floating base (NV = {robot.nv})" if robot.floating else ""
+    tree = ", a tree" if robot.is_tree and any(p != k - 1 for k, p in enumerate(robot.parent_indices)) else ""
+    return f"{robot.dof} joints{floating}{tree}, {placements}"
 
 
 # ---------------------------------------------------------------------------------------------
