@@ -406,6 +406,7 @@ class _Reader:
             self.fail("the <robot> element has no name attribute")
         self.robot_name = name
         self.link_of_joint: dict[str, str] = {}  # moving joint -> its link's name in the robot document
+        self.renamed: list[tuple[str, str]] = []  # (URDF joint name, the link's name): said once, listed in full
         self.links: dict[str, object] = {}
         self.joints: dict[str, _Joint] = {}
         self.bodies: dict[str, _Body] = {}
@@ -629,6 +630,19 @@ class _Reader:
 
 # ---------------------------------------------------------------------------------------------
 # Names
+
+
+def _renamed_note(urdf: "_Reader", notes: list) -> None:
+    """One warning for every joint whose name was changed, and a note (the generated header lists
+    the notes) with each full URDF name beside the name used."""
+    if not urdf.renamed:
+        return
+    urdf.warn(f"{len(urdf.renamed)} joint name{'s' if len(urdf.renamed) > 1 else ''} changed (link names: letters, "
+              f"digits and '_', at most {MAX_NAME} characters, distinct): "
+              + ", ".join(f"{describe(full)} -> '{short}'" for full, short in urdf.renamed[:3])
+              + (", ..." if len(urdf.renamed) > 3 else ""))
+    notes.append("joints renamed (URDF name -> name here): "
+                 + "; ".join(f"{one_line(full, 200)} -> {short}" for full, short in urdf.renamed))
 
 
 def _link_name(name: str, taken: set) -> str:
@@ -855,6 +869,7 @@ def _merge_notes(urdf: "_Reader", tip: str, chain, moving, links, ground, rigid,
         notes.append(f"off the chain, locked at 0 and {into}: joints {_plain(names)}")
     if dynamics:
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
+    _renamed_note(urdf, notes)
     if urdf.snapped:
         notes.append(f"rpy angles within {QUARTER_TOLERANCE:g} rad of a multiple of pi/2 taken as that multiple "
                      f"(--exact-angles keeps them as written): {_plain(urdf.snapped)}")
@@ -890,8 +905,7 @@ def _joint_entry(urdf: _Reader, joint: _Joint, pending: Frame, pending_joints: l
     taken.add(link_name)
     urdf.link_of_joint[joint.name] = link_name
     if link_name != joint.name:
-        urdf.warn(f"renamed '{link_name}' (link names: letters, digits and '_', at most {MAX_NAME} "
-                  "characters, distinct)", where, "name")
+        urdf.renamed.append((joint.name, link_name))
     entry = {"name": link_name, "joint": "prismatic" if joint.type == "prismatic" else "revolute",
              "origin": origin, "axis": [t for _, t in axis]}
     extra = {}
@@ -999,6 +1013,7 @@ def read_tree(urdf: _Reader, name: str, floating: bool = False) -> tuple[dict, l
                       "moves freely (a legged or mobile robot)")
     if any(key in extra for _, extra in entries for key in ("damping", "coulomb")):
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
+    _renamed_note(urdf, notes)
     if urdf.snapped:
         notes.append(f"rpy angles within {QUARTER_TOLERANCE:g} rad of a multiple of pi/2 taken as that multiple "
                      f"(--exact-angles keeps them as written): {_plain(urdf.snapped)}")

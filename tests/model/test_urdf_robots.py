@@ -194,3 +194,26 @@ def test_a_legged_robot_read_on_a_fixed_base_says_so():
         warnings.simplefilter("always")
         symdyn.load(path, floating_base=True)
     assert not [w for w in caught if "--floating-base" in str(w.message)]
+
+
+def test_long_joint_names_are_said_once_and_kept_in_full(tmp_path):
+    """Three URDF joints whose names pass 31 characters: one warning for the three, and the
+    header's notes give each full URDF name beside the name used (TALOS's gripper joints)."""
+    import re
+    from symdyn.cli import main
+    text = (REPO / "tests" / "data" / "urdf" / "handmade.urdf").read_text()
+    names = re.findall(r'<joint name="([^"]+)" type="(?:revolute|continuous|prismatic)"', text)[:3]
+    long = {name: f"{name}_with_a_suffix_long_enough_to_pass_the_limit_{k}" for k, name in enumerate(names)}
+    for name, new in long.items():
+        text = text.replace(f'"{name}"', f'"{new}"')
+    path = tmp_path / "long.urdf"
+    path.write_text(text)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        robot = symdyn.load(str(path))
+    said = [str(w.message) for w in caught if "name" in str(w.message) and "changed" in str(w.message)]
+    assert len(said) == 1 and "3 joint names changed" in said[0], said
+    assert main(["generate", str(path), "--out", str(tmp_path / "out"), "--functions", "gravity", "--quiet"]) == 0
+    header = (tmp_path / "out" / f"{robot.name}_dynamics.h").read_text()
+    for new in long.values():
+        assert new in header, new
