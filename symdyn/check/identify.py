@@ -54,21 +54,19 @@ def identify(eqs, samples, weighted: bool = False, p=None, source: str = "the sa
                           f"parameters: too short (give at least {nb // n + 1} samples, and many more for "
                           "reliable values)")
     weights = np.ones(n)
-    values, condition, _ = _solve(triangles, weights, nb, source)
+    values, condition, R = _solve(triangles, weights, nb, source)
+    residuals = np.array([_residual(Rj, values) for Rj in triangles])  # |T_j - W_j beta| per joint
     if weighted:
-        dof = max(count - nb / n, 1.0)
-        sigma = np.array([_residual(R, values) for R in triangles]) / np.sqrt(dof)
+        sigma = residuals / np.sqrt(max(count - nb / n, 1.0))
         sigma[sigma <= 0] = 1.0
         weights = 1.0 / sigma
-        values, condition, _ = _solve(triangles, weights, nb, source)
-    _, _, R = _solve(triangles, weights, nb, source)
+        values, condition, R = _solve(triangles, weights, nb, source)
+        residuals = np.array([_residual(Rj, values) for Rj in triangles])
     rows = count * n
-    weighted_residual = np.hypot.reduce([w * _residual(Rj, values) for w, Rj in zip(weights, triangles)])
-    variance = float(weighted_residual ** 2) / max(rows - nb, 1)
+    variance = float(np.hypot.reduce(weights * residuals) ** 2) / max(rows - nb, 1)
     inverse = np.linalg.inv(R)
     std = np.sqrt(variance * np.sum(inverse ** 2, axis=1))
-    rms = np.array([_residual(Rj, values) for Rj in triangles]) / np.sqrt(count)
-    return Identification(names, values, std, condition, rows, rms, weights)
+    return Identification(names, values, std, condition, rows, residuals / np.sqrt(count), weights)
 
 
 def _joint_triangles(eqs, blocks, nb: int, p) -> tuple[list[np.ndarray], int]:

@@ -444,14 +444,14 @@ def _zero_pivot(robot: Robot, M: sp.Matrix, what: str = "forward dynamics", leav
     :class:`SingularMassMatrix` naming every joint whose diagonal entry of ``M`` is zero (a
     massless subtree without armature), or the joint of the pivot."""
     def raise_singular(j: int):
-        zero = [k for k in range(M.shape[0]) if sp.sympify(M[k, k]) == 0] or [j]
-        offset = 6 if robot.floating else 0
-        joints = [k - offset for k in zero if k >= offset] or [j - offset]
+        offset = 6 if robot.floating else 0  # a floating base's 6 rows come first
+        joints = [k - offset for k in range(offset, M.shape[0]) if sp.sympify(M[k, k]) == 0] or \
+            ([j - offset] if j >= offset else [])
         where = f"{robot.source}: " if robot.source else ""
-        raise SingularMassMatrix(f"{where}{what}: pivot {j + 1} of the mass matrix is identically 0: "
-                                 f"{_joints(robot, joints)} {'moves' if len(joints) == 1 else 'move'} no inertia "
-                                 f"(massless links without armature); give them inertia or an armature, or leave "
-                                 f"{leave} out")
+        what_moves = (f"{_joints(robot, joints)} {'moves' if len(joints) == 1 else 'move'} no inertia (massless links "
+                      "without armature)") if joints else "the floating base has no inertia"
+        raise SingularMassMatrix(f"{where}{what}: pivot {j + 1} of the mass matrix is identically 0: {what_moves}; "
+                                 f"give them inertia or an armature, or leave {leave} out")
     return raise_singular
 
 

@@ -607,7 +607,7 @@ class BodyWriter:
             return
         for code in sorted({code for _, code in checks[at]}):
             self.lines += ["if (" + "\n        || ".join(test for test, c in checks[at] if c == code) + ") {",
-                           f"    return {self.ctx.prefix.upper()}_{STATUS_NAMES[code]};",
+                           f"    return {status_macros(self.ctx.prefix)[STATUS_NAMES[code]]};",
                            "}"]
 
     def _placed_writes(self) -> None:

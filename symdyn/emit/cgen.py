@@ -388,7 +388,13 @@ def _task_context(eqs: Equations, precision: str) -> dict:
     default of the singularity tolerance macro."""
     rows = eqs.robot.task_rows
     return {"count": len(rows), "rows": ", ".join(f"{row} ({JACOBIAN_ROWS[row]})" for row in rows),
-            "rtol": repr(pivot_rtol("float" if precision == "float" else "double"))}
+            "rtol": repr(pivot_rtol(_checked_arithmetic(precision)))}
+
+
+def _checked_arithmetic(precision: str) -> str:
+    """The arithmetic the status-returning functions compute their pivots in: float in float,
+    double in double and in mixed (which computes every function that solves with D in double)."""
+    return "float" if precision == "float" else "double"
 
 
 def _contract_context(eqs: Equations, precision: str, built) -> dict:
@@ -398,7 +404,7 @@ def _contract_context(eqs: Equations, precision: str, built) -> dict:
     if not any(f.returns == "int" for f in built):
         return {"statuses": [], "pivot_rtol": "", "pivot_rtol_text": ""}
     task = any(f.name in TASK_OUTPUTS or f.name == "task_space" for f in built)
-    internal = "float" if precision == "float" else "double"
+    internal = _checked_arithmetic(precision)
     text = eqs.robot.name.upper()
     return {"statuses": [(name, value, doc.replace("NAME_", f"{text}_")) for name, (value, doc) in STATUS_CODES.items()
                          if task or name != "TASK_SINGULAR"],

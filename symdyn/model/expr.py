@@ -166,33 +166,24 @@ def parse_expression(text: str, resolve_name: Callable[[str], sp.Expr]) -> sp.Ex
 def expanded_terms_bound(expr: sp.Basic) -> int:
     """An upper bound of the terms ``expr`` expands to as a polynomial in its symbols (numerator
     and denominator alike): the monomials of its degree in its symbols, C(degree + s, s); the
-    degree is computed once per distinct node (a sum: the largest of its terms'; a product:
-    the sum; a power: times the exponent's magnitude, rounded up)."""
+    degree is computed once per distinct node (:func:`_fold`; a sum: the largest of its terms';
+    a product: the sum; a power: times the exponent's magnitude, rounded up)."""
     symbols = expr.free_symbols
     if not symbols:
         return 1
-    degrees: dict[sp.Basic, int] = {}
-    stack = [(expr, False)]
-    while stack:
-        node, expanded = stack.pop()
-        if node in degrees:
-            continue
+
+    def degree(node, args: list[int]) -> int:
         if node.is_Symbol:
-            degrees[node] = 1
-        elif not node.args or not node.free_symbols:
-            degrees[node] = 0
-        elif not expanded:
-            stack.append((node, True))
-            stack.extend((arg, False) for arg in node.args if arg not in degrees)
-        elif node.is_Pow:
+            return 1
+        if not args or not node.free_symbols:
+            return 0
+        if node.is_Pow:
             exponent = node.args[1]
-            power = math.ceil(abs(float(exponent))) if exponent.is_number else 64
-            degrees[node] = min(degrees[node.args[0]] * power, 10**6)
-        elif node.is_Mul:
-            degrees[node] = min(sum(degrees[arg] for arg in node.args), 10**6)
-        else:  # a sum, or a function of its arguments
-            degrees[node] = max(degrees[arg] for arg in node.args)
-    return math.comb(degrees[expr] + len(symbols), len(symbols))
+            return min(args[0] * (math.ceil(abs(float(exponent))) if exponent.is_number else 64), 10**6)
+        if node.is_Mul:
+            return min(sum(args), 10**6)
+        return max(args)  # a sum, or a function of its arguments
+    return math.comb(_fold(expr, degree) + len(symbols), len(symbols))
 
 
 def _count_text(count: int) -> str:
@@ -201,25 +192,27 @@ def _count_text(count: int) -> str:
 
 def tree_size(expr: sp.Basic, limit: int) -> int:
     """The nodes of ``expr`` written out as a tree (a shared subexpression counted at each use),
-    computed once per distinct node (linear in the graph, not in the tree); stops once past
-    ``limit`` (returns a number above it)."""
-    sizes: dict[sp.Basic, int] = {}
+    computed once per distinct node (:func:`_fold`: linear in the graph, not in the tree);
+    capped just past ``limit`` (a number above it means "more")."""
+    return _fold(expr, lambda node, args: min(1 + sum(args), limit + 1))
+
+
+def _fold(expr: sp.Basic, combine: Callable[[sp.Basic, list], int]) -> int:
+    """``combine(node, [its arguments' values])`` for every distinct node of ``expr``'s graph,
+    arguments first (an iterative post-order, memoized per node: time linear in the graph, no
+    recursion depth); the value of ``expr``."""
+    values: dict[sp.Basic, int] = {}
     stack = [(expr, False)]
     while stack:
         node, expanded = stack.pop()
-        if node in sizes:
+        if node in values:
             continue
-        if not node.args:
-            sizes[node] = 1
-            continue
-        if not expanded:
+        if node.args and not expanded:
             stack.append((node, True))
-            stack.extend((arg, False) for arg in node.args if arg not in sizes)
+            stack.extend((arg, False) for arg in node.args if arg not in values)
             continue
-        sizes[node] = min(1 + sum(sizes[arg] for arg in node.args), limit + 1)
-        if node is expr:
-            break
-    return sizes[expr]
+        values[node] = combine(node, [values[arg] for arg in node.args])
+    return values[expr]
 
 
 class _Parser:
