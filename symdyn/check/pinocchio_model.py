@@ -757,3 +757,118 @@ def _configured(method):
 for _name in (*ALL_OUTPUTS, "base_wrench", "task_pivot_ratio"):  # every reference function, q as the URDF reader orders it
     if _name in vars(PinocchioReference) and _name not in PinocchioReference.COMPOSED:
         setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))
+
+
+class MimicReduction:
+    """Reference values of a robot with mimic joints, from a reference of the same robot whose
+    every joint has its own coordinate (``full``: a :class:`PinocchioReference` or a
+    :class:`UrdfReference`, both built with every link's joint free): the mimic's position is
+    ``multiplier * q_leader + offset`` and its rate ``G v`` (G: NV_links x NV, a 1 for each
+    joint's own coordinate, the multiplier for a mimic's leader), so that the dynamics of the
+    coordinates are the projections ``M = G^T M_full G``, ``tau = G^T tau_full(q_full, G v, G a)``
+    (the principle of virtual work), the Jacobians ``J_full G``, and forward dynamics and the
+    inverse mass matrix solve with ``G^T (M_full + armature) G``.  Pinocchio's own mimic joints
+    (``mimic=True``) do not run ``aba`` or the derivatives, and its ``computeCoriolisMatrix``
+    with them gives a C with ``C v`` different from ``nonLinearEffects - g`` (Pinocchio 4.1, the
+    Panda's hand: 1.9e-2 N): hence this projection of the full model, which every algorithm
+    supports."""
+
+    def __init__(self, full, robot: Robot):
+        self.full = full
+        self.floating = robot.floating
+        base = 6 if robot.floating else 0
+        self.G = np.zeros((base + len(robot.links), base + robot.dof))
+        self.G[:base, :base] = np.eye(base)
+        self.offset = np.zeros(len(robot.links))
+        for i, link in enumerate(robot.links):
+            k, m = robot.coordinate_of(i)
+            self.G[base + i, base + k] = float(m)
+            self.offset[i] = 0.0 if link.mimic is None else float(link.mimic.offset)
+        self.base = base
+
+    def _q(self, q):
+        q = np.asarray(q, dtype=float)
+        head = 7 if self.floating else 0
+        joints = self.G[self.base:, self.base:] @ q[head:] + self.offset
+        return np.concatenate([q[:head], joints])
+
+    def _v(self, v):
+        return self.G @ np.asarray(v, dtype=float)
+
+    def _both(self, matrix):
+        return self.G.T @ matrix @ self.G
+
+    def mass_matrix(self, q):
+        return self._both(self.full.mass_matrix(self._q(q)))
+
+    def _system(self, q):
+        """G^T (M_full + diag(armature)) G."""
+        return self._both(self.full.mass_matrix(self._q(q)) + np.diag(self.full.armature))
+
+    def gravity(self, q):
+        return self.G.T @ self.full.gravity(self._q(q))
+
+    def coriolis(self, q, qd):
+        return self.G.T @ self.full.coriolis(self._q(q), self._v(qd))
+
+    def coriolis_matrix(self, q, qd):
+        return self._both(self.full.coriolis_matrix(self._q(q), self._v(qd)))
+
+    def kinetic_energy(self, q, qd):
+        return self.full.kinetic_energy(self._q(q), self._v(qd))
+
+    def inverse_dynamics(self, q, qd, qdd):
+        return self.G.T @ self.full.inverse_dynamics(self._q(q), self._v(qd), self._v(qdd))
+
+    def forward_dynamics(self, q, qd, tau):
+        bias = self.inverse_dynamics(q, qd, np.zeros(len(qd)))  # h + c + friction
+        return np.linalg.solve(self._system(q), np.asarray(tau, dtype=float) - bias)
+
+    def inverse_dynamics_dq(self, q, qd, qdd):
+        return self._both(self.full.inverse_dynamics_dq(self._q(q), self._v(qd), self._v(qdd)))
+
+    def inverse_dynamics_dqd(self, q, qd, qdd):
+        return self._both(self.full.inverse_dynamics_dqd(self._q(q), self._v(qd), self._v(qdd)))
+
+    def gravity_derivative(self, q):
+        return self._both(self.full.gravity_derivative(self._q(q)))
+
+    def mass_matrix_inverse(self, q):
+        return np.linalg.inv(self._system(q))
+
+    def forward_dynamics_dq(self, q, qd, tau):
+        qdd = self.forward_dynamics(q, qd, tau)
+        return -np.linalg.solve(self._system(q), self.inverse_dynamics_dq(q, qd, qdd))
+
+    def forward_dynamics_dqd(self, q, qd, tau):
+        qdd = self.forward_dynamics(q, qd, tau)
+        return -np.linalg.solve(self._system(q), self.inverse_dynamics_dqd(q, qd, qdd))
+
+    def frame_poses(self, q):
+        return self.full.frame_poses(self._q(q))
+
+    def frame_jacobians(self, q):
+        return self.full.frame_jacobians(self._q(q)) @ self.G
+
+    def frame_jacobian_dot_v(self, q, qd):
+        return self.full.frame_jacobian_dot_v(self._q(q), self._v(qd))
+
+    def center_of_mass(self, q):
+        return self.full.center_of_mass(self._q(q))
+
+    def center_of_mass_jacobian(self, q):
+        return self.full.center_of_mass_jacobian(self._q(q)) @ self.G
+
+    def center_of_mass_bias(self, q, qd):
+        return self.full.center_of_mass_bias(self._q(q), self._v(qd))
+
+    def centroidal_momentum_matrix(self, q):
+        return self.full.centroidal_momentum_matrix(self._q(q)) @ self.G
+
+    def centroidal_bias(self, q, qd):
+        return self.full.centroidal_bias(self._q(q), self._v(qd))
+
+
+def reduced(reference, robot: Robot):
+    """``reference`` itself, or for a robot with mimic joints its :class:`MimicReduction`."""
+    return MimicReduction(reference, robot) if robot.mimics else reference

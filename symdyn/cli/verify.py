@@ -67,7 +67,7 @@ def _run_serial(args, robot, scene) -> int:
     """verify of a serial robot (a chain, a tree or a floating base): every function asked for,
     compiled, against Pinocchio (of the URDF itself where it can read it); one table of errors."""
     from ..check.agreement import REGRESSORS, TASK_REGULAR, compile_equations, robot_floors, target_errors
-    from ..check.pinocchio_model import PinocchioReference
+    from ..check.pinocchio_model import PinocchioReference, reduced
     from ..check.states import random_state
     from ..model.scene import is_urdf
     if args.all and args.functions:
@@ -89,6 +89,10 @@ def _run_serial(args, robot, scene) -> int:
         else:
             ref = PinocchioReference(robot, values)
             reading = "a Pinocchio model of symdyn's reading"
+        if robot.mimics:
+            ref = reduced(ref, robot)
+            reading += (", the mimic joint projected on its leader" if len(robot.mimics) == 1
+                        else f", the {len(robot.mimics)} mimic joints projected on their leaders")
         states = []
         for _ in range(args.states):
             state = random_state(robot, rng)

@@ -115,7 +115,7 @@ def _momentum_matrix(chain: Chain, frames, first: sp.Matrix, com: sp.Matrix) -> 
 def _momentum_rates(chain: Chain, poses, com: sp.Matrix) -> tuple[sp.Matrix, sp.Matrix]:
     """(m c-ddot, the angular momentum's rate about ``com``) at zero accelerations, base frame."""
     robot, b = chain.robot, chain.builder
-    zero = [sp.S.Zero] * robot.nv
+    zero = [sp.S.Zero] * len(chain.qd)
     motion: list = []
     states = recursion(chain, chain.qd, zero, sp.zeros(3, 1), "h", joint_frames=False, base_motion=motion)
     force, moment = sp.zeros(3, 1), sp.zeros(3, 1)

@@ -37,10 +37,18 @@ class Chain:
     trig: dict[sp.Symbol, sp.Expr]  # trig symbol -> cos/sin(theta + q)
     #: per joint, its (cos, sin) symbols (revolute), or () (prismatic)
     joint_trig: tuple = ()
+    #: the inputs ``(q, qd, qdd, tau)``: symbols, one per coordinate (NQ, NV, NV, NV).  They are
+    #: ``q, qd, qdd, tau`` themselves unless the robot has mimic joints; then ``qd``, ``qdd`` and
+    #: ``tau`` above are per link (a floating base's 6 first), a mimic's entries its leader's
+    #: times the multiplier (tau: 0), and the joint positions per link are :attr:`joint_q`
+    coordinates: tuple = ()
+    #: per link, its joint's position (the coordinate's symbol, or a mimic's law)
+    link_q: tuple = ()
 
     @property
     def n(self) -> int:
-        return self.robot.dof
+        """The links (a mimic joint's among them)."""
+        return len(self.robot.links)
 
     @property
     def parents(self) -> tuple[int, ...]:
@@ -63,9 +71,48 @@ class Chain:
         return sp.Matrix(self.robot.base_gravity)  # base frame (the world rotated by base)
 
     @property
-    def joint_q(self) -> tuple[sp.Symbol, ...]:
-        """The joints' coordinates (q after a floating base's 7)."""
-        return self.q[7:] if self.robot.floating else self.q
+    def joint_q(self) -> tuple[sp.Expr, ...]:
+        """Each link's joint position (q after a floating base's 7; a mimic's law of its leader's)."""
+        return self.link_q
+
+    @property
+    def coordinate_q(self) -> tuple[sp.Symbol, ...]:
+        """The joints' coordinates, symbols (q after a floating base's 7; mimics have none)."""
+        q = self.coordinates[0]
+        return q[7:] if self.robot.floating else q
+
+    def expand(self, values) -> list:
+        """An NV-vector of rates (coordinates) as the links' rates: a mimic's is its leader's times
+        its multiplier (a floating base's 6 first, unchanged)."""
+        if not self.robot.mimics:
+            return list(values)
+        base = 6 if self.robot.floating else 0
+        return list(values[:base]) + [m * values[base + k] for k, m in self._map]
+
+    def project(self, forces) -> sp.Matrix:
+        """The links' joint forces (rows per link, a floating base's 6 first; a vector or a
+        matrix) as the coordinates' generalized forces: each mimic's row added to its leader's,
+        times its multiplier (G^T f)."""
+        if not self.robot.mimics:
+            return forces
+        forces = sp.Matrix(forces)
+        base = 6 if self.robot.floating else 0
+        out = sp.zeros(base + self.robot.dof, forces.cols)
+        out[:base, :] = forces[:base, :]
+        for i, (k, m) in enumerate(self._map):
+            out[base + k, :] += m * forces[base + i, :]
+        return out
+
+    def project_columns(self, matrix) -> sp.Matrix:
+        """``matrix`` G: columns per link rate (a floating base's 6 first) as columns per
+        coordinate (a mimic's column added to its leader's, times its multiplier)."""
+        if not self.robot.mimics:
+            return matrix
+        return self.project(sp.Matrix(matrix).T).T
+
+    @property
+    def _map(self) -> list:
+        return [self.robot.coordinate_of(i) for i in range(len(self.robot.links))]
 
     def joint_part(self, values) -> list:
         """The joints' entries of an nv-vector (after a floating base's 6)."""
@@ -116,12 +163,28 @@ def _named_fields(robot: Robot, builder: ProgramBuilder) -> Robot:
     return replace(robot, links=tuple(links))
 
 
+def _link_motion(robot: Robot, q, qd, qdd, tau) -> tuple:
+    """``(joint_q, qd, qdd, tau)`` per link from the coordinates' symbols (mimics by their law)."""
+    joint_q = q[7:] if robot.floating else q
+    if not robot.mimics:
+        return joint_q, qd, qdd, tau
+    base = 6 if robot.floating else 0
+    laws = [robot.coordinate_of(i) for i in range(len(robot.links))]
+    link_q = tuple(joint_q[k] if link.mimic is None else link.mimic.multiplier * joint_q[k] + link.mimic.offset
+                   for link, (k, _) in zip(robot.links, laws))
+    rates = [tuple(v[:base]) + tuple(m * v[base + k] for k, m in laws) for v in (qd, qdd)]
+    torques = tuple(tau[:base]) + tuple(tau[base + k] if link.mimic is None else sp.S.Zero
+                                        for link, (k, _) in zip(robot.links, laws))
+    return link_q, rates[0], rates[1], torques
+
+
 def make_chain(robot: Robot, prefix: str = "_") -> Chain:
-    q, qd, qdd, tau = joint_symbols(robot.nq, robot.nv)
+    coordinates = joint_symbols(robot.nq, robot.nv)
+    q = coordinates[0]
+    joint_q, qd, qdd, tau = _link_motion(robot, *coordinates)
     builder = ProgramBuilder(prefix)
     robot = _named_fields(robot, builder)
     base_rotation = _quaternion_rotation(builder, *q[3:7]) if robot.floating else None
-    joint_q = q[7:] if robot.floating else q
     geometry, transforms, motions, trig, joint_trig = [], [], [], {}, []
     for i, link in enumerate(robot.links):
         geo = joint_geometry(link, robot.convention)
@@ -145,4 +208,4 @@ def make_chain(robot: Robot, prefix: str = "_") -> Chain:
         motions.append(joint_motion(link, joint_q[i], cos_sin))
         transforms.append(sp.Matrix(geo.pre) * motions[-1] * sp.Matrix(geo.post))
     return Chain(robot, q, qd, qdd, tau, builder, geometry, transforms, motions, trig, tuple(joint_trig),
-                 base_rotation)
+                 tuple(coordinates), tuple(joint_q), base_rotation)

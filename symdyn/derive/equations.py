@@ -267,19 +267,21 @@ def check_tree_request(robot: Robot, method: str, wanted, fd_method: str, parame
     Newton-Euler, the articulated-body forward dynamics, the base-parameter form and the
     outputs of a single tool or chain (kinematics, task space, regressors, reaction map)."""
     where = robot.source or robot.name
+    kind = ("has mimic joints (whose dynamics are a tree's projected on their leaders)" if robot.mimics
+            else "is a kinematic tree (links with 'parent:')")
     if method != "newton-euler":
-        raise SymdynError(f"{where}: {method} is written for serial chains; this robot is a kinematic tree "
-                          "(links with 'parent:'): use newton-euler")
+        raise SymdynError(f"{where}: {method} is written for serial chains; this robot {kind}: use newton-euler")
     if fd_method != "ldlt":
         raise SymdynError(f"{where}: the articulated-body forward dynamics is written for serial chains; a kinematic "
                           "tree's forward dynamics is the L^T D L factorization of its mass matrix (--fd-method ldlt)")
     if parameters != "standard":
-        raise SymdynError(f"{where}: the base-parameter form is written for serial chains (this robot is a tree)")
+        raise SymdynError(f"{where}: the base-parameter form is written for serial chains (this robot {kind})")
     other = [name for name in wanted if name not in TREE_AVAILABLE]
     if other:
-        raise SymdynError(f"{where}: {', '.join(other)} {'is' if len(other) == 1 else 'are'} not available for a "
-                          f"kinematic tree (links with 'parent:'), which has no single tool; available: "
-                          f"{', '.join(TREE_AVAILABLE)}")
+        which = ("a robot with mimic joints (its tool functions are a tree's: frames)" if robot.mimics
+                 else "a kinematic tree (links with 'parent:'), which has no single tool")
+        raise SymdynError(f"{where}: {', '.join(other)} {'is' if len(other) == 1 else 'are'} not available for "
+                          f"{which}; available: {', '.join(TREE_AVAILABLE)}")
 
 
 def normalize_method(method: str) -> str:
@@ -298,8 +300,21 @@ def friction_terms(robot: Robot, qd, qdd) -> sp.Matrix:
 
 
 def armature_matrix(robot: Robot) -> sp.Matrix:
-    """diag(armature), nv x nv (zero on a floating base's rows)."""
-    return sp.diag(*([0] * (6 if robot.floating else 0) + [link.armature for link in robot.links]))
+    """diag(armature), nv x nv (zero on a floating base's rows; a mimic joint's armature on its
+    leader's entry times the square of its multiplier)."""
+    return sp.diag(*([0] * (6 if robot.floating else 0) + list(coordinate_sums(robot, "armature"))))
+
+
+def coordinate_sums(robot: Robot, field: str) -> tuple:
+    """A per-joint coefficient (armature, damping) per coordinate: the link's, plus each mimic's
+    times the square of its multiplier (G^T diag(x) G, diagonal)."""
+    if not robot.mimics:
+        return tuple(getattr(link, field) for link in robot.links)
+    out = [sp.S.Zero] * robot.dof
+    for i, link in enumerate(robot.links):
+        k, m = robot.coordinate_of(i)
+        out[k] += m * m * getattr(link, field)
+    return tuple(out)
 
 
 #: forward dynamics in double reports a singular mass matrix where a pivot d_j <= PIVOT_RTOL * M_jj
@@ -331,6 +346,12 @@ def _subtree_scales(robot: Robot, values) -> np.ndarray:
             distance = sum(reach[i] for i in path[:path.index(j) + 1]) + sum(number(c) for c in links[k].com)
             total += number(links[k].mass) * distance ** 2 + sum(number(x) for x in links[k].inertia[:3])
         out[j] = total
+    if robot.mimics:  # per coordinate: its links' and its mimics' (times the multiplier squared)
+        reduced = np.zeros(robot.dof)
+        for j in range(len(links)):
+            k, m = robot.coordinate_of(j)
+            reduced[k] += float(m) ** 2 * out[j]
+        return reduced
     return out
 
 
@@ -410,7 +431,7 @@ def check_not_singular(robot: Robot, program: Program, M: sp.Matrix, states: int
     if not exact:
         j = min(zero_pivot)
         warn(f"{where}forward dynamics: the mass matrix is nearly singular at every sampled q (pivot of joint "
-             f"{j + 1} ('{robot.links[j].name}') below 1e-10 of the inertia it could move, but not zero); the "
+             f"{j + 1} ('{_name(robot, j)}') below 1e-10 of the inertia it could move, but not zero); the "
              "generated code returns status 1 (singular) wherever a pivot fails its run-time check")
         return
     j = min(exact)
@@ -430,9 +451,14 @@ class SingularMassMatrix(SymdynError):
     the inverse mass matrix and the task-space functions cannot be generated (the others can)."""
 
 
+def _name(robot: Robot, k: int) -> str:
+    """The name of joint coordinate k (its link's; a leader's for the mimics that follow it)."""
+    return robot.links[robot.coordinate_links[k]].name
+
+
 def _joints(robot: Robot, joints: list[int], shown: int = 6) -> str:
     """``joint 61 ('RThumb3')``, or ``joints 61 ('RThumb3'), 62 (...), ... (24 joints)``."""
-    names = [f"{k + 1} ('{robot.links[k].name}')" for k in joints]
+    names = [f"{k + 1} ('{_name(robot, k)}')" for k in joints]
     if len(names) == 1:
         return f"joint {names[0]}"
     more = f", ... ({len(names)} joints)" if len(names) > shown else ""
@@ -523,7 +549,10 @@ class _Derivation:
         self.chain = chain = make_chain(robot)
         self.b, self.n = chain.builder, robot.nv
         self.zero = [sp.S.Zero] * robot.nv
-        self.friction = friction_terms(robot, chain.qd, chain.qdd)
+        #: the inputs (symbols per coordinate) and the joints' coordinates (q after a floating base's 7)
+        _, self.qd, self.qdd, self.tau = chain.coordinates
+        self.joint_q = chain.coordinate_q
+        self.friction = chain.project(friction_terms(robot, chain.qd, chain.qdd))
         self.values: dict[str, sp.Matrix] = {}
         self.mass_factors: tuple = ()
         self.coriolis_factors: tuple = ()
@@ -551,15 +580,18 @@ class _Derivation:
         return self.values[name]
 
     def forces(self, qd, qdd, gravity, tag: str) -> sp.Matrix:
-        """Joint forces of the rigid bodies (no friction) by the method's recursion."""
+        """Generalized forces of the rigid bodies (no friction) by the method's recursion, at
+        the coordinates' rates ``qd`` and accelerations ``qdd`` (nv each; mimic joints follow)."""
+        chain = self.chain
+        qd, qdd = chain.expand(qd), chain.expand(qdd)
         if self.jne is not None:
             return self.jne.joint_forces(qd, qdd, gravity, tag)
-        return joint_forces(self.chain, qd, qdd, gravity, tag)
+        return chain.project(joint_forces(chain, qd, qdd, gravity, tag))
 
     @property
     def static_friction(self) -> sp.Matrix:
         """Friction and armature terms at qdd = 0 (viscous and Coulomb friction)."""
-        return self.friction.subs({v: 0 for v in self.chain.qdd})
+        return self.friction.subs({v: 0 for v in self.qdd})
 
 
 def _gravity(d: _Derivation) -> sp.Matrix:
@@ -574,7 +606,7 @@ def _coriolis(d: _Derivation) -> sp.Matrix:
         C = d.get("coriolis_matrix")
         return sp.Matrix([d.b.define(f"h{i + 1}", (C[i, :] * sp.Matrix(d.chain.qd))[0]) for i in range(d.n)])
     d.report("coriolis (J_c^T (M gamma + u_n))" if d.jne is not None else "coriolis")
-    return d.forces(d.chain.qd, d.zero, sp.zeros(3, 1), "h")
+    return d.forces(d.qd, d.zero, sp.zeros(3, 1), "h")
 
 
 def _coriolis_matrix(d: _Derivation) -> sp.Matrix:
@@ -582,7 +614,7 @@ def _coriolis_matrix(d: _Derivation) -> sp.Matrix:
         return d.le.coriolis_matrix(d.chain.qd)
     if d.robot.is_tree:
         d.report("coriolis_matrix (the tree's recursion over its subtrees)")
-        return tree_coriolis_matrix(d.chain)
+        return d.chain.project_columns(d.chain.project(tree_coriolis_matrix(d.chain)))
     if d.jne is not None:
         return _derivative_coriolis_matrix(d)
     if d.n >= CORIOLIS_RECURSION_FROM_DOF:
@@ -636,6 +668,8 @@ def _mass_matrix(d: _Derivation) -> sp.Matrix:
         return d.jne.mass_matrix()
     d.report("mass_matrix (composite rigid bodies)")
     D, d.mass_factors = mass_matrix_factored(d.chain)
+    if d.robot.mimics:  # G^T D G: its entries are no longer the factors' dot products
+        D, d.mass_factors = d.chain.project_columns(d.chain.project(D)), ()
     return D
 
 
@@ -644,7 +678,7 @@ def _inverse_dynamics(d: _Derivation) -> sp.Matrix:
     if d.le is not None:
         return (d.get("mass_matrix") * sp.Matrix(chain.qdd) + d.get("coriolis") + d.get("gravity") + d.friction)
     d.report("inverse_dynamics")
-    return d.forces(chain.qd, chain.qdd, chain.gravity, "") + d.friction
+    return d.forces(d.qd, d.qdd, chain.gravity, "") + d.friction
 
 
 def _bias(d: _Derivation) -> sp.Matrix:
@@ -652,7 +686,7 @@ def _bias(d: _Derivation) -> sp.Matrix:
     if d.le is not None:
         return d.get("coriolis") + d.get("gravity")
     d.report("forward_dynamics (bias forces)")
-    return d.forces(d.chain.qd, d.zero, d.chain.gravity, "b")
+    return d.forces(d.qd, d.zero, d.chain.gravity, "b")
 
 
 def _tool(d: _Derivation) -> sp.Matrix:
@@ -668,8 +702,17 @@ def _centroidal(d: _Derivation) -> sp.Matrix:
     link poses and the subtree sums)."""
     wanted = [name for name in CENTROIDAL_OUTPUTS if name in d.need]
     d.report("centre of mass and centroidal momentum")
-    d.values.update(centroidal_quantities(d.chain, wanted))
+    d.values.update(_per_coordinate(d, centroidal_quantities(d.chain, wanted)))
     return d.values[wanted[0]]
+
+
+#: the outputs whose columns are per joint rate (the links' rates: projected on the coordinates
+#: for mimic joints, :meth:`symdyn.derive.chain.Chain.project_columns`)
+_RATE_COLUMNS = ("jacobian", "frame_jacobians", "center_of_mass_jacobian", "centroidal_momentum_matrix")
+
+
+def _per_coordinate(d: _Derivation, values: dict) -> dict:
+    return {name: d.chain.project_columns(value) if name in _RATE_COLUMNS else value for name, value in values.items()}
 
 
 def _kinetic_energy(d: _Derivation) -> sp.Matrix:
@@ -677,7 +720,7 @@ def _kinetic_energy(d: _Derivation) -> sp.Matrix:
     ``D qd`` the joint forces of the recursion at zero rates, zero gravity and accelerations
     ``qd`` (linear in the accelerations there: O(n), no D)."""
     d.report("kinetic_energy (D qd by the recursion at zero rates, accelerations qd)")
-    qd = list(d.chain.qd)
+    qd = list(d.qd)
     momenta = d.forces(d.zero, qd, sp.zeros(3, 1), "K") + armature_matrix(d.robot) * sp.Matrix(qd)
     return sp.Matrix([sp.Rational(1, 2) * sum((v * p for v, p in zip(qd, momenta)), sp.Integer(0))])
 
@@ -701,13 +744,13 @@ def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset()
     chain, n = d.chain, d.n
 
     def forward_mode(d):
-        columns = differentiate(d.b.build(), rigid, list(chain.qd), d.b, "dv", held=held)
+        columns = differentiate(d.b.build(), rigid, list(d.qd), d.b, "dv", held=held)
         return sp.Matrix(n, n, lambda i, j: columns[j][i])
 
     def christoffel(d):
         C = tree_coriolis_matrix(chain) if d.robot.is_tree else recursive_coriolis_matrix(chain)[0]
         return 2 * C
-    if d.le is not None or d.jne is not None:
+    if d.le is not None or d.jne is not None or d.robot.mimics:
         return forward_mode(d)
     if d.n >= CORIOLIS_RECURSION_FROM_DOF and not d.robot.is_tree:  # the recursion, as for C itself
         return christoffel(d)
@@ -732,17 +775,17 @@ def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset =
     :data:`TANGENT_LOOPS_FROM_OPS`, the same derivatives as vector tangents too
     (:attr:`Equations.tangent_loops`, for the forward-dynamics derivatives' parts when ``held``)."""
     chain, n = d.chain, d.n
-    rigid = d.forces(chain.qd, qdd, chain.gravity, tag)
-    by_q = differentiate(d.b.build(), rigid, list(chain.joint_q), d.b, f"{hint}q", held=held)
+    rigid = d.forces(d.qd, qdd, chain.gravity, tag)
+    by_q = differentiate(d.b.build(), rigid, list(d.joint_q), d.b, f"{hint}q", held=held)
     by_qd = _by_velocity(d, rigid, held, beside=[e for column in by_q for e in column])
-    damping = [link.damping for link in d.robot.links]
+    damping = coordinate_sums(d.robot, "damping")
     dq = sp.Matrix(n, n, lambda i, j: by_q[j][i])
     dqd = sp.Matrix(n, n, lambda i, j: by_qd[i, j] + (damping[i] if i == j else 0))
     program = d.b.build()
     size = sum(sp.count_ops(rhs) for _, rhs in program.needed_for(list(dq) + list(dqd), held))
-    if size >= TANGENT_LOOPS_FROM_OPS:
+    if size >= TANGENT_LOOPS_FROM_OPS and not d.robot.mimics:
         d.report(f"the same derivatives as vector tangents ({size} operations written out)")
-        tangents = vector_tangents(program, list(rigid), [chain.joint_q, chain.qd], held,
+        tangents = vector_tangents(program, list(rigid), [d.joint_q, d.qd], held,
                                    {(1, i, i): damping[i] for i in range(n)})
         parts = FORWARD_DERIVATIVES if held else ("inverse_dynamics_dq", "inverse_dynamics_dqd")
         d.tangent_loops.append((parts, tangents))
@@ -753,7 +796,7 @@ def _inverse_dynamics_derivatives(d: _Derivation) -> sp.Matrix:
     """dtau/dq and dtau/dqd (n x n each), :func:`_tau_derivatives` at the input accelerations."""
     _fixed_base_only(d, "the derivative of inverse dynamics")
     d.report("inverse_dynamics derivatives (forward-mode, dtau/dq and dtau/dqd)")
-    dq, dqd = _tau_derivatives(d, d.chain.qdd, "", "d")
+    dq, dqd = _tau_derivatives(d, d.qdd, "", "d")
     b, n = d.b, d.n
     d.values["inverse_dynamics_dq"] = sp.Matrix(n, n, lambda i, j: b.define(f"dTq{i + 1}_{j + 1}", dq[i, j]))
     d.values["inverse_dynamics_dqd"] = sp.Matrix(n, n, lambda i, j: b.define(f"dTv{i + 1}_{j + 1}", dqd[i, j]))
@@ -766,15 +809,44 @@ def _gravity_derivative(d: _Derivation) -> sp.Matrix:
     _fixed_base_only(d, "gravity_derivative")
     c = d.get("gravity")
     d.report("gravity_derivative (forward-mode, dc/dq)")
-    columns = differentiate(d.b.build(), c, list(d.chain.joint_q), d.b, "dg")
+    columns = differentiate(d.b.build(), c, list(d.joint_q), d.b, "dg")
     n = d.n
     return sp.Matrix(n, n, lambda i, j: d.b.define(f"dG{i + 1}_{j + 1}", columns[j][i]))
 
 
-def _factor_parents(d: _Derivation) -> tuple:
+def coordinate_parents(robot: Robot) -> tuple[int, ...] | None:
+    """Per joint coordinate, the coordinate its row of the tree's L^T D L hangs on (-1: none), so
+    that M has no entry off the paths to the root: a tree's parent array, or with mimic joints
+    (M = G^T D G couples a leader with everything its mimics move) the nearest coordinate each
+    is coupled to, when every coupled pair lies on one path (fingers that mimic their siblings);
+    None for a serial chain, and where no such tree exists (then M is dense to the
+    factorization)."""
+    if not robot.is_tree:
+        return None
+    if not robot.mimics:
+        return robot.parent_indices
+    coordinate = [robot.coordinate_of(i)[0] for i in range(len(robot.links))]
+    coupled = {(min(coordinate[a], coordinate[i]), max(coordinate[a], coordinate[i]))
+               for i in range(len(robot.links)) for a in robot.ancestors(i) if coordinate[a] != coordinate[i]}
+    parents = [-1] * robot.dof
+    for a, b in coupled:
+        parents[b] = max(parents[b], a)
+
+    def on_path(a: int, b: int) -> bool:
+        while b >= 0 and b != a:
+            b = parents[b]
+        return b == a
+    return tuple(parents) if all(on_path(a, b) for a, b in coupled) else None
+
+
+def _factor_parents(d: _Derivation) -> tuple | None:
     """The parent array the L^T D L of a tree's M follows: the joints', after a floating base's
-    6 coordinates taken as a chain (their block is dense)."""
-    parents = d.chain.parents
+    6 coordinates taken as a chain (their block is dense); with mimic joints, the coordinates'
+    (:func:`coordinate_parents`), or None when M's sparsity follows no tree (then M is
+    factorized as a dense matrix)."""
+    parents = coordinate_parents(d.robot)
+    if parents is None:
+        return None
     if d.robot.floating:
         parents = (-1, 0, 1, 2, 3, 4) + tuple(5 if p < 0 else p + 6 for p in parents)
     return parents
@@ -791,7 +863,7 @@ def _mass_factorization(d: _Derivation):
             check_not_singular(robot, b.build(), M)
         on_zero = _zero_pivot(robot, M, "the inverse mass matrix", "mass_matrix_inverse and the forward-dynamics "
                                                                   "derivatives")
-        if robot.is_tree:
+        if _factor_parents(d) is not None:
             d.mass_factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", on_zero)
         else:
             d.mass_factorization = ldlt.factor(b, M, "ldl", on_zero)
@@ -801,7 +873,7 @@ def _mass_factorization(d: _Derivation):
 def _solve_mass(d: _Derivation, rhs, forward_hint: str, back_hint: str) -> list:
     """``x`` with ``M x = rhs`` by the shared factorization (:func:`_mass_factorization`)."""
     f = _mass_factorization(d)
-    solve = ldlt.solve_tree if d.robot.is_tree else ldlt.solve
+    solve = ldlt.solve_tree if _factor_parents(d) is not None else ldlt.solve
     return solve(d.b, f, rhs, forward_hint, back_hint)
 
 
@@ -828,7 +900,7 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     if not set(FORWARD_DERIVATIVES) & d.need:
         return Minv
     d.report("forward_dynamics derivatives (-M^-1 dtau/dq and -M^-1 dtau/dqd at qdd = forward dynamics)")
-    rhs = sp.Matrix(chain.tau) - d.get("fd_bias") - d.static_friction
+    rhs = sp.Matrix(d.tau) - d.get("fd_bias") - d.static_friction
     rhs = [b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)]
     qdd = [b.define(f"fdd{i + 1}", e, force=True) for i, e in enumerate(_solve_mass(d, rhs, "ldl_y", "qdd{i}_fd"))]
     dq, dqd = _tau_derivatives(d, qdd, "fa", "a", frozenset(qdd))
@@ -845,7 +917,7 @@ def _frames(d: _Derivation) -> sp.Matrix:
     """Every frame output needed, derived together (they share the link poses)."""
     wanted = [name for name in FRAME_OUTPUTS if name in d.need]
     d.report("frame kinematics")
-    d.values.update(frame_kinematics(d.chain, wanted))
+    d.values.update(_per_coordinate(d, frame_kinematics(d.chain, wanted)))
     return d.values[wanted[0]]
 
 
@@ -861,9 +933,9 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
         loops = articulated_loops(chain, d.static_friction, qdd)
         d.fd_loops = loops.astuple() if loops is not None else ()
         return qdd
-    rhs = sp.Matrix(chain.tau) - d.get("fd_bias") - d.static_friction
+    rhs = sp.Matrix(d.tau) - d.get("fd_bias") - d.static_friction
     rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
-    if robot.is_tree:
+    if _factor_parents(d) is not None:
         d.report("forward_dynamics (L^T D L of the tree's mass matrix: no fill-in)")
         factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", _zero_pivot(robot, M))
         d.pivots = factorization.pivots
@@ -1034,7 +1106,8 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
             d.get(name)
     chain = d.chain
     outputs_tuple = tuple((name, sp.ImmutableMatrix(d.values[name])) for name in ALL_OUTPUTS if name in wanted)
-    return Equations(robot=robot, method=method, q=chain.q, qd=chain.qd, qdd=chain.qdd, tau=chain.tau,
+    q, qd, qdd, tau = chain.coordinates
+    return Equations(robot=robot, method=method, q=q, qd=qd, qdd=qdd, tau=tau,
                      program=d.b.build(), outputs=outputs_tuple,
                      seconds=time.perf_counter() - start,
                      pivots=d.pivots if "forward_dynamics" in wanted else (),

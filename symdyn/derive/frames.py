@@ -55,7 +55,7 @@ def _jacobian(chain: Chain, joints, R_w: sp.Matrix, p_w: sp.Matrix, link: int, o
     """One frame's 6 x nv Jacobian (world axes at its origin ``origin``), on link ``link``."""
     robot, b = chain.robot, chain.builder
     base = 6 if robot.floating else 0
-    J = sp.zeros(6, robot.nv)
+    J = sp.zeros(6, len(chain.qd))  # per link rate (mimic joints too: projected by the caller)
     if robot.floating:
         J[:3, :3] = R_w
         J[3:, 3:6] = R_w
@@ -76,7 +76,7 @@ def _bias(chain: Chain, links, R_w: sp.Matrix) -> sp.Matrix:
     """Each frame's J-dot v (classical acceleration at zero accelerations), stacked, world axes."""
     robot, b = chain.robot, chain.builder
     motion: list = []
-    states = recursion(chain, chain.qd, [sp.S.Zero] * robot.nv, sp.zeros(3, 1), "h", joint_frames=False,
+    states = recursion(chain, chain.qd, [sp.S.Zero] * len(chain.qd), sp.zeros(3, 1), "h", joint_frames=False,
                        base_motion=motion)
     rows = []
     for k, frame in enumerate(robot.frames):

@@ -274,7 +274,7 @@ def _backward(b, chain: Chain, frames, states, parameters, tag: str, textbook: b
     robot = chain.robot
     # n_c + r2_c x f_c: link c's moment about its joint point (revolute joints), per link
     joint_moments: dict[int, sp.Matrix] = {}
-    for i in reversed(range(robot.dof)):
+    for i in reversed(range(len(robot.links))):
         k = i + 1
         st = states[i]
         link = robot.links[i]

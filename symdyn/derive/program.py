@@ -157,7 +157,7 @@ def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[
     free = [rhs.free_symbols for _, rhs in needed]  # once for every variable
     # the program's own sin/cos of a variable: d cos(x)/dx is minus the symbol of sin(x), not a
     # new call (a joint angle's c_i, s_i)
-    trig = {rhs: sym for sym, rhs in needed if isinstance(rhs, (sp.sin, sp.cos)) and rhs.args[0].is_Symbol}
+    trig = {rhs: sym for sym, rhs in needed if isinstance(rhs, (sp.sin, sp.cos))}
     for var in variables:
         deriv: dict[sp.Symbol, sp.Expr] = {}
 
@@ -173,11 +173,13 @@ def differentiate(program: Program, outputs: sp.MatrixBase, variables: Sequence[
         for (sym, rhs), symbols in zip(needed, free):
             if var not in symbols and deriv.keys().isdisjoint(symbols):
                 continue  # does not depend on var: no SymPy call (most of the chain for a distal joint)
-            if isinstance(rhs, (sp.sin, sp.cos)) and rhs.args[0] == var:
-                other = sp.sin(var) if isinstance(rhs, sp.cos) else sp.cos(var)
-                value = trig.get(other, other)
-                deriv[sym] = (-value if isinstance(rhs, sp.cos) else value) * scale
-                continue
+            if isinstance(rhs, (sp.sin, sp.cos)) and rhs.args[0].free_symbols == {var}:
+                rate = partial_derivative(rhs.args[0], var)  # 1, or a mimic joint's multiplier
+                if rate.is_number:
+                    other = (sp.sin if isinstance(rhs, sp.cos) else sp.cos)(rhs.args[0])
+                    value = trig.get(other, other)
+                    deriv[sym] = (-value if isinstance(rhs, sp.cos) else value) * rate * scale
+                    continue
             ds = d(rhs, symbols)
             if ds != 0:
                 deriv[sym] = builder.define(f"{hint}{sym.name.lstrip('_')}_d{var.name}", ds)

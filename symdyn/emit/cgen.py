@@ -21,7 +21,7 @@ from .cbody import ARGUMENTS, QUATERNION, BodyContext, fma_macro, product_loop, 
 from .cplan import (FunctionPlan, Target, collect_targets, minv_targets, product_targets, reduce_targets,
                     tangent_width)
 from .cprinter import CPrinter, VectorUnsupported
-from .emission import banner_fields, comment_text, constant_rows, source_label, template_environment
+from .emission import banner_fields, comment_text, constant_rows, constant_text, source_label, template_environment
 from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
@@ -463,6 +463,24 @@ def _base_parameters(eqs: Equations):
     return rows
 
 
+def _joint_rows(robot) -> list[tuple]:
+    """The header's list of the joints, one per coordinate: ``(index from 1, name, type,
+    actuated, where it hangs and the mimic joints that follow it)``."""
+    parents, rows = robot.parent_indices, []
+    coordinates = {j: k for k, j in enumerate(robot.coordinate_links)}
+    for k, j in enumerate(robot.coordinate_links):
+        link, up = robot.links[j], parents[j]
+        where = ("" if not robot.is_tree else ", on the base" if up < 0
+                 else f", on joint {coordinates[up] + 1} ({robot.links[up].name})" if up in coordinates
+                 else f", on mimic joint {robot.links[up].name}")
+        followers = [f"{other.name} = {constant_text(other.mimic.multiplier)} * q + {constant_text(other.mimic.offset)}"
+                     for other in robot.links if other.mimic is not None and other.mimic.leader == j]
+        if followers:
+            where += f"; mimic joints that follow it: {', '.join(followers)}"
+        rows.append((k + 1, link.name, link.joint, link.actuated, where))
+    return rows
+
+
 def _total_mass(robot) -> str | None:
     """The robot's total mass (every link, and a floating base's body) as a C literal, or None
     when it depends on runtime parameters."""
@@ -552,10 +570,7 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
                        for k, (s, v) in enumerate(zip(robot.parameters, robot.nominal))],
         "constants": constant_rows(robot, locked),
         "fixed_transforms": robot.tool_fixed is not None or any(link.fixed is not None for link in robot.links),
-        "joints": [(k + 1, link.name, link.joint, link.actuated,
-                    "" if not robot.is_tree else ", on the base" if parents[k] < 0
-                    else f", on joint {parents[k] + 1} ({robot.links[parents[k]].name})")
-                   for k, link in enumerate(robot.links)],
+        "joints": _joint_rows(robot),
         "tree": robot.is_tree,
         "total_mass": _total_mass(robot) if any(f in CENTROIDAL_OUTPUTS for f in functions) else None,
         "frames": ([(k, frame.name, "the base" if frame.link < 0 else f"link {frame.link + 1} ({robot.links[frame.link].name})",

@@ -124,8 +124,10 @@ def robot_words(robot) -> str:
     tree, general joint placements``."""
     placements = "general joint placements" if robot.convention == "general" else f"{robot.convention} DH"
     floating = f" on a floating base (NV = {robot.nv})" if robot.floating else ""
-    tree = ", a tree" if robot.is_tree and any(p != k - 1 for k, p in enumerate(robot.parent_indices)) else ""
-    return f"{robot.dof} joints{floating}{tree}, {placements}"
+    tree = ", a tree" if any(p != k - 1 for k, p in enumerate(robot.parent_indices)) else ""
+    count = len(robot.mimics)
+    mimics = f" and {count} mimic joint{'s' if count > 1 else ''}" if count else ""
+    return f"{robot.dof} joints{mimics}{floating}{tree}, {placements}"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -244,7 +246,14 @@ def constant_rows(robot, locked=()) -> list[str]:
         rows.append("locked by the scene (not in q; their links merged into the link before, their "
                     "placements into fixed): " + "; ".join(f"joint {k} ({comment_text(name, 60)}) = "
                                                          f"{constant_text(value)}" for k, name, value in locked))
-    passive = [f"{k + 1} ({robot.links[k].name})" for k in robot.passive_joints]
+    if robot.mimics:
+        rows.append("mimic joints (no coordinate: q = multiplier * q_joint + offset, rates times the multiplier; their "
+                    "joint force acts on the joint they follow, times the multiplier): " + "; ".join(
+                        f"{link.name} = {constant_text(link.mimic.multiplier)} * {robot.links[link.mimic.leader].name} + "
+                        f"{constant_text(link.mimic.offset)}" for link in robot.links if link.mimic is not None))
+        rows.append("the joints in q, qd, qdd and tau (after a floating base's entries), in link order without the mimics: "
+                    + ", ".join(f"[{k}] {robot.links[j].name}" for k, j in enumerate(robot.coordinate_links)))
+    passive = [f"{k + 1} ({robot.links[robot.coordinate_links[k]].name})" for k in robot.passive_joints]
     if passive:
         rows.append(f"passive joints (tau 0, not actuated): {', '.join(passive)}")
     if robot.parameters:
@@ -252,6 +261,9 @@ def constant_rows(robot, locked=()) -> list[str]:
                     + "; ".join(f"p[{k}] = {s.name}" for k, s in enumerate(robot.parameters)))
     for k, link in enumerate(robot.links):
         link_rows = link_constant_rows(link, k + 1, robot.convention)
+        if link.mimic is not None:
+            link_rows.insert(1, f"  mimic.joint = {robot.links[link.mimic.leader].name}; mimic.multiplier = "
+                                f"{constant_text(link.mimic.multiplier)}; mimic.offset = {constant_text(link.mimic.offset)}")
         if robot.is_tree:  # a tree: where each link hangs (the robot file's parent field)
             up = robot.parent_indices[k]
             link_rows.insert(1, "  parent = " + ("base" if up < 0 else robot.links[up].name))

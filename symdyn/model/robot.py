@@ -58,7 +58,9 @@ TASKS = {"pose": (0, 1, 2, 3, 4, 5), "position": (0, 1, 2), "orientation": (3, 4
 JACOBIAN_ROWS = ("linear x", "linear y", "linear z", "angular x", "angular y", "angular z")
 ANGLE_UNITS = ("radians", "degrees")
 LINK_KEYS = ("name", "parent", "joint", "a", "alpha", "d", "theta", "origin", "axis", "mass", "com", "inertia",
-             "armature", "damping", "coulomb", "limits", "actuated")
+             "armature", "damping", "coulomb", "limits", "actuated", "mimic")
+#: the fields of a link's ``mimic:`` (its joint follows another: q = multiplier * q_joint + offset)
+MIMIC_KEYS = ("joint", "multiplier", "offset")
 DH_KEYS = ("a", "alpha", "d", "theta")
 GENERAL_KEYS = ("origin", "axis")
 PLACEMENT_KEYS = ("xyz", "rpy")
@@ -124,6 +126,18 @@ class Limits:
 
 
 @dataclass(frozen=True)
+class Mimic:
+    """A mimic joint's law: its position is ``multiplier * q_leader + offset`` (rad or m), its rate
+    and acceleration ``multiplier`` times the leader's; it has no coordinate of its own, and its
+    joint force reaches the leader's coordinate times ``multiplier`` (URDF's ``<mimic>``,
+    Pinocchio's mimic joints).  ``leader`` is the index (0-based) of the link whose joint it follows."""
+
+    leader: int
+    multiplier: sp.Expr
+    offset: sp.Expr = sp.S.Zero
+
+
+@dataclass(frozen=True)
 class Link:
     """One joint and the link it moves, as in one row of the DH table.
 
@@ -156,6 +170,8 @@ class Link:
     axis: tuple[sp.Expr, sp.Expr, sp.Expr] | None = None
     limits: Limits | None = None
     actuated: bool = True
+    #: the law of a mimic joint (no coordinate of its own), or None
+    mimic: Mimic | None = None
 
     @property
     def is_revolute(self) -> bool:
@@ -300,9 +316,9 @@ class Robot:
 
     @property
     def is_tree(self) -> bool:
-        """Whether some link hangs on another than the one before it (a kinematic tree), or the
-        base floats (the functions of a tree then apply)."""
-        return self.floating or any(p != k - 1 for k, p in enumerate(self.parents))
+        """Whether some link hangs on another than the one before it (a kinematic tree), the
+        base floats, or a joint mimics another (the functions of a tree then apply)."""
+        return self.floating or any(p != k - 1 for k, p in enumerate(self.parents)) or bool(self.mimics)
 
     def children(self, index: int) -> tuple[int, ...]:
         """The links that hang on link ``index`` (-1: on the base), in file order."""
@@ -347,17 +363,36 @@ class Robot:
 
     @property
     def dof(self) -> int:
-        return len(self.links)
+        """Joint coordinates: one per link, except mimic joints (which follow another's)."""
+        return len(self.coordinate_links)
+
+    @property
+    def coordinate_links(self) -> tuple[int, ...]:
+        """The links whose joints have a coordinate of their own (not mimics), in order: joint
+        coordinate k moves link ``coordinate_links[k]`` (and the mimics that follow it)."""
+        return tuple(k for k, link in enumerate(self.links) if link.mimic is None)
+
+    @property
+    def mimics(self) -> tuple[int, ...]:
+        """The indices of the mimic joints' links."""
+        return tuple(k for k, link in enumerate(self.links) if link.mimic is not None)
+
+    def coordinate_of(self, link: int) -> tuple[int, sp.Expr]:
+        """``(k, m)``: link ``link``'s joint rate is ``m`` times joint coordinate k's rate (m = 1
+        but for a mimic joint, whose k is its leader's)."""
+        mimic = self.links[link].mimic
+        leader, multiplier = (link, sp.S.One) if mimic is None else (mimic.leader, mimic.multiplier)
+        return self.coordinate_links.index(leader), multiplier
 
     @property
     def actuated_joints(self) -> tuple[int, ...]:
-        """0-based indices of the actuated joints (``actuated: true``, the default), base to tip."""
-        return tuple(k for k, link in enumerate(self.links) if link.actuated)
+        """0-based indices of the actuated joint coordinates (``actuated: true``, the default), base to tip."""
+        return tuple(k for k, j in enumerate(self.coordinate_links) if self.links[j].actuated)
 
     @property
     def passive_joints(self) -> tuple[int, ...]:
-        """0-based indices of the passive joints (``actuated: false``: tau_i = 0)."""
-        return tuple(k for k, link in enumerate(self.links) if not link.actuated)
+        """0-based indices of the passive joint coordinates (``actuated: false``: tau_i = 0)."""
+        return tuple(k for k, j in enumerate(self.coordinate_links) if not self.links[j].actuated)
 
     @property
     def is_numeric(self) -> bool:
@@ -794,6 +829,7 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     names_seen: set = set()
     links = tuple(reader.read_link(k, raw, names_seen) for k, raw in enumerate(links_raw))
     parents = read_parents(reader, links_raw, links)
+    links = read_mimics(reader, links_raw, links)
     frames = read_frames(reader, doc["frames"], links) if "frames" in doc else ()
     runtime_syms = list(reader.runtime.values())
     placements = [e for p in (base, tool, base_body) if p is not None for e in p.expressions()]
@@ -849,6 +885,46 @@ def read_frames(reader: RobotFileReader, raw: Any, links: tuple[Link, ...]) -> t
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         reader.fail(f"frame {describe(twice[0])} is listed twice", None, "frames")
+    return tuple(out)
+
+
+def read_mimics(reader: RobotFileReader, links_raw: list, links: tuple[Link, ...]) -> tuple[Link, ...]:
+    """The links with their ``mimic: {joint, multiplier, offset}`` fields read: the joint
+    follows the named link's joint (q = multiplier * q_joint + offset; numbers only, the offset in
+    the file's angle unit for a revolute joint).  The leader must have its own coordinate (not be a
+    mimic itself); a mimic joint cannot be passive (``actuated: false``)."""
+    index = {link.name: k for k, link in enumerate(links)}
+    out = list(links)
+    for k, (raw, link) in enumerate(zip(links_raw, links)):
+        if "mimic" not in raw:
+            continue
+        label = f"link {k + 1} ('{link.name}')"
+        item = raw["mimic"]
+        reader.check_mapping(item, MIMIC_KEYS, label, "mimic", "expected a mapping {joint, multiplier, offset}")
+        leader = item.get("joint")
+        if leader not in index:
+            reader.fail(f"no link named {describe(leader)}{_did_you_mean(leader, index)} (the link whose joint "
+                        "this one follows)", label, "mimic.joint")
+        if leader == link.name:
+            reader.fail("a joint cannot follow itself", label, "mimic.joint")
+        if "mimic" in links_raw[index[leader]]:
+            reader.fail(f"'{leader}' is a mimic joint itself: name the joint it follows (multiply the "
+                        "multipliers, compose the offsets)", label, "mimic.joint")
+        values = {}
+        for key, default in (("multiplier", 1), ("offset", 0)):
+            value = reader.number(item.get(key, default), label, f"mimic.{key}")
+            if value.free_symbols:
+                reader.fail("a mimic's multiplier and offset take numbers (no parameter names)", label, f"mimic.{key}")
+            values[key] = value
+        if values["multiplier"] == 0:
+            reader.fail("a multiplier of 0 fixes the joint: merge it as a fixed joint instead", label,
+                        "mimic.multiplier")
+        if link.is_revolute:
+            values["offset"] = reader.angle(values["offset"], label, "mimic.offset")
+        if not link.actuated or not links[index[leader]].actuated:
+            reader.fail("a mimic joint and its leader must be actuated (passive joints with mimics are not "
+                        "supported)", label, "mimic")
+        out[k] = replace(link, mimic=Mimic(index[leader], values["multiplier"], values["offset"]))
     return tuple(out)
 
 

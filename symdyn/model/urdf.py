@@ -813,6 +813,8 @@ def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None
         pending, pending_joints = Frame(), []
         absorb(joint.child, pending)
 
+    mimics = _resolve_mimics(urdf, links, f"off the chain to {describe(tip)}")
+    _mimic_note(mimics, notes)
     last = moving[-1]
     doc = {"format": FORMAT_VERSION, "name": name, "convention": "general", "gravity": [0, 0, "-9.81"]}
     _tool_field(urdf, doc, tool, last, pending, pending_joints, tip, notes)
@@ -922,19 +924,91 @@ def _joint_entry(urdf: _Reader, joint: _Joint, pending: Frame, pending_joints: l
                 limits[key] = urdf.numbers(element, key, 1, None, where, f"limit {key}")[0][1]
     if limits:
         extra["limits"] = limits
+    mimic = _mimic_entry(urdf, joint)
+    if mimic is not None:
+        extra["mimic"] = mimic
     return entry, extra
 
 
 def _check_moving(urdf: _Reader, joint: _Joint, what: str) -> None:
-    """Refuse a floating or planar joint, and a mimic joint, where the dynamics need it
-    (``what``: where it is, for the message)."""
+    """Refuse a floating or planar joint where the dynamics need it (``what``: where it is, for
+    the message)."""
     if joint.type in ("floating", "planar"):
-        urdf.fail(f"a {joint.type} joint is {what}: only revolute, continuous, prismatic and fixed joints can be",
+        hint = " (choose a chain without it with --tip LINK)" if what == "in the tree" else ""
+        urdf.fail(f"a {joint.type} joint is {what}: only revolute, continuous, prismatic and fixed joints can be{hint}",
                   urdf.where(joint), "type")
-    if joint.type != "fixed" and joint.element.find("mimic") is not None:
-        urdf.fail(f"a mimic joint (<mimic>) is {what}: symdyn gives every joint its own coordinate and does not "
-                  "couple two joints (remove the <mimic> element to give this joint its own coordinate, or choose a "
-                  "chain without it with --tip LINK)", urdf.where(joint), "mimic")
+
+
+def _mimic_entry(urdf: _Reader, joint: _Joint) -> dict | None:
+    """A moving joint's ``<mimic joint multiplier offset>`` as read (the URDF joint name it
+    follows, the numbers' text), or None."""
+    element = joint.element.find("mimic")
+    if element is None:
+        return None
+    where = urdf.where(joint)
+    leader = element.get("joint")
+    if not leader:
+        urdf.fail("<mimic> names no joint (joint=\"...\")", where, "mimic joint")
+    if leader not in urdf.joints:
+        urdf.fail(f"<mimic> follows {describe(leader)}, which is not a joint of the file{_hint(leader, urdf.joints)}",
+                  where, "mimic joint")
+    multiplier = urdf.numbers(element, "multiplier", 1, "1", where, "mimic multiplier")[0]
+    offset = urdf.numbers(element, "offset", 1, "0", where, "mimic offset")[0]
+    if multiplier[0] == 0:
+        urdf.fail("<mimic multiplier=\"0\"> holds the joint at its offset: make it a fixed joint", where,
+                  "mimic multiplier")
+    return {"joint": leader, "multiplier": multiplier, "offset": offset}
+
+
+def _resolve_mimics(urdf: _Reader, entries: list, what: str) -> list[str]:
+    """Give each mimic entry (``extra['mimic']`` of ``entries``, as :func:`_mimic_entry` read it)
+    the link name of the joint it follows, through mimics of mimics (the laws composed), in the
+    robot document's form; a leader that is not read (fixed, or off the chain: ``what``) is
+    refused.  Returns the notes' lines, one per mimic joint: its law."""
+    laws = {}
+    for entry, extra in entries:
+        if "mimic" in extra:
+            laws[entry["name"]] = extra["mimic"]
+    lines = []
+    for entry, extra in entries:
+        law = extra.get("mimic")
+        if law is None:
+            continue
+        multiplier, offset = Fraction(law["multiplier"][0]), Fraction(law["offset"][0])
+        leader, seen = law["joint"], {entry["name"]}
+        while True:
+            joint = urdf.joints[leader]
+            if joint.type == "fixed" or leader not in urdf.link_of_joint:
+                urdf.fail(f"<mimic> follows {describe(leader)}, which is {'a fixed joint' if joint.type == 'fixed' else what}:"
+                          " a mimic joint needs a moving leader that is read with it", f"joint {describe(entry['name'])}",
+                          "mimic joint")
+            link = urdf.link_of_joint[leader]
+            if link in seen:
+                urdf.fail("mimic joints follow each other in a circle", f"joint {describe(entry['name'])}", "mimic joint")
+            seen.add(link)
+            if link not in laws:
+                break
+            step = laws[link]  # q_leader = m2 q_next + o2: q = m (m2 q_next + o2) + o
+            offset += multiplier * Fraction(step["offset"][0])
+            multiplier *= Fraction(step["multiplier"][0])
+            leader = step["joint"]
+        extra["mimic"] = {"joint": link, "multiplier": _fraction_text(multiplier, law["multiplier"][1]),
+                          "offset": _fraction_text(offset, law["offset"][1])}
+        lines.append(f"{entry['name']} = {extra['mimic']['multiplier']} * {link} + {extra['mimic']['offset']}")
+    return lines
+
+
+def _mimic_note(lines: list[str], notes: list) -> None:
+    if lines:
+        notes.append(f"mimic joints (<mimic>: no coordinate of their own, q = multiplier * q_leader + offset; their "
+                     f"joint force acts on the leader's coordinate times the multiplier): {'; '.join(lines)}")
+
+
+def _fraction_text(value: Fraction, text: str) -> str:
+    """The text of a number: as written when it was not composed, else exact."""
+    if Fraction(text) == value:
+        return text
+    return f"{value.numerator}/{value.denominator}" if value.denominator != 1 else str(value.numerator)
 
 
 def _branches(urdf: _Reader) -> bool:
@@ -983,6 +1057,7 @@ def read_tree(urdf: _Reader, name: str, floating: bool = False) -> tuple[dict, l
         parents.append(owner)
         pending.extend(visit(joint.child, len(entries) - 1, Frame(), [])[::-1])
 
+    mimics = _resolve_mimics(urdf, entries, "not in the tree")
     doc = {"format": FORMAT_VERSION, "name": name, "convention": "general", "gravity": [0, 0, "-9.81"]}
     if floating:
         doc["base"] = "floating"
@@ -1013,6 +1088,7 @@ def read_tree(urdf: _Reader, name: str, floating: bool = False) -> tuple[dict, l
                       "moves freely (a legged or mobile robot)")
     if any(key in extra for _, extra in entries for key in ("damping", "coulomb")):
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
+    _mimic_note(mimics, notes)
     _renamed_note(urdf, notes)
     if urdf.snapped:
         notes.append(f"rpy angles within {QUARTER_TOLERANCE:g} rad of a multiple of pi/2 taken as that multiple "
