@@ -113,3 +113,12 @@ def has_newlib() -> bool:
 #: the flags of the firmware tests: Cortex-M4, single-precision FPU, strict warnings
 CORTEX_M4 = ["-mcpu=cortex-m4", "-mthumb", "-mfloat-abi=hard", "-mfpu=fpv4-sp-d16", "-O2", "-std=c99",
              "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-Wdouble-promotion", "-fstack-usage"]
+
+
+def error_line(capsys) -> str:
+    """The one error line of a failed command (warning lines may come before it)."""
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert lines and lines[-1].startswith("symdyn: error: "), lines
+    assert all(line.startswith("symdyn: warning: ") for line in lines[:-1]), lines
+    assert "Traceback" not in lines[-1]
+    return lines[-1]

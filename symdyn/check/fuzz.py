@@ -284,9 +284,9 @@ def write_case(case: Case, directory: str) -> str:
 
 
 def _reference(case: Case, path: str, robot, values):
-    from .pinocchio_model import PinocchioReference, UrdfReference
+    from .pinocchio_model import PinocchioReference, UrdfReference, reduced
     if case.kind != "urdf":
-        return PinocchioReference(robot, values)
+        return reduced(PinocchioReference(robot, values), robot)
     from ..model.urdf import QUARTER_TOLERANCE
     snapped = any("multiple of pi/2" in note for note in robot.notes)
     return UrdfReference(path, None, None, QUARTER_TOLERANCE if snapped else None, floating_base=case.floating,
@@ -401,13 +401,14 @@ def _check_cache(case: Case, robot, functions, outcome: Outcome) -> None:
     holds ``robot``'s derivation of the same functions, and compare a few outputs with a
     Pinocchio model of the changed robot: a key that missed the field would give the first
     robot's numbers."""
-    from .pinocchio_model import PinocchioReference, compare
+    from .pinocchio_model import PinocchioReference, compare, reduced
     other = changed_robot(robot)
     cached, _ = _derive(case, other, functions)
     values, p = _parameter_values(other, case.number)
     checked = [name for name in CACHE_CHECKED if name in functions]
     from .agreement import NumpyTarget
-    errors = compare(NumpyTarget(cached), PinocchioReference(other, values), _states(other, "double", case.number + 1),
+    errors = compare(NumpyTarget(cached), reduced(PinocchioReference(other, values), other),
+                     _states(other, "double", case.number + 1),
                      checked, p, FLOOR)
     for name, error in errors.items():
         outcome.compared += 1

@@ -108,7 +108,8 @@ def build_model(robot: Robot, values: Mapping | None = None):
         base_rows = [0.0] * 6
     placed: list = []  # per link: (its joint id, the pose of its link frame in that joint's frame)
     parent, body = _add_chain(model, robot, links, parent=root, placed=placed)
-    model.armature = np.array(base_rows + [row["armature"] for row in links])
+    order = depth_first(robot)
+    model.armature = np.array(base_rows + [links[k]["armature"] for k in order])
     tool = body @ np.array([_value(c, "tool") for c in robot.tool_matrix()]).reshape(4, 4)
     model.addFrame(pin.Frame("tool", parent, pin.SE3(tool[:3, :3].copy(), tool[:3, 3].copy()),
                              pin.FrameType.OP_FRAME))
@@ -122,9 +123,10 @@ def build_model(robot: Robot, values: Mapping | None = None):
         pose = at @ local
         model.addFrame(pin.Frame(f"frame_{frame.name}", joint, pin.SE3(pose[:3, :3].copy(), pose[:3, 3].copy()),
                                  pin.FrameType.OP_FRAME))
-    info = {"damping": np.array(base_rows + [row["damping"] for row in links]),
+    info = {"damping": np.array(base_rows + [links[k]["damping"] for k in order]),
             "last_body": body,  # pose of the last link frame in its joint frame
-            "coulomb": np.array(base_rows + [row["coulomb"] for row in links])}
+            "coulomb": np.array(base_rows + [links[k]["coulomb"] for k in order]),
+            "order": order}  # the links in the model's joint order
     return model, info
 
 
@@ -137,10 +139,13 @@ def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: 
     # constant transform from the parent joint frame to this joint frame (the first: the base)
     base = np.array([_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
     root = parent
-    after: list[np.ndarray] = []  # per link: the transform from its joint frame to its children's
-    ids: list[int] = []
+    after: dict[int, np.ndarray] = {}  # per link: the transform from its joint frame to its children's
+    ids: dict[int, int] = {}
     body = np.eye(4)
-    for k, row in enumerate(links):
+    if placed is not None:
+        placed[:] = [None] * len(links)
+    for k in depth_first(robot):  # Pinocchio's algorithms need each subtree's joints contiguous
+        row = links[k]
         up = robot.parent_indices[k]
         parent, placement = (root, base) if up < 0 else (ids[up], after[up])
         placement = placement @ row["fixed"]
@@ -174,11 +179,24 @@ def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: 
         link_inertia = pin.Inertia(row["mass"], row["com"].copy(), inertia_com)
         body_se3 = pin.SE3(body[:3, :3].copy(), body[:3, 3].copy())
         model.appendBodyToJoint(joint_id, body_se3.act(link_inertia), pin.SE3.Identity())
-        ids.append(joint_id)
-        after.append(next_placement)
+        ids[k] = joint_id
+        after[k] = next_placement
         if placed is not None:
-            placed.append((joint_id, body))
-    return ids[-1], body
+            placed[k] = (joint_id, body)
+    return ids[len(links) - 1], body
+
+
+def depth_first(robot: Robot) -> list[int]:
+    """The links in the order Pinocchio's model takes them: each subtree's joints contiguous
+    (depth first, children in file order); the file's order for a chain, and for any tree whose
+    file lists each subtree in one piece."""
+    order: list[int] = []
+    stack = list(reversed(robot.children(-1)))
+    while stack:
+        k = stack.pop()
+        order.append(k)
+        stack.extend(reversed(robot.children(k)))
+    return order
 
 
 def build_closed_loop_model(robot, armature: float = 0.0):
@@ -418,6 +436,9 @@ class PinocchioReference:
         self.data = self.model.createData()
         self.damping, self.coulomb = info["damping"], info["coulomb"]
         self.armature = np.array(self.model.armature)
+        #: the robot's links in the model's joint order (a tree listed with a subtree in two
+        #: pieces is reordered: :func:`reduced` then maps the values back)
+        self.order = info["order"]
         self.actuated = list(robot.actuated_joints)
         base = np.array([_value(c, "base") for c in robot.base_matrix()]).reshape(4, 4)
         self.world_to_base = pin.SE3(base[:3, :3].copy(), base[:3, 3].copy()).inverse()
@@ -469,8 +490,16 @@ class PinocchioReference:
         return self.pin.computeCoriolisMatrix(self.model, self.data, q, qd).copy()
 
     def kinetic_energy(self, q, qd):
-        """The bodies' kinetic energy (J), one entry: Pinocchio's sum over the bodies."""
-        return np.array([self.pin.computeKineticEnergy(self.model, self.data, q, qd)])
+        """The bodies' and the rotors' kinetic energy (J), one entry: Pinocchio's sum over the
+        bodies (``computeKineticEnergy`` of the model without armature) plus ``armature . qd^2 / 2``
+        (Pinocchio 4.1's own sum leaves out the armature of its unaligned revolute joints)."""
+        if not hasattr(self, "_bodies_only"):
+            model = self.model.copy()
+            model.armature = np.zeros(model.nv)
+            self._bodies_only = (model, model.createData())
+        model, data = self._bodies_only
+        qd = np.asarray(qd, dtype=float)
+        return np.array([self.pin.computeKineticEnergy(model, data, q, qd) + 0.5 * float(self.armature @ (qd * qd))])
 
     def friction(self, qd):
         return self.damping * qd + self.coulomb * np.sign(qd)
@@ -777,13 +806,15 @@ class MimicReduction:
         self.full = full
         self.floating = robot.floating
         base = 6 if robot.floating else 0
+        order = getattr(full, "order", None) or list(range(len(robot.links)))  # the full model's joints
         self.G = np.zeros((base + len(robot.links), base + robot.dof))
         self.G[:base, :base] = np.eye(base)
         self.offset = np.zeros(len(robot.links))
-        for i, link in enumerate(robot.links):
+        for row, i in enumerate(order):
             k, m = robot.coordinate_of(i)
-            self.G[base + i, base + k] = float(m)
-            self.offset[i] = 0.0 if link.mimic is None else float(link.mimic.offset)
+            self.G[base + row, base + k] = float(m)
+            link = robot.links[i]
+            self.offset[row] = 0.0 if link.mimic is None else float(link.mimic.offset)
         self.base = base
 
     def _q(self, q):
@@ -870,5 +901,8 @@ class MimicReduction:
 
 
 def reduced(reference, robot: Robot):
-    """``reference`` itself, or for a robot with mimic joints its :class:`MimicReduction`."""
-    return MimicReduction(reference, robot) if robot.mimics else reference
+    """``reference`` itself, or its :class:`MimicReduction` for a robot with mimic joints, or
+    whose model takes the links in another order (a tree listed with a subtree in two pieces)."""
+    order = getattr(reference, "order", None)
+    reordered = order is not None and list(order) != list(range(len(robot.links)))
+    return MimicReduction(reference, robot) if robot.mimics or reordered else reference

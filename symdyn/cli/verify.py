@@ -89,8 +89,8 @@ def _run_serial(args, robot, scene) -> int:
         else:
             ref = PinocchioReference(robot, values)
             reading = "a Pinocchio model of symdyn's reading"
+        ref = reduced(ref, robot)  # mimic joints projected, a tree's joints in Pinocchio's order
         if robot.mimics:
-            ref = reduced(ref, robot)
             reading += (", the mimic joint projected on its leader" if len(robot.mimics) == 1
                         else f", the {len(robot.mimics)} mimic joints projected on their leaders")
         states = []

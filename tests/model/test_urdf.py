@@ -16,7 +16,7 @@ import sympy as sp
 import yaml
 
 import symdyn
-from helpers import REPO, ROBOTS, parameter_values, robot_path
+from helpers import REPO, ROBOTS, error_line, parameter_values, robot_path
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, build_model, normalized_error
 from symdyn.cli import main
 from symdyn.emit.urdf import robot_to_urdf
@@ -41,13 +41,6 @@ def read(path, **options):
     return doc, notes, [str(w.message) for w in caught if issubclass(w.category, SymdynWarning)]
 
 
-def error_line(capsys) -> str:
-    """The one error line of a failed command (warning lines may come before it)."""
-    lines = capsys.readouterr().err.strip().splitlines()
-    assert lines and lines[-1].startswith("symdyn: error: "), lines
-    assert all(line.startswith("symdyn: warning: ") for line in lines[:-1]), lines
-    assert "Traceback" not in lines[-1]
-    return lines[-1]
 
 
 def agree(mine: PinocchioReference, ref: PinocchioReference, dof: int, tolerance: float) -> None:
