@@ -25,6 +25,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
+import re
 import tempfile
 import time
 import traceback
@@ -224,6 +225,22 @@ def random_scene(rng, robot_file: str, names: list[str]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def with_mimics(rng, text: str) -> str:
+    """The URDF ``text`` with, three times in ten (when it has three moving joints or more), one
+    moving joint made a mimic of an earlier one (a multiplier in [-2, 2] away from 0, an offset in
+    [-0.3, 0.3])."""
+    joints = re.findall(r'<joint name="(j[0-9]+)" type="(revolute|prismatic|continuous)"', text)
+    if len(joints) < 3 or rng.random() >= 0.3:
+        return text
+    k = int(rng.integers(1, len(joints)))
+    leader = joints[int(rng.integers(0, k))][0]
+    multiplier = float(rng.uniform(0.3, 2.0)) * float(rng.choice([-1, 1]))
+    mimic = f'<mimic joint="{leader}" multiplier="{_number(multiplier)}" offset="{_number(rng.uniform(-0.3, 0.3))}"/>'
+    start = text.index(f'<joint name="{joints[k][0]}" ')
+    end = text.index("</joint>", start)
+    return text[:end] + mimic + text[end:]
+
+
 def random_case(number: int) -> Case:
     """Case ``number`` (drawn with random seed ``number``: the same on every machine)."""
     rng = np.random.default_rng(number)
@@ -232,6 +249,7 @@ def random_case(number: int) -> Case:
     if rng.random() < 0.6:
         floating = bool(rng.random() < 0.3)
         text, links = random_urdf(rng, name, floating)
+        text = with_mimics(np.random.default_rng([number, 7]), text)  # (its own stream: the cases stay the same)
         frames = tuple(str(f) for f in rng.choice(links[1:], size=int(rng.integers(0, 3)), replace=False))
         return Case(number, "urdf", text, "", floating, frames, precision)
     text, names = random_dh(rng, name)
@@ -289,8 +307,8 @@ def _reference(case: Case, path: str, robot, values):
         return reduced(PinocchioReference(robot, values), robot)
     from ..model.urdf import QUARTER_TOLERANCE
     snapped = any("multiple of pi/2" in note for note in robot.notes)
-    return UrdfReference(path, None, None, QUARTER_TOLERANCE if snapped else None, floating_base=case.floating,
-                         frames=list(case.frames) or None)
+    return reduced(UrdfReference(path, None, None, QUARTER_TOLERANCE if snapped else None, floating_base=case.floating,
+                                 frames=list(case.frames) or None), robot)
 
 
 def _states(robot, precision: str, number: int, count: int = STATES):

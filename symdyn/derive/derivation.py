@@ -507,6 +507,11 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     short text as each step starts (the closed form of a 3-joint robot takes seconds to minutes).
     """
     key = str(method).lower().replace("_", "-")
+    if robot.mimics:
+        raise SymdynError(f"{robot.source or robot.name}: the printed derivation does not cover mimic joints yet (the "
+                          "recursion is the tree's with every joint free, then projected on the coordinates: print the "
+                          "robot without its 'mimic:' fields for the first part); the C, CasADi and Python functions "
+                          "do cover them")
     if robot.is_tree:
         check_tree_request(robot, "newton-euler" if key in ABA_ALIASES else normalize_method(key),
                            ["mass_matrix", "coriolis", "gravity"] + ["base_regressor"] * base_parameters

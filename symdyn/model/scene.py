@@ -272,6 +272,9 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
     robot = _robot_with_payload(path, doc, robot_doc, robot_path, params, notes)
     degrees = robot_doc.get("angles") == "degrees"
     locked = _scene_locks(path, doc, robot, degrees)
+    if locked and robot.mimics:
+        _fail(path, f"'{robot.name}' has mimic joints: a scene cannot lock its joints yet (a locked leader would "
+                    "hold its mimics too); lock none, or remove the mimics in a copy of the robot file", "lock")
     locked_joints = tuple((k + 1, robot.links[k].name, v) for k, v in sorted(locked.items()))
     if locked and len(locked) == robot.dof:
         _fail(path, f"the scene locks every joint of '{robot.name}' ({robot.dof}): leave at least one joint free",

@@ -3,7 +3,9 @@ checks everything else; a legged robot on a fixed base says so (tests/model/test
 
 from __future__ import annotations
 
-from helpers import REPO  # noqa: F401
+import pytest
+
+from helpers import REPO, example_robot_data  # noqa: F401
 from symdyn.cli import main
 from test_hostile import robot_text, run_cli, workspace  # noqa: F401 (the fixture)
 
@@ -40,3 +42,26 @@ def test_a_massless_subtree_of_a_tree_is_named(workspace, capsys):
     assert "skipped " in out and "forward_dynamics" in out.split("skipped ")[1].split(":")[0]
     assert "mass_matrix_inverse" in out.split("skipped ")[1].split(":")[0]
     assert "FAIL" not in out
+
+
+MIMIC_ROBOTS = [  # (example-robot-data file, a mobile robot: on a floating base)
+    ("baxter_description/urdf/baxter.urdf", False),
+    ("talos_data/robots/talos_full_v2.urdf", True),
+    ("romeo_description/urdf/romeo.urdf", True),
+]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("relative,floating", MIMIC_ROBOTS, ids=[r.split("/")[-1] for r, _ in MIMIC_ROBOTS])
+def test_robots_with_mimic_joints_generate_and_verify_as_they_are(relative, floating, capsys):
+    """The robots of example-robot-data that have mimic joints, read as they are (the Panda with its
+    hand is in test_mimic, in the quick suite): their default functions derived, compiled and
+    compared with Pinocchio's reading of the file, the mimics projected on their leaders; Romeo's
+    massless hands leave its forward dynamics out, which verify says."""
+    path = example_robot_data(relative)
+    assert main(["verify", path, "--states", "20", *(["--floating-base"] if floating else [])]) == 0
+    out = capsys.readouterr().out
+    assert "mimic joints projected on their leaders" in out
+    rows = [line.split() for line in out.splitlines() if line.endswith(" ok") or line.endswith(" FAIL")]
+    assert {row[0] for row in rows} >= {"inverse_dynamics", "mass_matrix", "coriolis", "gravity"}
+    assert all(row[-1] == "ok" for row in rows)
