@@ -545,7 +545,6 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
     robot's description for the header, the built functions (``built``) and what they need."""
     prefix = eqs.robot.name
     robot = eqs.robot
-    parents = robot.parent_indices
     return {
         "prefix": prefix,
         "guard": f"{prefix.upper()}_DYNAMICS_H",
