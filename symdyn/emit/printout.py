@@ -257,11 +257,31 @@ def _latex(value, digits: int = DEFAULT_DIGITS) -> str:
     return _TexPrinter(digits, {"symbol_names": names}).doprint(value)
 
 
-def _pretty(value, digits: int = DEFAULT_DIGITS) -> str:
+def _rows(items: list[str], head: str, width: int = 100) -> list[str]:
+    """``head`` and the items, separated by commas and ended by a period, in rows of at most
+    ``width`` characters (an item is never split; the rows after the first indented as the first)."""
+    rows, row = [], head
+    for k, item in enumerate(items):
+        text = item + ("." if k == len(items) - 1 else ",")
+        if len(row) + len(text) + 1 > width and row.strip():
+            rows.append(row.rstrip())
+            row = " " * len(head)
+        row += text + " "
+    rows.append(row.rstrip())
+    return rows
+
+
+def _pretty(value, digits: int = DEFAULT_DIGITS, label: str = "") -> str:
+    """The Unicode text of ``value``, over several rows where it has exponents or fractions, lines
+    wrapped at 100 columns; with ``label``, as ``label = value`` with the label on the value's
+    baseline (the rows above and below indented under the value)."""
     printer = _TextPrinter(digits, {"use_unicode": True, "num_columns": 100})
     flag = pretty_use_unicode(True)
     try:
-        return printer.doprint(value)
+        if not label:
+            return printer.doprint(value)
+        form = printer._print(value)
+        return prettyForm(*form.left(prettyForm(f"{label} = "))).render(**printer._settings)
     finally:
         pretty_use_unicode(flag)
 
@@ -382,9 +402,11 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
         sections.append({"kind": section.kind, "items": items})
     symbol = (lambda s: sp.pretty(s, use_unicode=True)) if fmt == "text" else sp.latex
     shorthand = [(symbol(s), printer.value(meaning)) for s, meaning in derivation.shorthand]
+    shorthand_rows = _rows([f"{s} = {meaning}" for s, meaning in shorthand], "Shorthand: ")
     if progress is not None and derivation.where:
         progress(f"{robot.name}: printing the intermediate quantities")
-    where = [(symbol(s), printer.lines(rhs, symbol(s))) for s, rhs in derivation.where]
+    where = [(symbol(s), [_pretty(printer.shown(rhs), printer.digits, symbol(s))] if fmt == "text"
+              else printer.lines(rhs, symbol(s))) for s, rhs in derivation.where]
     dh = []
     for k, link in enumerate(robot.links):
         com = ", ".join(printer.value(c) for c in link.com)
@@ -410,7 +432,7 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
         "convention_text": ("general joint placements (origin, axis)" if robot.convention == "general"
                             else f"{robot.convention} Denavit–Hartenberg convention"),
         "placements": placements,
-        "dh": dh, "sections": sections, "shorthand": shorthand, "where": where,
+        "dh": dh, "sections": sections, "shorthand": shorthand, "shorthand_rows": shorthand_rows, "where": where,
         "revolute": [link.is_revolute for link in robot.links], "digits": digits,
         # a tree: (link, parent) 1-based, 0 the base; a floating base: its body
         "parents": [(k + 1, p + 1) for k, p in enumerate(robot.parent_indices)] if robot.is_tree else [],

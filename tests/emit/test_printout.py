@@ -227,3 +227,21 @@ def test_named_form_names_what_is_too_long_to_inline(tmp_path):
     used = {line for line in text.splitlines() if "ξ₁" in line}
     defined = text.split("Intermediate quantities", 1)[1]
     assert used and "ξ₁ = " in defined and "ξ₂ = " in defined
+
+
+def test_text_rows_fit_and_labels_sit_on_the_baseline(tmp_path):
+    """The text printout of a 6-joint arm in the named form: no row over 120 characters (the
+    shorthand in rows of 100, expressions wrapped at 100), and an intermediate quantity with an
+    exponent keeps its label on the expression's baseline, the exponent's row indented above it
+    (not the exponent on the label's row and the rest unindented below)."""
+    from symdyn.cli import main
+    out = tmp_path / "puma.txt"
+    assert main(["derive", robot_path("puma560"), "--out", str(out), "--quiet"]) == 0
+    rows = out.read_text(encoding="utf-8").splitlines()
+    assert max(len(row) for row in rows) <= 120
+    start = rows.index("Intermediate quantities")
+    raised = [k for k in range(start + 2, len(rows)) if rows[k].strip() and rows[k].startswith(" ")]
+    assert raised  # some intermediates are squares
+    for k in raised[:20]:
+        m = next(m for m in range(k + 1, len(rows)) if not rows[m].startswith(" "))  # the baseline's row
+        assert " = " in rows[m] and rows[k][:len(rows[m].split(" = ")[0]) + 3].strip() == "", (rows[k], rows[m])
