@@ -403,6 +403,9 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
     symbol = (lambda s: sp.pretty(s, use_unicode=True)) if fmt == "text" else sp.latex
     shorthand = [(symbol(s), printer.value(meaning)) for s, meaning in derivation.shorthand]
     shorthand_rows = _rows([f"{s} = {meaning}" for s, meaning in shorthand], "Shorthand: ")
+    parents = [(k + 1, p + 1) for k, p in enumerate(robot.parent_indices)] if robot.is_tree else []
+    parent_rows = _rows([f"p({i}) = {p}" for i, p in parents], "A kinematic tree: link i hangs on link p(i) (0 is the "
+                        "base): ") if parents else []
     if progress is not None and derivation.where:
         progress(f"{robot.name}: printing the intermediate quantities")
     where = [(symbol(s), [_pretty(printer.shown(rhs), printer.digits, symbol(s))] if fmt == "text"
@@ -432,10 +435,10 @@ def render(derivation: Derivation, fmt: str = "text", source_name: str = "", sou
         "convention_text": ("general joint placements (origin, axis)" if robot.convention == "general"
                             else f"{robot.convention} Denavit–Hartenberg convention"),
         "placements": placements,
-        "dh": dh, "sections": sections, "shorthand": shorthand, "shorthand_rows": shorthand_rows, "where": where,
+        "dh": dh, "sections": sections, "shorthand": shorthand, "shorthand_rows": shorthand_rows, "parent_rows": parent_rows, "where": where,
         "revolute": [link.is_revolute for link in robot.links], "digits": digits,
         # a tree: (link, parent) 1-based, 0 the base; a floating base: its body
-        "parents": [(k + 1, p + 1) for k, p in enumerate(robot.parent_indices)] if robot.is_tree else [],
+        "parents": parents,
         "floating": robot.floating,
         "base_mass": printer.value(robot.base_inertia.mass) if robot.floating else "",
         "base_com": ", ".join(printer.value(c) for c in robot.base_inertia.com) if robot.floating else "",
