@@ -38,6 +38,7 @@ TINY = {
     "firmware_instructions.py": ["scara"],
     "firmware_size.py": ["scara"],
     "derivation.py": ["--repeat", "1", "robots/scara.yaml"],
+    "robots_table.py": ["--only", "double_pendulum", "--states", "3"],
 }
 
 #: a table cell that starts with a number (12, 3.5x, 1.2e-15, 99 (98-101), 58/39/3)
@@ -59,7 +60,7 @@ def _missing_tool(script: str) -> str | None:
                 else ("arm-none-eabi-gcc",):
             if shutil.which(tool) is None:
                 return f"{tool} is not installed (the Cortex-M4 toolchain)"
-    if script == "kinematics_speed.py":
+    if script in ("kinematics_speed.py", "robots_table.py"):
         robots = Path(sysconfig.get_paths()["purelib"]) / "cmeel.prefix" / "share" / "example-robot-data" / "robots"
         if not robots.is_dir():  # where kinematics_speed.example_robot_data() looks
             return "the example-robot-data wheel (a test extra) is not installed"
