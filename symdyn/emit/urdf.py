@@ -200,6 +200,9 @@ def _link_lines(robot: Robot, link, what: str, parent: str, post, armature: list
     if link.damping != 0 or link.coulomb != 0:
         out.append(f'    <dynamics damping="{_number(link.damping, what)}" '
                    f'friction="{_number(link.coulomb, what)}"/>')
+    if link.mimic is not None:
+        out.append(f'    <mimic joint="{robot.links[link.mimic.leader].name}" '
+                   f'multiplier="{_number(link.mimic.multiplier, what)}" offset="{_number(link.mimic.offset, what)}"/>')
     if link.armature != 0:
         armature.append(link.name)
         unit = "kg m^2" if link.is_revolute else "kg"

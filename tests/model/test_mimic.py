@@ -152,3 +152,39 @@ def test_what_mimic_robots_do_not_have_is_refused_in_one_line(tmp_path, capsys):
     assert "not available for a robot with mimic joints" in error_line(capsys)
     assert main(["generate", str(path), "--out", str(tmp_path / "out"), "--method", "lagrange-euler"]) == 1
     assert "has mimic joints" in error_line(capsys)
+
+
+def test_convert_keeps_the_mimics_both_ways(tmp_path):
+    """A robot file with mimic joints written as URDF (``<mimic>``) and read back: the same laws and
+    the same mass matrix and inverse dynamics (joints matched by name: the URDF reader numbers
+    them depth first; URDF has no armature: the robot here has none)."""
+    from symdyn.emit.urdf import robot_to_urdf
+    import warnings
+    doc = gripper()
+    for link in doc["links"]:
+        link.pop("armature", None)
+    robot = load(doc)
+    path = tmp_path / "gripper.urdf"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        path.write_text(robot_to_urdf(robot))
+        again = symdyn.load(str(path))
+    names = [robot.links[j].name for j in robot.coordinate_links]
+    order = [[again.links[j].name for j in again.coordinate_links].index(n) for n in names]
+    laws = {link.name: (robot.links[link.mimic.leader].name, float(link.mimic.multiplier), float(link.mimic.offset))
+            for link in robot.links if link.mimic is not None}
+    assert {link.name: (again.links[link.mimic.leader].name, float(link.mimic.multiplier), float(link.mimic.offset))
+            for link in again.links if link.mimic is not None} == laws
+    first = derive(robot, outputs=["mass_matrix", "inverse_dynamics"])
+    second = derive(again, outputs=["mass_matrix", "inverse_dynamics"])
+    rng = np.random.default_rng(4)
+    for _ in range(3):
+        q, qd, qdd, _ = random_state(robot, rng)
+        back = np.empty_like(q)
+        back[order] = q
+        vd, ad = np.empty_like(qd), np.empty_like(qdd)
+        vd[order], ad[order] = qd, qdd
+        M = second.numeric.mass_matrix(back)[np.ix_(order, order)]
+        np.testing.assert_allclose(first.numeric.mass_matrix(q), M, rtol=1e-10, atol=1e-12)
+        tau = second.numeric.inverse_dynamics(back, vd, ad)[order]
+        np.testing.assert_allclose(first.numeric.inverse_dynamics(q, qd, qdd), tau, rtol=1e-10, atol=1e-10)
