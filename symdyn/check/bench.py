@@ -175,8 +175,8 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
             results.extend(_casadi_results(methods["ne"], functions, variant, error_of, os.path.join(workdir, f"{name}-{variant}")))
         elif variant == "pinocchio":
             try:
-                from .pinocchio_model import PinocchioReference
-                pin = PinocchioReference(robot)
+                from .pinocchio_model import PinocchioReference, reduced
+                pin = reduced(PinocchioReference(robot), robot)  # (mimic joints: projected in numpy)
             except ImportError:
                 progress(f"{name}: pinocchio not installed, skipped")
                 continue
