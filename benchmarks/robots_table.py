@@ -128,12 +128,25 @@ def main(argv=None) -> int:
     if args.only:
         wanted = set(args.only.split(","))
         paths = [p for p in paths if os.path.basename(p)[:-5] in wanted]
+    rows = {}
     with concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
-        rows = list(pool.map(one, paths, [args.states] * len(paths)))
-    for row in rows:
-        print(f"{row['robot']}: {row}", file=sys.stderr)
+        futures = {pool.submit(one, path, args.states): path for path in paths}
+        for future in concurrent.futures.as_completed(futures):
+            row = future.result()
+            rows[futures[future]] = row
+            print(f"{row['robot']}: {row}", file=sys.stderr, flush=True)  # (progress, and rows so far)
+    rows = [rows[path] for path in paths]
     print(table(rows))
     return 0 if all(r.get("verified", True) for r in rows) else 1
+
+
+def table_from_log(path: str) -> str:
+    """The table of the rows a run printed on standard error so far (an interrupted run)."""
+    import ast
+    with open(path, encoding="utf-8") as handle:
+        rows = [ast.literal_eval(line.split(": ", 1)[1]) for line in handle if line.split(": ", 1)[0].strip()
+                and line.rstrip().endswith("}")]
+    return table(sorted(rows, key=lambda r: r["robot"]))
 
 
 if __name__ == "__main__":

@@ -407,6 +407,7 @@ class _Reader:
         self.robot_name = name
         self.link_of_joint: dict[str, str] = {}  # moving joint -> its link's name in the robot document
         self.renamed: list[tuple[str, str]] = []  # (URDF joint name, the link's name): said once, listed in full
+        self.unfollowed: list[str] = []  # mimic joints whose leader is not in the file: read free, said once
         self.links: dict[str, object] = {}
         self.joints: dict[str, _Joint] = {}
         self.bodies: dict[str, _Body] = {}
@@ -814,7 +815,7 @@ def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None
         absorb(joint.child, pending)
 
     mimics = _resolve_mimics(urdf, links, f"off the chain to {describe(tip)}")
-    _mimic_note(mimics, notes)
+    _mimic_note(mimics, notes, urdf.unfollowed)
     last = moving[-1]
     doc = {"format": FORMAT_VERSION, "name": name, "convention": "general", "gravity": [0, 0, "-9.81"]}
     _tool_field(urdf, doc, tool, last, pending, pending_joints, tip, notes)
@@ -949,9 +950,10 @@ def _mimic_entry(urdf: _Reader, joint: _Joint) -> dict | None:
     leader = element.get("joint")
     if not leader:
         urdf.fail("<mimic> names no joint (joint=\"...\")", where, "mimic joint")
-    if leader not in urdf.joints:
-        urdf.fail(f"<mimic> follows {describe(leader)}, which is not a joint of the file{_hint(leader, urdf.joints)}",
-                  where, "mimic joint")
+    if leader not in urdf.joints:  # (a typo in the file: Pinocchio reads it only without mimic joints)
+        close = _hint(leader, urdf.joints).removeprefix("; did you mean ").removesuffix("?")
+        urdf.unfollowed.append(f"{one_line(joint.name, 60)} follows {describe(leader)}" + (f" (perhaps {close})" if close else ""))
+        return None
     multiplier = urdf.numbers(element, "multiplier", 1, "1", where, "mimic multiplier")[0]
     offset = urdf.numbers(element, "offset", 1, "0", where, "mimic offset")[0]
     if multiplier[0] == 0:
@@ -965,6 +967,10 @@ def _resolve_mimics(urdf: _Reader, entries: list, what: str) -> list[str]:
     the link name of the joint it follows, through mimics of mimics (the laws composed), in the
     robot document's form; a leader that is not read (fixed, or off the chain: ``what``) is
     refused.  Returns the notes' lines, one per mimic joint: its law."""
+    if urdf.unfollowed:
+        urdf.warn(f"{len(urdf.unfollowed)} <mimic> element{'s follow joints' if len(urdf.unfollowed) > 1 else ' follows a joint'} "
+                  f"that the file does not have ({'; '.join(urdf.unfollowed[:3])}{'; ...' if len(urdf.unfollowed) > 3 else ''}): "
+                  "those joints are read with coordinates of their own, as Pinocchio reads the file without mimic joints")
     laws = {}
     for entry, extra in entries:
         if "mimic" in extra:
@@ -998,7 +1004,10 @@ def _resolve_mimics(urdf: _Reader, entries: list, what: str) -> list[str]:
     return lines
 
 
-def _mimic_note(lines: list[str], notes: list) -> None:
+def _mimic_note(lines: list[str], notes: list, unfollowed=()) -> None:
+    if unfollowed:
+        notes.append("<mimic> elements that follow no joint of the file, those joints read with their own coordinates: "
+                     + "; ".join(unfollowed))
     if lines:
         notes.append(f"mimic joints (<mimic>: no coordinate of their own, q = multiplier * q_leader + offset; their "
                      f"joint force acts on the leader's coordinate times the multiplier): {'; '.join(lines)}")
@@ -1088,7 +1097,7 @@ def read_tree(urdf: _Reader, name: str, floating: bool = False) -> tuple[dict, l
                       "moves freely (a legged or mobile robot)")
     if any(key in extra for _, extra in entries for key in ("damping", "coulomb")):
         notes.append("<dynamics damping friction> read as viscous damping and Coulomb friction (coulomb)")
-    _mimic_note(mimics, notes)
+    _mimic_note(mimics, notes, urdf.unfollowed)
     _renamed_note(urdf, notes)
     if urdf.snapped:
         notes.append(f"rpy angles within {QUARTER_TOLERANCE:g} rad of a multiple of pi/2 taken as that multiple "
