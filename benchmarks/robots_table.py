@@ -63,8 +63,8 @@ def timed(command: list[str], cwd: str) -> tuple[int, float, float, str]:
     """``(exit status, wall seconds, peak MB, output)`` of ``command`` under /usr/bin/time."""
     run = subprocess.run(["/usr/bin/time", "-f", "TIME %e %M", *command], cwd=cwd, capture_output=True, text=True)
     match = re.search(r"TIME ([0-9.]+) ([0-9]+)\s*$", run.stderr)
-    seconds, peak = (float(match.group(1)), int(match.group(2)) / 1024) if match else (float("nan"), float("nan"))
-    return run.returncode, seconds, peak, run.stdout + run.stderr
+    seconds, peak = (float(match.group(1)), int(match.group(2)) / 1024) if match else (-1.0, -1.0)
+    return run.returncode, seconds, peak, run.stdout + re.sub(r"TIME [0-9.]+ [0-9]+\s*$", "", run.stderr)
 
 
 def one(path: str, states: int) -> dict:
