@@ -136,6 +136,18 @@ class CasadiTarget:
         return call
 
 
+def mass_conditioning(reference, states) -> float:
+    """The largest 2-norm condition number of the reference's ``M = D + diag(armature)`` over
+    ``states`` (1 where it cannot be computed)."""
+    worst = 1.0
+    for q, *_ in states:
+        try:
+            worst = max(worst, float(np.linalg.cond(reference.system_matrix(q))))
+        except (AttributeError, np.linalg.LinAlgError, ValueError):
+            continue
+    return worst if np.isfinite(worst) else 1.0
+
+
 def robot_floors(reference, states, functions, relative: float = VERIFY_FLOOR) -> dict[str, float]:
     """The floor of each function's normalized error (:func:`normalized_error`), from the
     robot's own scale at ``states``: ``relative`` times the RMS of the reference's inverse

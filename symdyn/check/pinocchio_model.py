@@ -448,6 +448,10 @@ class PinocchioReference:
         M = self.pin.crba(self.model, self.data, q)
         return mirror_upper(M) - np.diag(self.armature)
 
+    def system_matrix(self, q):
+        """M = D + diag(armature), what forward dynamics solves with."""
+        return mirror_upper(self.pin.crba(self.model, self.data, q))
+
     def gravity(self, q):
         return self.pin.computeGeneralizedGravity(self.model, self.data, q).copy()
 
@@ -835,6 +839,8 @@ class MimicReduction:
     def _system(self, q):
         """G^T (M_full + diag(armature)) G."""
         return self._both(self.full.mass_matrix(self._q(q)) + np.diag(self.full.armature))
+
+    system_matrix = _system
 
     def gravity(self, q):
         return self.G.T @ self.full.gravity(self._q(q))

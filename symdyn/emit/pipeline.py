@@ -205,12 +205,39 @@ def choose_fd_method(config: GenerateConfig, progress=None) -> GenerateConfig:
     return replace(config, fd_method=chosen, notes=(*config.notes, note))
 
 
+def _derive_serial(config: GenerateConfig, progress=None):
+    """``(config, eqs)``: the derivation of the functions to generate.  Where the mass matrix is
+    singular for every q (a massless subtree: Romeo's hands) and the functions are the defaults
+    (none asked for, by the command or the scene), the functions that solve with it are left out,
+    with one warning and a header note that name the joints; asked for, they are refused."""
+    from ..derive.equations import SingularMassMatrix
+    from ..model.errors import one_line, warn
+    from ..model.outputs import REGISTRY
+    robot, options = config.robot, config.options
+
+    def derive(functions):
+        return derive_cached(robot, options.method, with_requirements(functions), use_cache=options.use_cache,
+                             progress=progress, fd_method=config.fd_method, parameters=options.parameters)
+    try:
+        return config, derive(config.functions)
+    except SingularMassMatrix as exc:
+        if options.functions or (config.scene is not None and config.scene.functions):
+            raise
+        dropped = [f for f in config.functions if f in REGISTRY and REGISTRY[f].status]
+        kept = tuple(f for f in config.functions if f not in dropped)
+        reason = one_line(str(exc).removeprefix(f"{robot.source}: "), 400)  # (the header names no path)
+        warn(f"{robot.source}: {reason} (generating the other default functions: {', '.join(dropped)} left out)")
+        config = replace(config, functions=kept,
+                         notes=(*config.notes, f"left out, the mass matrix being singular for every q: {', '.join(dropped)} "
+                                f"({reason})"))
+        return config, derive(kept)
+
+
 def _emit_serial(config: GenerateConfig, progress=None) -> dict[str, bytes]:
     from .cgen import generate_c
     config = choose_fd_method(config, progress)
     robot, options = config.robot, config.options
-    eqs = derive_cached(robot, options.method, with_requirements(config.functions), use_cache=options.use_cache,
-                        progress=progress, fd_method=config.fd_method, parameters=options.parameters)
+    config, eqs = _derive_serial(config, progress)
     if options.target == "c":
         report = None if options.size_report is None else functools.partial(options.size_report, prefix=robot.name)
         files = generate_c(eqs, config.functions, config.precision, options.header_only,

@@ -21,7 +21,8 @@ def _finger(name: str, parent: str = "") -> str:
 
 def test_a_massless_chain_names_every_massless_joint_and_verify_checks_the_rest(workspace, capsys):
     (workspace / "hand.yaml").write_text(robot_text("hand", [ARM, _finger("thumb1"), _finger("thumb2")]))
-    (line,), _ = run_cli(["generate", workspace / "hand.yaml", "--out", workspace / "out", "--no-cache"], capsys, 1)
+    (line,), _ = run_cli(["generate", workspace / "hand.yaml", "--out", workspace / "out", "--no-cache",
+                          "--functions", "forward_dynamics"], capsys, 1)
     assert "hand.yaml" in line and "2 ('thumb1')" in line and "3 ('thumb2')" in line, line
     assert main(["verify", str(workspace / "hand.yaml"), "--states", "4"]) == 0
     out = capsys.readouterr().out
@@ -35,7 +36,8 @@ def test_a_massless_subtree_of_a_tree_is_named(workspace, capsys):
     matrix (asked with --all) and checks the rest."""
     links = [ARM, _finger("index", "arm"), _finger("ring", "arm")]
     (workspace / "tree.yaml").write_text(robot_text("tree", links))
-    (line,), _ = run_cli(["generate", workspace / "tree.yaml", "--out", workspace / "out", "--no-cache"], capsys, 1)
+    (line,), _ = run_cli(["generate", workspace / "tree.yaml", "--out", workspace / "out", "--no-cache",
+                          "--functions", "forward_dynamics"], capsys, 1)
     assert "tree.yaml" in line and "'index'" in line and "'ring'" in line, line
     assert main(["verify", str(workspace / "tree.yaml"), "--states", "4", "--all"]) == 0
     out = capsys.readouterr().out
@@ -65,3 +67,18 @@ def test_robots_with_mimic_joints_generate_and_verify_as_they_are(relative, floa
     rows = [line.split() for line in out.splitlines() if line.endswith(" ok") or line.endswith(" FAIL")]
     assert {row[0] for row in rows} >= {"inverse_dynamics", "mass_matrix", "coriolis", "gravity"}
     assert all(row[-1] == "ok" for row in rows)
+
+
+def test_generate_leaves_out_what_a_singular_mass_matrix_stops_when_defaulted(workspace, capsys):
+    """Default functions of a robot whose mass matrix is singular for every q (a massless finger,
+    as Romeo's hands): the others are generated, one warning and a header note (without the
+    file's path: the same input gives the same bytes anywhere) say which were left out and why;
+    asked for by name, forward dynamics is refused in one line (the tests above)."""
+    (workspace / "hand.yaml").write_text(robot_text("hand", [ARM, _finger("thumb1")]))
+    assert main(["generate", str(workspace / "hand.yaml"), "--out", str(workspace / "out"), "--no-cache"]) == 0
+    err = capsys.readouterr().err
+    assert "forward_dynamics left out" in err and "('thumb1')" in err, err
+    header = (workspace / "out" / "hand_dynamics.h").read_text()
+    assert "left out, the mass matrix being singular for every q: forward_dynamics" in header
+    assert "hand_forward_dynamics(" not in header and "hand_inverse_dynamics(" in header
+    assert str(workspace) not in header
