@@ -183,7 +183,7 @@ def _add_chain(model, robot: Robot, links: list[dict], parent: int = 0, prefix: 
         after[k] = next_placement
         if placed is not None:
             placed[k] = (joint_id, body)
-    return ids[len(links) - 1], body
+    return (ids[len(links) - 1] if links else root), body
 
 
 def depth_first(robot: Robot) -> list[int]:

@@ -824,8 +824,8 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
         reader.fail("missing required field", None, "links")
     if not isinstance(links_raw, list):
         reader.fail("expected a list of links", None, "links")
-    if not links_raw:
-        reader.fail("the chain is empty: give at least one link", None, "links")
+    if not links_raw and doc.get("base") != "floating":
+        reader.fail("the chain is empty: give at least one link (or 'base: floating' for one free body)", None, "links")
     names_seen: set = set()
     links = tuple(reader.read_link(k, raw, names_seen) for k, raw in enumerate(links_raw))
     parents = read_parents(reader, links_raw, links)

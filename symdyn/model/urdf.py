@@ -744,10 +744,7 @@ def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None
     if floating_base:
         if tip is not None or tool is not None:
             urdf.fail("--floating-base reads the whole tree on its free root link: --tip and --tool do not apply")
-        if not any(j.type != "fixed" for j in urdf.joints.values()):
-            urdf.fail("no moving joint (revolute, continuous or prismatic): a floating base needs one (a single "
-                      "free body's dynamics is its Newton-Euler equations)")
-        return read_tree(urdf, name, floating=True)
+        return read_tree(urdf, name, floating=True)  # (no moving joint: one free body, a drone)
     if tip is None and _branches(urdf):
         if tool is not None:
             urdf.fail("--tool needs a chain: this file's moving joints branch (give --tip LINK to choose one chain)")

@@ -82,3 +82,21 @@ def test_generate_leaves_out_what_a_singular_mass_matrix_stops_when_defaulted(wo
     assert "left out, the mass matrix being singular for every q: forward_dynamics" in header
     assert "hand_forward_dynamics(" not in header and "hand_inverse_dynamics(" in header
     assert str(workspace) not in header
+
+
+def test_a_free_body_without_joints_is_a_floating_base_alone(workspace, capsys):
+    """A drone (example-robot-data's Iris: one rigid body, no moving joint) on --floating-base, and
+    a robot file with 'base: floating' and no links: the Newton-Euler equations of one free body
+    (NV = 6), generated and checked against Pinocchio's free-flyer."""
+    assert main(["verify", example_robot_data("iris_description/robots/iris_simple.urdf"), "--floating-base",
+                 "--states", "5"]) == 0
+    assert "0 joints on a floating base" in capsys.readouterr().out
+    (workspace / "body.yaml").write_text(
+        "format: 1\nname: body\nconvention: general\nbase: floating\n"
+        "base_body: {mass: 1.5, com: [0.01, 0, 0.02], inertia: [0.03, 0.04, 0.05, 0.001, 0, 0]}\nlinks: []\n")
+    assert main(["verify", str(workspace / "body.yaml"), "--states", "5"]) == 0
+    out = capsys.readouterr().out
+    assert out.count(" ok") == 6 and "FAIL" not in out
+    (workspace / "fixed.yaml").write_text("format: 1\nname: fixed\nconvention: general\nlinks: []\n")
+    (line,), _ = run_cli(["generate", workspace / "fixed.yaml", "--out", workspace / "out"], capsys, 1)
+    assert "the chain is empty" in line and "base: floating" in line
