@@ -754,9 +754,10 @@ class RobotFileReader:
             self.fail("expected a mapping {xx, yy, zz, xy, xz, yz} or a list of 6 values", label, "inertia")
         if all(v.is_number for v in values):
             problem = inertia_problem([float(v) for v in values])
-            if problem and "negative" in problem:
-                self.fail(problem, label, "inertia")
-            if problem:
+            if problem and "negative" in problem:  # computable (Pinocchio reads it too): said, not refused
+                self.warn(problem + " (computed as given: the mass matrix may then be indefinite, and forward "
+                          "dynamics return status 1 (singular) wherever a pivot is not positive)", label, "inertia")
+            elif problem:
                 self.warn(problem + " (computed as given)", label, "inertia")
         return values
 

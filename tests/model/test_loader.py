@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 
 import symdyn
-from symdyn.model.errors import RobotFileError
+from symdyn.model.errors import RobotFileError, SymdynWarning
 
 BASE = """\
 format: 1
@@ -129,8 +129,6 @@ CASES = [
     (("    mass: 2", "    mass: -2"), ["link 1 ('first')", "field 'mass'", "must not be negative"]),
     (("    com: [0.1, 0, 0]", "    com: [0.1, 0]"), ["link 1 ('first')", "field 'com'", "list of 3"]),
     (("xx: 0.1, yy: 0.1, zz: 0.1", "xx: 0.1, yy: 0.1, zz: 0.1, xw: 1"), ["field 'inertia.xw'", "unknown inertia"]),
-    (("xx: 0.1, yy: 0.1, zz: 0.1", "xx: -0.1, yy: 0.1, zz: 0.1"), ["field 'inertia'", "negative principal moment"]),
-    (("xx: 0.1, yy: 0.1, zz: 0.1, xy: 0", "xx: 0.1, yy: 0.1, zz: 0.1, xy: 0.2"), ["field 'inertia'", "negative principal moment"]),
     (("    inertia: {xx: 0.1, yy: 0.1, zz: 0.1, xy: 0, xz: 0, yz: 0}", "    inertia: [0.1, 0.1]"), ["field 'inertia'", "6 values"]),
     (("    theta: 0\n", "    theta: 0\n    damping: -1\n"), ["link 1 ('first')", "field 'damping'", "must not be negative"]),
     (("name: demo", "name: demo\nname: again"), ["duplicate key 'name'"]),
@@ -152,6 +150,17 @@ def test_rejections_name_file_link_and_field(tmp_path, change, fragments):
     assert message.startswith(str(tmp_path / "robot.yaml"))
     for fragment in fragments:
         assert fragment in message, message
+
+
+@pytest.mark.parametrize("inertia", ["xx: -0.1, yy: 0.1, zz: 0.1, xy: 0, xz: 0, yz: 0",
+                                     "xx: 0.1, yy: 0.1, zz: 0.1, xy: 0.2, xz: 0, yz: 0"])
+def test_a_negative_principal_moment_is_said_and_computed(tmp_path, inertia):
+    """An inertia with a negative principal moment (published data, a merged URDF body: Romeo's
+    small model) is computable, as Pinocchio computes it: one warning naming the link, not a refusal."""
+    with pytest.warns(SymdynWarning, match=r"link 1 \('first'\): field 'inertia': .*negative principal moment.*"
+                                           r"computed as given"):
+        robot = load_text(tmp_path, BASE.replace("xx: 0.1, yy: 0.1, zz: 0.1, xy: 0, xz: 0, yz: 0", inertia, 1))
+    assert robot.dof >= 1
 
 
 def test_unreadable_and_non_yaml_files(tmp_path):
