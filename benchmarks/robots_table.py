@@ -135,7 +135,9 @@ def main(argv=None) -> int:
             row = future.result()
             rows[futures[future]] = row
             print(f"{row['robot']}: {row}", file=sys.stderr, flush=True)  # (progress, and rows so far)
-    rows = [rows[path] for path in paths]
+    names = [os.path.basename(path) for path in paths]
+    rows = [dict(rows[path], robot=f"{rows[path]['robot']} ({os.path.relpath(path, ROOT).split(os.sep)[0]})")
+            if names.count(os.path.basename(path)) > 1 else rows[path] for path in paths]  # (two anymal.urdf)
     print(table(rows))
     return 0 if all(r.get("verified", True) for r in rows) else 1
 
