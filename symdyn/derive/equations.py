@@ -886,7 +886,7 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     (nv x nv), its derivatives not."""
     if set(FORWARD_DERIVATIVES) & d.need:
         _fixed_base_only(d, "the derivative of forward dynamics")
-    chain, n, b = d.chain, d.n, d.b
+    n, b = d.n, d.b
     d.report("mass_matrix_inverse (solves with the factorization of M)")
     f = _mass_factorization(d)
     Minv = sp.zeros(n, n)

@@ -172,7 +172,8 @@ def test_verify_fails_on_a_nan_output(workspace, capsys, monkeypatch):
 def test_all_zero_mass_refuses_forward_dynamics_only(workspace, capsys):
     links = ["{joint: revolute, a: 0.4, alpha: 0, d: 0, theta: 0}", "{joint: revolute, a: 0.3, alpha: 0, d: 0, theta: 0}"]
     (workspace / "r.yaml").write_text(robot_text(links=links))
-    (line,), _ = run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out", "--no-cache"], capsys, 1)
+    (line,), _ = run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out", "--no-cache",
+                          "--functions", "forward_dynamics"], capsys, 1)
     assert "r.yaml: forward dynamics" in line and "joints 1 ('j1'), 2 ('j2')" in line and "leave forward_dynamics out" in line
     assert not (workspace / "out").exists()
     run_cli(["generate", workspace / "r.yaml", "--out", workspace / "out", "--quiet", "--no-cache",

@@ -75,7 +75,6 @@ def test_a_leg_may_bring_its_own_table(tmp_path):
     (lambda d: d["legs"][1].update(actuated=2), "leg 2 ('leg2'): field 'actuated'", "goes with its own 'links'"),
     (lambda d: d.pop("platform"), "field 'platform'", "missing required field"),
     (lambda d: d["platform"].update(mass=-1), "field 'platform.mass'", "must not be negative"),
-    (lambda d: d["platform"].update(inertia={"xx": -1, "yy": 1, "zz": 1}), "platform: field 'inertia'", "negative"),
     (lambda d: d["leg"]["links"][2].update(mass="m_leg"), "leg, link 3 ('s3'): field 'mass'",
      "unknown name 'm_leg'"),
     (lambda d: d.update(tool={}), "field 'tool'", "unknown key 'tool'"),
@@ -90,6 +89,13 @@ def test_errors_name_the_file_leg_link_and_field(tmp_path, change, where, why):
     assert message.startswith(str(tmp_path / "plat.yaml")), message
     assert where in message and why in message, message
     assert "\n" not in message
+
+
+def test_a_platform_inertia_with_a_negative_principal_moment_is_said_and_computed(tmp_path):
+    doc = copy.deepcopy(DOC)
+    doc["platform"]["inertia"] = {"xx": -1, "yy": 1, "zz": 1}
+    with pytest.warns(SymdynWarning, match="platform: field 'inertia': .*negative principal moment.*computed as given"):
+        _read(doc, tmp_path)
 
 
 def test_a_massless_platform_is_computed_with_a_warning(tmp_path):
