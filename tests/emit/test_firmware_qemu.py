@@ -69,10 +69,11 @@ SOLO = "solo_description/robots/solo12.urdf"
 FEET = "FL_FOOT,HR_FOOT"
 #: (robot, its file, symdyn generate's options): two arms of robots/, and a quadruped on its
 #: floating base with two feet as frames (q of NQ = 19 numbers, the frame functions)
-FIRMWARE_ROBOTS = [("puma560", None, ()), ("panda", None, ()), ("solo", SOLO, ("--floating-base", "--frames", FEET))]
+FIRMWARE_ROBOTS = [("puma560", None, ()), ("panda", None, ()),
+                   pytest.param("solo", SOLO, ("--floating-base", "--frames", FEET), marks=pytest.mark.slow, id="solo")]
 
 
-@pytest.mark.parametrize("robot,relative,options", FIRMWARE_ROBOTS, ids=[r for r, _, _ in FIRMWARE_ROBOTS])
+@pytest.mark.parametrize("robot,relative,options", FIRMWARE_ROBOTS)
 def test_firmware_on_qemu_matches_host_double(robot, relative, options, tmp_path):
     import symdyn
     from symdyn.cli import main

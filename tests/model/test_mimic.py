@@ -63,7 +63,8 @@ def load(doc) -> symdyn.Robot:
     return symdyn.loads(yaml.safe_dump(doc), "gripper.yaml")
 
 
-@pytest.mark.parametrize("floating,across", [(False, False), (False, True), (True, False)])
+@pytest.mark.parametrize("floating,across", [(False, False), pytest.param(False, True, marks=pytest.mark.slow),
+                                             pytest.param(True, False, marks=pytest.mark.slow)])
 def test_every_function_is_the_full_tree_projected(floating, across):
     robot = load(gripper(floating, across))
     assert robot.dof == len(robot.links) - (3 if across else 2)
