@@ -143,7 +143,7 @@ def mass_conditioning(reference, states) -> float:
     for q, *_ in states:
         try:
             worst = max(worst, float(np.linalg.cond(reference.system_matrix(q))))
-        except (AttributeError, np.linalg.LinAlgError, ValueError):
+        except (np.linalg.LinAlgError, ValueError):
             continue
     return worst if np.isfinite(worst) else 1.0
 

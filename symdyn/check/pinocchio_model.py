@@ -787,7 +787,7 @@ def _configured(method):
     return wrapped
 
 
-for _name in (*ALL_OUTPUTS, "base_wrench", "task_pivot_ratio"):  # every reference function, q as the URDF reader orders it
+for _name in (*ALL_OUTPUTS, "base_wrench", "task_pivot_ratio", "system_matrix"):  # every reference function, q as the URDF reader orders it
     if _name in vars(PinocchioReference) and _name not in PinocchioReference.COMPOSED:
         setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))
 
@@ -815,7 +815,7 @@ class MimicReduction:
         self.G[:base, :base] = np.eye(base)
         self.offset = np.zeros(len(robot.links))
         for row, i in enumerate(order):
-            k, m = robot.coordinate_of(i)
+            k, m = robot.link_coordinates[i]
             self.G[base + row, base + k] = float(m)
             link = robot.links[i]
             self.offset[row] = 0.0 if link.mimic is None else float(link.mimic.offset)
@@ -836,11 +836,9 @@ class MimicReduction:
     def mass_matrix(self, q):
         return self._both(self.full.mass_matrix(self._q(q)))
 
-    def _system(self, q):
+    def system_matrix(self, q):
         """G^T (M_full + diag(armature)) G."""
         return self._both(self.full.mass_matrix(self._q(q)) + np.diag(self.full.armature))
-
-    system_matrix = _system
 
     def gravity(self, q):
         return self.G.T @ self.full.gravity(self._q(q))
@@ -859,7 +857,7 @@ class MimicReduction:
 
     def forward_dynamics(self, q, qd, tau):
         bias = self.inverse_dynamics(q, qd, np.zeros(len(qd)))  # h + c + friction
-        return np.linalg.solve(self._system(q), np.asarray(tau, dtype=float) - bias)
+        return np.linalg.solve(self.system_matrix(q), np.asarray(tau, dtype=float) - bias)
 
     def inverse_dynamics_dq(self, q, qd, qdd):
         return self._both(self.full.inverse_dynamics_dq(self._q(q), self._v(qd), self._v(qdd)))
@@ -871,15 +869,18 @@ class MimicReduction:
         return self._both(self.full.gravity_derivative(self._q(q)))
 
     def mass_matrix_inverse(self, q):
-        return np.linalg.inv(self._system(q))
+        return np.linalg.inv(self.system_matrix(q))
+
+    def _forward_derivative(self, inverse_derivative, q, qd, tau):
+        """-M^-1 d tau/dx at the accelerations forward dynamics gives (the implicit function theorem)."""
+        qdd = self.forward_dynamics(q, qd, tau)
+        return -np.linalg.solve(self.system_matrix(q), inverse_derivative(q, qd, qdd))
 
     def forward_dynamics_dq(self, q, qd, tau):
-        qdd = self.forward_dynamics(q, qd, tau)
-        return -np.linalg.solve(self._system(q), self.inverse_dynamics_dq(q, qd, qdd))
+        return self._forward_derivative(self.inverse_dynamics_dq, q, qd, tau)
 
     def forward_dynamics_dqd(self, q, qd, tau):
-        qdd = self.forward_dynamics(q, qd, tau)
-        return -np.linalg.solve(self._system(q), self.inverse_dynamics_dqd(q, qd, qdd))
+        return self._forward_derivative(self.inverse_dynamics_dqd, q, qd, tau)
 
     def frame_poses(self, q):
         return self.full.frame_poses(self._q(q))

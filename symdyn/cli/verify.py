@@ -11,7 +11,7 @@ from ..model.outputs import PLATFORM_REGISTRY as PLATFORM_FUNCTIONS
 from ..emit.cgen import PRECISION_CHOICES
 from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import PLATFORM, SERIAL, kind_of, scene_choices
-from ..model.outputs import ALL_OUTPUTS, REGISTRY, TASK_OUTPUTS, factors_mass_matrix, supported_outputs, with_requirements
+from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, factors_mass_matrix, supported_outputs, with_requirements
 from ..model.errors import SymdynError
 from ..model.tolerances import VERIFY_FLOOR, VERIFY_TOLERANCE
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
@@ -105,7 +105,7 @@ def _run_serial(args, robot, scene) -> int:
             states.append(state)
         task = [f for f in functions if f in TASK_OUTPUTS]
         floors = robot_floors(ref, states, functions)
-        conditioning = mass_conditioning(ref, states) if any(REGISTRY[f].status for f in functions if f in REGISTRY) else 1.0
+        conditioning = mass_conditioning(ref, states) if any(factors_mass_matrix(f) for f in functions) else 1.0
         errors = target_errors(lib, ref, robot, eqs, functions, states, p, values, floors)
         regular = [state for state in states if ref.task_pivot_ratio(state[0]) > TASK_REGULAR] if task else []
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
@@ -137,7 +137,7 @@ def _run_serial(args, robot, scene) -> int:
     failed = False
     for name in functions:
         err = errors[name]
-        ok = bool(np.isfinite(err) and err <= (solved if name in REGISTRY and REGISTRY[name].status else tolerance))
+        ok = bool(np.isfinite(err) and err <= (solved if factors_mass_matrix(name) else tolerance))
         failed |= not ok
         print(f"{name:<{width}} {err:>16.3e}  {'ok' if ok else 'FAIL'}")
     return 1 if failed else 0

@@ -82,12 +82,8 @@ class Chain:
         return q[7:] if self.robot.floating else q
 
     def expand(self, values) -> list:
-        """An NV-vector of rates (coordinates) as the links' rates: a mimic's is its leader's times
-        its multiplier (a floating base's 6 first, unchanged)."""
-        if not self.robot.mimics:
-            return list(values)
-        base = 6 if self.robot.floating else 0
-        return list(values[:base]) + [m * values[base + k] for k, m in self._map]
+        """An NV-vector of rates (coordinates) as the links' rates (:func:`_link_rates`)."""
+        return list(_link_rates(self.robot, values))
 
     def project(self, forces) -> sp.Matrix:
         """The links' joint forces (rows per link, a floating base's 6 first; a vector or a
@@ -99,7 +95,7 @@ class Chain:
         base = 6 if self.robot.floating else 0
         out = sp.zeros(base + self.robot.dof, forces.cols)
         out[:base, :] = forces[:base, :]
-        for i, (k, m) in enumerate(self._map):
+        for i, (k, m) in enumerate(self.robot.link_coordinates):
             out[base + k, :] += m * forces[base + i, :]
         return out
 
@@ -109,10 +105,6 @@ class Chain:
         if not self.robot.mimics:
             return matrix
         return self.project(sp.Matrix(matrix).T).T
-
-    @property
-    def _map(self) -> list:
-        return [self.robot.coordinate_of(i) for i in range(len(self.robot.links))]
 
     def joint_part(self, values) -> list:
         """The joints' entries of an nv-vector (after a floating base's 6)."""
@@ -163,19 +155,27 @@ def _named_fields(robot: Robot, builder: ProgramBuilder) -> Robot:
     return replace(robot, links=tuple(links))
 
 
+def _link_rates(robot: Robot, values) -> tuple:
+    """An NV-vector of rates (coordinates) as the links' rates: a mimic's is its leader's times
+    its multiplier (G v; a floating base's 6 first, unchanged); ``values`` without mimic joints."""
+    if not robot.mimics:
+        return tuple(values)
+    base = 6 if robot.floating else 0
+    return tuple(values[:base]) + tuple(m * values[base + k] for k, m in robot.link_coordinates)
+
+
 def _link_motion(robot: Robot, q, qd, qdd, tau) -> tuple:
     """``(joint_q, qd, qdd, tau)`` per link from the coordinates' symbols (mimics by their law)."""
     joint_q = q[7:] if robot.floating else q
     if not robot.mimics:
         return joint_q, qd, qdd, tau
     base = 6 if robot.floating else 0
-    laws = [robot.coordinate_of(i) for i in range(len(robot.links))]
+    laws = robot.link_coordinates
     link_q = tuple(joint_q[k] if link.mimic is None else link.mimic.multiplier * joint_q[k] + link.mimic.offset
                    for link, (k, _) in zip(robot.links, laws))
-    rates = [tuple(v[:base]) + tuple(m * v[base + k] for k, m in laws) for v in (qd, qdd)]
     torques = tuple(tau[:base]) + tuple(tau[base + k] if link.mimic is None else sp.S.Zero
                                         for link, (k, _) in zip(robot.links, laws))
-    return link_q, rates[0], rates[1], torques
+    return link_q, _link_rates(robot, qd), _link_rates(robot, qdd), torques
 
 
 def make_chain(robot: Robot, prefix: str = "_") -> Chain:

@@ -306,15 +306,8 @@ def armature_matrix(robot: Robot) -> sp.Matrix:
 
 
 def coordinate_sums(robot: Robot, field: str) -> tuple:
-    """A per-joint coefficient (armature, damping) per coordinate: the link's, plus each mimic's
-    times the square of its multiplier (G^T diag(x) G, diagonal)."""
-    if not robot.mimics:
-        return tuple(getattr(link, field) for link in robot.links)
-    out = [sp.S.Zero] * robot.dof
-    for i, link in enumerate(robot.links):
-        k, m = robot.coordinate_of(i)
-        out[k] += m * m * getattr(link, field)
-    return tuple(out)
+    """A per-joint coefficient (armature, damping) per coordinate (:meth:`Robot.per_coordinate`)."""
+    return robot.per_coordinate([getattr(link, field) for link in robot.links])
 
 
 #: forward dynamics in double reports a singular mass matrix where a pivot d_j <= PIVOT_RTOL * M_jj
@@ -347,11 +340,7 @@ def _subtree_scales(robot: Robot, values) -> np.ndarray:
             total += number(links[k].mass) * distance ** 2 + sum(number(x) for x in links[k].inertia[:3])
         out[j] = total
     if robot.mimics:  # per coordinate: its links' and its mimics' (times the multiplier squared)
-        reduced = np.zeros(robot.dof)
-        for j in range(len(links)):
-            k, m = robot.coordinate_of(j)
-            reduced[k] += float(m) ** 2 * out[j]
-        return reduced
+        return np.array([float(v) for v in robot.per_coordinate(out)])
     return out
 
 
@@ -552,6 +541,8 @@ class _Derivation:
         #: the inputs (symbols per coordinate) and the joints' coordinates (q after a floating base's 7)
         _, self.qd, self.qdd, self.tau = chain.coordinates
         self.joint_q = chain.coordinate_q
+        #: the parent array the factorization of M follows (:func:`_factor_parents`), or None
+        self.factor_parents = _factor_parents(robot)
         self.friction = chain.project(friction_terms(robot, chain.qd, chain.qdd))
         self.values: dict[str, sp.Matrix] = {}
         self.mass_factors: tuple = ()
@@ -825,7 +816,7 @@ def coordinate_parents(robot: Robot) -> tuple[int, ...] | None:
         return None
     if not robot.mimics:
         return robot.parent_indices
-    coordinate = [robot.coordinate_of(i)[0] for i in range(len(robot.links))]
+    coordinate = [k for k, _ in robot.link_coordinates]
     coupled = {(min(coordinate[a], coordinate[i]), max(coordinate[a], coordinate[i]))
                for i in range(len(robot.links)) for a in robot.ancestors(i) if coordinate[a] != coordinate[i]}
     parents = [-1] * robot.dof
@@ -839,15 +830,15 @@ def coordinate_parents(robot: Robot) -> tuple[int, ...] | None:
     return tuple(parents) if all(on_path(a, b) for a, b in coupled) else None
 
 
-def _factor_parents(d: _Derivation) -> tuple | None:
+def _factor_parents(robot: Robot) -> tuple | None:
     """The parent array the L^T D L of a tree's M follows: the joints', after a floating base's
     6 coordinates taken as a chain (their block is dense); with mimic joints, the coordinates'
-    (:func:`coordinate_parents`), or None when M's sparsity follows no tree (then M is
-    factorized as a dense matrix)."""
-    parents = coordinate_parents(d.robot)
+    (:func:`coordinate_parents`); None for a serial chain and where M's sparsity follows no tree
+    (then M is factorized as a dense matrix, LDL^T)."""
+    parents = coordinate_parents(robot)
     if parents is None:
         return None
-    if d.robot.floating:
+    if robot.floating:
         parents = (-1, 0, 1, 2, 3, 4) + tuple(5 if p < 0 else p + 6 for p in parents)
     return parents
 
@@ -863,8 +854,8 @@ def _mass_factorization(d: _Derivation):
             check_not_singular(robot, b.build(), M)
         on_zero = _zero_pivot(robot, M, "the inverse mass matrix", "mass_matrix_inverse and the forward-dynamics "
                                                                   "derivatives")
-        if _factor_parents(d) is not None:
-            d.mass_factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", on_zero)
+        if d.factor_parents is not None:
+            d.mass_factorization = ldlt.factor_tree(b, M, d.factor_parents, "ltl", on_zero)
         else:
             d.mass_factorization = ldlt.factor(b, M, "ldl", on_zero)
     return d.mass_factorization
@@ -873,7 +864,7 @@ def _mass_factorization(d: _Derivation):
 def _solve_mass(d: _Derivation, rhs, forward_hint: str, back_hint: str) -> list:
     """``x`` with ``M x = rhs`` by the shared factorization (:func:`_mass_factorization`)."""
     f = _mass_factorization(d)
-    solve = ldlt.solve_tree if _factor_parents(d) is not None else ldlt.solve
+    solve = ldlt.solve_tree if d.factor_parents is not None else ldlt.solve
     return solve(d.b, f, rhs, forward_hint, back_hint)
 
 
@@ -935,9 +926,9 @@ def _forward_dynamics(d: _Derivation) -> sp.Matrix:
         return qdd
     rhs = sp.Matrix(d.tau) - d.get("fd_bias") - d.static_friction
     rhs = sp.Matrix([b.define(f"rhs{i + 1}", e) for i, e in enumerate(rhs)])
-    if _factor_parents(d) is not None:
+    if d.factor_parents is not None:
         d.report("forward_dynamics (L^T D L of the tree's mass matrix: no fill-in)")
-        factorization = ldlt.factor_tree(b, M, _factor_parents(d), "ltl", _zero_pivot(robot, M))
+        factorization = ldlt.factor_tree(b, M, d.factor_parents, "ltl", _zero_pivot(robot, M))
         d.pivots = factorization.pivots
         return sp.Matrix(ldlt.solve_tree(b, factorization, rhs, "ltl_y", "qdd{i}_fd"))
     qdd, d.pivots = _ldlt_solve(b, M, rhs, robot)

@@ -212,7 +212,7 @@ def _derive_serial(config: GenerateConfig, progress=None):
     with one warning and a header note that name the joints; asked for, they are refused."""
     from ..derive.equations import SingularMassMatrix
     from ..model.errors import one_line, warn
-    from ..model.outputs import REGISTRY
+    from ..model.outputs import factors_mass_matrix
     robot, options = config.robot, config.options
 
     def derive(functions):
@@ -223,7 +223,7 @@ def _derive_serial(config: GenerateConfig, progress=None):
     except SingularMassMatrix as exc:
         if options.functions or (config.scene is not None and config.scene.functions):
             raise
-        dropped = [f for f in config.functions if f in REGISTRY and REGISTRY[f].status]
+        dropped = [f for f in config.functions if factors_mass_matrix(f)]
         kept = tuple(f for f in config.functions if f not in dropped)
         reason = one_line(str(exc).removeprefix(f"{robot.source}: "), 400)  # (the header names no path)
         warn(f"{robot.source}: {reason} (generating the other default functions: {', '.join(dropped)} left out)")

@@ -377,12 +377,28 @@ class Robot:
         """The indices of the mimic joints' links."""
         return tuple(k for k, link in enumerate(self.links) if link.mimic is not None)
 
+    @property
+    def link_coordinates(self) -> tuple[tuple[int, sp.Expr], ...]:
+        """Per link, ``(k, m)``: its joint rate is ``m`` times joint coordinate k's rate (m = 1 but
+        for a mimic joint, whose k is its leader's): the rows of G, the links' rates per coordinate."""
+        index = {j: k for k, j in enumerate(self.coordinate_links)}
+        return tuple((index[k], sp.S.One) if link.mimic is None else (index[link.mimic.leader], link.mimic.multiplier)
+                     for k, link in enumerate(self.links))
+
     def coordinate_of(self, link: int) -> tuple[int, sp.Expr]:
-        """``(k, m)``: link ``link``'s joint rate is ``m`` times joint coordinate k's rate (m = 1
-        but for a mimic joint, whose k is its leader's)."""
-        mimic = self.links[link].mimic
-        leader, multiplier = (link, sp.S.One) if mimic is None else (mimic.leader, mimic.multiplier)
-        return self.coordinate_links.index(leader), multiplier
+        """``(k, m)`` of one link (:attr:`link_coordinates`)."""
+        return self.link_coordinates[link]
+
+    def per_coordinate(self, values) -> tuple:
+        """Per-link coefficients of a joint's rate (armature, damping, an inertia it moves) as per-
+        coordinate ones: each link's times the square of its multiplier, summed on its coordinate
+        (the diagonal of G^T diag(values) G); ``values`` themselves without mimic joints."""
+        if not self.mimics:
+            return tuple(values)
+        out = [0] * self.dof
+        for (k, m), value in zip(self.link_coordinates, values):
+            out[k] += m * m * value
+        return tuple(out)
 
     @property
     def actuated_joints(self) -> tuple[int, ...]:
