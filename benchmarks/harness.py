@@ -116,8 +116,8 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "gravity_derivative": (("gravityDerivatives",), "DERIV"),
              "forward_dynamics_derivatives": (("abaDerivatives",), "DERIV"),
              "mass_matrix_inverse": (("computeMinverse",), "DERIV"),
-             "frame_poses": (("framePoses",), "FRAMES"),
-             "frame_jacobians": (("frameJacobians",), "FRAMES"),
+             "frame_poses": (("framePoses_all", "framePoses_each"), "FRAMES"),
+             "frame_jacobians": (("frameJacobians_all", "frameJacobians_each"), "FRAMES"),
              "frame_jacobian_dot_v": (("frameJacobianDotV",), "FRAMES"),
              "frame_kinematics": (("frameKinematics",), "FRAMES"),
              "center_of_mass": (("centerOfMass",), "CENT"),
@@ -133,7 +133,8 @@ OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocc
                     "FLOAT": "harness_pinocchio_floating.cpp"}
 #: a floating base's Pinocchio calls that read q as nq numbers (benchmarks/harness_pinocchio_floating.cpp,
 #: part FLOAT), in place of these; the peer and the cross-check keep the original names
-FLOATING_VARIANTS = {"rnea": "rneaFF", "nonLinearEffects": "nonLinearEffectsFF", "aba_local": "abaFF_local",
+FLOATING_VARIANTS = {"rnea": "rneaFF", "nonLinearEffects": "nonLinearEffectsFF",
+                     "computeCoriolisMatrix": "computeCoriolisMatrixFF", "aba_local": "abaFF_local",
                      "aba_world": "abaFF_world"}
 #: the Pinocchio functions the CasADi peer has (benchmarks/harness_peer.cpp); the others are
 #: timed without a peer column
@@ -145,7 +146,8 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "framePlacement": "Q", "frameJacobian": "Q", "frameClassicalAcceleration": "Q, QD",
                        "framePlacementJacobian": "Q", "centerOfMass": "Q", "jacobianCenterOfMass": "Q",
                        "centerOfMassBias": "Q, QD", "ccrba": "Q, QD", "centroidalBias": "Q, QD",
-                       "framePoses": "Q", "frameJacobians": "Q", "frameJacobianDotV": "Q, QD",
+                       "framePoses_all": "Q", "framePoses_each": "Q",
+                       "frameJacobians_all": "Q", "frameJacobians_each": "Q", "frameJacobianDotV": "Q, QD",
                        "frameKinematics": "Q, QD", "rneaDerivatives": "Q, QD, QDD", "gravityDerivatives": "Q",
                        "abaDerivatives": "Q, QD, TAU", "computeMinverse": "Q"}
 

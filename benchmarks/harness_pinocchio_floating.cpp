@@ -1,10 +1,12 @@
 // Pinocchio's side of benchmarks/harness.py for a floating base (q has nq = nv + 1 entries: the
-// free-flyer's position and quaternion, then the joints): rnea, nonLinearEffects and aba with q
+// free-flyer's position and quaternion, then the joints): rnea, nonLinearEffects,
+// computeCoriolisMatrix and aba with q
 // read as nq numbers.  Compiled as the part FLOAT of the harness's cached objects, beside
 // benchmarks/harness_pinocchio.cpp (whose Model and Data it uses, and whose crba and
 // computeGeneralizedGravity already read nq numbers).  Entry points, called from harness_cases.h:
 //   void pin_rneaFF(const double *q, const double *v, const double *a, double *out);
 //   void pin_nonLinearEffectsFF(const double *q, const double *v, double *out);
+//   void pin_computeCoriolisMatrixFF(const double *q, const double *v, double *out);
 //   void pin_abaFF_local(const double *q, const double *v, const double *tau, double *out);
 //   void pin_abaFF_world(const double *q, const double *v, const double *tau, double *out);
 #include <pinocchio/multibody.hpp>
@@ -18,6 +20,7 @@ typedef Eigen::Map<const Eigen::VectorXd> In;
 extern "C" {
 void pin_rneaFF(const double *q, const double *v, const double *a, double *out);
 void pin_nonLinearEffectsFF(const double *q, const double *v, double *out);
+void pin_computeCoriolisMatrixFF(const double *q, const double *v, double *out);
 void pin_abaFF_local(const double *q, const double *v, const double *tau, double *out);
 void pin_abaFF_world(const double *q, const double *v, const double *tau, double *out);
 }
@@ -30,6 +33,11 @@ void pin_rneaFF(const double *q, const double *v, const double *a, double *out) 
 void pin_nonLinearEffectsFF(const double *q, const double *v, double *out) {
   const pinocchio::Model &model = *harness_model;
   out[0] = pinocchio::nonLinearEffects(model, *harness_data, In(q, model.nq), In(v, model.nv))[0];
+}
+
+void pin_computeCoriolisMatrixFF(const double *q, const double *v, double *out) {
+  const pinocchio::Model &model = *harness_model;
+  out[0] = pinocchio::computeCoriolisMatrix(model, *harness_data, In(q, model.nq), In(v, model.nv))(0, 0);
 }
 
 void pin_abaFF_local(const double *q, const double *v, const double *tau, double *out) {

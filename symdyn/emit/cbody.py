@@ -9,6 +9,7 @@ checks gathered in the mask ``ok``).
 
 from __future__ import annotations
 
+import bisect
 import functools
 from collections import Counter
 from dataclasses import dataclass, field
@@ -344,19 +345,19 @@ def _position_of(expr, position) -> int:
     return max((position[x] for x in sp.sympify(expr).free_symbols if x in position), default=-1)
 
 
-#: a scalar body of more statements than this is emitted as parts of about
-#: :data:`PART_STATEMENTS` statements, each a function of its own (not inlined, where the compiler
-#: has the attribute), the values one part hands to a later one kept in an array: the compiler's
-#: register allocation and dead-store elimination grow faster than linearly with a function's
-#: length (gcc -O2 spent 25 s on the 64-joint Coriolis matrix in one function, 10 s of them in
-#: LRA's hard register assignment); the results are the same bit for bit
-SPLIT_FROM_STATEMENTS = 8000
-PART_STATEMENTS = 2000
-#: forward dynamics gains from shorter parts already at 24 joints (generic chain, harness:
-#: 4240 -> 3810 ns at gcc -O2, 3337 -> 2876 ns at -O3 -march=native), where the Coriolis matrix
-#: loses (4725 -> 4853 ns): its own limits (docs/benchmarks.md, "Long bodies in parts")
-FD_SPLIT_FROM_STATEMENTS = 2500
-FD_PART_STATEMENTS = 1500
+#: a scalar body of more statements than this is emitted as parts of at most about
+#: :data:`PART_LINES` lines (:func:`_part_bounds`), each a function of its own (not inlined, where
+#: the compiler has the attribute), the values one part hands to a later one kept in an array,
+#: each stored right after it is computed and loaded again just before its first use in a later
+#: part: gcc's register allocation grows faster than linearly with a function's length and its
+#: basic-block vectorizer's memory with the square of the memory accesses in one block (gcc -O2
+#: on TIAGo's floating-base Coriolis matrix in one function: 40 s and 548 MB, 30 s of the file's
+#: 52 in LRA's hard register assignment; in parts of 600 lines 3.8 s and 168 MB, and faster:
+#: 8118 -> 7197 ns, TALOS reduced 4716 -> 4117 ns, docs/benchmarks.md, "Long bodies in parts");
+#: the results are the same bit for bit.  Below the limit a body stays whole: TALOS's inverse
+#: dynamics (1541 statements) runs fastest in one piece that fits the instruction cache.
+SPLIT_FROM_STATEMENTS = 2500
+PART_LINES = 600
 #: placeholders in a split body's calls, replaced by the emitter: the function's own arguments,
 #: and ``@PART<k>@`` the name of part k
 ARGUMENTS, PART = "@ARGS@", "@PART"
@@ -484,11 +485,9 @@ class BodyWriter:
             self.lines.extend(f"{target} = {source};" for target, source in plan.aliases)
         body = Body(self.lines, self.ops, self.used, self.printer.vector_functions, given=self.given,
                     fma=bool(self._loop_fma()) and not self.vector)
-        forward = plan.name == "forward_dynamics"
-        limit, size = (FD_SPLIT_FROM_STATEMENTS, FD_PART_STATEMENTS) if forward else (SPLIT_FROM_STATEMENTS, PART_STATEMENTS)
-        if not self.vector and len(self.reduced.statements) > limit:
+        if not self.vector and len(self.reduced.statements) > SPLIT_FROM_STATEMENTS:
             late_symbols = set().union(*(sp.sympify(e).free_symbols for _, e in late))
-            _split(self, body, late_symbols, size)
+            _split(self, body, late_symbols, PART_LINES)
         return body
 
     @functools.cached_property
@@ -718,19 +717,38 @@ class BodyWriter:
             self.ops += loop_ops
 
 
+def _part_bounds(segments: list, defined_in: dict, end_line: int, size: int) -> list[int]:
+    """The first statement of each part: a part ends before it would hold more than ``size``
+    lines, counting its statements, the results written with them and one line per value it
+    reads from an earlier part.  (gcc's basic-block vectorizer compares every pair of memory
+    accesses in a function: its memory grows with their square, so the loads and stores count
+    as much as the arithmetic.)"""
+    bounds, cost, loaded = [0], 0, set()
+    for k, (line, symbols) in enumerate(segments):
+        following = segments[k + 1][0] if k + 1 < len(segments) else end_line
+        earlier = {s for s in symbols if defined_in.get(s, k) < bounds[-1]} - loaded
+        if cost and cost + following - line + len(earlier) > size:
+            bounds.append(k)
+            cost, loaded = 0, set()
+            earlier = {s for s in symbols if defined_in.get(s, k) < k}
+        cost += following - line + len(earlier)
+        loaded |= earlier
+    return bounds
+
+
 def _split(writer: "BodyWriter", body: Body, late_symbols: set, size: int) -> None:
     """Turn ``body`` (a long scalar body) into a short one that calls its parts: the lines
     before the statements stay (input checks, the sin/cos block, the scratch arrays' and a
-    ``carry`` array's declarations); the statements are cut into parts of about
-    ``size`` statements, each part reading the values it needs from earlier parts out of
-    ``carry`` and leaving there the ones later parts need; the last part also writes the results
-    and runs the loops.  A checked function's parts return its status."""
+    ``carry`` array's declarations); the statements are cut into parts of about ``size`` lines
+    (:func:`_part_bounds`), each part reading a value it needs from an earlier part out of
+    ``carry`` just before its first use and leaving there, right after computing it, each value
+    a later part needs; the last part also writes the results and runs the loops.  A checked function's parts return its status."""
     names, ltype = writer.ctx.names, writer.ltype
     statements, segments = writer.reduced.statements, writer.segments
-    bounds = list(range(0, len(statements), size))
-    chunks = [(a, min(a + size, len(statements))) for a in bounds]
     defined_in = {sym: k for k, (sym, _) in enumerate(statements)}
-    chunk_of = lambda index: index // size  # noqa: E731
+    bounds = _part_bounds(segments, defined_in, writer.segment_end, size)
+    chunks = list(zip(bounds, bounds[1:] + [len(statements)]))
+    chunk_of = lambda index: bisect.bisect_right(bounds, index) - 1  # noqa: E731
     used_by = [set() for _ in chunks]
     for index, (_, symbols) in enumerate(segments):
         used_by[chunk_of(index)] |= {s for s in symbols if s in defined_in}
@@ -748,11 +766,21 @@ def _split(writer: "BodyWriter", body: Body, late_symbols: set, size: int) -> No
         start = segments[first][0] if first else writer.segment_start
         stop = segments[last][0] if last < len(statements) else writer.segment_end
         part = [f"(void){name};" for name, _ in writer.arrays] + ["(void)carry;"]
-        part += [f"const {ltype} {names[s]} = carry[{slot[s]}];" for s in carried
-                 if s in used_by[c] and chunk_of(defined_in[s]) < c]
-        part += lines[start:stop]
-        part += [f"carry[{slot[s]}] = {names[s]};" for s in carried if chunk_of(defined_in[s]) == c]
+        part += lines[start:segments[first][0]] if first < last else lines[start:stop]
+        loaded = set()
+        for k in range(first, last):  # each carried value read just before its first use, stored right after it is made
+            following = segments[k + 1][0] if k + 1 < len(statements) else writer.segment_end
+            fresh = sorted((x for x in segments[k][1] if x in slot and chunk_of(defined_in[x]) < c and x not in loaded),
+                           key=lambda x: defined_in[x])
+            loaded.update(fresh)
+            part += [f"const {ltype} {names[x]} = carry[{slot[x]}];" for x in fresh]
+            part += lines[segments[k][0]:following]
+            if statements[k][0] in slot:
+                part.append(f"carry[{slot[statements[k][0]]}] = {names[statements[k][0]]};")
         if c == len(chunks) - 1:
+            fresh = sorted((x for x in late_symbols if x in slot and chunk_of(defined_in[x]) < c and x not in loaded),
+                           key=lambda x: defined_in[x])
+            part += [f"const {ltype} {names[x]} = carry[{slot[x]}];" for x in fresh]
             part += tail
             if checked and not part[-1].startswith("return"):
                 part.append("return 0;")

@@ -30,7 +30,7 @@ def puma():
 def _build(eqs, robot, folder, monkeypatch, early: bool, split: bool = False):
     monkeypatch.setattr(cbody, "EARLY_OUTPUTS_FROM", -1 if early else 10 ** 9)
     if split:
-        for limit, size in (("SPLIT_FROM_STATEMENTS", "PART_STATEMENTS"), ("FD_SPLIT_FROM_STATEMENTS", "FD_PART_STATEMENTS")):
+        for limit, size in (("SPLIT_FROM_STATEMENTS", "PART_LINES"),):
             monkeypatch.setattr(cbody, limit, 50)
             monkeypatch.setattr(cbody, size, 37)
     files = generate_c(eqs, OUTPUTS)

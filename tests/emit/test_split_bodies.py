@@ -28,7 +28,7 @@ def puma():
 
 
 def _split_files(eqs, monkeypatch, **kwargs):
-    for limit, size in (("SPLIT_FROM_STATEMENTS", "PART_STATEMENTS"), ("FD_SPLIT_FROM_STATEMENTS", "FD_PART_STATEMENTS")):
+    for limit, size in (("SPLIT_FROM_STATEMENTS", "PART_LINES"),):
         monkeypatch.setattr(cbody, limit, 50)
         monkeypatch.setattr(cbody, size, 37)
     return generate_c(eqs, FUNCTIONS, **kwargs)
@@ -84,3 +84,53 @@ def test_split_bodies_compile_without_warnings(puma, tmp_path, monkeypatch, comp
         build = ["-fsyntax-only"] if compiler == "clang" else ["-O2", "-c", "-o", str(folder / "out.o")]
         run = subprocess.run([compiler, *flags, *build, str(target)], capture_output=True, text=True)
         assert run.returncode == 0, (precision, header_only, run.stderr[:2000])
+
+
+def _parts(text: str) -> dict[str, list[str]]:
+    """The body lines of each part function in a generated C file, by name."""
+    parts, name, lines = {}, None, []
+    for line in text.splitlines():
+        if line.startswith("static") and "_part" in line and "(" in line:
+            name, lines = line.split("(")[0].split()[-1], []
+        elif name and line == "}":
+            parts[name], name = lines, None
+        elif name and line != "{":
+            lines.append(line.strip())
+    return parts
+
+
+def test_parts_keep_their_budget_and_load_carried_values_where_used(puma, monkeypatch):
+    """Each part holds about PART_LINES lines (statements, results and loads from earlier parts
+    counted alike); a value from an earlier part is loaded right before its first use and stored
+    right after it is made (so it is not live through the whole part)."""
+    _, eqs = puma
+    text = _split_files(eqs, monkeypatch)["puma560_dynamics.c"]
+    parts = _parts(text)
+    assert len(parts) > 100
+    last = {}
+    for name in parts:
+        function, k = name.rsplit("_part", 1)
+        last[function] = max(last.get(function, 0), int(k))
+    for name, lines in parts.items():
+        body = [line for line in lines if not line.startswith(("(void)", "carry[")) and line]
+        counted = [line for line in body if line.endswith(";") or line.endswith("{")]
+        function, k_part = name.rsplit("_part", 1)
+        if int(k_part) < last[function]:  # (the last part also writes the results at the end and runs the loops)
+            assert len(counted) <= 37 + 8, (name, len(counted))  # one statement's lines may cross the budget
+        defined = {}
+        for k, line in enumerate(body):
+            if line.startswith("const ") and "= carry[" in line:
+                symbol = line.split()[2]
+                uses = [j for j, other in enumerate(body) if j > k and f" {symbol}" in f" {other}".replace("(", " ")
+                        .replace(",", " ").replace("*", " ").replace("-", " ")]
+                assert uses, (name, symbol)  # loaded only where read
+                if int(k_part) < last[function]:  # (the last part loads the results' values before writing them)
+                    between = [other for other in body[k:uses[0]] if "= carry[" not in other]
+                    assert len(between) <= 3, (name, symbol)  # just before the statement (or its check) reading it
+                defined[symbol] = k
+        for line in lines:
+            if line.startswith("carry["):
+                symbol = line.split("=")[1].strip(" ;")
+                made = [j for j, other in enumerate(lines) if other.startswith("const ") and other.split()[2] == symbol]
+                stored = lines.index(line)
+                assert made and stored - made[0] <= 12, (name, symbol)  # right after its statement and early writes
