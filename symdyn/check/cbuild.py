@@ -25,10 +25,12 @@ def find_compiler() -> str:
     raise SymdynError("no C compiler found (set CC or install gcc)")
 
 
-def compile_shared(c_file: str, out_dir: str, extra_flags=()) -> str:
-    """Compile ``c_file`` into a shared library in ``out_dir`` (strict warnings as errors)."""
-    lib = os.path.join(out_dir, os.path.splitext(os.path.basename(c_file))[0] + ".so")
-    cmd = [find_compiler(), *WARNING_FLAGS, "-O2", "-fPIC", "-shared", c_file, "-o", lib, "-lm", *extra_flags]
+def compile_shared(c_file, out_dir: str, extra_flags=()) -> str:
+    """Compile ``c_file`` (a path, or a list of paths: one library of them all, named after the
+    first) into a shared library in ``out_dir`` (strict warnings as errors)."""
+    sources = [c_file] if isinstance(c_file, str) else list(c_file)
+    lib = os.path.join(out_dir, os.path.splitext(os.path.basename(sources[0]))[0] + ".so")
+    cmd = [find_compiler(), *WARNING_FLAGS, "-O2", "-fPIC", "-shared", *sources, "-o", lib, "-lm", *extra_flags]
     result = subprocess.run(cmd, capture_output=True, text=True)
     if result.returncode != 0:
         raise SymdynError(f"compiling {c_file} failed: {result.stderr.strip()[:2000]}")
@@ -152,11 +154,19 @@ def build_and_load(files: dict[str, str], prefix: str, dims: Dimensions | int, n
     for name, text in files.items():
         with open(os.path.join(workdir, name), "w") as handle:
             handle.write(text)
-    lib = compile_shared(os.path.join(workdir, f"{prefix}_dynamics.c"), workdir, extra_flags)
+    lib = compile_shared([os.path.join(workdir, name) for name in c_sources(files, prefix)], workdir, extra_flags)
     return CompiledDynamics(lib, prefix, dims, n_params, precision)
 
 
-__all__ = ["compile_shared", "build_and_load", "CompiledDynamics", "find_compiler"]
+def c_sources(files, prefix: str) -> list[str]:
+    """The C files among generated ``files`` (names), ``NAME_dynamics.c`` first, then the others
+    of C written as several files (``NAME_dynamics_2.c``, ...: symdyn.emit.cgen.C_FILE_BYTES) in order."""
+    others = sorted((name for name in files if name.startswith(f"{prefix}_dynamics_") and name.endswith(".c")
+                     and name[len(prefix) + 10:-2].isdigit()), key=lambda name: int(name[len(prefix) + 10:-2]))
+    return [f"{prefix}_dynamics.c", *others]
+
+
+__all__ = ["compile_shared", "c_sources", "build_and_load", "CompiledDynamics", "find_compiler"]
 
 
 class CompiledPlatform:

@@ -16,6 +16,7 @@ import tempfile
 from dataclasses import dataclass
 
 from ..model.errors import SymdynError
+from .cbuild import c_sources
 
 COMPILER = "arm-none-eabi-gcc"
 NM = "arm-none-eabi-nm"
@@ -39,6 +40,26 @@ def available() -> bool:
     return shutil.which(COMPILER) is not None and shutil.which(NM) is not None
 
 
+def _compiled_sizes(command: list[str], source: str, work: str, sizes: dict) -> list[str]:
+    """Compile ``source`` in ``work`` by ``command``; add each function's ``[code bytes, stack
+    bytes]`` to ``sizes``; return the object's undefined symbols."""
+    obj = source[:-2] + ".o"
+    result = subprocess.run([*command, "-o", obj], cwd=work, capture_output=True, text=True)
+    if result.returncode != 0:
+        raise SymdynError(f"{COMPILER} failed on {source}: {result.stderr.strip()[:2000]}")
+    listing = subprocess.run([NM, "--size-sort", "-S", obj], cwd=work, capture_output=True, text=True, check=True)
+    for line in listing.stdout.splitlines():
+        parts = line.split()
+        if len(parts) == 4 and parts[2] in "Tt":
+            sizes[parts[3]] = [int(parts[1], 16), 0]
+    with open(os.path.join(work, source[:-2] + ".su"), encoding="utf-8") as handle:
+        for line in handle:
+            fields = line.rstrip("\n").split("\t")
+            if len(fields) >= 2 and fields[0].rsplit(":", 1)[-1] in sizes:
+                sizes[fields[0].rsplit(":", 1)[-1]][1] = int(fields[1])
+    return subprocess.run([NM, "-u", obj], cwd=work, capture_output=True, text=True, check=True).stdout.split()
+
+
 def measure(files: dict, prefix: str) -> FirmwareReport:
     """Compile ``files`` (``{name: text}`` with ``PREFIX_dynamics.c`` and its header) for a
     Cortex-M4 and report sizes, stack use and double routines.  Raises
@@ -50,25 +71,13 @@ def measure(files: dict, prefix: str) -> FirmwareReport:
         for name, text in files.items():
             with open(os.path.join(work, name), "w", encoding="utf-8") as handle:
                 handle.write(text)
-        source = f"{prefix}_dynamics.c"
-        obj = f"{prefix}_dynamics.o"
-        command = [COMPILER, *FLAGS, "-fstack-usage", "-c", source]
-        result = subprocess.run([*command, "-o", obj], cwd=work, capture_output=True, text=True)
-        if result.returncode != 0:
-            raise SymdynError(f"{COMPILER} failed on {source}: {result.stderr.strip()[:2000]}")
         sizes: dict[str, list[int]] = {}
-        listing = subprocess.run([NM, "--size-sort", "-S", obj], cwd=work, capture_output=True, text=True, check=True)
-        for line in listing.stdout.splitlines():
-            parts = line.split()
-            if len(parts) == 4 and parts[2] in "Tt":
-                sizes[parts[3]] = [int(parts[1], 16), 0]
-        with open(os.path.join(work, f"{prefix}_dynamics.su"), encoding="utf-8") as handle:
-            for line in handle:
-                fields = line.rstrip("\n").split("\t")
-                if len(fields) >= 2 and fields[0].rsplit(":", 1)[-1] in sizes:
-                    sizes[fields[0].rsplit(":", 1)[-1]][1] = int(fields[1])
-        undefined = subprocess.run([NM, "-u", obj], cwd=work, capture_output=True, text=True, check=True).stdout.split()
-        doubles = tuple(sorted(u for u in undefined if u.startswith("__aeabi_d") or u in DOUBLE_LIBM))
+        undefined = []
+        sources = c_sources(files, prefix)
+        for source in sources:  # (C of several files: each compiled alike)
+            undefined += _compiled_sizes([COMPILER, *FLAGS, "-fstack-usage", "-c", source], source, work, sizes)
+        command = [COMPILER, *FLAGS, "-fstack-usage", "-c", *sources]
+        doubles = tuple(sorted(set(u for u in undefined if u.startswith("__aeabi_d") or u in DOUBLE_LIBM)))
         version = subprocess.run([COMPILER, "--version"], capture_output=True, text=True).stdout.splitlines()
     toolchain = version[0].strip() if version else COMPILER
     return FirmwareReport({k: tuple(v) for k, v in sizes.items()}, doubles, toolchain, " ".join(command))

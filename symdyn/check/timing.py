@@ -81,7 +81,7 @@ def time_generated(files: dict[str, str], prefix: str, dims: Dimensions, functio
                    parameters=()) -> dict[str, float]:
     """Write symdyn's generated ``files`` to ``workdir``, compile them with the timing harness
     (-O3 -march=native) and return ``{function: ns per call}``."""
-    from .cbuild import find_compiler
+    from .cbuild import c_sources, find_compiler
     for name, text in files.items():
         with open(os.path.join(workdir, name), "w") as handle:
             handle.write(text)
@@ -90,5 +90,5 @@ def time_generated(files: dict[str, str], prefix: str, dims: Dimensions, functio
         handle.write(symdyn_harness(prefix, dims, functions, precision, parameters))
     exe = os.path.join(workdir, "bench")
     subprocess.run([find_compiler(), "-O3", "-march=native", "-std=c99", "-w", harness,
-                    os.path.join(workdir, f"{prefix}_dynamics.c"), "-o", exe, "-lm"], check=True)
+                    *(os.path.join(workdir, name) for name in c_sources(files, prefix)), "-o", exe, "-lm"], check=True)
     return parse(subprocess.run([exe], capture_output=True, text=True, check=True).stdout)

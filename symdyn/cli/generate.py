@@ -6,11 +6,13 @@ files of all inputs are written in one transaction."""
 
 from __future__ import annotations
 
+import os
+
 from ..check.firmware import FLAGS as FIRMWARE_FLAGS
 from ..emit.cgen import PRECISION_CHOICES
 from ..emit.pipeline import (PLATFORM, TARGETS, GenerateOptions, check_inputs, check_options, configure,
                               generate, provenance)
-from ..model.errors import SymdynError
+from ..model.errors import SymdynError, warn
 from ..model.files import output_directory, write_files
 from ..model.outputs import functions_help
 from ..model.scene import input_files
@@ -61,6 +63,10 @@ def add_parser(sub) -> None:
                    help="also write NAME_<function>_batch(count, ...) over arrays of states: several "
                         "states at once in GCC/Clang vector types in double precision (identical results), "
                         "a loop over the scalar function otherwise; c target only")
+    p.add_argument("--c-file-mb", type=float, default=None, metavar="MB",
+                   help="C of more than MB megabytes (default 3) is written as several files of whole "
+                        "functions, NAME_dynamics.c, NAME_dynamics_2.c, ..., each compiling within about "
+                        "400 MB of compiler memory at gcc -O2 (the header lists them); 0: always one file")
     add_method_option(p)
     add_fd_method_option(p)
     add_size_options(p)
@@ -79,7 +85,7 @@ def options_of(args) -> GenerateOptions:
     return GenerateOptions(functions=args.functions, precision=args.precision, target=args.target,
                            method=args.method, fd_method=args.fd_method, parameters=args.parameters,
                            header_only=args.header_only, batch=args.batch, size_report=size_report,
-                           use_cache=not args.no_cache, name=args.name)
+                           use_cache=not args.no_cache, name=args.name, c_file_mb=args.c_file_mb)
 
 
 def run(args) -> int:
@@ -115,4 +121,19 @@ def run(args) -> int:
     if not args.quiet:
         for target in written:
             print(f"wrote {target}")
+    _warn_stale_parts(args.out, rendered)
     return 0
+
+
+def _warn_stale_parts(directory: str, rendered) -> None:
+    """One warning per ``NAME_dynamics_K.c`` in ``directory`` that this run did not write while
+    it wrote ``NAME_dynamics.h`` (an earlier run's C in more files: compiled with the new files it
+    would bring back old functions)."""
+    prefixes = [name[:-len("_dynamics.h")] for name in rendered if name.endswith("_dynamics.h")]
+    for name in sorted(os.listdir(directory)):
+        for prefix in prefixes:
+            number = name[len(prefix) + 10:-2] if name.startswith(f"{prefix}_dynamics_") and name.endswith(".c") else ""
+            if number.isdigit() and name not in rendered:
+                warn(f"{os.path.join(directory, name)} is from an earlier run (this run wrote "
+                     f"{sum(n.startswith(prefix + '_dynamics') and n.endswith('.c') for n in rendered)} C file(s) "
+                     f"for {prefix}): delete it before compiling the folder")

@@ -488,11 +488,21 @@ def _total_mass(robot) -> str | None:
     return repr(float(total)) if total.is_number else None
 
 
+#: C of more bytes than this is written as several files, each a translation unit of whole
+#: functions of at most about this size (a single function larger has a file of its own): gcc keeps
+#: every function of a translation unit in memory until it has emitted the last one, about 130 MB
+#: per MB of this C at -O2 (TIAGo dual's 6.9 MB in one file: 710 MB, 430 MB already at -O0;
+#: TIAGo's 2.7 MB: 352 MB); docs/benchmarks.md, "Parts by lines, values carried where used"
+C_FILE_BYTES = 3_000_000
+
+
 def generate_c(eqs: Equations, functions=None, precision: str = "double", header_only: bool = False,
                source_name: str = "", source_hash: str = "", notes: tuple[str, ...] = (),
-               progress=None, size_report=None, batch: bool = False, locked=()) -> dict[str, str]:
+               progress=None, size_report=None, batch: bool = False, locked=(),
+               file_bytes: int | None = C_FILE_BYTES) -> dict[str, str]:
     """Render ``NAME_dynamics.h`` and ``NAME_dynamics.c`` (or one header of static inline
-    functions when ``header_only``).  Returns ``{file name: text}``.  The header lists every
+    functions when ``header_only``; C of more than ``file_bytes`` as several files,
+    :func:`_source_files`).  Returns ``{file name: text}``.  The header lists every
     model constant folded into the code (:func:`~symdyn.emit.emission.constant_rows`; ``locked``:
     the joints a scene locked, :attr:`symdyn.model.scene.Scene.locked`).  ``progress`` (optional) is
     called with a short text as each function's C is built.  ``size_report`` (optional): called
@@ -522,10 +532,16 @@ def generate_c(eqs: Equations, functions=None, precision: str = "double", header
                             batch)
     context.update(banner_fields(prefix, precision, context["method"], eqs.robot))
     env = template_environment()
-    header = env.get_template("dynamics.h.j2").render(**context)
-    files = {f"{prefix}_dynamics.h": header}
-    if not header_only:
-        files[f"{prefix}_dynamics.c"] = env.get_template("dynamics.c.j2").render(**context)
+    sources = {} if header_only else _source_files(env, context, built, prefix, file_bytes)
+    if len(sources) > 1:
+        names = ", ".join(sources)
+        size = sum(len(text) for text in sources.values()) / 1e6
+        warn(f"{prefix}: the C is {size:.1f} MB, written as {len(sources)} files of at most about "
+             f"{file_bytes / 1e6:.0f} MB each (one file would need more compiler memory): compile all of {names}")
+        context["notes"] = context["notes"] + [comment_text(
+            f"the C is in {len(sources)} files ({names}), each a translation unit of at most about "
+            f"{file_bytes / 1e6:.0f} MB: compile and link all of them")]
+    files = {f"{prefix}_dynamics.h": env.get_template("dynamics.h.j2").render(**context), **sources}
     if size_report is not None and not header_only:
         report = size_report(dict(files))
         for f in built:
@@ -578,11 +594,9 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
         "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,
-        "functions": built,
         "header_only": header_only,
         "notes": [comment_text(note) for note in notes],
         "math_header": True,
-        "float_header": any(f.returns == "int" for f in built),
         **_contract_context(eqs, precision, built),
         "status_list": _status_list(built, prefix),
         "size_target": "",
@@ -590,14 +604,46 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
         "size_doubles": "",
         "regressor_parameters": _regressor_parameters(eqs) if "regressor" in functions else [],
         "base_parameters": _base_parameters(eqs) if "base_regressor" in functions else [],
+        "fuse_from": FUSE_FROM_STATEMENTS,
+        "batch": batch,
+        **_code_needs(built),
+    }
+
+
+def _code_needs(built) -> dict:
+    """What the C of the functions ``built`` needs beside them in its file (the templates'
+    context: the sin/cos blocks, the vector helpers, the fused multiply-add macros, float.h)."""
+    return {
+        "functions": built,
+        "float_header": any(f.returns == "int" for f in built),
         "trig_double": any(f.trig_type == "double" for f in built) or any(
             f.batch and f.batch["lanes"] is not None and f.batch["trig"] for f in built),
         "vector_trig": any(f.batch and f.batch["lanes"] is not None and f.batch["trig"] for f in built),
         "trig_float": any(f.trig_type == "float" for f in built),
         "gram_vector": any(f.gram_loop for f in built),
         "fma_type": next((f.fma_type for f in built if f.fma_type), ""),
-        "fuse_from": FUSE_FROM_STATEMENTS,
-        "batch": batch,
         "vector": any(f.batch and f.batch["lanes"] is not None for f in built),
         "vector_functions": sorted(set().union(*(f.batch["vector_functions"] for f in built if f.batch))),
     }
+
+
+
+
+def _source_files(env, context: dict, built, prefix: str, file_bytes: int | None) -> dict[str, str]:
+    """``{NAME_dynamics.c: text}``, or for C of more than ``file_bytes`` the functions in order in
+    ``NAME_dynamics.c``, ``NAME_dynamics_2.c``, ... of at most about ``file_bytes`` each, every file
+    with what its functions need (:func:`_code_needs`)."""
+    template = env.get_template("dynamics.c.j2")
+    whole = template.render(**context)
+    if file_bytes is None or len(whole) <= file_bytes or len(built) < 2:
+        return {f"{prefix}_dynamics.c": whole}
+    groups, size = [[]], 0
+    for f in built:
+        alone = len(template.render(**{**context, **_code_needs([f])}))
+        if groups[-1] and size + alone > file_bytes:
+            groups.append([])
+            size = 0
+        groups[-1].append(f)
+        size += alone
+    return {f"{prefix}_dynamics{'' if k == 0 else f'_{k + 1}'}.c": template.render(**{**context, **_code_needs(group)})
+            for k, group in enumerate(groups)}

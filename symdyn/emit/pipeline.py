@@ -17,6 +17,7 @@ emitter once, in :data:`KINDS`.
 from __future__ import annotations
 
 import functools
+import math
 import os
 from dataclasses import dataclass, field, replace
 from typing import Callable
@@ -43,7 +44,9 @@ class GenerateOptions:
     ``ldlt`` in double, ``aba`` in float); ``size_report``: a function ``(files, prefix=...)``
     measuring code size and stack use (:func:`symdyn.check.firmware.measure`), or None;
     ``name``: the C prefix and file names (``NAME_dynamics.h``, ``NAME_forward_dynamics``, ...)
-    instead of the robot's or scene's own name, for one input (None: the input's name)."""
+    instead of the robot's or scene's own name, for one input (None: the input's name);
+    ``c_file_mb``: C of more megabytes than this is written as several files (None: the default,
+    :data:`symdyn.emit.cgen.C_FILE_BYTES`; 0: always one file)."""
 
     functions: tuple[str, ...] | str | None = None
     precision: str | None = None
@@ -56,6 +59,7 @@ class GenerateOptions:
     size_report: Callable | None = None
     use_cache: bool = True
     name: str | None = None
+    c_file_mb: float | None = None
 
 
 @dataclass(frozen=True)
@@ -234,13 +238,14 @@ def _derive_serial(config: GenerateConfig, progress=None):
 
 
 def _emit_serial(config: GenerateConfig, progress=None) -> dict[str, bytes]:
-    from .cgen import generate_c
+    from .cgen import C_FILE_BYTES, generate_c
     config = choose_fd_method(config, progress)
     robot, options = config.robot, config.options
     config, eqs = _derive_serial(config, progress)
     if options.target == "c":
         report = None if options.size_report is None else functools.partial(options.size_report, prefix=robot.name)
-        files = generate_c(eqs, config.functions, config.precision, options.header_only,
+        file_bytes = C_FILE_BYTES if options.c_file_mb is None else (int(options.c_file_mb * 1e6) or None)
+        files = generate_c(eqs, config.functions, config.precision, options.header_only, file_bytes=file_bytes,
                            source_name=config.source_name, source_hash=robot.source_hash, notes=config.notes,
                            progress=progress, size_report=report, batch=options.batch,
                            locked=config.scene.locked if config.scene is not None else ())
@@ -267,7 +272,7 @@ def _emit_platform(config: GenerateConfig, progress=None) -> dict[str, bytes]:
 SERIAL = RobotKind(
     name="serial", label="a serial robot", plural="serial robots", robot_type=Robot, functions=ALL_OUTPUTS,
     precisions=PRECISION_CHOICES, targets=TARGETS,
-    options=frozenset({"method", "fd_method", "parameters", "header_only", "batch", "size_report"}),
+    options=frozenset({"method", "fd_method", "parameters", "header_only", "batch", "size_report", "c_file_mb"}),
     parse_functions=parse_functions, emit=_emit_serial)
 
 PLATFORM = RobotKind(
@@ -280,6 +285,7 @@ KINDS = (SERIAL, PLATFORM)
 
 #: how each option is called on the command line, in the order refusals are reported
 _FLAGS = (("header_only", "--header-only"), ("batch", "--batch"), ("size_report", "--size-report"),
+          ("c_file_mb", "--c-file-mb"),
           ("parameters", "--parameters base"), ("fd_method", "--fd-method"), ("method", "--method"))
 _UNSET = GenerateOptions()
 
@@ -300,6 +306,8 @@ def check_options(options: GenerateOptions) -> None:
         raise SymdynError(f"--precision and --header-only apply to the c target only, not {options.target}")
     if options.batch and options.target != "c":
         raise SymdynError(f"--batch applies to the c target only, not {options.target}")
+    if options.c_file_mb is not None and not (math.isfinite(options.c_file_mb) and options.c_file_mb >= 0):
+        raise SymdynError(f"--c-file-mb {options.c_file_mb}: give 0 (always one file) or a positive number of megabytes")
     if options.size_report is not None and (options.target != "c" or options.header_only):
         raise SymdynError("--size-report applies to the c target with .h + .c files (not --header-only)")
     check_name(options.name)

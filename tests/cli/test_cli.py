@@ -176,3 +176,37 @@ def test_help_names_inputs_as_they_are(capsys):
     text = " ".join(capsys.readouterr().out.split())
     assert "symdyn[verify]" in text and "symdyn[test]" not in text
     assert 'pip install ".[verify]"' in (REPO / "README.md").read_text().splitlines()[7]
+
+
+@pytest.mark.parametrize("size", ["-1", "nan", "inf"])
+def test_c_file_size_must_be_a_size(tmp_path, capsys, size):
+    assert main(["generate", PUMA, "--out", str(tmp_path / "out"), "--c-file-mb", size]) == 1
+    assert "--c-file-mb" in one_error_line(capsys)
+    assert not (tmp_path / "out").exists()
+
+
+def test_c_over_its_file_size_is_written_as_several_files(tmp_path, capsys):
+    """--c-file-mb: C over that size in several files (one warning line names them all), 0: one file."""
+    assert main(["generate", PUMA, "--out", str(tmp_path / "several"), "--c-file-mb", "0.02",
+                 "--functions", "inverse_dynamics,mass_matrix,coriolis_matrix"]) == 0
+    captured = capsys.readouterr()
+    written = sorted(os.listdir(tmp_path / "several"))
+    assert written == ["puma560_dynamics.c", "puma560_dynamics.h", "puma560_dynamics_2.c", "puma560_dynamics_3.c"]
+    warning = [line for line in captured.err.splitlines() if "written as 3 files" in line]
+    assert len(warning) == 1 and "puma560_dynamics_3.c" in warning[0]
+    assert main(["generate", PUMA, "--out", str(tmp_path / "one"), "--c-file-mb", "0",
+                 "--functions", "inverse_dynamics,mass_matrix,coriolis_matrix"]) == 0
+    assert sorted(os.listdir(tmp_path / "one")) == ["puma560_dynamics.c", "puma560_dynamics.h"]
+
+
+def test_an_earlier_runs_extra_c_file_is_named(tmp_path, capsys):
+    """A run that writes fewer C files than an earlier one into the same folder names the
+    earlier run's extra file in one warning (compiled with the new ones it would bring back old code)."""
+    out = str(tmp_path / "out")
+    functions = ["--functions", "inverse_dynamics,mass_matrix,coriolis_matrix"]
+    assert main(["generate", PUMA, "--out", out, "--c-file-mb", "0.02", *functions]) == 0
+    capsys.readouterr()
+    assert main(["generate", PUMA, "--out", out, *functions]) == 0
+    err = capsys.readouterr().err.splitlines()
+    stale = [line for line in err if "from an earlier run" in line]
+    assert len(stale) == 2 and "puma560_dynamics_2.c" in stale[0] and "puma560_dynamics_3.c" in stale[1]

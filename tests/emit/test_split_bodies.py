@@ -134,3 +134,64 @@ def test_parts_keep_their_budget_and_load_carried_values_where_used(puma, monkey
                 made = [j for j, other in enumerate(lines) if other.startswith("const ") and other.split()[2] == symbol]
                 stored = lines.index(line)
                 assert made and stored - made[0] <= 12, (name, symbol)  # right after its statement and early writes
+
+
+def test_c_in_several_files_gives_the_same_bytes(puma, tmp_path):
+    """C over the file budget is written as NAME_dynamics.c, NAME_dynamics_2.c, ... of whole
+    functions (symdyn.emit.cgen.C_FILE_BYTES): each file compiles on its own warning-free, the
+    header says to compile them all, one warning says so, and the library of them all computes the
+    same bytes as the one file."""
+    robot, eqs = puma
+    from symdyn.model.errors import SymdynWarning
+    one = generate_c(eqs, FUNCTIONS)
+    with pytest.warns(SymdynWarning, match="written as [0-9]+ files"):
+        several = generate_c(eqs, FUNCTIONS, file_bytes=len(one["puma560_dynamics.c"]) // 4)
+    sources = [name for name in several if name.endswith(".c")]
+    assert sources[0] == "puma560_dynamics.c" and sources[1:] == [f"puma560_dynamics_{k}.c" for k in range(2, len(sources) + 1)]
+    assert len(sources) >= 4
+    assert all(name in several["puma560_dynamics.h"] for name in sources)  # the header's note lists them
+    for name, text in several.items():
+        (tmp_path / name).write_text(text)
+    for name in sources:  # each a translation unit of its own, warning-free
+        run = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O0", "-c",
+                              str(tmp_path / name), "-o", str(tmp_path / (name + ".o"))], capture_output=True, text=True)
+        assert run.returncode == 0, (name, run.stderr[:2000])
+    (tmp_path / "one").mkdir()
+    (tmp_path / "several").mkdir()
+    a = build_and_load(one, robot.name, 6, 0, "double", str(tmp_path / "one"))
+    b = build_and_load(several, robot.name, 6, 0, "double", str(tmp_path / "several"))
+    rng = np.random.default_rng(1)
+    for _ in range(3):
+        q, qd, qdd, tau = (rng.uniform(-2, 2, 6) for _ in range(4))
+        for name, args in (("inverse_dynamics", (q, qd, qdd)), ("mass_matrix", (q,)), ("coriolis_matrix", (q, qd)),
+                           ("jacobian", (q,)), ("gravity", (q,))):
+            assert getattr(a, name)(*args).tobytes() == getattr(b, name)(*args).tobytes(), name
+        assert a.forward_dynamics_checked(q, qd, tau)[1].tobytes() == b.forward_dynamics_checked(q, qd, tau)[1].tobytes()
+
+
+def test_many_numbers_are_written_by_tables_with_the_same_bytes(puma, tmp_path, monkeypatch):
+    """An output with many entries that are numbers (symdyn.emit.cbody.NUMBER_TABLE_FROM: TIAGo
+    dual's mass matrix has 8700 zeros) writes each value shared by many entries by a loop over a
+    table of indices: lowered so that puma560's outputs use them, the same bytes, warning-free."""
+    robot, eqs = puma
+    plain = build_and_load(generate_c(eqs, FUNCTIONS), robot.name, 6, 0, "double", str(tmp_path))
+    monkeypatch.setattr(cbody, "NUMBER_TABLE_FROM", 3)
+    monkeypatch.setattr(cbody, "NUMBER_TABLE_MIN", 2)
+    monkeypatch.setattr(cbody, "EARLY_OUTPUTS_FROM", -1)  # (the entries that are numbers are written first)
+    files = generate_c(eqs, FUNCTIONS)
+    text = files["puma560_dynamics.c"]
+    assert text.count("static const unsigned int puma560_") >= 3
+    (tmp_path / "tables").mkdir()
+    for name, content in files.items():
+        (tmp_path / "tables" / name).write_text(content)
+    run = subprocess.run(["gcc", "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", "-O2", "-c",
+                          str(tmp_path / "tables" / "puma560_dynamics.c"), "-o", str(tmp_path / "t.o")],
+                         capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr[:2000]
+    tables = build_and_load(files, robot.name, 6, 0, "double", str(tmp_path / "tables"))
+    rng = np.random.default_rng(2)
+    for _ in range(3):
+        q, qd = rng.uniform(-2, 2, 6), rng.uniform(-2, 2, 6)
+        for name, args in (("mass_matrix", (q,)), ("coriolis_matrix", (q, qd)), ("jacobian", (q,))):
+            a, b = getattr(plain, name)(*args), getattr(tables, name)(*args)
+            assert a.tobytes() == b.tobytes(), name
