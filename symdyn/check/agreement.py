@@ -43,14 +43,30 @@ def derive_supported(robot, method: str, functions, fd_method: str = "ldlt", use
                              parameters), functions
 
 
-def compile_equations(eqs, functions, precision: str, workdir: str, source_name: str = "", extra_flags=()):
+def compile_equations(eqs, functions, precision: str, workdir: str, source_name: str = "", extra_flags=(),
+                      small_pieces: bool = False):
     """Generate the C of ``functions`` of ``eqs``, compile it in ``workdir`` and load it, with
-    every size the library needs (joints, actuated joints, task rows, frames, base parameters)."""
+    every size the library needs (joints, actuated joints, task rows, frames, base parameters).
+    ``small_pieces``: the C in the shapes of a big robot's (:func:`symdyn.emit.cbody.small_pieces`:
+    bodies in parts, tables of numbers) and in files of at most 20 kB."""
+    import contextlib
+    import warnings
+    from ..emit import cbody
     from ..emit.cgen import generate_c
     from .cbuild import build_and_load
     robot = eqs.robot
-    files = generate_c(eqs, functions, precision, source_name=source_name, source_hash=robot.source_hash)
+    with cbody.small_pieces() if small_pieces else contextlib.nullcontext(), warnings.catch_warnings():
+        if small_pieces:
+            warnings.filterwarnings("ignore", message=".*written as [0-9]+ files")
+        files = generate_c(eqs, functions, precision, source_name=source_name, source_hash=robot.source_hash,
+                           file_bytes=20_000 if small_pieces else cgen_file_bytes())
     return build_and_load(files, robot.name, eqs.dimensions, len(robot.parameters), precision, workdir, extra_flags)
+
+
+def cgen_file_bytes() -> int:
+    """The default size from which the C is written as several files (symdyn.emit.cgen.C_FILE_BYTES)."""
+    from ..emit.cgen import C_FILE_BYTES
+    return C_FILE_BYTES
 
 
 def parameter_values(robot, eqs, values):

@@ -77,9 +77,17 @@ class Case:
     def robot_file(self) -> str:
         return f"fuzz{self.number}.{'urdf' if self.kind == 'urdf' else 'yaml'}"
 
+    @property
+    def small_pieces(self) -> bool:
+        """Whether its C takes the shapes of a big robot's (parts, tables of numbers, several
+        files: symdyn.emit.cbody.small_pieces); drawn from its own random stream, so that every
+        other choice of the case stays as it was."""
+        return bool(np.random.default_rng([self.number, 11]).random() < 0.3)
+
     def describe(self) -> str:
         parts = [self.kind + (" + scene" if self.scene else ""), self.precision, self.method]
         parts += ["floating base"] if self.floating else []
+        parts += ["C in small pieces"] if self.small_pieces else []
         parts += [f"frames {','.join(self.frames)}"] if self.frames else []
         return ", ".join(parts)
 
@@ -377,7 +385,8 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
         states = _states(robot, case.precision, case.number, C_STATES)
         if "c" in targets:
             stage = outcome.enter("compile")
-            lib = compile_equations(eqs, functions, case.precision, workdir, os.path.basename(path), COMPILE_FLAGS)
+            lib = compile_equations(eqs, functions, case.precision, workdir, os.path.basename(path), COMPILE_FLAGS,
+                                    small_pieces=case.small_pieces)
             stage = outcome.enter("c")
             _record(outcome, "c", target_errors(lib, reference, robot, eqs, functions, states, p, values, FLOOR,
                                                 TASK_REGULAR[case.precision]), TOLERANCE[case.precision])

@@ -10,6 +10,7 @@ checks gathered in the mask ``ok``).
 from __future__ import annotations
 
 import bisect
+import contextlib
 import functools
 import re
 from collections import Counter
@@ -725,6 +726,22 @@ class BodyWriter:
 NUMBER_TABLE_FROM = 2000
 #: the fewest entries of one value written by a table (:func:`number_writes`)
 NUMBER_TABLE_MIN = 64
+
+
+@contextlib.contextmanager
+def small_pieces():
+    """Within it, every size limit of the C's shape lowered so that a small robot's code takes
+    every form a big one's does: bodies over 50 statements in parts of 37 lines, tables from 3
+    entries of a value shared by 2, results written early (the fuzzer crosses its random robots
+    with these forms; the arithmetic is the same, tests/emit/test_split_bodies.py)."""
+    names = ("SPLIT_FROM_STATEMENTS", "PART_LINES", "NUMBER_TABLE_FROM", "NUMBER_TABLE_MIN", "EARLY_OUTPUTS_FROM")
+    saved = {name: globals()[name] for name in names}
+    globals().update(SPLIT_FROM_STATEMENTS=50, PART_LINES=37, NUMBER_TABLE_FROM=3, NUMBER_TABLE_MIN=2,
+                     EARLY_OUTPUTS_FROM=-1)
+    try:
+        yield
+    finally:
+        globals().update(saved)
 
 
 def number_writes(lines: list[str], name: str, vector: bool = False) -> list[str]:

@@ -7,6 +7,7 @@ and its cases are the same on every run.  The fixed campaign of at least 30 robo
 from __future__ import annotations
 
 import dataclasses
+import re
 import shutil
 
 import pytest
@@ -104,3 +105,24 @@ def test_a_small_campaign(tmp_path):
     outcomes = fuzz.run_campaign([2, 8, 102], str(tmp_path / "kept"), report=lines.append, shrink_seconds=30)
     assert len(outcomes) == 3 and all(o.compared > 10 for o in outcomes), lines
     assert not [o for o in outcomes if o.findings], "\n".join(lines)
+
+
+def test_some_cases_take_a_big_robots_code_shapes(tmp_path, monkeypatch):
+    """About one case in three compiles its C in the shapes of a big robot's (bodies in parts,
+    numbers written by tables, several files: symdyn.emit.cbody.small_pieces), and a fault planted
+    in one of those shapes (a table writing another value) is found."""
+    from symdyn.emit import cbody
+    assert 5 <= sum(fuzz.random_case(k).small_pieces for k in range(30)) <= 15
+    case = fuzz.random_case(2)
+    assert case.small_pieces and "C in small pieces" in case.describe()
+    (tmp_path / "right").mkdir()
+    outcome = fuzz.check_case(case, str(tmp_path / "right"), targets=("c",))
+    assert not outcome.findings, "\n".join(map(str, outcome.findings))
+    original = cbody.number_writes
+
+    def wrong_value(lines, name, vector=False):
+        return [re.sub(r"\[k\]\] = .*;$", "[k]] = 0.5;", line) for line in original(lines, name, vector)]
+    monkeypatch.setattr(cbody, "number_writes", wrong_value)
+    (tmp_path / "planted").mkdir()
+    outcome = fuzz.check_case(case, str(tmp_path / "planted"), targets=("c",))
+    assert any(f.target == "c" for f in outcome.findings), outcome.findings
