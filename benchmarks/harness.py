@@ -509,6 +509,7 @@ def prepare_case(spec: str, functions, folder: str, peer: bool, states: int, see
         raise SystemExit("the harness times double or float C")
     if "batch" in sides:
         generate_options["batch"] = True
+    generate_options.setdefault("c_file_mb", 0)  # one file however big (the timing program compiles one)
     path = robot_file(spec, folder)
     config = configure(path, GenerateOptions(functions=tuple(functions), **generate_options))
     robot = config.robot
