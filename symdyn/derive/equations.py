@@ -716,13 +716,6 @@ def _kinetic_energy(d: _Derivation) -> sp.Matrix:
     return sp.Matrix([sp.Rational(1, 2) * sum((v * p for v, p in zip(qd, momenta)), sp.Integer(0))])
 
 
-def _fixed_base_only(d: _Derivation, name: str) -> None:
-    robot = d.robot
-    if robot.floating:
-        raise SymdynError(f"{robot.source or robot.name}: {name} is written for fixed bases (a floating base's "
-                          "derivative is taken in its velocity space, not in q's quaternion)")
-
-
 def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset(), beside=()) -> sp.Matrix:
     """d rigid / d qd (n x n: row i = rigid_i, column j = qd_j) of the rigid-body joint forces
     ``rigid`` (no friction) at fixed q and qdd: forward-mode derivatives of their recursion, or,
@@ -741,8 +734,8 @@ def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset()
     def christoffel(d):
         C = tree_coriolis_matrix(chain) if d.robot.is_tree else recursive_coriolis_matrix(chain)[0]
         return 2 * C
-    if d.le is not None or d.jne is not None or d.robot.mimics:
-        return forward_mode(d)
+    if d.le is not None or d.jne is not None or d.robot.mimics or d.robot.floating:
+        return forward_mode(d)  # (a free base's h in its own frame's velocities is not Christoffel-symmetric: dh/dv != 2 C)
     if d.n >= CORIOLIS_RECURSION_FROM_DOF and not d.robot.is_tree:  # the recursion, as for C itself
         return christoffel(d)
     return _cheapest(d, (christoffel, forward_mode), beside)
@@ -766,15 +759,20 @@ def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset =
     :data:`TANGENT_LOOPS_FROM_OPS`, the same derivatives as vector tangents too
     (:attr:`Equations.tangent_loops`, for the forward-dynamics derivatives' parts when ``held``)."""
     chain, n = d.chain, d.n
-    rigid = d.forces(d.qd, qdd, chain.gravity, tag)
+    gravity = chain.gravity
+    if d.robot.floating:  # the base's orientation enters through gravity in the base frame only
+        gravity = sp.Matrix([d.b.define(f"{hint}gb{k + 1}{tag}", g, force=True) for k, g in enumerate(gravity)])
+    rigid = d.forces(d.qd, qdd, gravity, tag)
     by_q = differentiate(d.b.build(), rigid, list(d.joint_q), d.b, f"{hint}q", held=held)
+    if d.robot.floating:
+        by_q = _base_pose_columns(d, rigid, gravity, hint, held) + by_q
     by_qd = _by_velocity(d, rigid, held, beside=[e for column in by_q for e in column])
-    damping = coordinate_sums(d.robot, "damping")
+    damping = [sp.S.Zero] * (n - d.robot.dof) + list(coordinate_sums(d.robot, "damping"))  # (none on a free base)
     dq = sp.Matrix(n, n, lambda i, j: by_q[j][i])
     dqd = sp.Matrix(n, n, lambda i, j: by_qd[i, j] + (damping[i] if i == j else 0))
     program = d.b.build()
     size = sum(sp.count_ops(rhs) for _, rhs in program.needed_for(list(dq) + list(dqd), held))
-    if size >= TANGENT_LOOPS_FROM_OPS and not d.robot.mimics:
+    if size >= TANGENT_LOOPS_FROM_OPS and not d.robot.mimics and not d.robot.floating:
         d.report(f"the same derivatives as vector tangents ({size} operations written out)")
         tangents = vector_tangents(program, list(rigid), [d.joint_q, d.qd], held,
                                    {(1, i, i): damping[i] for i in range(n)})
@@ -783,9 +781,21 @@ def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset =
     return dq, dqd
 
 
+def _base_pose_columns(d: _Derivation, rigid: sp.Matrix, gravity: sp.Matrix, hint: str, held: frozenset) -> list:
+    """A floating base's 6 columns of d rigid / d q in the tangent space (Pinocchio's: q (+) dv,
+    the base moved by dv's linear part and turned by its angular part in its own frame): zero for
+    the position (the forces are the base frame's, gravity is uniform), and for the orientation
+    ``d rigid / d g_b [g_b]x``, since turning the base by dtheta turns gravity in its frame
+    ``g_b = R^T g`` into ``g_b + [g_b]x dtheta`` to first order."""
+    by_gravity = differentiate(d.b.build(), rigid, list(gravity), d.b, f"{hint}gq", held=held)
+    g = list(gravity)
+    cross = sp.Matrix([[0, -g[2], g[1]], [g[2], 0, -g[0]], [-g[1], g[0], 0]])
+    turn = [sum((by_gravity[k] * cross[k, j] for k in range(3)), sp.zeros(*rigid.shape)) for j in range(3)]
+    return [sp.zeros(*rigid.shape)] * 3 + turn
+
+
 def _inverse_dynamics_derivatives(d: _Derivation) -> sp.Matrix:
     """dtau/dq and dtau/dqd (n x n each), :func:`_tau_derivatives` at the input accelerations."""
-    _fixed_base_only(d, "the derivative of inverse dynamics")
     d.report("inverse_dynamics derivatives (forward-mode, dtau/dq and dtau/dqd)")
     dq, dqd = _tau_derivatives(d, d.qdd, "", "d")
     b, n = d.b, d.n
@@ -797,10 +807,15 @@ def _inverse_dynamics_derivatives(d: _Derivation) -> sp.Matrix:
 def _gravity_derivative(d: _Derivation) -> sp.Matrix:
     """dc/dq (n x n), forward-mode derivatives of c's recursion by each joint coordinate (the
     sin/cos of each joint angle differentiated into each other's symbols)."""
-    _fixed_base_only(d, "gravity_derivative")
-    c = d.get("gravity")
     d.report("gravity_derivative (forward-mode, dc/dq)")
-    columns = differentiate(d.b.build(), c, list(d.joint_q), d.b, "dg")
+    if d.robot.floating:  # in the tangent space, as the other derivatives (:func:`_base_pose_columns`)
+        gravity = sp.Matrix([d.b.define(f"dggb{k + 1}", g, force=True) for k, g in enumerate(d.chain.gravity)])
+        c = d.forces(d.zero, d.zero, gravity, "gd")
+        columns = (_base_pose_columns(d, c, gravity, "dgg", frozenset())
+                   + differentiate(d.b.build(), c, list(d.joint_q), d.b, "dg"))
+    else:
+        c = d.get("gravity")
+        columns = differentiate(d.b.build(), c, list(d.joint_q), d.b, "dg")
     n = d.n
     return sp.Matrix(n, n, lambda i, j: d.b.define(f"dG{i + 1}_{j + 1}", columns[j][i]))
 
@@ -875,8 +890,6 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     M^-1 by solves of M x = e_j with the shared factorization, the lower triangle only (its
     entries of rows above j are not needed, and are never emitted); a floating base's M^-1 too
     (nv x nv), its derivatives not."""
-    if set(FORWARD_DERIVATIVES) & d.need:
-        _fixed_base_only(d, "the derivative of forward dynamics")
     n, b = d.n, d.b
     d.report("mass_matrix_inverse (solves with the factorization of M)")
     f = _mass_factorization(d)

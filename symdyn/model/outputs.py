@@ -98,7 +98,7 @@ FAMILIES: dict[str, Family] = {f.name: f for f in (
     Family("reaction", "the base reaction of a chain with passive joints"),
     Family("identification", "identification"),
     Family("task", "task-space dynamics of the tool"),
-    Family("derivatives", "derivatives of the dynamics", trees=True),
+    Family("derivatives", "derivatives of the dynamics", trees=True, floating=True),
     Family("frames", "the frames' kinematics", trees=True, floating=True),
     Family("centroidal", "centre of mass and centroidal momentum", trees=True, floating=True),
     Family("platform", "a platform robot's functions (kind: parallel, by the natural orthogonal complement)"),
@@ -407,7 +407,7 @@ SPECS: tuple[OutputSpec, ...] = (
         shape=lambda d: (d.dof, d.dof), units="N m or N per rad or m",
         summary="Derivative of inverse dynamics by the joint positions, dtau/dq (Pinocchio's computeRNEADerivatives), by forward-mode differentiation of the Newton-Euler recursion.",
         arguments=(OutputArgument("dtau_dq", "dtau/dq, N*N row-major: row i = tau_i, column j = q_j"),),
-        meaning="∂τ/∂q (fixed bases)",
+        meaning="∂τ/∂q (a floating base's along q ⊕ δv, Pinocchio's tangent space)",
         pinocchio="`computeRNEADerivatives`",
         derivation="inverse_dynamics_derivatives",
         default=False,
@@ -417,7 +417,7 @@ SPECS: tuple[OutputSpec, ...] = (
         shape=lambda d: (d.dof, d.dof), units="N m s or N s per rad or m",
         summary="Derivative of inverse dynamics by the joint velocities, dtau/dqd, viscous friction included (Coulomb friction's derivative is zero away from qd = 0, and is left out); dtau/dqdd is the mass matrix plus the armature.",
         arguments=(OutputArgument("dtau_dqd", "dtau/dqd, N*N row-major: row i = tau_i, column j = qd_j (viscous damping on the diagonal)"),),
-        meaning="∂τ/∂q̇, viscous damping included (fixed bases)",
+        meaning="∂τ/∂q̇, viscous damping included",
         pinocchio="`computeRNEADerivatives`",
         derivation="inverse_dynamics_derivatives",
         default=False,
@@ -427,7 +427,7 @@ SPECS: tuple[OutputSpec, ...] = (
         shape=lambda d: (d.dof, d.dof), units="N m or N per rad or m",
         summary="Derivative of the gravity torques, dc/dq (gravity compensation gains, static stiffness; Pinocchio's computeGeneralizedGravityDerivatives), by forward-mode differentiation of c's recursion.",
         arguments=(OutputArgument("dc_dq", "derivative of the gravity vector, N*N row-major: row i = c_i, column j = q_j"),),
-        meaning="∂c/∂q (fixed bases)",
+        meaning="∂c/∂q (a floating base's along q ⊕ δv)",
         pinocchio="`computeGeneralizedGravityDerivatives`",
         default=False,
         floor_scale="torque"),
@@ -447,7 +447,7 @@ SPECS: tuple[OutputSpec, ...] = (
         shape=lambda d: (d.dof, d.dof), units="rad/s^2 or m/s^2 per rad or m",
         summary="Derivative of forward dynamics by the joint positions, dqdd/dq = -M^-1 dtau/dq at qdd = forward_dynamics(q, qd, tau) (Pinocchio's computeABADerivatives).",
         arguments=(OutputArgument("dqdd_dq", "dqdd/dq, N*N row-major: row i = qdd_i, column j = q_j"),),
-        meaning="∂q̈/∂q, with a status (fixed bases)",
+        meaning="∂q̈/∂q, with a status (a floating base's along q ⊕ δv)",
         pinocchio="`computeABADerivatives`",
         derivation="inverse",
         default=False,
@@ -457,7 +457,7 @@ SPECS: tuple[OutputSpec, ...] = (
         shape=lambda d: (d.dof, d.dof), units="rad/s^2 or m/s^2 per rad/s or m/s",
         summary="Derivative of forward dynamics by the joint velocities, dqdd/dqd = -M^-1 dtau/dqd at qdd = forward_dynamics(q, qd, tau), viscous friction included (Coulomb friction's derivative is zero away from qd = 0); dqdd/dtau is NAME_mass_matrix_inverse.",
         arguments=(OutputArgument("dqdd_dqd", "dqdd/dqd, N*N row-major: row i = qdd_i, column j = qd_j"),),
-        meaning="∂q̈/∂q̇, with a status (fixed bases)",
+        meaning="∂q̈/∂q̇, with a status",
         pinocchio="`computeABADerivatives`",
         derivation="inverse",
         default=False,
@@ -704,7 +704,7 @@ FORWARD_DERIVATIVES = tuple(name for name in DERIVATIVE_OUTPUTS if "tau" in REGI
 INVERSE_OUTPUTS = tuple(name for name in DERIVATIVE_OUTPUTS if REGISTRY[name].status)
 
 #: what a kinematic tree or a floating base can have derived: the outputs of the families trees
-#: have (its joint-space dynamics, the derivatives on fixed bases, its frames' kinematics and
+#: have (its joint-space dynamics, the derivatives (a floating base's in its tangent space), its frames' kinematics and
 #: the whole robot's centre of mass and centroidal momentum)
 TREE_AVAILABLE = tuple(s.name for s in SPECS if FAMILIES[s.family].trees)
 
@@ -739,7 +739,7 @@ def default_outputs(robot) -> tuple[str, ...]:
 def supported_outputs(robot) -> tuple[str, ...]:
     """Every output ``robot`` can have derived, in :data:`ALL_OUTPUTS`' order (``symdyn verify
     --all`` and the fuzzer check them all): a kinematic tree or floating base has
-    :data:`TREE_AVAILABLE` (the derivatives on fixed bases only), a chain every output (the
+    :data:`TREE_AVAILABLE` (a floating base's derivatives in its tangent space), a chain every output (the
     reaction map when it has passive joints); the frame functions need frames."""
     names = set(ALL_OUTPUTS)
     if getattr(robot, "is_tree", False):

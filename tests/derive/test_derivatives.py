@@ -17,7 +17,6 @@ from helpers import REPO, ROBOTS, TOL, fma_hardware, parameter_values, random_st
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare
 from symdyn.emit.cgen import generate_c
-from symdyn.model.errors import SymdynError
 
 
 DERIVATIVES = ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_derivative", "mass_matrix_inverse",
@@ -110,11 +109,54 @@ def test_derivatives_against_central_differences_of_the_compiled_functions(tmp_p
         for value, single in zip(together, (lib.forward_dynamics_dq(q, qd, tau), lib.forward_dynamics_dqd(q, qd, tau),
                                             lib.mass_matrix_inverse(q))):
             np.testing.assert_allclose(value, single, rtol=0, atol=1e-12)
-    floating = symdyn.load(str(REPO / "examples" / "trees" / "space_robot.yaml"))
-    for name in ("gravity_derivative", "forward_dynamics_dq"):
-        with pytest.raises(SymdynError, match="fixed bases") as caught:
-            symdyn.derive(floating, outputs=[name])
-        assert "\n" not in str(caught.value)
+
+
+FLOATING_DERIVATIVES = ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_derivative", "mass_matrix_inverse",
+                        "forward_dynamics_dq", "forward_dynamics_dqd")
+
+
+@pytest.mark.parametrize("name", ["space_robot", pytest.param("solo12", marks=pytest.mark.slow)])
+def test_floating_base_derivatives_in_the_tangent_space(name, tmp_path):
+    """A floating base's derivatives (nv x nv, by q along q (+) dv, Pinocchio's ``integrate``: the
+    base moved and turned in its own frame) against computeRNEADerivatives,
+    computeGeneralizedGravityDerivatives, computeABADerivatives and computeMinverse with its
+    free-flyer, numpy and C (the C at a quaternion of another scale), and the C's dtau/dq and
+    dc/dq against central differences of its own inverse dynamics along pinocchio.integrate
+    (the space robot has no gravity: Solo-12's dc/dq turns gravity with the base)."""
+    import pinocchio as pin
+    from helpers import example_robot_data
+    from symdyn.check.pinocchio_model import build_model, normalized_error
+    from symdyn.check.states import random_configuration
+    if name == "solo12":
+        robot = symdyn.load(example_robot_data("solo_description/robots/solo12.urdf"), floating_base=True)
+    else:
+        robot = symdyn.load(str(REPO / "examples" / "trees" / "space_robot.yaml"))
+    assert robot.floating
+    eqs = symdyn.derive(robot, outputs=list(FLOATING_DERIVATIVES) + ["inverse_dynamics", "gravity"])
+    reference = PinocchioReference(robot)
+    rng = np.random.default_rng(37)
+    states = [(random_configuration(robot, rng), *(rng.uniform(-2, 2, robot.nv) for _ in range(2))) for _ in range(20)]
+    lib = build_and_load(generate_c(eqs, list(FLOATING_DERIVATIVES) + ["inverse_dynamics", "gravity"]), robot.name,
+                         Dimensions.of(robot), 0, workdir=str(tmp_path))
+    for name in FLOATING_DERIVATIVES:
+        one = name in ("gravity_derivative", "mass_matrix_inverse")
+        mine = [getattr(eqs.numeric, name)(*((q,) if one else (q, v, a))) for q, v, a in states]
+        theirs = [getattr(reference, name)(*((q,) if one else (q, v, a))) for q, v, a in states]
+        scaled = [np.concatenate([q[:3], 3.7 * q[3:7], q[7:]]) for q, _, _ in states]
+        compiled = [getattr(lib, name)(*((s,) if one else (s, v, a))) for s, (_, v, a) in zip(scaled, states)]
+        assert normalized_error(mine, theirs) <= TOL, name
+        assert normalized_error(compiled, mine) <= 1e-12, name
+    if name == "solo12":
+        assert max(np.max(np.abs(eqs.numeric.gravity_derivative(q))) for q, _, _ in states) > 0.1  # (gravity turns)
+    model, _ = build_model(robot)
+    h = 1e-6
+    for q, v, a in states[:4]:
+        columns = [(lib.inverse_dynamics(pin.integrate(model, q, h * e), v, a)
+                    - lib.inverse_dynamics(pin.integrate(model, q, -h * e), v, a)) / (2 * h) for e in np.eye(robot.nv)]
+        np.testing.assert_allclose(np.array(columns).T, lib.inverse_dynamics_dq(q, v, a), rtol=0, atol=1e-6)
+        columns = [(lib.gravity(pin.integrate(model, q, h * e)) - lib.gravity(pin.integrate(model, q, -h * e))) / (2 * h)
+                   for e in np.eye(robot.nv)]
+        np.testing.assert_allclose(np.array(columns).T, lib.gravity_derivative(q), rtol=0, atol=1e-6)
 
 
 def test_floating_base_mass_matrix_inverse(tmp_path):
