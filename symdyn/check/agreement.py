@@ -52,21 +52,15 @@ def compile_equations(eqs, functions, precision: str, workdir: str, source_name:
     import contextlib
     import warnings
     from ..emit import cbody
-    from ..emit.cgen import generate_c
+    from ..emit.cgen import C_FILE_BYTES, generate_c
     from .cbuild import build_and_load
     robot = eqs.robot
     with cbody.small_pieces() if small_pieces else contextlib.nullcontext(), warnings.catch_warnings():
         if small_pieces:
             warnings.filterwarnings("ignore", message=".*written as [0-9]+ files")
         files = generate_c(eqs, functions, precision, source_name=source_name, source_hash=robot.source_hash,
-                           file_bytes=20_000 if small_pieces else cgen_file_bytes())
+                           file_bytes=20_000 if small_pieces else C_FILE_BYTES)
     return build_and_load(files, robot.name, eqs.dimensions, len(robot.parameters), precision, workdir, extra_flags)
-
-
-def cgen_file_bytes() -> int:
-    """The default size from which the C is written as several files (symdyn.emit.cgen.C_FILE_BYTES)."""
-    from ..emit.cgen import C_FILE_BYTES
-    return C_FILE_BYTES
 
 
 def parameter_values(robot, eqs, values):

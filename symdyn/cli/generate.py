@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 
+from ..check.cbuild import c_sources
 from ..check.firmware import FLAGS as FIRMWARE_FLAGS
 from ..emit.cgen import PRECISION_CHOICES
 from ..emit.pipeline import (PLATFORM, TARGETS, GenerateOptions, check_inputs, check_options, configure,
@@ -129,11 +130,10 @@ def _warn_stale_parts(directory: str, rendered) -> None:
     """One warning per ``NAME_dynamics_K.c`` in ``directory`` that this run did not write while
     it wrote ``NAME_dynamics.h`` (an earlier run's C in more files: compiled with the new files it
     would bring back old functions)."""
-    prefixes = [name[:-len("_dynamics.h")] for name in rendered if name.endswith("_dynamics.h")]
-    for name in sorted(os.listdir(directory)):
-        for prefix in prefixes:
-            number = name[len(prefix) + 10:-2] if name.startswith(f"{prefix}_dynamics_") and name.endswith(".c") else ""
-            if number.isdigit() and name not in rendered:
-                warn(f"{os.path.join(directory, name)} is from an earlier run (this run wrote "
-                     f"{sum(n.startswith(prefix + '_dynamics') and n.endswith('.c') for n in rendered)} C file(s) "
-                     f"for {prefix}): delete it before compiling the folder")
+    present = os.listdir(directory)
+    for prefix in (name[:-len("_dynamics.h")] for name in rendered if name.endswith("_dynamics.h")):
+        written = [name for name in c_sources(rendered, prefix) if name in rendered]
+        for name in c_sources(present, prefix)[1:]:
+            if name not in rendered:
+                warn(f"{os.path.join(directory, name)} is from an earlier run (this run wrote {len(written)} C "
+                     f"file(s) for {prefix}): delete it before compiling the folder")

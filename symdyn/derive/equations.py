@@ -758,14 +758,8 @@ def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset =
     derivative is zero away from qd = 0; the armature's term does not depend on q or qd).  Past
     :data:`TANGENT_LOOPS_FROM_OPS`, the same derivatives as vector tangents too
     (:attr:`Equations.tangent_loops`, for the forward-dynamics derivatives' parts when ``held``)."""
-    chain, n = d.chain, d.n
-    gravity = chain.gravity
-    if d.robot.floating:  # the base's orientation enters through gravity in the base frame only
-        gravity = sp.Matrix([d.b.define(f"{hint}gb{k + 1}{tag}", g, force=True) for k, g in enumerate(gravity)])
-    rigid = d.forces(d.qd, qdd, gravity, tag)
-    by_q = differentiate(d.b.build(), rigid, list(d.joint_q), d.b, f"{hint}q", held=held)
-    if d.robot.floating:
-        by_q = _base_pose_columns(d, rigid, gravity, hint, held) + by_q
+    n = d.n
+    rigid, by_q = _forces_by_q(d, d.qd, qdd, tag, hint, held)
     by_qd = _by_velocity(d, rigid, held, beside=[e for column in by_q for e in column])
     damping = [sp.S.Zero] * (n - d.robot.dof) + list(coordinate_sums(d.robot, "damping"))  # (none on a free base)
     dq = sp.Matrix(n, n, lambda i, j: by_q[j][i])
@@ -779,6 +773,21 @@ def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset =
         parts = FORWARD_DERIVATIVES if held else ("inverse_dynamics_dq", "inverse_dynamics_dqd")
         d.tangent_loops.append((parts, tangents))
     return dq, dqd
+
+
+def _forces_by_q(d: _Derivation, qd, qdd, tag: str, hint: str, held: frozenset) -> tuple[sp.Matrix, list]:
+    """``(rigid, columns)``: the rigid bodies' forces at ``qd``, ``qdd`` and their derivative by
+    each coordinate of q (forward mode, new statements ``{hint}q...``), a floating base's 6
+    first (:func:`_base_pose_columns`: its orientation enters through gravity in its frame only,
+    named ``{hint}gb...`` for that)."""
+    gravity = d.chain.gravity
+    if d.robot.floating:
+        gravity = sp.Matrix([d.b.define(f"{hint}gb{k + 1}{tag}", g, force=True) for k, g in enumerate(gravity)])
+    rigid = d.forces(qd, qdd, gravity, tag)
+    by_q = differentiate(d.b.build(), rigid, list(d.joint_q), d.b, f"{hint}q", held=held)
+    if d.robot.floating:
+        by_q = _base_pose_columns(d, rigid, gravity, hint, held) + by_q
+    return rigid, by_q
 
 
 def _base_pose_columns(d: _Derivation, rigid: sp.Matrix, gravity: sp.Matrix, hint: str, held: frozenset) -> list:
@@ -806,13 +815,11 @@ def _inverse_dynamics_derivatives(d: _Derivation) -> sp.Matrix:
 
 def _gravity_derivative(d: _Derivation) -> sp.Matrix:
     """dc/dq (n x n), forward-mode derivatives of c's recursion by each joint coordinate (the
-    sin/cos of each joint angle differentiated into each other's symbols)."""
+    sin/cos of each joint angle differentiated into each other's symbols); a floating base's in
+    its tangent space, as the other derivatives (:func:`_forces_by_q`)."""
     d.report("gravity_derivative (forward-mode, dc/dq)")
-    if d.robot.floating:  # in the tangent space, as the other derivatives (:func:`_base_pose_columns`)
-        gravity = sp.Matrix([d.b.define(f"dggb{k + 1}", g, force=True) for k, g in enumerate(d.chain.gravity)])
-        c = d.forces(d.zero, d.zero, gravity, "gd")
-        columns = (_base_pose_columns(d, c, gravity, "dgg", frozenset())
-                   + differentiate(d.b.build(), c, list(d.joint_q), d.b, "dg"))
+    if d.robot.floating:
+        _, columns = _forces_by_q(d, d.zero, d.zero, "gd", "dg", frozenset())
     else:
         c = d.get("gravity")
         columns = differentiate(d.b.build(), c, list(d.joint_q), d.b, "dg")
@@ -889,7 +896,7 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     constant while differentiating: the implicit function theorem on tau = ID(q, qd, qdd)).
     M^-1 by solves of M x = e_j with the shared factorization, the lower triangle only (its
     entries of rows above j are not needed, and are never emitted); a floating base's M^-1 too
-    (nv x nv), its derivatives not."""
+    (nv x nv), and its derivatives in its tangent space (:func:`_forces_by_q`)."""
     n, b = d.n, d.b
     d.report("mass_matrix_inverse (solves with the factorization of M)")
     f = _mass_factorization(d)

@@ -355,7 +355,8 @@ def _position_of(expr, position) -> int:
 #: basic-block vectorizer's memory with the square of the memory accesses in one block (gcc -O2
 #: on TIAGo's floating-base Coriolis matrix in one function: 40 s and 548 MB, 30 s of the file's
 #: 52 in LRA's hard register assignment; in parts of 600 lines 3.8 s and 168 MB, and faster:
-#: 8118 -> 7197 ns, TALOS reduced 4716 -> 4117 ns, docs/benchmarks.md, "Long bodies in parts");
+#: 8118 -> 7197 ns, TALOS reduced 4716 -> 4117 ns; docs/benchmarks.md, "Parts by lines, values
+#: carried where used");
 #: the results are the same bit for bit.  Below the limit a body stays whole: TALOS's inverse
 #: dynamics (1541 statements) runs fastest in one piece that fits the instruction cache.
 SPLIT_FROM_STATEMENTS = 2500
@@ -751,14 +752,13 @@ def number_writes(lines: list[str], name: str, vector: bool = False) -> list[str
     function's, for the tables' names) and the other lines as they are."""
     if vector or len(lines) <= NUMBER_TABLE_FROM:
         return lines
+    keys = [(m.group(1), m.group(3), int(m.group(2))) if (m := re.fullmatch(r"(\w+)\[(\d+)\] = (.+);", line))
+            else None for line in lines]
     groups: dict[tuple[str, str], list[int]] = {}
-    for line in lines:
-        match = re.fullmatch(r"(\w+)\[(\d+)\] = (.+);", line)
-        if match:
-            groups.setdefault((match.group(1), match.group(3)), []).append(int(match.group(2)))
+    for key in filter(None, keys):
+        groups.setdefault(key[:2], []).append(key[2])
     tables = {key: indices for key, indices in groups.items() if len(indices) >= NUMBER_TABLE_MIN}
-    out = [line for line in lines if not any(line.startswith(f"{a}[") and line.endswith(f"= {v};")
-                                             for a, v in tables)]
+    out = [line for line, key in zip(lines, keys) if key is None or key[:2] not in tables]
     for k, ((array, value), indices) in enumerate(sorted(tables.items())):
         table = f"{name}_entries{k}"
         rows = [", ".join(str(i) for i in indices[j:j + 16]) for j in range(0, len(indices), 16)]
@@ -792,7 +792,8 @@ def _split(writer: "BodyWriter", body: Body, late_symbols: set, size: int) -> No
     ``carry`` array's declarations); the statements are cut into parts of about ``size`` lines
     (:func:`_part_bounds`), each part reading a value it needs from an earlier part out of
     ``carry`` just before its first use and leaving there, right after computing it, each value
-    a later part needs; the last part also writes the results and runs the loops.  A checked function's parts return its status."""
+    a later part needs; the last part also writes the results and runs the loops.  A checked
+    function's parts return its status."""
     names, ltype = writer.ctx.names, writer.ltype
     statements, segments = writer.reduced.statements, writer.segments
     defined_in = {sym: k for k, (sym, _) in enumerate(statements)}

@@ -627,8 +627,6 @@ def _code_needs(built) -> dict:
     }
 
 
-
-
 def _source_files(env, context: dict, built, prefix: str, file_bytes: int | None) -> dict[str, str]:
     """``{NAME_dynamics.c: text}``, or for C of more than ``file_bytes`` the functions in order in
     ``NAME_dynamics.c``, ``NAME_dynamics_2.c``, ... of at most about ``file_bytes`` each, every file
