@@ -29,7 +29,8 @@ sys.path.insert(0, HERE)
 
 import harness  # noqa: E402
 import symdyn  # noqa: E402
-from symdyn.check.bench import INPUTS, _states  # noqa: E402
+from symdyn.check.bench import _states  # noqa: E402
+from symdyn.check.states import state_arguments  # noqa: E402
 from symdyn.check.cbuild import CompiledDynamics, compile_shared  # noqa: E402
 from symdyn.check.pinocchio_model import normalized_error  # noqa: E402
 from symdyn.check.reference import MpReference  # noqa: E402
@@ -51,7 +52,7 @@ def accuracy(name: str, workdir: str) -> dict:
             handle.write(text)
     reference = MpReference(robot)
     states = _states(robot.dof, 20)
-    refs = {f: [getattr(reference, f)(*[s[k] for k in INPUTS[f]]) for s in states] for f in FUNCTIONS}
+    refs = {f: [getattr(reference, f)(*state_arguments(f, s)) for s in states] for f in FUNCTIONS}
     errors = {}
     for mode, flags in MODES.items():
         folder = os.path.join(workdir, mode)
@@ -59,7 +60,7 @@ def accuracy(name: str, workdir: str) -> dict:
         lib = CompiledDynamics(compile_shared(os.path.join(workdir, f"{name}_dynamics.c"), folder,
                                               extra_flags=flags), name, Dimensions.of(robot), 0)
         for f in FUNCTIONS:
-            mine = [np.asarray(getattr(lib, f)(*[s[k] for k in INPUTS[f]]), dtype=float) for s in states]
+            mine = [np.asarray(getattr(lib, f)(*state_arguments(f, s)), dtype=float) for s in states]
             errors[mode, f] = normalized_error(mine, refs[f])
     return errors
 

@@ -19,7 +19,7 @@ from symdyn.cli.common import parse_functions
 from symdyn.derive.equations import DERIVATIONS
 from symdyn.emit.casadi_backend import casadi_function
 from symdyn.emit.cgen import generate_c
-from symdyn.model.outputs import (ALL_OUTPUTS, COMBINED_SPECS, OUTPUTS, SPECS, Dimensions, default_outputs,
+from symdyn.model.outputs import (ALL_OUTPUTS, COMBINED_SPECS, INPUT_GROUPS, OUTPUTS, SPECS, Dimensions, default_outputs,
                                   functions_help, with_requirements)
 from symdyn.model.outputs import REGISTRY, functions_table
 from symdyn.model.robot import TASKS, NamedFrame, Placement
@@ -49,7 +49,7 @@ def everything(tmp_path_factory):
 def test_specs_are_consistent():
     assert [s.name for s in SPECS] == list(ALL_OUTPUTS) and len(set(ALL_OUTPUTS)) == len(ALL_OUTPUTS)
     for spec in SPECS:
-        assert spec.inputs and set(spec.inputs) <= {"q", "qd", "qdd", "tau"}, spec.name
+        assert spec.inputs and set(spec.inputs) <= set(INPUT_GROUPS), spec.name
         assert spec.arguments and spec.summary and spec.units, spec.name
         assert all(r in REGISTRY for r in spec.requires), spec.name
         names = [a.name for a in spec.arguments]
@@ -88,7 +88,7 @@ def test_shapes_are_written_as_they_are():
     dims = Dimensions(dof=5, actuated=3, base_parameters=7, task=2, frames=4)
     for spec in SPECS:
         rows, cols = spec.shape(dims)
-        text = spec.shape_text.replace("NA", "3").replace("NB", "7").replace("N", "5").replace("M", "2").replace("K", "4")
+        text = spec.shape_text.replace("NQ", "5").replace("NA", "3").replace("NB", "7").replace("N", "5").replace("M", "2").replace("K", "4")
         sizes = [eval(part.replace(" ", "*").replace("(", "").replace(")", "").replace("*+*", "+"))
                  for part in text.split(" x ")]
         assert sizes == ([rows] if spec.is_vector else [rows, cols]), spec.name
@@ -116,7 +116,7 @@ def test_every_output_derived_emitted_and_called(everything):
     dims = Dimensions(robot.dof, len(robot.actuated_joints), len(eqs.base_parameters), len(robot.task_rows),
                       len(robot.frames))
     rng = np.random.default_rng(5)
-    state = {g: rng.uniform(-1, 1, robot.dof) for g in ("q", "qd", "qdd", "tau")}
+    state = {g: rng.uniform(-1, 1, robot.dof) for g in INPUT_GROUPS}
     for spec in SPECS:
         assert eqs.output(spec.name).shape == spec.shape(dims), spec.name
         prototype = re.search(rf"\b{robot.name}_{spec.name}\(([^)]*)\)", files[f"{robot.name}_dynamics.h"])
@@ -143,7 +143,7 @@ def test_every_output_derived_emitted_and_called(everything):
 def test_every_output_as_casadi(everything):
     robot, eqs, _, _, _ = everything
     rng = np.random.default_rng(6)
-    state = {g: rng.uniform(-1, 1, robot.dof) for g in ("q", "qd", "qdd", "tau")}
+    state = {g: rng.uniform(-1, 1, robot.dof) for g in INPUT_GROUPS}
     for spec in SPECS:
         function = casadi_function(eqs, spec.name)
         assert [function.name_out(k) for k in range(function.n_out())] == (

@@ -37,7 +37,8 @@ import sympy as sp
 
 from ..derive.cache import derive_cached
 from .cbuild import build_and_load, find_compiler
-from ..model.outputs import OUTPUT_INPUTS, with_requirements
+from ..model.outputs import with_requirements
+from .states import state_arguments
 from ..model.errors import SymdynError
 from .pinocchio_model import normalized_error
 from ..derive.program import Program
@@ -55,8 +56,6 @@ MARKERS = dict(zip(ORDER, "os<>^vDPXd"))
 VARIANT_METHODS = {"ne-double": "newton-euler", "ne-float": "newton-euler", "le-double": "lagrange-euler",
                    "jne-double": "jacobian-newton-euler", "closed-double": "newton-euler"}
 DEFAULT_FUNCTIONS = ("inverse_dynamics", "mass_matrix", "forward_dynamics")
-#: for each function, the positions of its inputs in a state [q, qd, qdd, tau]
-INPUTS = {f: tuple(("q", "qd", "qdd", "tau").index(g) for g in groups) for f, groups in OUTPUT_INPUTS.items()}
 CLOSED_FORM_MAX_DOF = 3
 
 
@@ -128,7 +127,7 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
     reference = MpReference(robot)
     states = _states(n, count)
     rounded = [[x.astype(np.float32).astype(float) for x in s] for s in states]
-    refs = {f: [getattr(reference, f)(*[s[k] for k in INPUTS[f]]) for s in states] for f in functions}
+    refs = {f: [getattr(reference, f)(*state_arguments(f, s)) for s in states] for f in functions}
     refs_float = None
     results: list[Result] = []
     wanted = with_requirements(functions)
@@ -137,9 +136,9 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
     def error_of(call, f, float_inputs=False):
         nonlocal refs_float
         if float_inputs and refs_float is None:
-            refs_float = {g: [getattr(reference, g)(*[s[k] for k in INPUTS[g]]) for s in rounded] for g in functions}
+            refs_float = {g: [getattr(reference, g)(*state_arguments(g, s)) for s in rounded] for g in functions}
         source = rounded if float_inputs else states
-        mine = [np.asarray(call(*[s[k] for k in INPUTS[f]]), dtype=float) for s in source]
+        mine = [np.asarray(call(*state_arguments(f, s)), dtype=float) for s in source]
         if not all(np.all(np.isfinite(m)) for m in mine):
             return float("inf")
         return normalized_error(mine, (refs_float if float_inputs else refs)[f])
@@ -183,7 +182,7 @@ def bench_robot(robot: Robot, functions=DEFAULT_FUNCTIONS, variants=VARIANTS, co
             progress(f"{name}: pinocchio")
             for f in functions:
                 call = getattr(pin, f)
-                args = [states[0][k] for k in INPUTS[f]]
+                args = state_arguments(f, states[0])
                 results.append(Result(name, variant, f, python_time(lambda: call(*args)), None, error_of(call, f)))
     return results
 

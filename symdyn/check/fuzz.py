@@ -445,9 +445,8 @@ def _check_cache(case: Case, robot, functions, outcome: Outcome) -> None:
 
 
 def _inputs(name, state):
-    from ..model.outputs import OUTPUT_INPUTS
-    given = dict(zip(("q", "qd", "qdd", "tau"), state))
-    return [given[g] for g in OUTPUT_INPUTS[name]]
+    from .states import state_arguments
+    return state_arguments(name, state)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -26,8 +26,9 @@ from typing import Mapping
 
 import numpy as np
 
-from ..model.outputs import ALL_OUTPUTS, OUTPUT_INPUTS
+from ..model.outputs import ALL_OUTPUTS
 from ..model.robot import Robot
+from .states import state_arguments
 
 
 def _rx(angle: float) -> np.ndarray:
@@ -401,7 +402,8 @@ def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.
     or each function's) of each named function of ``mine`` against the same function of
     ``reference``, over ``states`` (each ``[q, qd, qdd, tau]``).
 
-    Both take the function's inputs in symdyn's order (:data:`symdyn.model.outputs.OUTPUT_INPUTS`);
+    Both take the function's inputs in symdyn's order (:data:`symdyn.model.outputs.OUTPUT_INPUTS`,
+    drawn from each state by :func:`symdyn.check.states.state_arguments`);
     ``p`` (runtime parameters) is passed to ``mine`` only, when given.
     """
     extra = [] if p is None else [p]
@@ -409,8 +411,7 @@ def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.
     for name in functions:
         values, refs = [], []
         for state in states:
-            given = dict(zip(("q", "qd", "qdd", "tau"), state))
-            args = [given[g] for g in OUTPUT_INPUTS[name]]
+            args = state_arguments(name, state)
             values.append(np.asarray(getattr(mine, name)(*args, *extra), dtype=float))
             refs.append(np.asarray(getattr(reference, name)(*args), dtype=float))
         errors[name] = normalized_error(values, refs, floor.get(name, 0.0) if isinstance(floor, dict) else floor)
@@ -424,7 +425,55 @@ def mirror_upper(matrix) -> np.ndarray:
     return np.triu(matrix) + np.triu(matrix, 1).T
 
 
-class PinocchioReference:
+class ConfigurationSpaceReference:
+    """Pinocchio's values of the configuration-space functions (integrate, difference and their
+    Jacobians) on symdyn's configurations: its Lie group SE(3) x R^n of a floating base with n
+    joints (``pinocchio.liegroups``, whose free-flyer and revolute joints a model's ``integrate``
+    composes), R^n of a fixed base, each joint one coordinate as symdyn's (a continuous joint's
+    angle, not Pinocchio's (cos, sin)).  A quaternion is normalized first (symdyn takes any
+    scale; Pinocchio asks for a unit one).  Subclasses set :attr:`configuration_layout`."""
+
+    #: (floating base, joints) of symdyn's configuration
+    configuration_layout: tuple[bool, int] = (False, 0)
+
+    @property
+    def lie_group(self):
+        import pinocchio as pin
+        floating, joints = self.configuration_layout
+        if not floating:
+            return pin.liegroups.Rn(joints)
+        return pin.liegroups.SE3() * pin.liegroups.Rn(joints) if joints else pin.liegroups.SE3()
+
+    def _unit(self, q) -> np.ndarray:
+        q = np.array(q, dtype=float)
+        if self.configuration_layout[0]:
+            q[3:7] = q[3:7] / np.linalg.norm(q[3:7] / np.max(np.abs(q[3:7]))) / np.max(np.abs(q[3:7]))
+        return q
+
+    def integrate(self, q, v):
+        return self.lie_group.integrate(self._unit(q), np.asarray(v, dtype=float))
+
+    def integrate_dq(self, v):
+        group = self.lie_group
+        return group.dIntegrate_dq(group.neutral, np.asarray(v, dtype=float))
+
+    def integrate_dv(self, v):
+        group = self.lie_group
+        return group.dIntegrate_dv(group.neutral, np.asarray(v, dtype=float))
+
+    def difference(self, q, q1):
+        return self.lie_group.difference(self._unit(q), self._unit(q1))
+
+    def difference_dq0(self, q, q1):
+        import pinocchio as pin
+        return self.lie_group.dDifference(self._unit(q), self._unit(q1), pin.ARG0)
+
+    def difference_dq1(self, q, q1):
+        import pinocchio as pin
+        return self.lie_group.dDifference(self._unit(q), self._unit(q1), pin.ARG1)
+
+
+class PinocchioReference(ConfigurationSpaceReference):
     """Pinocchio's values of symdyn's quantities for a robot (numbers substituted for its
     parameters with ``values``), in symdyn's notation: ``mass_matrix`` excludes armature,
     ``inverse_dynamics`` and ``forward_dynamics`` include viscous and Coulomb friction."""
@@ -434,6 +483,7 @@ class PinocchioReference:
         self.pin = pin
         self.model, info = build_model(robot, values)
         self.data = self.model.createData()
+        self.configuration_layout = (robot.floating, robot.dof)
         self.damping, self.coulomb = info["damping"], info["coulomb"]
         self.armature = np.array(self.model.armature)
         #: the robot's links in the model's joint order (a tree listed with a subtree in two
@@ -705,6 +755,10 @@ class UrdfReference(PinocchioReference):
             self.continuous = self.continuous[1:]
 
     @property
+    def configuration_layout(self) -> tuple[bool, int]:
+        return self.floating, len(self.continuous)
+
+    @property
     def tool_frame(self) -> int:
         return self._tool
 
@@ -792,7 +846,7 @@ for _name in (*ALL_OUTPUTS, "base_wrench", "task_pivot_ratio", "system_matrix"):
         setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))
 
 
-class MimicReduction:
+class MimicReduction(ConfigurationSpaceReference):
     """Reference values of a robot with mimic joints, from a reference of the same robot whose
     every joint has its own coordinate (``full``: a :class:`PinocchioReference` or a
     :class:`UrdfReference`, both built with every link's joint free): the mimic's position is
@@ -809,6 +863,7 @@ class MimicReduction:
     def __init__(self, full, robot: Robot):
         self.full = full
         self.floating = robot.floating
+        self.configuration_layout = (robot.floating, robot.dof)
         base = 6 if robot.floating else 0
         order = getattr(full, "order", None) or list(range(len(robot.links)))  # the full model's joints
         self.G = np.zeros((base + len(robot.links), base + robot.dof))

@@ -22,3 +22,26 @@ def random_state(robot, rng: np.random.Generator) -> list[np.ndarray]:
     nv = robot.nv
     return [random_configuration(robot, rng), rng.uniform(-2, 2, nv), rng.uniform(-5, 5, nv),
             rng.uniform(-20, 20, nv)]
+
+
+def second_configuration(q, qdd) -> np.ndarray:
+    """A second configuration drawn from a state (difference's end, ``q1``): the joints moved
+    by qdd; a floating base's position moved by qdd's first 3 entries / 5 and its quaternion by
+    (qdd[3:6], qdd[0]) / 2, then scaled by 1 + |qdd[1]| (the generated functions take a
+    quaternion of any scale; the turn is any, up to a half turn and past it)."""
+    q, qdd = np.asarray(q, dtype=float), np.asarray(qdd, dtype=float)
+    if len(q) == len(qdd):
+        return q + qdd
+    quaternion = (q[3:7] + np.array([qdd[3], qdd[4], qdd[5], qdd[0]]) / 2) * (1 + abs(qdd[1]))
+    return np.concatenate([q[:3] + qdd[:3] / 5, quaternion, q[7:] + qdd[6:]])
+
+
+def state_arguments(function: str, state) -> list:
+    """The arguments of a generated function (an output or a combined function) at a state
+    ``[q, qd, qdd, tau]``, in its order: the state's groups as they are, the tangent vector v
+    of integrate as qd (a displacement of one second) and the second configuration q1 as
+    :func:`second_configuration`."""
+    from ..model.outputs import function_inputs
+    q, qd, qdd, tau = state[:4]
+    given = {"q": q, "qd": qd, "qdd": qdd, "tau": tau, "v": qd}
+    return [second_configuration(q, qdd) if group == "q1" else given[group] for group in function_inputs(function)]

@@ -49,11 +49,13 @@ def parse(text):
 
 def call_arguments(function: str, dims: Dimensions) -> tuple[str, list[str], int]:
     """The harness's arguments of ``NAME_<function>`` before ``p`` and its output arrays: the
-    inputs (state k; tau is read from the qdd array), then every output argument at its own
+    inputs (state k; tau is read from the qdd array, integrate's v from qd, difference's q1 is
+    the next state's q), then every output argument at its own
     offset in ``out`` (the first at ``out``); and the numbers the outputs take (``dims``: the
     robot's, :meth:`Dimensions.of`)."""
     parts = COMBINED.get(function, (function,))
-    inputs = ", ".join(f"{'qdd' if g == 'tau' else g}[k]" for g in function_inputs(function))
+    source = {"tau": "qdd[k]", "v": "qd[k]", "q1": "q[(k + 1) % S]"}
+    inputs = ", ".join(source.get(g, f"{g}[k]") for g in function_inputs(function))
     sizes = [rows * cols for part in parts for _, (rows, cols) in REGISTRY[part].argument_shapes(dims)]
     offsets = [sum(sizes[:k]) for k in range(len(sizes))]
     return inputs, [("out" if offset == 0 else f"out + {offset}") for offset in offsets], sum(sizes)

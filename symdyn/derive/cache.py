@@ -153,7 +153,9 @@ def cache_key(robot, method: str, outputs, fd_method: str = "ldlt", parameters: 
 #   ["Sym", "q1", {"real": true}]   sympy Symbol with the assumptions it was created with
 #   ["pi"]                          sympy pi
 #   ["Add", a, b, ...], ["Mul", a, b, ...], ["Pow", base, exp]     (rebuilt unevaluated, as stored)
-#   ["sin", x], ["cos", x], ["sign", x]
+#   ["sin", x], ["cos", x], ["sign", x], ["atan2", y, x]
+#   ["Piecewise", ["Tuple", expr, condition], ...]   sympy Piecewise (the last condition ["true"])
+#   ["Lt", a, b]                    sympy StrictLessThan a < b;  ["true"]  sympy true
 #   ["Matrix", rows, cols, e11, e12, ...]   sympy ImmutableMatrix, row-major
 #   ["Tuple", a, ...]               Python tuple;  ["Str", "text"]  Python str
 #   ["PyFloat", "0.25"]             Python float (finite);  ["PyInt", "3"]  Python int
@@ -162,10 +164,12 @@ def cache_key(robot, method: str, outputs, fd_method: str = "ldlt", parameters: 
 #                                   (group, target, terms, direct), rows with -1 for None
 #
 # These are exactly the node types the derivations of all bundled robots and scenes produce
-# (Symbol, Integer, Rational, Add, Mul, Pow, sin, cos, sign), plus pi and Float.  Anything
+# (Symbol, Integer, Rational, Add, Mul, Pow, sin, cos, sign; atan2, Piecewise and < in the
+# configuration-space functions), plus pi and Float.  Anything
 # else is refused by both directions.
 
 _FUNCTIONS = {"sin": sp.sin, "cos": sp.cos, "sign": sp.sign}
+_BINARY = {"atan2": sp.atan2, "Lt": sp.StrictLessThan}
 _OPERATORS = {"Add": sp.Add, "Mul": sp.Mul, "Pow": sp.Pow}
 _ASSUMPTIONS = frozenset((
     "algebraic", "antihermitian", "commutative", "complex", "composite", "even", "extended_negative",
@@ -221,7 +225,15 @@ def encode(value, _depth: int = 0):
         return ["Sym", _check_string(name), {k: bool(v) for k, v in assumptions.items()}]
     if value is sp.pi:
         return ["pi"]
+    if value is sp.true:
+        return ["true"]
+    if type(value) is sp.Piecewise:
+        return ["Piecewise", *(encode(tuple(pair), deeper) for pair in value.args)]
+    if type(value) is sp.StrictLessThan:
+        return ["Lt", *(encode(a, deeper) for a in value.args)]
     kind = type(value).__name__
+    if kind == "atan2" and type(value) is sp.atan2:
+        return [kind, *(encode(a, deeper) for a in value.args)]
     if {**_OPERATORS, **_FUNCTIONS}.get(kind) is type(value):
         return [kind, *(encode(a, deeper) for a in value.args)]
     raise CacheFormatError(f"cannot store a {kind}")
@@ -255,6 +267,8 @@ def _leaf(node: list):
         return sp.Symbol(rest[0], **rest[1])
     if kind == "pi" and not rest:
         return sp.pi
+    if kind == "true" and not rest:
+        return sp.true
     if kind == "Str" and len(rest) == 1 and _text(rest[0]):
         return rest[0]
     if kind == "PyFloat" and len(rest) == 1 and _text(rest[0]) and _FLOAT_TEXT.match(rest[0]) \
@@ -279,8 +293,8 @@ def _small(number, low: int, high: int) -> bool:
 
 #: kinds with child nodes: the number of plain items before the children
 _BRANCHES = {"Add": 0, "Mul": 0, "Pow": 0, "sin": 0, "cos": 0, "sign": 0, "Tuple": 0,
-             "Program": 0, "Tangents": 0, "Matrix": 2}
-_LEAVES = frozenset(("Int", "Rat", "Float", "Sym", "pi", "Str", "PyFloat", "PyInt"))
+             "Program": 0, "Tangents": 0, "Matrix": 2, "atan2": 0, "Lt": 0, "Piecewise": 0}
+_LEAVES = frozenset(("Int", "Rat", "Float", "Sym", "pi", "Str", "PyFloat", "PyInt", "true"))
 
 
 def _branch(node: list, args: list):
@@ -298,8 +312,17 @@ def _branch(node: list, args: list):
         if len(args) == 1:
             return _tangents(args[0])
         raise CacheFormatError("bad Tangents node")
+    if kind == "Piecewise":
+        if args and all(isinstance(a, tuple) and len(a) == 2 and isinstance(a[0], sp.Expr)
+                        and isinstance(a[1], sp.logic.boolalg.Boolean) for a in args) and args[-1][1] is sp.true:
+            return sp.Piecewise(*args, evaluate=False)
+        raise CacheFormatError("bad Piecewise node")
     if not all(isinstance(a, sp.Expr) for a in args):
         raise CacheFormatError(f"{kind} of something that is not an expression")
+    if kind in _BINARY:
+        if len(args) != 2:
+            raise CacheFormatError(f"{kind} of {len(args)} arguments")
+        return _BINARY[kind](*args, evaluate=False)
     if kind == "Matrix":
         rows, cols = node[1], node[2]
         if _small(rows, 0, 10_000) and _small(cols, 0, 10_000) and rows * cols == len(args):

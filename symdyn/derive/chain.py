@@ -17,6 +17,7 @@ import sympy as sp
 from ..model.geometry import JointGeometry, joint_geometry, joint_motion
 from .kinematics import joint_symbols
 from .program import ProgramBuilder
+from .spatial import quaternion_rotation
 from ..model.expr import expanded_terms_bound, tree_size
 from ..model.robot import Robot
 
@@ -115,15 +116,6 @@ class Chain:
         return list(values[:6]) if self.robot.floating else []
 
 
-def _quaternion_rotation(builder: ProgramBuilder, x, y, z, w) -> sp.Matrix:
-    """The rotation of the quaternion (x, y, z, w) divided by its norm (any nonzero quaternion;
-    q and -q give the same): ``I + 2 k [...]`` with ``k = 1 / (x^2 + y^2 + z^2 + w^2)``, 3x3."""
-    k = builder.define("qn_k", 2 / (x * x + y * y + z * z + w * w), force=True)
-    return sp.Matrix([[1 - k * (y * y + z * z), k * (x * y - z * w), k * (x * z + y * w)],
-                      [k * (x * y + z * w), 1 - k * (x * x + z * z), k * (y * z - x * w)],
-                      [k * (x * z - y * w), k * (y * z + x * w), 1 - k * (x * x + y * y)]])
-
-
 #: a link field (length, mass, centre of mass, inertia) whose expression in the runtime
 #: parameters is larger than this (nodes written out, or terms expanded) is named once, as an
 #: intermediate computed from them, and the derivation works with the name: a field written as
@@ -184,7 +176,7 @@ def make_chain(robot: Robot, prefix: str = "_") -> Chain:
     joint_q, qd, qdd, tau = _link_motion(robot, *coordinates)
     builder = ProgramBuilder(prefix)
     robot = _named_fields(robot, builder)
-    base_rotation = _quaternion_rotation(builder, *q[3:7]) if robot.floating else None
+    base_rotation = quaternion_rotation(builder, *q[3:7]) if robot.floating else None
     geometry, transforms, motions, trig, joint_trig = [], [], [], {}, []
     for i, link in enumerate(robot.links):
         geo = joint_geometry(link, robot.convention)

@@ -62,12 +62,13 @@ from .program import Program, ProgramBuilder, differentiate
 from .tangents import vector_tangents
 from ..model.outputs import (ALL_OUTPUTS, REGISTRY, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
-                             CENTROIDAL_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
+                             CENTROIDAL_OUTPUTS, CONFIGURATION_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
                              spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot, serial_robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
-from .kinematics import joint_symbols
+from .configuration import configuration_outputs
+from .kinematics import configuration_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
 from .tool import tool_kinematics
@@ -179,6 +180,16 @@ class Equations:
     def nq(self) -> int:
         """Entries of q (the joints, and a floating base's 7)."""
         return self.robot.nq
+
+    @property
+    def v(self) -> tuple[sp.Symbol, ...]:
+        """The tangent vector of the configuration-space functions (n symbols)."""
+        return configuration_symbols(self.nq, self.n)[0]
+
+    @property
+    def q1(self) -> tuple[sp.Symbol, ...]:
+        """The second configuration of the configuration-space functions (nq symbols)."""
+        return configuration_symbols(self.nq, self.n)[1]
 
     @property
     def dimensions(self) -> Dimensions:
@@ -924,6 +935,16 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     return Minv
 
 
+def _configuration(d: _Derivation) -> sp.Matrix:
+    """Every configuration-space output needed (integrate, difference, their Jacobians), derived
+    together (:mod:`symdyn.derive.configuration`)."""
+    wanted = [name for name in CONFIGURATION_OUTPUTS if name in d.need]
+    d.report("the configuration space (integrate, difference)")
+    v, q1 = configuration_symbols(d.robot.nq, d.robot.nv)
+    d.values.update(configuration_outputs(d.b, d.robot.floating, d.chain.coordinates[0], v, q1, wanted))
+    return d.values[wanted[0]]
+
+
 def _frames(d: _Derivation) -> sp.Matrix:
     """Every frame output needed, derived together (they share the link poses)."""
     wanted = [name for name in FRAME_OUTPUTS if name in d.need]
@@ -1057,6 +1078,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, "task": _task, "inverse_dynamics_derivatives": _inverse_dynamics_derivatives,
     "gravity_derivative": _gravity_derivative, "inverse": _inverse_outputs, "frames": _frames,
+    "configuration": _configuration,
     "centroidal": _centroidal, "kinetic_energy": _kinetic_energy,
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")

@@ -22,6 +22,14 @@ def joint_symbols(n: int, nv: int | None = None) -> tuple[tuple[sp.Symbol, ...],
     return make("q", n), make("qd", nv), make("qdd", nv), make("tau", nv)
 
 
+def configuration_symbols(nq: int, nv: int) -> tuple[tuple[sp.Symbol, ...], tuple[sp.Symbol, ...]]:
+    """Real symbols (v, q1) of the configuration-space functions: a tangent vector v (nv entries)
+    and a second configuration q1 (nq).  Their names (``v.1``, ``q1.1``) are not identifiers, so
+    no parameter of a robot file can take them."""
+    return (tuple(sp.Symbol(f"v.{k + 1}", real=True) for k in range(nv)),
+            tuple(sp.Symbol(f"q1.{k + 1}", real=True) for k in range(nq)))
+
+
 def link_transform(robot: Robot, i: int, q: sp.Expr, cos_sin=None) -> sp.Matrix:
     """``^{i-1}A_i`` (standard) or ``^{i-1}T_i`` (modified) of link ``i`` (0-based), 4x4."""
     link = robot.links[i]

@@ -104,8 +104,8 @@ class NumericEquations:
                              f"({', '.join(s.name for s in self.eqs.parameters)})")
         if not m and p is not None and np.size(p):
             raise ValueError(f"{name}: this robot has no runtime parameters, but p has {np.size(p)} entries")
-        if self.eqs.robot.floating and "q" in OUTPUT_INPUTS[name]:
-            args = [_scaled_quaternion(a) if label == "q" else a for label, a in zip(OUTPUT_INPUTS[name], args)]
+        if self.eqs.robot.floating:
+            args = [_scaled_quaternion(a) if label in ("q", "q1") else a for label, a in zip(OUTPUT_INPUTS[name], args)]
         out = self._function(name)(*args, p if p is not None else [])
         return out[:, 0] if out.shape[1] == 1 and not matrix else out
 

@@ -7,7 +7,7 @@ motion vector is ``[omega; v]``, a force vector ``[n; f]``, angular part first):
   (SymPy matrices, lists, or anything indexable; the results are written component by component,
   so they work on numbers and expressions alike);
 - :func:`cross_motion` (``v x m``), :func:`cross_force` (``v x* f``), :func:`motion_transform`
-  and :func:`spatial_inertia` on spatial quantities; :func:`named_symmetric` and
+  and :func:`spatial_inertia` on spatial quantities; :func:`quaternion_rotation`; :func:`named_symmetric` and
   :func:`named_pose` name a symmetric matrix's upper triangle, a pose's entries, in a program;
 - :func:`skew_numeric`, the numpy form of :func:`skew`.
 
@@ -50,6 +50,16 @@ def cross_nonzero(a: sp.Matrix, b: sp.Matrix) -> sp.Matrix:
     if a.is_zero_matrix or b.is_zero_matrix:
         return sp.zeros(3, 1)
     return a.cross(b)
+
+
+def quaternion_rotation(builder, x, y, z, w, hint: str = "qn_k") -> sp.Matrix:
+    """The rotation of the quaternion (x, y, z, w) divided by its norm (any nonzero quaternion;
+    q and -q give the same): ``I + 2 k [...]`` with ``k = 1 / (x^2 + y^2 + z^2 + w^2)`` named
+    ``hint`` in the program ``builder``, 3x3."""
+    k = builder.define(hint, 2 / (x * x + y * y + z * z + w * w), force=True)
+    return sp.Matrix([[1 - k * (y * y + z * z), k * (x * y - z * w), k * (x * z + y * w)],
+                      [k * (x * y + z * w), 1 - k * (x * x + z * z), k * (y * z - x * w)],
+                      [k * (x * z - y * w), k * (y * z + x * w), 1 - k * (x * x + y * y)]])
 
 
 def cross_motion(v: sp.Matrix, m: sp.Matrix) -> sp.Matrix:

@@ -30,7 +30,7 @@ import sympy as sp
 
 from .emission import fold_constants
 from ..derive.equations import Equations
-from ..model.outputs import ALL_OUTPUTS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, REGISTRY, default_outputs, with_requirements
+from ..model.outputs import ALL_OUTPUTS, INPUT_GROUPS, OUTPUT_INPUTS, OUTPUT_SYMBOLS, REGISTRY, default_outputs, with_requirements
 from ..model.errors import SymdynError
 
 INPUT_DOCS = {
@@ -38,6 +38,8 @@ INPUT_DOCS = {
     "qd": "joint velocities (rad/s or m/s)",
     "qdd": "joint accelerations (rad/s^2 or m/s^2)",
     "tau": "joint torques/forces (N m or N)",
+    "v": "a displacement of the joints (rad or m)",
+    "q1": "joint positions of a second configuration (rad or m)",
     "p": "runtime parameters, in the order of robot.parameters",
 }
 #: a floating base's inputs (Pinocchio's free-flyer first, then the joints)
@@ -47,8 +49,12 @@ FLOATING_INPUT_DOCS = {
     "qd": "base linear and angular velocity (base frame; m/s, rad/s), joint velocities",
     "qdd": "their derivatives (the base's spatial acceleration in its frame), joint accelerations",
     "tau": "force (N) and moment (N m) on the base in its frame, joint torques/forces",
+    "v": "tangent vector laid out as qd (the base's displacement in its frame, m and rad), joint displacements",
+    "q1": "a second configuration, laid out as q",
 }
 
+#: SymPy's comparisons as CasADi's
+_COMPARISONS = {"<": ca.lt, "<=": ca.le, ">": ca.gt, ">=": ca.ge}
 _UNARY = {sp.sin: ca.sin, sp.cos: ca.cos, sp.tan: ca.tan, sp.exp: ca.exp, sp.log: ca.log,
           sp.Abs: ca.fabs, sp.sign: ca.sign}
 
@@ -119,6 +125,13 @@ class SxConverter:
             return func(self(e.args[0]))
         if isinstance(e, sp.atan2):
             return ca.atan2(self(e.args[0]), self(e.args[1]))
+        if isinstance(e, sp.Piecewise):  # (both branches are finite: the closed forms divide by guarded values)
+            result = self(e.args[-1].expr)
+            for value, condition in reversed(e.args[:-1]):
+                result = ca.if_else(self(condition), self(value), result)
+            return result
+        if isinstance(e, sp.core.relational.Relational) and e.rel_op in _COMPARISONS:
+            return _COMPARISONS[e.rel_op](self(e.lhs), self(e.rhs))
         raise SymdynError(f"no CasADi form for {type(e).__name__} in the equations")
 
 
@@ -131,11 +144,11 @@ def _inputs_for(eqs: Equations, groups: Iterable[str]):
         sym = ca.SX.sym(group, len(getattr(eqs, group)))
         for k, s in enumerate(getattr(eqs, group)):
             env[s] = sym[k]
-        if group == "q" and eqs.robot.floating:
+        if group in ("q", "q1") and eqs.robot.floating:
             # a floating base's quaternion divided by its largest magnitude (as the generated C
             # does): any nonzero scale, subnormal to 1e308, gives the same rotation
             scale = ca.fmax(ca.fmax(ca.fabs(sym[3]), ca.fabs(sym[4])), ca.fmax(ca.fabs(sym[5]), ca.fabs(sym[6])))
-            for k, s in enumerate(eqs.q[3:7]):
+            for k, s in enumerate(getattr(eqs, group)[3:7]):
                 env[s] = sym[3 + k] / scale
         symbols.append(sym)
         names.append(group)
@@ -188,7 +201,7 @@ def combined_function(eqs: Equations, functions: Iterable[str] | None = None,
     of theirs in the order q, qd, qdd, tau, p; outputs are named after the functions
     (``inverse_dynamics``, ``mass_matrix``, ...; ``reaction_map`` as ``[k0 | D]``)."""
     functions = [f for f in ALL_OUTPUTS if f in (functions or eqs.output_names)]
-    groups = [g for g in ("q", "qd", "qdd", "tau") if any(g in OUTPUT_INPUTS[f] for f in functions)]
+    groups = [g for g in INPUT_GROUPS if any(g in OUTPUT_INPUTS[f] for f in functions)]
     symbols, in_names, env = _inputs_for(eqs, groups)
     outs = _outputs_sx(eqs, functions, env)
     return ca.Function(function_name or f"{eqs.robot.name}_dynamics", symbols, outs, in_names,

@@ -53,8 +53,9 @@ class BodyContext:
     #: only the loops': the stages of the forward-dynamics derivatives and the long bodies
     #: (symdyn.emit.cgen.FUSE_FROM_STATEMENTS)
     fused: bool = False
-    #: a floating base's quaternion as the body reads it: the C text of its four input entries,
-    #: divided at the top of the body by the largest magnitude among them (:data:`QUATERNION`)
+    #: a floating base's quaternions as the body reads them (q's, and q1's): per configuration the
+    #: local array (:data:`QUATERNION`, ``quat_u1``) and the C text of its four input entries,
+    #: divided at the top of the body by the largest magnitude among them
     #: so that no square of a component underflows or overflows (any nonzero scale, subnormal
     #: to 1e308, gives the same rotation); empty when the body does not read it
     quaternion: tuple = ()
@@ -437,7 +438,7 @@ class BodyWriter:
         self._trig_block()
         checks = self._pivot_checks()
         self.arrays: list[tuple[str, int]] = ([("trig_sin", len(ctx.angles)), ("trig_cos", len(ctx.angles))]
-                                              if ctx.angles else []) + ([(QUATERNION, 4)] if ctx.quaternion else [])
+                                              if ctx.angles else []) + [(array, 4) for array, _ in ctx.quaternion]
         if plan.checked and self.vector:
             self.lines.append(f"{ctx.prefix}_vint all_ok = ({self.vreal}){{0.0}} == 0.0; /* every lane true */")
             limit, _ = _limit(ctx.internal, ctx.scalar)  # a lane whose input is NaN or infinite: the scalar function's 2
@@ -539,24 +540,24 @@ class BodyWriter:
         self.used |= sp.sympify(expr).free_symbols
 
     def _quaternion_block(self) -> None:
-        """A floating base's quaternion divided by the largest magnitude of its components (a
-        division each: the reciprocal of a subnormal scale would overflow), into ``quat_u``: the
-        rotation of ``quat_u`` is the input's, and its squares are within [1, 4].  A zero
-        quaternion gives NaN (a function with a status returns NAME_NOT_FINITE)."""
-        entries = self.ctx.quaternion
-        if not entries:
+        """A floating base's quaternion (each configuration's) divided by the largest magnitude
+        of its components (a division each: the reciprocal of a subnormal scale would overflow),
+        into ``quat_u`` (``quat_u1``): its rotation is the input's, and its squares are within
+        [1, 4].  A zero quaternion gives NaN (a function with a status returns NAME_NOT_FINITE)."""
+        if not self.ctx.quaternion:
             return
         if self.vector:
             raise VectorUnsupported("a floating base's quaternion scaling")
         fabs, fmax = ("fabsf", "fmaxf") if self.ctx.internal == "float" else ("fabs", "fmax")
-        magnitudes = [f"{fabs}({entry})" for entry in entries]
-        self.lines += [f"{self.ltype} {QUATERNION}[4];",
-                       "{",
-                       f"    const {self.ltype} quat_m = {fmax}({fmax}({magnitudes[0]}, {magnitudes[1]}), "
-                       f"{fmax}({magnitudes[2]}, {magnitudes[3]}));",
-                       *[f"    {QUATERNION}[{k}] = {entry}/quat_m;" for k, entry in enumerate(entries)],
-                       "}"]
-        self.ops += Counter({"div": 4})
+        for array, entries in self.ctx.quaternion:
+            magnitudes = [f"{fabs}({entry})" for entry in entries]
+            self.lines += [f"{self.ltype} {array}[4];",
+                           "{",
+                           f"    const {self.ltype} quat_m = {fmax}({fmax}({magnitudes[0]}, {magnitudes[1]}), "
+                           f"{fmax}({magnitudes[2]}, {magnitudes[3]}));",
+                           *[f"    {array}[{k}] = {entry}/quat_m;" for k, entry in enumerate(entries)],
+                           "}"]
+            self.ops += Counter({"div": 4})
 
     def _trig_block(self) -> None:
         """The sines and cosines of the input angles, computed in one call at the top."""
@@ -655,7 +656,8 @@ class BodyWriter:
         for k, (sym, rhs) in enumerate(self.reduced.statements):
             self.segments.append((len(self.lines), set(rhs.free_symbols) | self.early_symbols.get(k, set())
                                   | self.check_symbols.get(k, set())))
-            self.lines.append(f"const {self.ltype} {names[sym]} = {self.show(rhs)};")
+            kind = "int" if isinstance(rhs, sp.core.relational.Relational) else self.ltype  # (a branch's condition)
+            self.lines.append(f"const {kind} {names[sym]} = {self.show(rhs)};")
             self.ops += count_operations(rhs)
             self.used |= rhs.free_symbols
             self._emit_checks(checks, k)

@@ -25,7 +25,8 @@ from .emission import banner_fields, comment_text, constant_rows, constant_text,
 from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
-from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
+from ..derive.configuration import SERIES_BELOW
+from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
                              factors_mass_matrix)
 
 ARG_DOCS = {
@@ -33,6 +34,8 @@ ARG_DOCS = {
     "qd": "joint velocities, N (rad/s or m/s)",
     "qdd": "joint accelerations, N (rad/s^2 or m/s^2)",
     "tau": "joint torques/forces, N (N m or N)",
+    "v": "a displacement of the joints, N (rad or m): velocity times a time step",
+    "q1": "joint positions of a second configuration, N (rad or m)",
     "p": "runtime parameters, NP, in the order listed above",
 }
 #: the arguments' documentation for a floating base (Pinocchio's free-flyer layout)
@@ -46,6 +49,9 @@ FLOATING_ARG_DOCS = {
            "rad/s^2), then the joint accelerations",
     "tau": "generalized forces, NV: the force (N) and moment (N m, about the base origin) on the base, in the base "
            "frame (zero for a robot in flight), then the joint torques/forces",
+    "v": "tangent vector, NV: a displacement laid out as qd (velocity times a time step): the base's (m, rad, in "
+         "its frame), then the joints'",
+    "q1": "a second configuration, NQ, laid out as q (its quaternion of any nonzero scale)",
 }
 
 #: precisions of the generated C: double, float (float all the way: no double operation, for
@@ -146,21 +152,24 @@ def parameter_uses(robot, symbol) -> str:
     return "; ".join(uses) if uses else "unused"
 
 
-def _scaled_quaternion(eqs: Equations, reduced, names: dict) -> tuple[str, ...]:
-    """When the body reads a floating base's quaternion (q[3..6]): the C text of its four
-    entries, each name then pointing at the scaled copy (:meth:`BodyWriter._quaternion_block`);
-    else ``()``."""
+def _scaled_quaternions(eqs: Equations, reduced, names: dict, inputs) -> tuple[tuple[str, tuple[str, ...]], ...]:
+    """For each configuration among ``inputs`` (q, q1) whose floating base's quaternion (entries
+    3..6) the body reads: the local array of its scaled copy and the C text of its four entries,
+    each name then pointing at the copy (:meth:`BodyWriter._quaternion_block`); else ``()``."""
     if not eqs.robot.floating:
         return ()
-    symbols = eqs.q[3:7]
     read = set().union(*(sp.sympify(rhs).free_symbols for _, rhs in reduced.statements),
                        *(sp.sympify(e).free_symbols for e in list(reduced.outputs) + reduced.checks))
-    if not read & set(symbols):
-        return ()
-    entries = tuple(names[sym] for sym in symbols)
-    for k, sym in enumerate(symbols):
-        names[sym] = f"{QUATERNION}[{k}]"
-    return entries
+    blocks = []
+    for group in ("q", "q1"):
+        symbols = getattr(eqs, group)[3:7]
+        if group not in inputs or not read & set(symbols):
+            continue
+        array = QUATERNION if group == "q" else f"{QUATERNION}1"
+        blocks.append((array, tuple(names[sym] for sym in symbols)))
+        for k, sym in enumerate(symbols):
+            names[sym] = f"{array}[{k}]"
+    return tuple(blocks)
 
 
 def _hoisted_angles(statements, results, computed) -> list[sp.Expr]:
@@ -291,7 +300,7 @@ def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_a
             names[sym], group_of[sym] = f"{cast}{group}[{k}]", group
     for k, sym in enumerate(eqs.parameters):
         names[sym], group_of[sym] = f"{cast}p[{k}]", "p"
-    quaternion = _scaled_quaternion(eqs, reduced, names) if "q" in plan.inputs else ()
+    quaternion = _scaled_quaternions(eqs, reduced, names, plan.inputs)
     for sym, _ in reduced.statements:
         names[sym] = sym.name.lstrip("_")
     angles = _hoisted_angles(reduced.statements, list(reduced.outputs) + reduced.checks,
@@ -588,6 +597,7 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
         "joints": _joint_rows(robot),
         "tree": robot.is_tree,
         "total_mass": _total_mass(robot) if any(f in CENTROIDAL_OUTPUTS for f in functions) else None,
+        "configuration": str(SERIES_BELOW) if any(f in CONFIGURATION_OUTPUTS for f in functions) else "",
         "frames": ([(k, frame.name, "the base" if frame.link < 0 else f"link {frame.link + 1} ({robot.links[frame.link].name})",
                      "its own frame" if frame.pose is None else "fixed in it")
                     for k, frame in enumerate(robot.frames)] if any(f in FRAME_OUTPUTS for f in functions) else []),

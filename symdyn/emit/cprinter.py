@@ -5,6 +5,8 @@ operations the printed code performs.
 - every number is a floating literal of the chosen precision (``0.5`` or ``0.5F``): no integer
   division can happen, and floats never promote to double;
 - ``sign(x)`` becomes the branch-free ``((x > 0) - (x < 0))``;
+- a ``Piecewise`` (the series branches of the configuration-space functions) becomes nested
+  conditional expressions ``(c ? a : b)`` on one line, a comparison named alone an ``int``;
 - ``sin/cos/sqrt`` are ``sinf/cosf/sqrtf`` in float precision.
 """
 
@@ -178,6 +180,23 @@ class CPrinter(C99CodePrinter):
         suffix = "f" if self.precision == "float" else ""
         return f"atan2{suffix}({self._print(expr.args[0])}, {self._print(expr.args[1])})"
 
+    def _print_Piecewise(self, expr):
+        """A branch as nested conditional expressions on one line: ``(c1 ? a : (c2 ? b : d))``
+        (the last piece's condition is True); only the chosen branch is evaluated."""
+        if self.vector_prefix:
+            raise VectorUnsupported("a branch (Piecewise)")
+        if expr.args[-1].cond != sp.true:
+            raise ValueError("a Piecewise without a default branch")
+        text = self._print(expr.args[-1].expr)
+        for value, condition in reversed(expr.args[:-1]):
+            text = f"({self._print(condition)} ? {self._print(value)} : {text})"
+        return text
+
+    def _print_Relational(self, expr):
+        if self.vector_prefix:
+            raise VectorUnsupported("a comparison")
+        return super()._print_Relational(expr)
+
     def _print_Pow(self, expr):
         base, exp = expr.args
         if exp.is_Integer:
@@ -275,6 +294,17 @@ def count_operations(expr: sp.Expr) -> Counter:
             return
         elif isinstance(e, (sp.sin, sp.cos)):
             ops["trig"] += 1
+        elif isinstance(e, sp.Piecewise):  # the condition, and the longer branch
+            branches = [count_operations(value) for value, _ in e.args]
+            longest: Counter = Counter()
+            for branch in branches:
+                longest |= branch
+            ops.update(longest)
+            for _, condition in e.args:
+                visit(condition)
+            return
+        elif isinstance(e, sp.core.relational.Relational):
+            ops["other"] += 1
         else:
             ops["other"] += 1
         for a in e.args:

@@ -23,8 +23,11 @@ LINK_PARAMETERS = ("m", "mx", "my", "mz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Iz
 #: how many standard parameters each link has
 PARAMETERS_PER_LINK = len(LINK_PARAMETERS)
 
-#: the input groups of the serial functions, in the order they are passed; each has one entry per joint
-INPUT_GROUPS = ("q", "qd", "qdd", "tau")
+#: the input groups of the serial functions, in the order they are passed: the configuration q
+#: (NQ entries), the velocity qd, acceleration qdd and forces tau (NV each), a tangent vector v
+#: (NV: a displacement of the configuration, integrate's) and a second configuration q1 (NQ:
+#: difference's end)
+INPUT_GROUPS = ("q", "qd", "qdd", "tau", "v", "q1")
 
 
 @dataclass(frozen=True)
@@ -101,11 +104,13 @@ FAMILIES: dict[str, Family] = {f.name: f for f in (
     Family("derivatives", "derivatives of the dynamics", trees=True, floating=True),
     Family("frames", "the frames' kinematics", trees=True, floating=True),
     Family("centroidal", "centre of mass and centroidal momentum", trees=True, floating=True),
+    Family("configuration", "the configuration space: integrate, difference and their Jacobians", trees=True,
+           floating=True),
     Family("platform", "a platform robot's functions (kind: parallel, by the natural orthogonal complement)"),
 )}
 
 #: the letters the documentation writes each size with (``shape_text``)
-_SIZE_LETTERS = Dimensions(*sp.symbols("N NA NB M K", positive=True, integer=True))
+_SIZE_LETTERS = Dimensions(*sp.symbols("N NA NB M K NQ", positive=True, integer=True))
 
 
 @dataclass(frozen=True)
@@ -542,6 +547,58 @@ SPECS: tuple[OutputSpec, ...] = (
         arguments=(OutputArgument("Ek", "kinetic energy, 1: 1/2 qd^T (D + diag(armature)) qd (J)"),),
         meaning="E_k(q, q̇) = ½ q̇ᵀ (D + diag(armature)) q̇", pinocchio="`computeKineticEnergy`",
         default=False),
+    OutputSpec(
+        name="integrate", symbol="q_out", family="configuration", inputs=("q", "v"),
+        shape=lambda d: (d.nq, 1), units="m, rad",
+        summary="The configuration q (+) v reached from q by the tangent vector v (Pinocchio's integrate): a "
+                "floating base moves by SE(3)'s exponential of v's first 6 entries in its own frame (its quaternion "
+                "taken as the unit quaternion of q's, the result's in the hemisphere of q's), the joints add.",
+        arguments=(OutputArgument("q_out", "q (+) v, NQ, laid out as q (a unit quaternion)"),),
+        meaning="q ⊕ v (a floating base by SE(3)'s exponential, the joints add)", pinocchio="`integrate`",
+        derivation="configuration", default=False),
+    OutputSpec(
+        name="integrate_dq", symbol="J_q", family="configuration", inputs=("v",),
+        shape=lambda d: (d.dof, d.dof), units="1 (m per m, rad per rad, m per rad)",
+        summary="Jacobian of q (+) v by q in the tangent space (Pinocchio's dIntegrate, ARG0): for a floating "
+                "base Ad(exp6(v))^-1 on its 6 coordinates, the identity on the joints; it does not depend on q.",
+        arguments=(OutputArgument("J_q", "d(q (+) v)/dq, NV*NV row-major: row i = (q (+) v)'s tangent i, column j = "
+                                         "q's tangent j"),),
+        meaning="∂(q ⊕ v)/∂q in the tangent space", pinocchio="`dIntegrate` (`ARG0`)",
+        derivation="configuration", default=False),
+    OutputSpec(
+        name="integrate_dv", symbol="J_v", family="configuration", inputs=("v",),
+        shape=lambda d: (d.dof, d.dof), units="1 (m per m, rad per rad, m per rad)",
+        summary="Jacobian of q (+) v by v in the tangent space (Pinocchio's dIntegrate, ARG1): for a floating base "
+                "SE(3)'s right Jacobian Jr(v) on its 6 coordinates, the identity on the joints; it does not depend "
+                "on q.",
+        arguments=(OutputArgument("J_v", "d(q (+) v)/dv, NV*NV row-major: row i = (q (+) v)'s tangent i, column j "
+                                         "= v_j"),),
+        meaning="∂(q ⊕ v)/∂v", pinocchio="`dIntegrate` (`ARG1`)",
+        derivation="configuration", default=False),
+    OutputSpec(
+        name="difference", symbol="v_out", family="configuration", inputs=("q", "q1"),
+        shape=lambda d: (d.dof, 1), units="m, rad",
+        summary="The tangent vector q1 (-) q from q to q1, the inverse of integrate (Pinocchio's difference): a "
+                "floating base's log6(M^-1 M1), its rotation's angle within [0, pi], the joints subtract.",
+        arguments=(OutputArgument("v_out", "q1 (-) q, NV: v with q (+) v = q1"),),
+        meaning="q₁ ⊖ q (integrate's inverse)", pinocchio="`difference`",
+        derivation="configuration", default=False),
+    OutputSpec(
+        name="difference_dq0", symbol="J_q0", family="configuration", inputs=("q", "q1"),
+        shape=lambda d: (d.dof, d.dof), units="1 (m per m, rad per rad, m per rad)",
+        summary="Jacobian of q1 (-) q by q in the tangent space (Pinocchio's dDifference, ARG0): for a floating "
+                "base -Jr(log6 M)^-1 Ad(M^-1), M = M^-1 M1, on its 6 coordinates, minus the identity on the joints.",
+        arguments=(OutputArgument("J_q0", "d(q1 (-) q)/dq, NV*NV row-major"),),
+        meaning="∂(q₁ ⊖ q)/∂q", pinocchio="`dDifference` (`ARG0`)",
+        derivation="configuration", default=False),
+    OutputSpec(
+        name="difference_dq1", symbol="J_q1", family="configuration", inputs=("q", "q1"),
+        shape=lambda d: (d.dof, d.dof), units="1 (m per m, rad per rad, m per rad)",
+        summary="Jacobian of q1 (-) q by q1 in the tangent space (Pinocchio's dDifference, ARG1): for a floating "
+                "base Jr(log6 M)^-1 on its 6 coordinates, the identity on the joints.",
+        arguments=(OutputArgument("J_q1", "d(q1 (-) q)/dq1, NV*NV row-major"),),
+        meaning="∂(q₁ ⊖ q)/∂q₁", pinocchio="`dDifference` (`ARG1`)",
+        derivation="configuration", default=False),
 )
 
 #: every output by name, in the order generated code and documentation list them
@@ -629,6 +686,13 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
                  "The derivatives of forward dynamics in one call: dqdd/dq, dqdd/dqd and dqdd/dtau = M^-1 (as "
                  "NAME_forward_dynamics_dq, NAME_forward_dynamics_dqd and NAME_mass_matrix_inverse), sharing one "
                  "factorization of M, the accelerations and the recursion they differentiate."),
+    CombinedSpec("integrate_jacobians", ("integrate_dq", "integrate_dv"),
+                 "Both Jacobians of integrate in one call, d(q (+) v)/dq and d(q (+) v)/dv (as NAME_integrate_dq and "
+                 "NAME_integrate_dv, sharing the angle's functions): what a DDP solver carries derivatives through a "
+                 "time step with."),
+    CombinedSpec("difference_jacobians", ("difference_dq0", "difference_dq1"),
+                 "Both Jacobians of difference in one call, d(q1 (-) q)/dq and d(q1 (-) q)/dq1 (as "
+                 "NAME_difference_dq0 and NAME_difference_dq1, sharing log6 and its Jacobian)."),
     CombinedSpec("frame_kinematics", ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v"),
                  "Poses, Jacobians and J-dot qd of the frames in one call: the same results as NAME_frame_poses, "
                  "NAME_frame_jacobians and NAME_frame_jacobian_dot_v, sharing their sin/cos and link poses."),
@@ -694,6 +758,9 @@ FRAME_OUTPUTS = family("frames")
 
 #: the derivatives of the dynamics and the inverse mass matrix (when asked for)
 DERIVATIVE_OUTPUTS = family("derivatives")
+
+#: integrate, difference and their Jacobians (derived together; when asked for)
+CONFIGURATION_OUTPUTS = family("configuration")
 
 #: the derivatives of forward dynamics (-M^-1 dtau/dq and -M^-1 dtau/dqd: the derivatives that
 #: are functions of tau)

@@ -13,7 +13,7 @@ import pytest
 from symdyn.model.outputs import Dimensions
 import symdyn
 from helpers import normalized_error, robot_path
-from symdyn.check.bench import INPUTS
+from symdyn.check.states import state_arguments
 from symdyn.check.cbuild import build_and_load
 from symdyn.emit.cgen import generate_c
 from symdyn.check.reference import MpReference
@@ -105,9 +105,6 @@ def compiled(case, precision, tmp_path_factory):
     return _BUILT[key]
 
 
-ARGS = INPUTS  # positions of each function's inputs in a state [q, qd, qdd, tau]
-
-
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_hard_case_against_mpmath(case, tmp_path_factory):
     """Double and float C at the same states, each number representable in float (so that the
@@ -130,7 +127,7 @@ def test_hard_case_against_mpmath(case, tmp_path_factory):
             mine, theirs = [], []
             for s in states(robot.dof, 6, seed=len(case), **options):
                 s = [x.astype(np.float32).astype(float) for x in s]
-                args = [s[k] for k in ARGS[fname]]
+                args = state_arguments(fname, s)
                 value = np.asarray(getattr(lib, fname)(*args), dtype=float)
                 assert np.all(np.isfinite(value)), f"{case} {precision} {fname}: not finite"
                 mine.append(value)

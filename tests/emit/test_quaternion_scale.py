@@ -1,6 +1,6 @@
 """A floating base's quaternion at any nonzero scale gives the same numbers (docs/robot-format.md):
 every function of a floating robot (its dynamics, frames, centre of mass and centroidal
-momentum, kinetic energy), compiled in double and float and evaluated by numpy and CasADi, at
+momentum, kinetic energy, integrate and difference: both configurations scaled), compiled in double and float and evaluated by numpy and CasADi, at
 quaternion scales from subnormal to 1e300 (float: its own range) equals the same function at the
 unit quaternion of the same direction; a zero quaternion is NaN, and NAME_NOT_FINITE where the
 function returns a status."""
@@ -16,7 +16,7 @@ import pytest
 import symdyn
 from helpers import REPO
 from symdyn.check.agreement import compile_equations
-from symdyn.check.states import random_state
+from symdyn.check.states import random_state, second_configuration
 from symdyn.derive.cache import derive_cached
 from symdyn.emit.casadi_backend import casadi_function
 from symdyn.model.outputs import REGISTRY, STATUS_CODES, supported_outputs, with_requirements
@@ -41,7 +41,9 @@ def satellite():
 
 
 def _arguments(spec, state):
-    return [dict(zip(("q", "qd", "qdd", "tau"), state))[group] for group in spec.inputs]
+    """A function's arguments from ``[q, qd, qdd, tau, q1]`` (integrate's v is qd)."""
+    q, qd, qdd, tau, q1 = state
+    return [{"q": q, "qd": qd, "qdd": qdd, "tau": tau, "v": qd, "q1": q1}[group] for group in spec.inputs]
 
 
 def _scaled(q, scale, dtype):
@@ -63,12 +65,15 @@ def test_every_function_at_every_scale(satellite, precision, tmp_path):
     rng = np.random.default_rng(5)
     for _ in range(3):
         q, *rest = random_state(robot, rng)
+        q1 = second_configuration(q, rest[1])
+        q1[3:7] /= np.max(np.abs(q1[3:7]))  # (entries within 1, as q's: times 3e38 is still a float)
         for scale in SCALES[precision]:
             scaled, unit = _scaled(q, scale, dtype)
+            scaled1, unit1 = _scaled(q1, scale, dtype)
             for name in functions:
                 spec = REGISTRY[name]
-                got = np.asarray(getattr(lib, name)(*_arguments(spec, [scaled, *rest])), dtype=float)
-                want = np.asarray(getattr(lib, name)(*_arguments(spec, [unit, *rest])), dtype=float)
+                got = np.asarray(getattr(lib, name)(*_arguments(spec, [scaled, *rest, scaled1])), dtype=float)
+                want = np.asarray(getattr(lib, name)(*_arguments(spec, [unit, *rest, unit1])), dtype=float)
                 assert np.all(np.isfinite(got)), (precision, scale, name)
                 np.testing.assert_allclose(got, want, rtol=tol, atol=tol * max(1.0, np.max(np.abs(want))),
                                            err_msg=f"{precision} {name} at scale {scale:g}")
@@ -77,16 +82,18 @@ def test_every_function_at_every_scale(satellite, precision, tmp_path):
 def test_numpy_and_casadi_at_every_scale(satellite):
     robot, functions, eqs = satellite
     q, *rest = random_state(robot, np.random.default_rng(6))
+    q1 = second_configuration(q, rest[1])
     for scale in SCALES["double"]:
         scaled, unit = _scaled(q, scale, np.float64)
+        scaled1, unit1 = _scaled(q1, scale, np.float64)
         for name in functions:
             spec = REGISTRY[name]
-            want = np.asarray(getattr(eqs.numeric, name)(*_arguments(spec, [unit, *rest])), dtype=float)
-            got = np.asarray(getattr(eqs.numeric, name)(*_arguments(spec, [scaled, *rest])), dtype=float)
+            want = np.asarray(getattr(eqs.numeric, name)(*_arguments(spec, [unit, *rest, unit1])), dtype=float)
+            got = np.asarray(getattr(eqs.numeric, name)(*_arguments(spec, [scaled, *rest, scaled1])), dtype=float)
             np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12, err_msg=f"numpy {name} {scale:g}")
-            if name in ("inverse_dynamics", "gravity", "center_of_mass", "frame_poses"):
+            if name in ("inverse_dynamics", "gravity", "center_of_mass", "frame_poses", "difference_dq0"):
                 casadi = casadi_function(eqs, name)
-                value = np.array(casadi(*_arguments(spec, [scaled, *rest]))).reshape(np.shape(want))
+                value = np.array(casadi(*_arguments(spec, [scaled, *rest, scaled1]))).reshape(np.shape(want))
                 np.testing.assert_allclose(value, want, rtol=1e-12, atol=1e-12, err_msg=f"CasADi {name} {scale:g}")
 
 
