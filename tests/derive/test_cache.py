@@ -145,6 +145,9 @@ def test_encode_decode_every_node_kind():
         (("gravity", sp.ImmutableMatrix([x])), 0.125, 3, "text", ()),
         VectorTangents(2, (TangentStep(0, 0, (), ((1, x),)), TangentStep(1, 1, ((0, -2 * m),), ((0, sp.S.One),))),
                        ((0, None), (None, 1))),
+        # the configuration-space functions' branches and angles
+        sp.Piecewise((1 + x / 6, sp.StrictLessThan(x, sp.Rational(1, 4))), (sp.sin(x) / x, True)),
+        2 * sp.atan2(m, x), sp.StrictLessThan(x, 0),
     ]
     for value in values:
         tree = json.loads(json.dumps(cache.encode(value)))
@@ -194,6 +197,11 @@ BAD_TREES = {
     "Matrix shape": ["Matrix", 2, 2, ["Int", "1"]],
     "Matrix header": ["Matrix", 1],
     "Program of numbers": ["Program", ["Tuple", ["Tuple", ["Int", "1"], ["Int", "2"]]]],
+    "Piecewise without a default": ["Piecewise", ["Tuple", ["Int", "1"], ["Lt", ["Int", "1"], ["Int", "2"]]]],
+    "Piecewise of a number": ["Piecewise", ["Int", "1"]],
+    "Piecewise with a number for a condition": ["Piecewise", ["Tuple", ["Int", "1"], ["Int", "1"]]],
+    "atan2 of one": ["atan2", ["Int", "1"]],
+    "Lt of three": ["Lt", ["Int", "1"], ["Int", "2"], ["Int", "3"]],
     "deep": deep(20_000),
     # a step reading a tangent not yet written, and one in a direction out of range
     "Tangents forward reference": ["Tangents", ["Tuple", ["PyInt", "2"], ["Tuple", ["Tuple", ["PyInt", "0"], ["PyInt", "0"],
