@@ -813,7 +813,9 @@ def _split(writer: "BodyWriter", body: Body, late_symbols: set, size: int) -> No
     head, tail = lines[:writer.segment_start], lines[writer.segment_end:]
     checked = writer.plan.checked
     returns = "int" if checked else "void"
-    params = [f"{ltype} *{name}" for name, _ in writer.arrays] + [f"{ltype} *carry"]
+    # restrict: the caller's scratch arrays never overlap (gcc -O2 vectorizes loops over them only then:
+    # Solo-12's forward-dynamics derivatives, a split body, 7466 -> 6142 ns)
+    params = [f"{ltype} *restrict {name}" for name, _ in writer.arrays] + [f"{ltype} *restrict carry"]
     parts = []
     for c, (first, last) in enumerate(chunks):
         start = segments[first][0] if first else writer.segment_start

@@ -351,8 +351,8 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
               f"const int status = {own}_part1({names}, fdd_m, fdd_a);",
               "if (status != 0) {", "    return status;", "}",
               f"{own}_part2({names}, fdd_a, {', '.join([a for a, _ in blocks] + [a for a, _ in second.given])});"] + loop)
-    parts = [("int", f"{ltype} *fdd_m, {ltype} *fdd_a", first.lines),
-             ("void", f"const {ltype} *fdd_a, " + ", ".join(f"{ltype} *{a}" for a, _ in list(blocks) + second.given),
+    parts = [("int", f"{ltype} *restrict fdd_m, {ltype} *restrict fdd_a", first.lines),
+             ("void", f"const {ltype} *restrict fdd_a, " + ", ".join(f"{ltype} *restrict {a}" for a, _ in list(blocks) + second.given),
               ["(void)fdd_a; /* (dqdd/dqd alone: dtau/dqd does not depend on qdd) */"] + second.lines)]
     batch = _batch_form(eqs, plan, reduced, context, group_of, precision) if batch_form else None
     summary = _COMBINED_SUMMARIES[plan.name] if plan.name in _COMBINED_SUMMARIES else REGISTRY[plan.name].summary
