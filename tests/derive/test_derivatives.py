@@ -115,20 +115,22 @@ FLOATING_DERIVATIVES = ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_
                         "forward_dynamics_dq", "forward_dynamics_dqd")
 
 
-@pytest.mark.parametrize("name", ["space_robot", pytest.param("solo12", marks=pytest.mark.slow)])
+@pytest.mark.parametrize("name", ["space_robot", pytest.param("solo12", marks=pytest.mark.slow),
+                                  pytest.param("anymal", marks=pytest.mark.slow)])
 def test_floating_base_derivatives_in_the_tangent_space(name, tmp_path):
     """A floating base's derivatives (nv x nv, by q along q (+) dv, Pinocchio's ``integrate``: the
     base moved and turned in its own frame) against computeRNEADerivatives,
     computeGeneralizedGravityDerivatives, computeABADerivatives and computeMinverse with its
     free-flyer, numpy and C (the C at a quaternion of another scale), and the C's dtau/dq and
     dc/dq against central differences of its own inverse dynamics along pinocchio.integrate
-    (the space robot has no gravity: Solo-12's dc/dq turns gravity with the base)."""
+    (the space robot has no gravity: the legged robots' dc/dq turns gravity with the base)."""
     import pinocchio as pin
     from helpers import example_robot_data
     from symdyn.check.pinocchio_model import build_model, normalized_error
     from symdyn.check.states import random_configuration
-    if name == "solo12":
-        robot = symdyn.load(example_robot_data("solo_description/robots/solo12.urdf"), floating_base=True)
+    if name in ("solo12", "anymal"):
+        path = {"solo12": "solo_description/robots/solo12.urdf", "anymal": "anymal_b_simple_description/robots/anymal.urdf"}
+        robot = symdyn.load(example_robot_data(path[name]), floating_base=True)
     else:
         robot = symdyn.load(str(REPO / "examples" / "trees" / "space_robot.yaml"))
     assert robot.floating
@@ -138,15 +140,15 @@ def test_floating_base_derivatives_in_the_tangent_space(name, tmp_path):
     states = [(random_configuration(robot, rng), *(rng.uniform(-2, 2, robot.nv) for _ in range(2))) for _ in range(20)]
     lib = build_and_load(generate_c(eqs, list(FLOATING_DERIVATIVES) + ["inverse_dynamics", "gravity"]), robot.name,
                          Dimensions.of(robot), 0, workdir=str(tmp_path))
-    for name in FLOATING_DERIVATIVES:
-        one = name in ("gravity_derivative", "mass_matrix_inverse")
-        mine = [getattr(eqs.numeric, name)(*((q,) if one else (q, v, a))) for q, v, a in states]
-        theirs = [getattr(reference, name)(*((q,) if one else (q, v, a))) for q, v, a in states]
+    for function in FLOATING_DERIVATIVES:
+        one = function in ("gravity_derivative", "mass_matrix_inverse")
+        mine = [getattr(eqs.numeric, function)(*((q,) if one else (q, v, a))) for q, v, a in states]
+        theirs = [getattr(reference, function)(*((q,) if one else (q, v, a))) for q, v, a in states]
         scaled = [np.concatenate([q[:3], 3.7 * q[3:7], q[7:]]) for q, _, _ in states]
-        compiled = [getattr(lib, name)(*((s,) if one else (s, v, a))) for s, (_, v, a) in zip(scaled, states)]
-        assert normalized_error(mine, theirs) <= TOL, name
-        assert normalized_error(compiled, mine) <= 1e-12, name
-    if name == "solo12":
+        compiled = [getattr(lib, function)(*((s,) if one else (s, v, a))) for s, (_, v, a) in zip(scaled, states)]
+        assert normalized_error(mine, theirs) <= TOL, function
+        assert normalized_error(compiled, mine) <= 1e-12, function
+    if name != "space_robot":
         assert max(np.max(np.abs(eqs.numeric.gravity_derivative(q))) for q, _, _ in states) > 0.1  # (gravity turns)
     model, _ = build_model(robot)
     h = 1e-6
@@ -316,3 +318,81 @@ def test_vector_tangents_are_the_written_out_derivatives(monkeypatch):
                 written = eqs.output(part) if part.startswith("inverse") else eqs.inverse_products[1 + group]
                 expected = np.array(sp.Matrix(written).xreplace(values), dtype=float)
                 np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12 * max(1.0, np.max(np.abs(expected))))
+
+
+def test_floating_base_derivatives_against_50_digit_differences(tmp_path):
+    """dtau/dq and dqdd/dq of a floating robot under gravity (the satellite turned upright, so
+    that turning the base turns gravity in its frame), numpy and C, against central differences
+    of its own inverse and forward dynamics evaluated in 50 digits along q (+) h e_j: the base
+    moved by SE(3)'s exponential (mpmath's matrix exponential of the twist), the joints by
+    addition, h = 1e-20 (truncation ~1e-40, rounding ~1e-30): the derivatives' tangent-space
+    chain rule, not only their agreement with Pinocchio, to 1e-12 of their size."""
+    import dataclasses
+    import mpmath
+    from symdyn.check.states import random_configuration
+    from symdyn.derive.numeric import compile_function
+    robot = symdyn.load(str(REPO / "examples" / "trees" / "space_robot.yaml"))
+    robot = dataclasses.replace(robot, gravity=(0.3, -1.2, -9.81))
+    names = ["inverse_dynamics_dq", "forward_dynamics_dq", "inverse_dynamics", "forward_dynamics"]
+    eqs = symdyn.derive(robot, outputs=names)
+    precise = {name: compile_function([eqs.q, eqs.qd, eqs.qdd if name == "inverse_dynamics" else eqs.tau],
+                                      eqs.program, eqs.output(name), name, digits=50)
+               for name in ("inverse_dynamics", "forward_dynamics")}
+    lib = build_and_load(generate_c(eqs, names), robot.name, Dimensions.of(robot), 0, workdir=str(tmp_path))
+    rng = np.random.default_rng(38)
+
+    def moved(q, step):
+        """q (+) step in 50 digits (step: nv mpf)."""
+        x, y, z, w = (mpmath.mpf(float(c)) for c in q[3:7])
+        norm = mpmath.sqrt(x * x + y * y + z * z + w * w)
+        x, y, z, w = x / norm, y / norm, z / norm, w / norm
+        R = mpmath.matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                           [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                           [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+        twist = mpmath.zeros(4, 4)
+        vx, vy, vz, wx, wy, wz = step[:6]
+        twist[0, 1], twist[0, 2], twist[1, 0], twist[1, 2], twist[2, 0], twist[2, 1] = -wz, wy, wz, -wx, -wy, wx
+        twist[0, 3], twist[1, 3], twist[2, 3] = vx, vy, vz
+        E = mpmath.expm(twist)
+        angle = mpmath.sqrt(wx * wx + wy * wy + wz * wz)
+        k = mpmath.sin(angle / 2) / angle if angle else mpmath.mpf("0.5")
+        a, b, c, d = k * wx, k * wy, k * wz, mpmath.cos(angle / 2)
+        position = [mpmath.mpf(float(q[i])) + sum(R[i, j] * E[j, 3] for j in range(3)) for i in range(3)]
+        turned = [w * a + x * d + y * c - z * b, w * b - x * c + y * d + z * a, w * c + x * b - y * a + z * d,
+                  w * d - x * a - y * b - z * c]
+        joints = [mpmath.mpf(float(q[7 + i])) + step[6 + i] for i in range(robot.dof)]
+        return position + turned + joints
+
+    with mpmath.workdps(50):
+        h = mpmath.mpf("1e-20")
+        for _ in range(3):
+            q = random_configuration(robot, rng)
+            qd, other = rng.uniform(-2, 2, robot.nv), rng.uniform(-2, 2, robot.nv)
+            for name, derivative in (("inverse_dynamics", "inverse_dynamics_dq"),
+                                     ("forward_dynamics", "forward_dynamics_dq")):
+                columns = []
+                for j in range(robot.nv):
+                    step = [h if k == j else mpmath.mpf(0) for k in range(robot.nv)]
+                    plus = precise[name](moved(q, step), list(qd), list(other))
+                    minus = precise[name](moved(q, [-s for s in step]), list(qd), list(other))
+                    columns.append([float((a[0] - b[0]) / (2 * h)) for a, b in zip(plus, minus)])
+                reference = np.array(columns).T
+                scale = max(1.0, np.max(np.abs(reference)))
+                for value in (getattr(eqs.numeric, derivative)(q, qd, other), getattr(lib, derivative)(q, qd, other)):
+                    assert np.max(np.abs(value - reference)) <= 1e-12 * scale, (derivative, np.max(np.abs(value - reference)))
+
+
+@pytest.mark.slow
+def test_solo12_ddp_example_converges_as_on_pinocchio(tmp_path):
+    """examples/ilqr/solo12_ddp.py: iLQR of Solo-12 on its floating base (a squat in the air)
+    with the generated C only converges (the joints within 1e-3 rad of the crouch and the
+    stance, their rates within 1e-2 rad/s) to the same cost as the same solver linked against
+    Pinocchio (1e-6 of it)."""
+    import subprocess
+    import sys
+    done = subprocess.run([sys.executable, str(REPO / "examples" / "ilqr" / "solo12_ddp.py"), "--out", str(tmp_path)],
+                          capture_output=True, text=True, timeout=900)
+    assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
+    finals = [line for line in done.stdout.splitlines() if line.startswith("final: cost")]
+    assert len(finals) == 2 and all(line.endswith(": converged") for line in finals), done.stdout
+    assert "the same" in done.stdout.splitlines()[-1]
