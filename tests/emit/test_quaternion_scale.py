@@ -40,6 +40,17 @@ def satellite():
     return robot, functions, derive_cached(robot, "newton-euler", with_requirements(functions))
 
 
+_COMPILED: dict = {}
+
+
+def _compiled(satellite, precision, tmp_path_factory):
+    """The satellite's C in ``precision``, compiled once for the module."""
+    if precision not in _COMPILED:
+        _, functions, eqs = satellite
+        _COMPILED[precision] = compile_equations(eqs, functions, precision, str(tmp_path_factory.mktemp(precision)))
+    return _COMPILED[precision]
+
+
 def _arguments(spec, state):
     """A function's arguments from ``[q, qd, qdd, tau, q1]`` (integrate's v is qd)."""
     q, qd, qdd, tau, q1 = state
@@ -58,9 +69,9 @@ def _scaled(q, scale, dtype):
 
 
 @pytest.mark.parametrize("precision", ["double", "float"])
-def test_every_function_at_every_scale(satellite, precision, tmp_path):
+def test_every_function_at_every_scale(satellite, precision, tmp_path_factory):
     robot, functions, eqs = satellite
-    lib = compile_equations(eqs, functions, precision, str(tmp_path))
+    lib = _compiled(satellite, precision, tmp_path_factory)
     dtype, tol = (np.float64, 1e-12) if precision == "double" else (np.float32, 2e-5)
     rng = np.random.default_rng(5)
     for _ in range(3):
@@ -97,11 +108,11 @@ def test_numpy_and_casadi_at_every_scale(satellite):
                 np.testing.assert_allclose(value, want, rtol=1e-12, atol=1e-12, err_msg=f"CasADi {name} {scale:g}")
 
 
-def test_zero_quaternion_is_a_status_or_nan(satellite, tmp_path):
+def test_zero_quaternion_is_a_status_or_nan(satellite, tmp_path_factory):
     """Forward dynamics' checked function returns NAME_NOT_FINITE and writes nothing; the
     functions without a status give NaN (documented in docs/robot-format.md)."""
     robot, functions, eqs = satellite
-    lib = compile_equations(eqs, functions, "double", str(tmp_path))
+    lib = _compiled(satellite, "double", tmp_path_factory)
     q, qd, qdd, tau = random_state(robot, np.random.default_rng(7))
     q[3:7] = 0.0
     status, (qdd_out,) = lib.with_status("forward_dynamics_checked", q, qd, tau)
