@@ -9,6 +9,8 @@
  */
 #include <math.h>
 #include <float.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "chain12_dynamics.h"
 

@@ -8,6 +8,8 @@
  */
 #include <math.h>
 #include <float.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "iiwa14_dynamics.h"
 

@@ -122,3 +122,57 @@ def error_line(capsys) -> str:
     assert all(line.startswith("symdyn: warning: ") for line in lines[:-1]), lines
     assert "Traceback" not in lines[-1]
     return lines[-1]
+
+
+# SE(3) in 50 digits (mpmath), an independent reference for a floating base's configuration
+# space: the pose of a configuration, the exponential of a twist, and back to a configuration.
+
+def mp_pose(q):
+    """The 4x4 pose (mpmath) of a configuration's base: position q[0:3] and the quaternion
+    q[3:7] (x, y, z, w; of any scale)."""
+    import mpmath
+
+    def exact(c):
+        return c if isinstance(c, mpmath.mpf) else mpmath.mpf(float(c))
+    x, y, z, w = (exact(c) for c in q[3:7])
+    n = mpmath.sqrt(x * x + y * y + z * z + w * w)
+    x, y, z, w = x / n, y / n, z / n, w / n
+    R = mpmath.matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                       [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                       [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+    M = mpmath.eye(4)
+    for i in range(3):
+        M[i, 3] = exact(q[i])
+        for j in range(3):
+            M[i, j] = R[i, j]
+    return M
+
+
+def mp_exp6(v):
+    """SE(3)'s exponential of the twist [v_lin; omega] (mpmath's matrix exponential)."""
+    import mpmath
+    X = mpmath.zeros(4, 4)
+    vx, vy, vz, wx, wy, wz = v
+    X[0, 1], X[0, 2], X[1, 0], X[1, 2], X[2, 0], X[2, 1] = -wz, wy, wz, -wx, -wy, wx
+    X[0, 3], X[1, 3], X[2, 3] = vx, vy, vz
+    return mpmath.expm(X)
+
+
+def mp_base_configuration(M):
+    """[position; quaternion (x, y, z, w)] (mpmath) of a pose: the inverse of :func:`mp_pose`
+    up to the quaternion's sign and scale (Shepperd's choice of the largest component)."""
+    import mpmath
+    trace = M[0, 0] + M[1, 1] + M[2, 2]
+    largest = max(range(4), key=lambda k: trace if k == 3 else M[k, k])
+    if largest == 3:
+        w = mpmath.sqrt(1 + trace) / 2
+        x, y, z = (M[2, 1] - M[1, 2]) / (4 * w), (M[0, 2] - M[2, 0]) / (4 * w), (M[1, 0] - M[0, 1]) / (4 * w)
+    else:
+        i, j, k = largest, (largest + 1) % 3, (largest + 2) % 3
+        axis = [mpmath.mpf(0)] * 3
+        axis[i] = mpmath.sqrt(1 + M[i, i] - M[j, j] - M[k, k]) / 2
+        axis[j] = (M[j, i] + M[i, j]) / (4 * axis[i])
+        axis[k] = (M[k, i] + M[i, k]) / (4 * axis[i])
+        w = (M[k, j] - M[j, k]) / (4 * axis[i])
+        x, y, z = axis
+    return [M[0, 3], M[1, 3], M[2, 3], x, y, z, w]

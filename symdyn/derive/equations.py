@@ -905,18 +905,22 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     """M^-1 and, when asked for, dqdd/dq = -M^-1 dtau/dq and dqdd/dqd = -M^-1 dtau/dqd, the
     derivatives of inverse dynamics taken at the accelerations forward dynamics gives (held
     constant while differentiating: the implicit function theorem on tau = ID(q, qd, qdd)).
-    M^-1 by solves of M x = e_j with the shared factorization, the lower triangle only (its
-    entries of rows above j are not needed, and are never emitted); a floating base's M^-1 too
+    M^-1 of a tree (and a floating base) as L^-1 diag(1/d) L^-T from the shared factorization
+    (:func:`symdyn.derive.ldlt.inverse_tree`), of a chain by solves of M x = e_j, the lower
+    triangle only (its entries of rows above j are not needed, and are never emitted); a floating base's M^-1 too
     (nv x nv), and its derivatives in its tangent space (:func:`_forces_by_q`)."""
     n, b = d.n, d.b
     d.report("mass_matrix_inverse (solves with the factorization of M)")
     f = _mass_factorization(d)
-    Minv = sp.zeros(n, n)
-    for j in range(n):
-        column = _solve_mass(d, [sp.S.One if i == j else sp.S.Zero for i in range(n)], f"mi{j + 1}_y",
-                             f"Minv{{i}}_{j + 1}")
-        for i in range(j, n):
-            Minv[i, j] = Minv[j, i] = column[i]
+    if d.factor_parents is not None:
+        Minv = ldlt.inverse_tree(b, f, "Minv")
+    else:
+        Minv = sp.zeros(n, n)
+        for j in range(n):
+            column = _solve_mass(d, [sp.S.One if i == j else sp.S.Zero for i in range(n)], f"mi{j + 1}_y",
+                                 f"Minv{{i}}_{j + 1}")
+            for i in range(j, n):
+                Minv[i, j] = Minv[j, i] = column[i]
     d.values["mass_matrix_inverse"] = Minv
     d.checks.append((INVERSE_OUTPUTS, tuple((p, m, 1) for p, m in f.pivots)))
     if not set(FORWARD_DERIVATIVES) & d.need:

@@ -148,3 +148,35 @@ def solve_tree(b, f: TreeFactorization, rhs, forward_hint: str, back_hint: str) 
         x[k] = b.define(back_hint.format(i=k + 1),
                         y[k] * f.inv[k] - sp.Add(*[f.L[k, i] * x[i] for i in f.ancestors(k)]))
     return x
+
+
+def inverse_tree(b, f: TreeFactorization, hint: str) -> sp.Matrix:
+    """``M^-1`` (n x n, symmetric) of ``M = L^T diag(d) L`` (:func:`factor_tree`) as
+    ``L^-1 diag(1/d) L^-T``: ``U = L^-1`` is unit lower triangular with the sparsity of L
+    (``U_ik`` nonzero only for ancestors k of i: a tree's L^-1 fills in nothing), so that
+
+        U_ik = -L_ik - sum_m L_im U_mk        (m on the path strictly between k and i)
+        (M^-1)_ij = sum_k U_ik (U_jk / d_k)   (k an ancestor, or itself, of both i and j)
+
+    about half the operations of n solves with unit right-hand sides on Solo-12's floating
+    base.  ``U_jk / d_k`` named ``{hint}_W{j}_{k}``, the entries ``{hint}{i}_{j}`` (1-based,
+    the lower triangle: the upper one is the same symbols)."""
+    n = len(f.d)
+    chains = [[k, *f.ancestors(k)] for k in range(n)]  # each joint, then its ancestors upward
+    U: dict = {}
+    W: dict = {}
+    for i in range(n):
+        U[i, i] = sp.S.One
+        path = chains[i]
+        for pos in range(1, len(path)):  # ancestors k of i, nearest first
+            k = path[pos]
+            U[i, k] = b.define(f"{hint}_U{i + 1}_{k + 1}",
+                               -f.L[i, k] - sp.Add(*[f.L[i, m] * U[m, k] for m in path[1:pos]]))
+        for k in path:
+            W[i, k] = f.inv[k] if k == i else b.define(f"{hint}_W{i + 1}_{k + 1}", U[i, k] * f.inv[k])
+    Minv = sp.zeros(n, n)
+    for i in range(n):
+        for j in range(i + 1):
+            shared = [k for k in chains[j] if k in set(chains[i])]
+            Minv[i, j] = Minv[j, i] = b.define(f"{hint}{i + 1}_{j + 1}", sp.Add(*[U[i, k] * W[j, k] for k in shared]))
+    return Minv

@@ -181,16 +181,35 @@ def product_loop(products, store: str, internal: str, scalar: str, fma: str, pre
     outputs, ending with ``return 0``; and their operation counts.  Each row of a result is one
     loop over the scratch rows' entries (padding included), its n terms fused by ``fma``: the
     rows are independent, which the processor overlaps (one loop over i, k and j chains them)."""
-    n, blocks, minv, stride = products
+    n, blocks, minv, stride, columns = products
     limit, fabs = _limit(internal, scalar)
+    if columns is not None:
+        return _column_products(products, store, limit, fabs, _exponent_bits(internal, scalar), fma, prefix)
     rows = []
     for b, (array, _) in enumerate(blocks):
         for i in range(n):
             terms = [(True, f"fdd_m[{i * n + k}]", f"{array}[{k * stride} + j]") for k in range(n)]
             rows.append((b * n * stride + i * stride, fused_sum(terms, fma)))
-    lines = _macro_lines(_loops().inverse_products(n, stride, blocks, minv, rows, store, limit, fabs,
-                                                   status_macros(prefix)))
+    lines = _macro_lines(_loops().inverse_products(n, stride, stride, blocks, minv, rows, store, limit, fabs,
+                                                   _exponent_bits(internal, scalar), status_macros(prefix), False))
     return lines, Counter({"mul": len(blocks) * n * n * stride, "add": len(blocks) * n * (n - 1) * stride})
+
+
+def _column_products(products, store: str, limit: str, fabs: str, bits, fma: str, prefix: str) -> tuple[list[str], Counter]:
+    """:func:`product_loop` by columns (:func:`symdyn.emit.cplan.product_columns`): column j of
+    each result, ``-sum_k M^-1 row k * dtau/dx_kj`` over the rows k where dtau/dx's column j is
+    not identically zero (M^-1 is symmetric: its row k is its column k), one loop over the n
+    entries of the column, stored transposed (``fdd_r`` column-major, n x n per block)."""
+    n, blocks, minv, stride, columns = products
+    rows, mul, add = [], 0, 0
+    for b, ((array, _), block) in enumerate(zip(blocks, columns)):
+        for j, nonzero in enumerate(block):
+            terms = [(True, f"fdd_m[{k * n} + i]", f"{array}[{k * stride + j}]") for k in nonzero]
+            rows.append((b * n * n + j * n, fused_sum(terms, fma) if terms else "0"))
+            mul, add = mul + n * len(nonzero), add + n * max(len(nonzero) - 1, 0)
+    lines = _macro_lines(_loops().inverse_products(n, stride, n, blocks, minv, rows, store, limit, fabs, bits,
+                                                   status_macros(prefix), True))
+    return lines, Counter({"mul": mul, "add": add})
 
 
 def tangent_loops(tangent, printer, store: str, fma: str) -> tuple[list[str], Counter, int]:
@@ -343,6 +362,16 @@ def _limit(internal: str, scalar: str) -> tuple[str, str]:
     return "FLT_MAX", "fabsf"
 
 
+def _exponent_bits(internal: str, scalar: str) -> tuple[str, str, str] | None:
+    """``(unsigned type, exponent mask, floating type)`` of the arithmetic the results are
+    computed in, for the product loop's test of finite results by their bits; None where they
+    are stored in a narrower type (double computed, float stored: the test is against FLT_MAX)."""
+    if internal != scalar:
+        return None
+    return ("uint64_t", "UINT64_C(0x7ff0000000000000)", "double") if internal == "double" else \
+        ("uint32_t", "UINT32_C(0x7f800000)", "float")
+
+
 def _position_of(expr, position) -> int:
     """Index of the last statement ``expr`` reads (-1: none)."""
     return max((position[x] for x in sp.sympify(expr).free_symbols if x in position), default=-1)
@@ -470,7 +499,7 @@ class BodyWriter:
         if plan.products:
             if self.vector:
                 raise VectorUnsupported("the forward-dynamics derivatives' product loop")
-            n, blocks, _, stride = plan.products
+            n, blocks, _, stride, _ = plan.products
             self._declare([("fdd_m", n * n)] + [(array, n * stride) for array, _ in blocks]
                           + [("fdd_r", len(blocks) * n * stride)])
         self.segment_start = len(self.lines)

@@ -320,7 +320,7 @@ def _staged_function(eqs: Equations, plan, precision: str, prefix: str, batch_fo
     (``fdd_q``, ``fdd_v``), then ``-Minv dtau/dx``.  Each part's register allocation is its own:
     puma560's forward_dynamics_derivatives 1035 -> about 800 ns, the panda's 2900 -> 2500 (gcc -O3
     -march=native), against one body.  None when a stage is long enough to be split itself."""
-    n, blocks, minv, stride = plan.products
+    n, blocks, minv, stride, _ = plan.products
     qdd = eqs.inverse_products[3]
     solve = FunctionPlan(plan.name, plan.parts, plan.inputs, plan.out_name, checked=True,
                          pivots=plan.pivots, pivot_codes=plan.pivot_codes)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import symdyn
-from helpers import REPO, example_robot_data
+from helpers import REPO, example_robot_data, mp_exp6, mp_pose
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.states import random_configuration
 from symdyn.derive.configuration import SERIES_BELOW
@@ -95,31 +95,6 @@ def test_against_pinocchio_on_legged_robots(name, tmp_path):
 # An independent reference in 50 digits: SE(3)'s exp and log as matrix functions
 # ---------------------------------------------------------------------------------------------
 
-def _pose(q):
-    """The 4x4 pose (mpmath) of a configuration's base: position and unit quaternion."""
-    x, y, z, w = (mpmath.mpf(float(c)) for c in q[3:7])
-    n = mpmath.sqrt(x * x + y * y + z * z + w * w)
-    x, y, z, w = x / n, y / n, z / n, w / n
-    R = mpmath.matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                       [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                       [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-    M = mpmath.eye(4)
-    for i in range(3):
-        M[i, 3] = mpmath.mpf(float(q[i]))
-        for j in range(3):
-            M[i, j] = R[i, j]
-    return M
-
-
-def _exp6(v):
-    """SE(3)'s exponential of [v_lin; omega] (mpmath's matrix exponential of the twist)."""
-    X = mpmath.zeros(4, 4)
-    vx, vy, vz, wx, wy, wz = v
-    X[0, 1], X[0, 2], X[1, 0], X[1, 2], X[2, 0], X[2, 1] = -wz, wy, wz, -wx, -wy, wx
-    X[0, 3], X[1, 3], X[2, 3] = vx, vy, vz
-    return mpmath.expm(X)
-
-
 def _log6(M):
     """[v_lin; omega] of a pose in 50 digits, by another route than the generated code's: the
     angle as atan2 of the rotation's skew part (its sine) and trace (its cosine), the axis from
@@ -131,7 +106,7 @@ def _log6(M):
     omega = [x * (angle / sine if sine else 1) for x in skew]
     V = mpmath.matrix(3, 3)
     for i in range(3):
-        column = _exp6([1 if k == i else 0 for k in range(3)] + omega)
+        column = mp_exp6([1 if k == i else 0 for k in range(3)] + omega)
         for j in range(3):
             V[j, i] = column[j, 3]
     v_lin = mpmath.lu_solve(V, mpmath.matrix([M[0, 3], M[1, 3], M[2, 3]]))
@@ -152,20 +127,20 @@ def _jacobian(f, n=6, h=mpmath.mpf("1e-22")):
 def _reference(q, v, q1):
     """The six functions of a base alone (no joints) in 50 digits."""
     with mpmath.workdps(50):
-        M, M1 = _pose(q), _pose(q1)
+        M, M1 = mp_pose(q), mp_pose(q1)
         v = [mpmath.mpf(float(x)) for x in v]
-        step = _exp6(v)
+        step = mp_exp6(v)
         out = M * step
         rel = mpmath.inverse(M) * M1
         log = _log6(rel)
         add = lambda a, b: [x + y for x, y in zip(a, b)]
         return {
             "integrate": (out, None),
-            "integrate_dq": _jacobian(lambda e: _log6(mpmath.inverse(out) * M * _exp6(e) * step)),
-            "integrate_dv": _jacobian(lambda e: _log6(mpmath.inverse(out) * M * _exp6(add(v, e)))),
+            "integrate_dq": _jacobian(lambda e: _log6(mpmath.inverse(out) * M * mp_exp6(e) * step)),
+            "integrate_dv": _jacobian(lambda e: _log6(mpmath.inverse(out) * M * mp_exp6(add(v, e)))),
             "difference": np.array([float(x) for x in log]),
-            "difference_dq0": _jacobian(lambda e: _log6(mpmath.inverse(M * _exp6(e)) * M1)),
-            "difference_dq1": _jacobian(lambda e: _log6(mpmath.inverse(M) * M1 * _exp6(e))),
+            "difference_dq0": _jacobian(lambda e: _log6(mpmath.inverse(M * mp_exp6(e)) * M1)),
+            "difference_dq1": _jacobian(lambda e: _log6(mpmath.inverse(M) * M1 * mp_exp6(e))),
         }
 
 
@@ -217,7 +192,7 @@ def test_exact_near_zero_and_pi(free_body, label, angle):
             value = np.asarray(function_of(function)(*[given[g] for g in OUTPUT_INPUTS[function]]), dtype=float)
             if function == "integrate":
                 with mpmath.workdps(50):
-                    mine = _pose(value)
+                    mine = mp_pose(value)
                     out = reference["integrate"][0]
                     error = max(abs(float(mine[i, j] - out[i, j])) for i in range(3) for j in range(4))
                 np.testing.assert_allclose(value[7:], q[7:] + v[6:], rtol=0, atol=tolerance * 4)

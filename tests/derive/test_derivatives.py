@@ -13,7 +13,8 @@ import sympy as sp
 
 from symdyn.model.outputs import Dimensions
 import symdyn
-from helpers import REPO, ROBOTS, TOL, fma_hardware, parameter_values, random_states, robot_path
+from helpers import (REPO, ROBOTS, TOL, fma_hardware, mp_base_configuration, mp_exp6, mp_pose, parameter_values,
+                     random_states, robot_path)
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare
 from symdyn.emit.cgen import generate_c
@@ -109,6 +110,40 @@ def test_derivatives_against_central_differences_of_the_compiled_functions(tmp_p
         for value, single in zip(together, (lib.forward_dynamics_dq(q, qd, tau), lib.forward_dynamics_dqd(q, qd, tau),
                                             lib.mass_matrix_inverse(q))):
             np.testing.assert_allclose(value, single, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("path, by_columns", [(str(REPO / "examples" / "trees" / "space_robot.yaml"), True),
+                                              (robot_path("puma560"), False)])
+def test_forward_dynamics_derivatives_not_finite_write_nothing(path, by_columns, tmp_path):
+    """The forward-dynamics derivatives' final test of finite results (the product -M^-1 dtau/dx
+    by columns on the satellite's tree, by rows on the Puma), double and float: torques from
+    ordinary up past where the accelerations overflow; a status 0 writes finite numbers, any
+    other status writes nothing, and on the satellite the derivatives overflow at torques where
+    forward dynamics' accelerations are still finite (status 2 from that test itself)."""
+    from symdyn.check.states import random_configuration
+    from symdyn.emit.cplan import product_columns
+    robot = symdyn.load(path)
+    parts = ("forward_dynamics", "forward_dynamics_dq", "forward_dynamics_dqd", "mass_matrix_inverse")
+    eqs = symdyn.derive(robot, outputs=parts)
+    assert (product_columns(eqs, parts) is not None) == by_columns
+    rng = np.random.default_rng(41)
+    q, qd = random_configuration(robot, rng), rng.uniform(-1, 1, robot.nv)
+    for precision, top in (("double", 1e306), ("float", 4e35)):
+        workdir = tmp_path / precision
+        workdir.mkdir()
+        lib = build_and_load(generate_c(eqs, parts, precision), robot.name, Dimensions.of(robot), 0, precision,
+                             workdir=str(workdir))
+        caught = 0
+        for scale in np.concatenate([[1.0, 1e-300 * top], top * np.linspace(1, 20, 191)]):
+            tau = np.full(robot.nv, scale) * np.linspace(1, 0.5, robot.nv)
+            fd_status, _ = lib.forward_dynamics_checked(q, qd, tau)
+            status, outputs = lib.with_status("forward_dynamics_derivatives", q, qd, tau)
+            if status == 0:
+                assert all(np.all(np.isfinite(o)) for o in outputs), (precision, scale)
+            else:
+                assert status == 2 and all(np.all(np.isnan(o)) for o in outputs), (precision, scale, status)
+            caught += fd_status == 0 and status == 2
+        assert caught or not by_columns, precision
 
 
 FLOATING_DERIVATIVES = ("inverse_dynamics_dq", "inverse_dynamics_dqd", "gravity_derivative", "mass_matrix_inverse",
@@ -342,26 +377,9 @@ def test_floating_base_derivatives_against_50_digit_differences(tmp_path):
     rng = np.random.default_rng(38)
 
     def moved(q, step):
-        """q (+) step in 50 digits (step: nv mpf)."""
-        x, y, z, w = (mpmath.mpf(float(c)) for c in q[3:7])
-        norm = mpmath.sqrt(x * x + y * y + z * z + w * w)
-        x, y, z, w = x / norm, y / norm, z / norm, w / norm
-        R = mpmath.matrix([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                           [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                           [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-        twist = mpmath.zeros(4, 4)
-        vx, vy, vz, wx, wy, wz = step[:6]
-        twist[0, 1], twist[0, 2], twist[1, 0], twist[1, 2], twist[2, 0], twist[2, 1] = -wz, wy, wz, -wx, -wy, wx
-        twist[0, 3], twist[1, 3], twist[2, 3] = vx, vy, vz
-        E = mpmath.expm(twist)
-        angle = mpmath.sqrt(wx * wx + wy * wy + wz * wz)
-        k = mpmath.sin(angle / 2) / angle if angle else mpmath.mpf("0.5")
-        a, b, c, d = k * wx, k * wy, k * wz, mpmath.cos(angle / 2)
-        position = [mpmath.mpf(float(q[i])) + sum(R[i, j] * E[j, 3] for j in range(3)) for i in range(3)]
-        turned = [w * a + x * d + y * c - z * b, w * b - x * c + y * d + z * a, w * c + x * b - y * a + z * d,
-                  w * d - x * a - y * b - z * c]
-        joints = [mpmath.mpf(float(q[7 + i])) + step[6 + i] for i in range(robot.dof)]
-        return position + turned + joints
+        """q (+) step in 50 digits (step: nv mpf): the base by SE(3)'s exponential in its frame."""
+        base = mp_base_configuration(mp_pose(q) * mp_exp6(step[:6]))
+        return base + [mpmath.mpf(float(q[7 + i])) + step[6 + i] for i in range(robot.dof)]
 
     with mpmath.workdps(50):
         h = mpmath.mpf("1e-20")
