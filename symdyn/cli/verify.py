@@ -13,14 +13,13 @@ from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import PLATFORM, SERIAL, kind_of, scene_choices
 from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, factors_mass_matrix, supported_outputs, with_requirements
 from ..model.errors import SymdynError
-from ..model.tolerances import VERIFY_FLOOR, VERIFY_TOLERANCE
+from ..model.tolerances import VERIFY_FLOOR, VERIFY_TOLERANCE, solve_tolerance
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
 DEFAULT_TOLERANCE = VERIFY_TOLERANCE
 #: the unit roundoff of double: functions that solve with M (computed in double in every
 #: precision but float, whose tolerance is far above) are judged at least at cond(M) times it
-SOLVE_ROUNDOFF = 2.0 ** -53
 
 
 def add_parser(sub) -> None:
@@ -111,7 +110,7 @@ def _run_serial(args, robot, scene) -> int:
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
     # what solves with M cannot agree better than its condition number allows (two correct
     # solutions of an ill-conditioned system differ by about cond(M) times the unit roundoff)
-    solved = max(tolerance, conditioning * SOLVE_ROUNDOFF) if args.tolerance is None else tolerance
+    solved = solve_tolerance(tolerance, conditioning, precision, robot.nv) if args.tolerance is None else tolerance
     form = "; inverse dynamics in the base parameters" if args.parameters == "base" else ""
     print(f"symdyn verify {args.robot}: {robot.dof} joints{' on a floating base' if robot.floating else ''}, "
           f"{args.method}{form}, {precision}, "
@@ -130,8 +129,8 @@ def _run_serial(args, robot, scene) -> int:
               "against inverse dynamics)")
     if solved > tolerance:
         print(f"(functions that solve with M = D + diag(armature): its condition number reaches {conditioning:.2g} at these "
-              f"states, so they are judged at {solved:.2g}, cond(M) times the unit roundoff of double, the arithmetic "
-              "they run in)")
+              f"states, so they are judged at {solved:.2g}, N cond(M) times the unit roundoff of "
+              f"{'float' if precision == 'float' else 'double'}, the arithmetic they run in)")
     width = max([18] + [len(name) for name in functions])
     print(f"{'function':<{width}} {'normalized error':>16}  status")
     failed = False

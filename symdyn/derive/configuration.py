@@ -54,6 +54,19 @@ def _series_coefficients(name: str) -> list[sp.Rational]:
     return [sp.nsimplify(expansion.coeff(_X, 2 * k)) for k in range(SERIES_TERMS)]
 
 
+#: the coefficients shown in a printed derivation, in order
+PRINTED_COEFFICIENTS = ("half_sinc", "c1", "c2", "c3", "e", "angle_per_sin")
+
+
+def coefficient_series(theta: sp.Symbol) -> list[tuple[str, sp.Expr, sp.Expr]]:
+    """``(name, closed form, series)`` of each coefficient of :data:`PRINTED_COEFFICIENTS` as a
+    function of the angle ``theta``: the closed form and the Taylor series the functions use
+    below theta^2 = :data:`SERIES_BELOW` (for a printed derivation)."""
+    return [(name, _CLOSED[name].subs(_X, theta),
+             sum(k * theta ** (2 * i) for i, k in enumerate(_series_coefficients(name))))
+            for name in PRINTED_COEFFICIENTS]
+
+
 class _Angle:
     """A rotation angle theta given by ``t2 = theta^2`` and by the sine and cosine of theta / 2:
     the even functions of theta the maps need, each a named Piecewise of its series and its

@@ -492,6 +492,33 @@ def _with_task(derivation: Derivation, wanted: bool, progress=None) -> Derivatio
                    shorthand=tuple(sorted(shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))))
 
 
+def configuration_section(notation: _Notation) -> Section:
+    """The configuration space of a floating base (the functions integrate, difference and their
+    Jacobians, :mod:`symdyn.derive.configuration`): the base's rotation from its quaternion, and
+    each coefficient of SE(3)'s exponential, logarithm and Jacobians as a function of the angle
+    theta = |omega|, its closed form equal to the Taylor series used below theta^2 = 1/4."""
+    from . import configuration
+    x, y, z, w = notation.quaternion
+    norm = x * x + y * y + z * z + w * w
+    rotation = sp.ImmutableMatrix([[1 - 2 * (y * y + z * z) / norm, 2 * (x * y - z * w) / norm, 2 * (x * z + y * w) / norm],
+                                   [2 * (x * y + z * w) / norm, 1 - 2 * (x * x + z * z) / norm, 2 * (y * z - x * w) / norm],
+                                   [2 * (x * z - y * w) / norm, 2 * (y * z + x * w) / norm, 1 - 2 * (x * x + y * y) / norm]])
+    theta = sp.Symbol("theta", positive=True)
+    quantities = [Quantity("cfg_rotation", (), rotation)]
+    for k, (_, closed, series) in enumerate(configuration.coefficient_series(theta)):
+        quantities.append(Quantity("cfg_coefficient", (k + 1,), sp.Eq(closed, series, evaluate=False)))
+    return Section("configuration_space", tuple(quantities))
+
+
+def _with_configuration(derivation: Derivation) -> Derivation:
+    """``derivation`` with a last section ``configuration_space`` for a floating base."""
+    if not derivation.robot.floating:
+        return derivation
+    from dataclasses import replace
+    notation = _Notation(make_chain(derivation.robot))
+    return replace(derivation, sections=derivation.sections + (configuration_section(notation),))
+
+
 def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all",
                  closed_form: bool | None = None, base_parameters: bool = False,
                  progress: Callable[[str], None] | None = None, task: bool = False) -> Derivation:
@@ -523,8 +550,8 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
             raise ValueError("the articulated-body derivation is printed in the named form only "
                              "(its quantities are rational in the joint variables)")
         report = _reporter(robot, "articulated-body", progress)
-        return _with_task(_with_base_parameters(_articulated_body_steps(robot, steps, report), base_parameters, progress),
-                          task, progress)
+        return _with_configuration(_with_task(_with_base_parameters(_articulated_body_steps(robot, steps, report),
+                                                                    base_parameters, progress), task, progress))
     method = normalize_method(method)
     if steps not in STEPS:
         raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
@@ -549,10 +576,10 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
                                         Quantity("c", (), results[2]))))
     joint = tuple((shown, sym) for sym, shown in notation.to_display.items())
-    return _with_task(_with_base_parameters(Derivation(
+    return _with_configuration(_with_task(_with_base_parameters(Derivation(
         robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
         where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
-        joint_symbols=joint), base_parameters, progress), task, progress)
+        joint_symbols=joint), base_parameters, progress), task, progress))
 
 
 def _reporter(robot: Robot, method: str, progress):

@@ -90,6 +90,8 @@ _NAMES = {
     "Mx": (r"M_x(\Theta)", "Mₓ(Θ)"),
     "Vx": (r"V_x(\Theta, \dot{{\Theta}})", "Vₓ(Θ, Θ̇)"),
     "Gx": (r"G_x(\Theta)", "Gₓ(Θ)"),
+    "cfg_rotation": (r"{{}}^{{W}}R_0", "ᵂR₀"),
+    "cfg_coefficient": (r"\sigma_{{{i}}}", "σ{I}"),
     "D": (r"D(q)", "D(q)"),
     "h": (r"h(q, \dot{{q}})", "h(q, q̇)"),
     "c": (r"c(q)", "c(q)"),

@@ -33,6 +33,19 @@ IDENTIFICATION_MAX_CONDITION = 1e12
 #: the normalized error ``symdyn verify`` accepts by default, per precision of the generated code
 VERIFY_TOLERANCE = {"double": 1e-10, "float": 1e-4, "mixed": 1e-4}
 
+#: unit roundoff of the arithmetic the functions that solve with M = D + diag(armature) run in,
+#: per precision of the generated code (mixed: double inside)
+SOLVE_ROUNDOFF = {"double": 2.0 ** -53, "mixed": 2.0 ** -53, "float": 2.0 ** -24}
+
+
+def solve_tolerance(tolerance: float, conditioning: float, precision: str, n: int) -> float:
+    """The normalized error allowed to a function that solves with M (forward dynamics, M^-1,
+    the forward-dynamics derivatives): ``tolerance``, or ``n cond(M) u`` where that is larger (the
+    forward error bound of a backward-stable solve of n equations: two correct solutions of an
+    ill-conditioned system differ by about that; in float a condition of 1400 alone is 8e-5)."""
+    return max(tolerance, n * conditioning * SOLVE_ROUNDOFF[precision])
+
+
 #: ``symdyn verify`` measures an output in torques (or torques per unit rate) against at least
 #: this much of the robot's own torques at the states (the RMS of its inverse dynamics there,
 #: divided by the RMS rate for the latter): an output that is zero but for rounding (the

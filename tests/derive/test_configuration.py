@@ -245,3 +245,50 @@ def test_fixed_base_is_the_joints_space():
     np.testing.assert_array_equal(eqs.numeric.difference(q, q1), q1 - q)
     np.testing.assert_array_equal(eqs.numeric.integrate_dv(v), np.eye(6))
     np.testing.assert_array_equal(eqs.numeric.difference_dq0(q, q1), -np.eye(6))
+
+
+def test_printed_configuration_section_reproduces_pinocchio():
+    """A floating base's printed derivation ends with the configuration space: its rotation of
+    the quaternion (at any scale) is Pinocchio's, and the coefficients it prints, each a closed
+    form equal to the series used below theta^2 = 1/4, put into the printed formulas give
+    Pinocchio's exp3, exp6's translation V(omega) v, Jexp3 (J_r3) and log6's V(omega)^-1 at angles
+    on both sides of the threshold; each series agrees with its closed form to 1e-15 below it."""
+    import pinocchio as pin
+    import sympy as sp
+    from symdyn.derive.derivation import derive_steps
+    derivation = derive_steps(symdyn.load(str(REPO / "examples" / "trees" / "space_robot.yaml")), "newton-euler",
+                              steps="summary")
+    section = derivation.section("configuration_space")
+    rotation = next(q.value for q in section.quantities if q.kind == "cfg_rotation")
+    coefficients = [q.value for q in section.quantities if q.kind == "cfg_coefficient"]
+    assert len(coefficients) == 6
+    rng = np.random.default_rng(42)
+    quaternion = rng.normal(size=4) * 37.0
+    symbols = sorted(rotation.free_symbols, key=lambda s: "xyzw".index(s.name[-1]))
+    R = np.array(rotation.subs(dict(zip(symbols, quaternion))), dtype=float)
+    unit = quaternion / np.linalg.norm(quaternion)
+    expected = pin.Quaternion(unit[3], unit[0], unit[1], unit[2]).toRotationMatrix()
+    np.testing.assert_allclose(R, expected, rtol=0, atol=1e-14)
+    theta = next(iter(coefficients[0].lhs.free_symbols))
+    closed = [sp.lambdify(theta, c.lhs, "mpmath") for c in coefficients]
+    series = [sp.lambdify(theta, c.rhs, "mpmath") for c in coefficients]
+    for angle in (1e-3, 0.2, 0.499, 0.51, 1.3, 3.0):
+        with mpmath.workdps(40):  # (the closed forms cancel near 0: evaluated in 40 digits)
+            sigma = [float(f(mpmath.mpf(angle))) for f in closed]
+            if angle * angle < SERIES_BELOW:
+                assert all(abs(float(s(mpmath.mpf(angle))) - c) <= 1e-15 * abs(c) for s, c in zip(series, sigma))
+        axis = rng.normal(size=3)
+        omega = angle * axis / np.linalg.norm(axis)
+        W = pin.skew(omega)
+        first = (1 - np.cos(angle)) / angle ** 2
+        exp3 = np.eye(3) + np.sin(angle) / angle * W + first * W @ W
+        np.testing.assert_allclose(exp3, pin.exp3(omega), rtol=0, atol=1e-14)
+        half = pin.Quaternion(np.cos(angle / 2), *(sigma[0] * omega))  # quat * [sigma_1 omega; cos(theta/2)]
+        np.testing.assert_allclose(half.toRotationMatrix(), pin.exp3(omega), rtol=0, atol=1e-14)
+        V = np.eye(3) + first * W + sigma[1] * W @ W
+        v_lin = rng.normal(size=3)
+        np.testing.assert_allclose(V @ v_lin, pin.exp6(np.concatenate([v_lin, omega])).translation, rtol=0, atol=1e-14)
+        np.testing.assert_allclose(np.eye(3) - first * W + sigma[1] * W @ W, pin.Jexp3(omega), rtol=0, atol=1e-14)
+        V_inv = np.eye(3) - W / 2 + sigma[4] * W @ W
+        np.testing.assert_allclose(V_inv @ V, np.eye(3), rtol=0, atol=1e-13)
+        assert abs(sigma[5] * np.sin(angle / 2) - angle) <= 1e-14
