@@ -180,7 +180,8 @@ def product_loop(products, store: str, internal: str, scalar: str, fma: str, pre
     (``products``: a :attr:`FunctionPlan.products`), checking every result and writing the
     outputs, ending with ``return 0``; and their operation counts.  Each row of a result is one
     loop over the scratch rows' entries (padding included), its n terms fused by ``fma``: the
-    rows are independent, which the processor overlaps (one loop over i, k and j chains them)."""
+    rows are independent, which the processor overlaps (one loop over i, k and j chains them);
+    or, where dtau/dx has enough structural zeros, by columns (:func:`_column_products`)."""
     n, blocks, minv, stride, columns = products
     limit, fabs = _limit(internal, scalar)
     if columns is not None:
