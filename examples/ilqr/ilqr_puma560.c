@@ -32,6 +32,8 @@
 #define DT 0.01
 #define MAX_ITERATIONS 50
 
+#include "ilqr_common.h"
+
 static const double target[NQ] = {0.6, -0.5, 0.4, 0.3, -0.6, 0.9};
 static const double control_weight = 1e-4;  /* R = 1e-4 I, per (N m)^2 */
 static const double position_weight = 1e6;  /* Qf on q - q*, per rad^2 */
@@ -102,47 +104,6 @@ static double cost(double x[STEPS + 1][NX], double u[STEPS][NU])
     return total;
 }
 
-/* Cholesky of the symmetric positive definite m (NU x NU, in place, lower triangle); 0 if it is
- * not positive definite. */
-static int cholesky(double m[NU][NU])
-{
-    for (int j = 0; j < NU; ++j) {
-        double d = m[j][j];
-        for (int k = 0; k < j; ++k) {
-            d -= m[j][k] * m[j][k];
-        }
-        if (!(d > 0.0)) {
-            return 0;
-        }
-        m[j][j] = sqrt(d);
-        for (int i = j + 1; i < NU; ++i) {
-            double s = m[i][j];
-            for (int k = 0; k < j; ++k) {
-                s -= m[i][k] * m[j][k];
-            }
-            m[i][j] = s / m[j][j];
-        }
-    }
-    return 1;
-}
-
-/* x = m^-1 b with m's Cholesky factor l (b overwritten). */
-static void cholesky_solve(double l[NU][NU], double *b)
-{
-    for (int i = 0; i < NU; ++i) {
-        for (int k = 0; k < i; ++k) {
-            b[i] -= l[i][k] * b[k];
-        }
-        b[i] /= l[i][i];
-    }
-    for (int i = NU - 1; i >= 0; --i) {
-        for (int k = i + 1; k < NU; ++k) {
-            b[i] -= l[k][i] * b[k];
-        }
-        b[i] /= l[i][i];
-    }
-}
-
 /* sum over l of x[l][i] y[l][j], for row-major arrays of NX rows with x_cols and y_cols columns
  * (entry (i, j) of x^T y; a vector is an array of one column) */
 static double column_dot(const double *x, int x_cols, int i, const double *y, int y_cols, int j)
@@ -180,18 +141,8 @@ static int backward(double mu, double *expected)
                 quu[i][j] = (i == j ? control_weight + mu : 0.0) + column_dot(&b[0][0], NU, i, &vb[0][0], NU, j);
             for (int j = 0; j < NX; ++j) qux[i][j] = column_dot(&b[0][0], NU, i, &va[0][0], NX, j);
         }
-        double factor[NU][NU];
-        memcpy(factor, quu, sizeof factor);
-        if (!cholesky(factor)) {
+        if (!solve_gains(quu, qu, qux, k_ff[k], K_fb[k])) {
             return 0;
-        }
-        for (int i = 0; i < NU; ++i) k_ff[k][i] = -qu[i];
-        cholesky_solve(factor, k_ff[k]);
-        for (int j = 0; j < NX; ++j) {
-            double column[NU];
-            for (int i = 0; i < NU; ++i) column[i] = -qux[i][j];
-            cholesky_solve(factor, column);
-            for (int i = 0; i < NU; ++i) K_fb[k][i][j] = column[i];
         }
         /* Vx = Qx + K^T Quu k + K^T Qu + Qux^T k,  Vxx = Qxx + K^T Quu K + K^T Qux + Qux^T K */
         for (int i = 0; i < NU; ++i) *expected += k_ff[k][i] * qu[i];

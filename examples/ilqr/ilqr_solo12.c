@@ -40,6 +40,8 @@
 #define DT 0.02
 #define MAX_ITERATIONS 100
 
+#include "ilqr_common.h"
+
 static const double stand[NJ] = {0.0, 0.8, -1.6, 0.0, 0.8, -1.6, 0.0, -0.8, 1.6, 0.0, -0.8, 1.6};
 static const double crouch[NJ] = {0.0, 1.2, -2.4, 0.0, 1.2, -2.4, 0.0, -1.2, 2.4, 0.0, -1.2, 2.4};
 static const double control_weight = 1e-2;  /* R = 1e-2 I, per (N m)^2 */
@@ -147,39 +149,6 @@ static double cost(double x[STEPS + 1][NQ + NV], double u[STEPS][NU])
     return total;
 }
 
-/* Cholesky of the symmetric positive definite m (NU x NU, in place, lower triangle); 0 if it is
- * not positive definite. */
-static int cholesky(double m[NU][NU])
-{
-    for (int j = 0; j < NU; ++j) {
-        double d = m[j][j];
-        for (int k = 0; k < j; ++k) d -= m[j][k] * m[j][k];
-        if (!(d > 0.0)) {
-            return 0;
-        }
-        m[j][j] = sqrt(d);
-        for (int i = j + 1; i < NU; ++i) {
-            double s = m[i][j];
-            for (int k = 0; k < j; ++k) s -= m[i][k] * m[j][k];
-            m[i][j] = s / m[j][j];
-        }
-    }
-    return 1;
-}
-
-/* x = m^-1 b with m's Cholesky factor l (b overwritten). */
-static void cholesky_solve(double l[NU][NU], double *b)
-{
-    for (int i = 0; i < NU; ++i) {
-        for (int k = 0; k < i; ++k) b[i] -= l[i][k] * b[k];
-        b[i] /= l[i][i];
-    }
-    for (int i = NU - 1; i >= 0; --i) {
-        for (int k = i + 1; k < NU; ++k) b[i] -= l[k][i] * b[k];
-        b[i] /= l[i][i];
-    }
-}
-
 /* The backward pass at regularization mu; 0 when a Quu is not positive definite.  The products
  * run along rows (row-major arrays: the inner loops contiguous), and K^T Quu K + K^T Qux +
  * Qux^T K is formed from W = Quu K + Qux (NU x NX) once. */
@@ -225,18 +194,8 @@ static int backward(double mu, double *expected)
         }
         for (int i = 0; i < NX; ++i) qxx[i][i] += lxx[i];
         for (int i = 0; i < NU; ++i) quu[i][i] += control_weight + mu;
-        double factor[NU][NU];
-        memcpy(factor, quu, sizeof factor);
-        if (!cholesky(factor)) {
+        if (!solve_gains(quu, qu, qux, k_ff[k], K_fb[k])) {
             return 0;
-        }
-        for (int i = 0; i < NU; ++i) k_ff[k][i] = -qu[i];
-        cholesky_solve(factor, k_ff[k]);
-        for (int j = 0; j < NX; ++j) {
-            double column[NU];
-            for (int i = 0; i < NU; ++i) column[i] = -qux[i][j];
-            cholesky_solve(factor, column);
-            for (int i = 0; i < NU; ++i) K_fb[k][i][j] = column[i];
         }
         /* Vx = Qx + K^T (Quu k + Qu) + Qux^T k,  Vxx = Qxx + K^T (Quu K + Qux) + Qux^T K */
         for (int r = 0; r < NU; ++r) {
