@@ -18,8 +18,6 @@ from .common import add_fd_method_option, add_method_option, add_size_options, c
 
 HELP = "compile the generated C and compare every function with Pinocchio"
 DEFAULT_TOLERANCE = VERIFY_TOLERANCE
-#: the unit roundoff of double: functions that solve with M (computed in double in every
-#: precision but float, whose tolerance is far above) are judged at least at cond(M) times it
 
 
 def add_parser(sub) -> None:
