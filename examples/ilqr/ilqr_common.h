@@ -1,7 +1,7 @@
 /*
  * The dense linear algebra both iLQR examples share (ilqr_puma560.c, ilqr_solo12.c): the
- * Cholesky factorization of Quu and the feedback gains of one step.  Include it after defining
- * NX (the state's tangent dimension) and NU (the controls).
+ * Cholesky factorization of Quu, the feedback gains of one step and the value function's update.
+ * Include it after defining NX (the state's tangent dimension) and NU (the controls).
  */
 #ifndef ILQR_COMMON_H
 #define ILQR_COMMON_H
@@ -57,6 +57,42 @@ static int solve_gains(double quu[NU][NU], const double *qu, double qux[NU][NX],
         for (int i = 0; i < NU; ++i) K[i][j] = column[i];
     }
     return 1;
+}
+
+/* The value function one step earlier from the step's Q terms and its gains k, K:
+ *   Vx = Qx + K^T (Quu k + Qu) + Qux^T k,   Vxx = Qxx + K^T (Quu K + Qux) + Qux^T K
+ * (W = Quu K + Qux formed once, NU x NX; Vxx kept symmetric against rounding).  Returns
+ * k^T Qu, the step's share of the expected decrease. */
+static double value_update(const double *qx, double qxx[NX][NX], const double *qu, double quu[NU][NU],
+                           double qux[NU][NX], const double *k, double K[NU][NX], double *vx, double vxx[NX][NX])
+{
+    static double w[NU][NX];
+    double wk[NU], expected = 0.0;
+    for (int r = 0; r < NU; ++r) {
+        expected += k[r] * qu[r];
+        wk[r] = qu[r];
+        for (int j = 0; j < NX; ++j) w[r][j] = qux[r][j];
+        for (int c = 0; c < NU; ++c) {
+            wk[r] += quu[r][c] * k[c];
+            for (int j = 0; j < NX; ++j) w[r][j] += quu[r][c] * K[c][j];
+        }
+    }
+    for (int i = 0; i < NX; ++i) {
+        double s = qx[i];
+        for (int r = 0; r < NU; ++r) s += K[r][i] * wk[r] + qux[r][i] * k[r];
+        vx[i] = s;
+        for (int j = 0; j < NX; ++j) vxx[i][j] = qxx[i][j];
+    }
+    for (int r = 0; r < NU; ++r) {
+        for (int i = 0; i < NX; ++i) {
+            const double ki = K[r][i], qi = qux[r][i];
+            for (int j = 0; j < NX; ++j) vxx[i][j] += ki * w[r][j] + qi * K[r][j];
+        }
+    }
+    for (int i = 0; i < NX; ++i) {
+        for (int j = 0; j < i; ++j) vxx[i][j] = vxx[j][i] = 0.5 * (vxx[i][j] + vxx[j][i]);
+    }
+    return expected;
 }
 
 #endif

@@ -144,31 +144,7 @@ static int backward(double mu, double *expected)
         if (!solve_gains(quu, qu, qux, k_ff[k], K_fb[k])) {
             return 0;
         }
-        /* Vx = Qx + K^T Quu k + K^T Qu + Qux^T k,  Vxx = Qxx + K^T Quu K + K^T Qux + Qux^T K */
-        for (int i = 0; i < NU; ++i) *expected += k_ff[k][i] * qu[i];
-        for (int i = 0; i < NX; ++i) {
-            double s = qx[i];
-            for (int r = 0; r < NU; ++r) {
-                double quu_k = 0.0;
-                for (int c = 0; c < NU; ++c) quu_k += quu[r][c] * k_ff[k][c];
-                s += K_fb[k][r][i] * (quu_k + qu[r]) + qux[r][i] * k_ff[k][r];
-            }
-            vx[i] = s;
-        }
-        for (int i = 0; i < NX; ++i) {
-            for (int j = 0; j < NX; ++j) {
-                double s = qxx[i][j];
-                for (int r = 0; r < NU; ++r) {
-                    double quu_k = 0.0;
-                    for (int c = 0; c < NU; ++c) quu_k += quu[r][c] * K_fb[k][c][j];
-                    s += K_fb[k][r][i] * (quu_k + qux[r][j]) + qux[r][i] * K_fb[k][r][j];
-                }
-                vxx[i][j] = s;
-            }
-        }
-        for (int i = 0; i < NX; ++i) {  /* kept symmetric against rounding */
-            for (int j = 0; j < i; ++j) vxx[i][j] = vxx[j][i] = 0.5 * (vxx[i][j] + vxx[j][i]);
-        }
+        *expected += value_update(qx, qxx, qu, quu, qux, k_ff[k], K_fb[k], vx, vxx);
     }
     return 1;
 }

@@ -150,12 +150,12 @@ static double cost(double x[STEPS + 1][NQ + NV], double u[STEPS][NU])
 }
 
 /* The backward pass at regularization mu; 0 when a Quu is not positive definite.  The products
- * run along rows (row-major arrays: the inner loops contiguous), and K^T Quu K + K^T Qux +
- * Qux^T K is formed from W = Quu K + Qux (NU x NX) once. */
+ * run along rows (row-major arrays: the inner loops contiguous); the gains and the value
+ * function's update are ilqr_common.h's. */
 static int backward(double mu, double *expected)
 {
-    static double vx[NX], vxx[NX][NX], qxx[NX][NX], va[NX][NX], qux[NU][NX], w[NU][NX];
-    double qx[NX], qu[NU], quu[NU][NU], vb[NX][NU], lx[NX], lxx[NX], wk[NU];
+    static double vx[NX], vxx[NX][NX], qxx[NX][NX], va[NX][NX], qux[NU][NX];
+    double qx[NX], qu[NU], quu[NU][NU], vb[NX][NU], lx[NX], lxx[NX];
     *expected = 0.0;
     state_cost(STEPS, xs[STEPS], lx, lxx);
     for (int i = 0; i < NX; ++i) {
@@ -197,31 +197,7 @@ static int backward(double mu, double *expected)
         if (!solve_gains(quu, qu, qux, k_ff[k], K_fb[k])) {
             return 0;
         }
-        /* Vx = Qx + K^T (Quu k + Qu) + Qux^T k,  Vxx = Qxx + K^T (Quu K + Qux) + Qux^T K */
-        for (int r = 0; r < NU; ++r) {
-            *expected += k_ff[k][r] * qu[r];
-            wk[r] = qu[r];
-            for (int j = 0; j < NX; ++j) w[r][j] = qux[r][j];
-            for (int c = 0; c < NU; ++c) {
-                wk[r] += quu[r][c] * k_ff[k][c];
-                for (int j = 0; j < NX; ++j) w[r][j] += quu[r][c] * K_fb[k][c][j];
-            }
-        }
-        for (int i = 0; i < NX; ++i) {
-            double s = qx[i];
-            for (int r = 0; r < NU; ++r) s += K_fb[k][r][i] * wk[r] + qux[r][i] * k_ff[k][r];
-            vx[i] = s;
-            for (int j = 0; j < NX; ++j) vxx[i][j] = qxx[i][j];
-        }
-        for (int r = 0; r < NU; ++r) {
-            for (int i = 0; i < NX; ++i) {
-                const double ki = K_fb[k][r][i], qi = qux[r][i];
-                for (int j = 0; j < NX; ++j) vxx[i][j] += ki * w[r][j] + qi * K_fb[k][r][j];
-            }
-        }
-        for (int i = 0; i < NX; ++i) {  /* kept symmetric against rounding */
-            for (int j = 0; j < i; ++j) vxx[i][j] = vxx[j][i] = 0.5 * (vxx[i][j] + vxx[j][i]);
-        }
+        *expected += value_update(qx, qxx, qu, quu, qux, k_ff[k], K_fb[k], vx, vxx);
     }
     return 1;
 }
