@@ -370,6 +370,7 @@ def _record(outcome: Outcome, target: str, errors: dict, tolerance: float, solve
 def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache")) -> Outcome:
     """Check every supported output of ``case`` in every target (see the module docstring)."""
     from .agreement import CasadiTarget, NumpyTarget, compile_equations, mass_conditioning, target_errors
+    from ..model.outputs import factors_mass_matrix
     from ..model.scene import load_input
     started = time.perf_counter()
     outcome = Outcome(case)
@@ -391,8 +392,8 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
             lib = compile_equations(eqs, functions, case.precision, workdir, os.path.basename(path), COMPILE_FLAGS,
                                     small_pieces=case.small_pieces)
             stage = outcome.enter("c")
-            solved = solve_tolerance(TOLERANCE[case.precision], mass_conditioning(reference, states), case.precision,
-                                     robot.nv)
+            solved = (solve_tolerance(TOLERANCE[case.precision], mass_conditioning(reference, states), case.precision,
+                                      robot.nv) if any(factors_mass_matrix(f) for f in functions) else None)
             _record(outcome, "c", target_errors(lib, reference, robot, eqs, functions, states, p, values, FLOOR,
                                                 TASK_REGULAR[case.precision]), TOLERANCE[case.precision], solved)
         double_states = _states(robot, "double", case.number)
