@@ -174,11 +174,11 @@ def robot_floors(reference, states, functions, relative: float = VERIFY_FLOOR) -
 
 
 def target_errors(target, reference, robot, eqs, functions, states, p, values, floor: float | dict = 0.0,
-                  task_regular: float = TASK_REGULAR) -> dict[str, float]:
+                  task_regular: float = TASK_REGULAR, row_floor: float = 0.0) -> dict[str, float]:
     """The normalized error of each function of ``target`` (a compiled library, a
     :class:`NumpyTarget` or a :class:`CasadiTarget`) against ``reference`` over ``states``
     (regressors as torques, task-space functions at regular states: NaN when there is none;
-    ``floor``: see :func:`symdyn.check.pinocchio_model.normalized_error`; ``task_regular``: the
+    ``floor``, ``row_floor``: see :func:`symdyn.check.pinocchio_model.normalized_error`; ``task_regular``: the
     smallest relative pivot of the task's J M^-1 J^T at the states the task-space functions are
     compared at)."""
     functions = list(functions)
@@ -187,8 +187,9 @@ def target_errors(target, reference, robot, eqs, functions, states, p, values, f
         target = AsTorques(target, *parameter_values(robot, eqs, values))
         reference = ReferenceTorques(reference)
     task = [f for f in functions if f in TASK_OUTPUTS]
-    errors = compare(target, reference, states, [f for f in functions if f not in task], p, floor)
+    errors = compare(target, reference, states, [f for f in functions if f not in task], p, floor, row_floor)
     if task:
         regular = [state for state in states if reference.task_pivot_ratio(state[0]) > task_regular]
-        errors.update(compare(target, reference, regular, task, p, floor) if regular else {f: float("nan") for f in task})
+        errors.update(compare(target, reference, regular, task, p, floor, row_floor) if regular
+                      else {f: float("nan") for f in task})
     return errors

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..model.tolerances import VERIFY_TOLERANCE, solve_tolerance
+from ..model.tolerances import ROW_FLOOR, VERIFY_TOLERANCE, solve_tolerance
 
 #: normalized error (per joint, see :func:`symdyn.check.pinocchio_model.normalized_error`)
 #: allowed for each precision of the C (mixed: float arguments, and float inside but for the
@@ -395,13 +395,15 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
             solved = (solve_tolerance(TOLERANCE[case.precision], mass_conditioning(reference, states), case.precision,
                                       robot.nv) if any(factors_mass_matrix(f) for f in functions) else None)
             _record(outcome, "c", target_errors(lib, reference, robot, eqs, functions, states, p, values, FLOOR,
-                                                TASK_REGULAR[case.precision]), TOLERANCE[case.precision], solved)
+                                                TASK_REGULAR[case.precision], ROW_FLOOR[case.precision]),
+                    TOLERANCE[case.precision], solved)
         double_states = _states(robot, "double", case.number)
         for target, build in (("numpy", NumpyTarget), ("casadi", CasadiTarget)):
             if target in targets:
                 stage = outcome.enter(target)
                 _record(outcome, target, target_errors(build(eqs), reference, robot, eqs, functions, double_states,
-                                                       p, values, FLOOR), TOLERANCE["double"])
+                                                       p, values, FLOOR, row_floor=ROW_FLOOR["double"]),
+                        TOLERANCE["double"])
         if "cache" in targets:
             stage = outcome.enter("cache")
             _check_cache(case, robot, functions, outcome)
@@ -442,7 +444,7 @@ def _check_cache(case: Case, robot, functions, outcome: Outcome) -> None:
     from .agreement import NumpyTarget
     errors = compare(NumpyTarget(cached), reduced(PinocchioReference(other, values), other),
                      _states(other, "double", case.number + 1),
-                     checked, p, FLOOR)
+                     checked, p, FLOOR, ROW_FLOOR["double"])
     for name, error in errors.items():
         outcome.compared += 1
         if not error <= TOLERANCE["double"]:

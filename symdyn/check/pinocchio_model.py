@@ -359,17 +359,19 @@ def free_flyer_twist_rate(R, com, twist, a):
     return np.concatenate([omega_dot, c_ddot])
 
 
-def normalized_error(mine, ref, floor: float = 0.0) -> float:
+def normalized_error(mine, ref, floor: float = 0.0, row_floor: float = 0.0) -> float:
     """The error measure used everywhere symdyn is compared with a reference.
 
-    Arrays of shape (states, n) or (states, n, n).  For each joint j: the largest
+    Arrays of shape (states, n) or (states, n, m).  For each joint (row) j: the largest
     ``|mine - ref|`` over states (and columns) divided by the RMS over states of joint j's
     reference; a joint whose reference is (numerically) zero everywhere is divided by the RMS
     of the whole output instead, and no divisor is below ``floor`` (in the output's units: an
     output that is zero up to rounding, such as the Coriolis forces of bodies that each turn
     about one fixed axis, is then measured against the floor, not against its own rounding
-    noise).  Returns the worst joint's value; ``inf`` when either array holds a NaN or an
-    infinity anywhere (a non-finite output is always a failure, never dropped by ``max``).
+    noise) nor below ``row_floor`` times the RMS of the whole output (a row far smaller than
+    the others carries the rounding of the large ones: :data:`symdyn.model.tolerances.ROW_FLOOR`).
+    Returns the worst joint's value; ``inf`` when either array holds a NaN or an infinity
+    anywhere (a non-finite output is always a failure, never dropped by ``max``).
     """
     mine = np.asarray(mine, dtype=float)
     ref = np.asarray(ref, dtype=float)
@@ -383,7 +385,8 @@ def normalized_error(mine, ref, floor: float = 0.0) -> float:
     worst = 0.0
     for j in range(n):
         rms = _rms(refs[:, j, :])
-        worst = max(worst, float(np.max(diff[:, j, :])) / max(rms if rms > 1e-9 * overall else overall, floor))
+        divisor = max(rms if rms > 1e-9 * overall else overall, floor, row_floor * overall)
+        worst = max(worst, float(np.max(diff[:, j, :])) / divisor)
     return worst if np.isfinite(worst) else float("inf")
 
 
@@ -397,10 +400,11 @@ def _rms(values) -> float:
     return scale * float(np.sqrt(np.mean((values / scale) ** 2)))
 
 
-def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.0) -> dict[str, float]:
+def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.0,
+            row_floor: float = 0.0) -> dict[str, float]:
     """The normalized error (:func:`normalized_error`, with ``floor``: one for every function,
-    or each function's) of each named function of ``mine`` against the same function of
-    ``reference``, over ``states`` (each ``[q, qd, qdd, tau]``).
+    or each function's, and ``row_floor``) of each named function of ``mine`` against the same
+    function of ``reference``, over ``states`` (each ``[q, qd, qdd, tau]``).
 
     Both take the function's inputs in symdyn's order (:data:`symdyn.model.outputs.OUTPUT_INPUTS`,
     drawn from each state by :func:`symdyn.check.states.state_arguments`);
@@ -414,7 +418,8 @@ def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.
             args = state_arguments(name, state)
             values.append(np.asarray(getattr(mine, name)(*args, *extra), dtype=float))
             refs.append(np.asarray(getattr(reference, name)(*args), dtype=float))
-        errors[name] = normalized_error(values, refs, floor.get(name, 0.0) if isinstance(floor, dict) else floor)
+        errors[name] = normalized_error(values, refs, floor.get(name, 0.0) if isinstance(floor, dict) else floor,
+                                        row_floor)
     return errors
 
 

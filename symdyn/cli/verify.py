@@ -13,7 +13,7 @@ from ..emit.parallel_c import generate_parallel_c
 from ..emit.pipeline import PLATFORM, SERIAL, kind_of, scene_choices
 from ..model.outputs import ALL_OUTPUTS, TASK_OUTPUTS, factors_mass_matrix, supported_outputs, with_requirements
 from ..model.errors import SymdynError
-from ..model.tolerances import VERIFY_FLOOR, VERIFY_TOLERANCE, solve_tolerance
+from ..model.tolerances import ROW_FLOOR, VERIFY_FLOOR, VERIFY_TOLERANCE, solve_tolerance
 from .common import add_fd_method_option, add_method_option, add_size_options, check_size, default_fd_method, load_robot, parse_functions, progress_printer
 
 HELP = "compile the generated C and compare every function with Pinocchio"
@@ -103,7 +103,7 @@ def _run_serial(args, robot, scene) -> int:
         task = [f for f in functions if f in TASK_OUTPUTS]
         floors = robot_floors(ref, states, functions)
         conditioning = mass_conditioning(ref, states) if any(factors_mass_matrix(f) for f in functions) else 1.0
-        errors = target_errors(lib, ref, robot, eqs, functions, states, p, values, floors)
+        errors = target_errors(lib, ref, robot, eqs, functions, states, p, values, floors, row_floor=ROW_FLOOR[precision])
         regular = [state for state in states if ref.task_pivot_ratio(state[0]) > TASK_REGULAR] if task else []
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
     # what solves with M cannot agree better than its condition number allows (two correct
@@ -119,6 +119,9 @@ def _run_serial(args, robot, scene) -> int:
         print(f"(outputs in torques measured against at least {VERIFY_FLOOR:g} of the robot's own torques at these "
               "states, the RMS of its inverse dynamics: a value that is zero but for rounding is not judged against "
               "its own noise)")
+    if precision != "double":
+        print(f"(each joint's row measured against at least {ROW_FLOOR[precision]:g} of its output's RMS: float rounds the "
+              "output's large entries, and that reaches its small ones)")
     if task:
         print(f"(task-space functions: compared at the {len(regular)} of the {args.states} states whose task is away "
               f"from singularities: every pivot of J M^-1 J^T's factorization above {TASK_REGULAR:g} of its diagonal entry)")

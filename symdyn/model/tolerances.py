@@ -53,6 +53,16 @@ def solve_tolerance(tolerance: float, conditioning: float, precision: str, n: in
 #: a of 4e-320 m) is not judged against its own rounding noise
 VERIFY_FLOOR = 1e-5
 
+#: each joint's row of an output is measured against at least this fraction of the whole output's
+#: RMS (:func:`symdyn.check.pinocchio_model.normalized_error`), per precision of the generated code:
+#: the arithmetic rounds the output's large entries, and that rounding reaches its small ones.  A
+#: tool 1.3 mm from a joint's axis has that joint's Jacobian column of 1e-3 m/rad, formed in float
+#: from world positions of 0.3 m rounded at 6e-8 relative: 3e-7 absolute, 3e-4 of the column's own
+#: size, 5e-7 of the Jacobian's.  3e-2 in float (its tolerance of 1e-4 then allows 3e-6 of the
+#: whole output, about 50 roundings) and in mixed (which computes all but forward dynamics in
+#: float); 1e-5 in double (10 roundings of the whole at verify's 1e-10)
+ROW_FLOOR = {"double": 1e-5, "mixed": 3e-2, "float": 3e-2}
+
 #: the closed-loop reference of platform robots (symdyn.check.closed_loop) solves each leg's loop
 #: closure to this (m per m of leg, and rad); a closure it cannot bring below
 #: ``CLOSED_LOOP_UNREACHABLE`` is out of reach.  It treats a matrix as singular where the

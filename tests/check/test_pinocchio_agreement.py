@@ -83,3 +83,20 @@ def test_error_measure_does_not_overflow():
         assert normalized_error(ref, ref) == 0.0
         assert normalized_error(np.array([[1e308, 1.0]]), np.array([[-1e308, 1.0]])) == float("inf")
         assert normalized_error(np.array([[1e-300, 0.0]]), np.array([[2e-300, 0.0]])) > 0.4
+
+
+def test_error_measure_row_floor():
+    """A row far smaller than the rest of its output (a Jacobian's row of a tool 1 mm from an
+    axis) is measured against ``row_floor`` times the output's RMS, never less; rows above that
+    keep their own scale, and without the floor the small row is judged on its own."""
+    ref = np.tile(np.array([[1.0, -0.8], [1e-3, 2e-3], [0.5, 0.7]]), (4, 1, 1))  # 4 states, rows of 3 scales
+    overall = float(np.sqrt(np.mean(ref ** 2)))
+    mine = ref.copy()
+    mine[:, 1, 0] += 3e-7  # rounding of the large entries reaching the small row
+    own = 3e-7 / float(np.sqrt(np.mean(ref[:, 1, :] ** 2)))
+    assert normalized_error(mine, ref) == pytest.approx(own, rel=1e-9)
+    assert normalized_error(mine, ref, row_floor=1e-2) == pytest.approx(3e-7 / (1e-2 * overall), rel=1e-9)
+    mine = ref.copy()
+    mine[:, 0, 1] *= 1 + 1e-5  # a large row keeps its own scale under the floor
+    assert normalized_error(mine, ref, row_floor=1e-2) == pytest.approx(0.8e-5 / float(np.sqrt(np.mean(ref[:, 0, :] ** 2))),
+                                                                        rel=1e-6)
