@@ -22,7 +22,7 @@ from symdyn.emit.cgen import generate_c
 from symdyn.model.outputs import (ALL_OUTPUTS, COMBINED_SPECS, INPUT_GROUPS, OUTPUTS, SPECS, Dimensions, default_outputs,
                                   functions_help, with_requirements)
 from symdyn.model.outputs import REGISTRY, functions_table
-from symdyn.model.robot import TASKS, NamedFrame, Placement
+from symdyn.model.robot import TASKS, Contact, NamedFrame, Placement
 
 #: passive joints (a nontrivial reaction map) and a numeric geometry (base parameters)
 ROBOT = "pendulum_leg"
@@ -37,8 +37,10 @@ def everything(tmp_path_factory):
     loaded = symdyn.load(robot_path(ROBOT))
     # two frames: the last link's own, and one fixed in link 2 away from its origin
     frames = (NamedFrame(loaded.links[-1].name, loaded.dof - 1),
-              NamedFrame("offset", 1, tuple(Placement((0.1, -0.2, 0.3), (0.4, 0.5, 0.6)).matrix())))
-    robot = dataclasses.replace(loaded, task=TASKS[TASK], frames=frames)
+              NamedFrame("offset", 1, tuple(Placement((0.1, -0.2, 0.3), (0.4, 0.5, 0.6)).matrix())),
+              NamedFrame("held", loaded.dof - 1, tuple(Placement((0.1, -0.2, 0.3), (0.4, 0.5, 0.6)).matrix())))
+    # a point contact away from the last link's origin (where the foot's axes meet)
+    robot = dataclasses.replace(loaded, task=TASKS[TASK], frames=frames, contacts=(Contact(2, "3d"),))
     eqs = symdyn.derive(robot, outputs=ALL_OUTPUTS)
     files = generate_c(eqs, ALL_OUTPUTS)
     workdir = tmp_path_factory.mktemp("registry")
@@ -85,10 +87,10 @@ def test_platform_table_is_the_registry():
 
 def test_shapes_are_written_as_they_are():
     """The shape's text and whether an output is a vector come from its shape function alone."""
-    dims = Dimensions(dof=5, actuated=3, base_parameters=7, task=2, frames=4)
+    dims = Dimensions(dof=5, actuated=3, base_parameters=7, task=2, frames=4, contacts=6)
     for spec in SPECS:
         rows, cols = spec.shape(dims)
-        text = spec.shape_text.replace("NQ", "5").replace("NA", "3").replace("NB", "7").replace("N", "5").replace("M", "2").replace("K", "4")
+        text = spec.shape_text.replace("NC", "6").replace("NQ", "5").replace("NA", "3").replace("NB", "7").replace("N", "5").replace("M", "2").replace("K", "4")
         sizes = [eval(part.replace(" ", "*").replace("(", "").replace(")", "").replace("*+*", "+"))
                  for part in text.split(" x ")]
         assert sizes == ([rows] if spec.is_vector else [rows, cols]), spec.name
@@ -114,7 +116,7 @@ def test_every_output_derived_emitted_and_called(everything):
     function returns the numbers the numpy evaluation of the same equations gives."""
     robot, eqs, lib, files, _ = everything
     dims = Dimensions(robot.dof, len(robot.actuated_joints), len(eqs.base_parameters), len(robot.task_rows),
-                      len(robot.frames))
+                      len(robot.frames), contacts=robot.contact_rows)
     rng = np.random.default_rng(5)
     state = {g: rng.uniform(-1, 1, robot.dof) for g in INPUT_GROUPS}
     for spec in SPECS:
@@ -175,7 +177,8 @@ def test_every_output_verified(capsys, tmp_path):
     path = tmp_path / f"{ROBOT}.yaml"
     text = open(robot_path(ROBOT)).read() + f"task: {TASK}\n"
     last = re.findall(r"- name: (\w+)", text)[-1]
-    path.write_text(text + f"frames: [{last}, {{name: offset, link: {last}, xyz: [0.1, -0.2, 0.3], rpy: [0.4, 0.5, 0.6]}}]\n")
+    path.write_text(text + f"frames: [{last}, {{name: offset, link: {last}, xyz: [0.1, -0.2, 0.3], rpy: [0.4, 0.5, 0.6]}}]\n"
+                    "contacts: ['offset:3d']\n")
     code = main(["verify", str(path), "--functions", ",".join(ALL_OUTPUTS), "--states", "4"])
     out = capsys.readouterr().out
     assert code == 0, out

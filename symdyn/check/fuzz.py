@@ -72,6 +72,8 @@ class Case:
     frames: tuple[str, ...] = ()
     precision: str = "double"
     method: str = "newton-euler"
+    #: the contact set (``FRAME:3d`` / ``FRAME:6d``, as ``--contacts`` takes it)
+    contacts: tuple[str, ...] = ()
 
     @property
     def robot_file(self) -> str:
@@ -89,6 +91,7 @@ class Case:
         parts += ["floating base"] if self.floating else []
         parts += ["C in small pieces"] if self.small_pieces else []
         parts += [f"frames {','.join(self.frames)}"] if self.frames else []
+        parts += [f"contacts {','.join(self.contacts)}"] if self.contacts else []
         return ", ".join(parts)
 
 
@@ -259,12 +262,23 @@ def random_case(number: int) -> Case:
         text, links = random_urdf(rng, name, floating)
         text = with_mimics(np.random.default_rng([number, 7]), text)  # (its own stream: the cases stay the same)
         frames = tuple(str(f) for f in rng.choice(links[1:], size=int(rng.integers(0, 3)), replace=False))
-        return Case(number, "urdf", text, "", floating, frames, precision)
+        return Case(number, "urdf", text, "", floating, frames, precision, contacts=_random_contacts(number, floating, links))
     text, names = random_dh(rng, name)
     method = str(rng.choice(["newton-euler"] * 3 + ["lagrange-euler", "jacobian-newton-euler"]))
     scene = random_scene(rng, f"fuzz{number}.yaml", names) if rng.random() < 0.25 else ""
     frames = tuple(str(f) for f in rng.choice(names, size=int(rng.integers(0, 2)), replace=False))
     return Case(number, "dh", text, scene, False, frames, precision, method)
+
+
+def _random_contacts(number: int, floating: bool, links) -> tuple[str, ...]:
+    """Half of the floating robots hold one link (a point or a sole): the base's six motions
+    span any one contact's, so the set is regular at every state (two contacts, or one on a
+    fixed base, can be dependent everywhere: status 3, not a disagreement).  Drawn from the
+    case's own stream, so that every other choice of the case stays as it was."""
+    rng = np.random.default_rng([number, 13])
+    if not floating or len(links) < 2 or rng.random() < 0.5:
+        return ()
+    return (f"{rng.choice(links[1:])}:{rng.choice(['3d', '6d'])}",)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -316,7 +330,7 @@ def _reference(case: Case, path: str, robot, values):
     from ..model.urdf import QUARTER_TOLERANCE
     snapped = any("multiple of pi/2" in note for note in robot.notes)
     return reduced(UrdfReference(path, None, None, QUARTER_TOLERANCE if snapped else None, floating_base=case.floating,
-                                 frames=list(case.frames) or None), robot)
+                                 frames=[f.name for f in robot.frames] or None), robot)
 
 
 def _states(robot, precision: str, number: int, count: int = STATES):
@@ -377,7 +391,8 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
     stage = outcome.enter("load")
     try:
         path = write_case(case, workdir)
-        robot, scene = load_input(path, floating_base=case.floating, frames=list(case.frames) or None)
+        robot, scene = load_input(path, floating_base=case.floating, frames=list(case.frames) or None,
+                                  contacts=",".join(case.contacts) or None)
         functions = _supported(case, robot)
         outcome.functions = functions
         values, p = _parameter_values(robot, case.number)
@@ -417,9 +432,10 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
 
 def changed_robot(robot):
     """``robot`` with one field changed (the last link's mass plus 0.25 kg, or its frames one
-    fewer): what a second run through the same cache must not read from the first."""
+    fewer where no contact is held at one): what a second run through the same cache must not
+    read from the first."""
     import sympy as sp
-    if robot.frames and len(robot.frames) > 1:
+    if robot.frames and len(robot.frames) > 1 and not robot.contacts:
         return dataclasses.replace(robot, frames=robot.frames[1:])
     last = robot.links[-1]
     links = robot.links[:-1] + (dataclasses.replace(last, mass=sp.sympify(last.mass) + sp.Rational(1, 4)),)
@@ -479,11 +495,14 @@ def _urdf_variants(case: Case):
             if link.get("name") == child:
                 smaller.remove(link)
         yield dataclasses.replace(case, text=ET.tostring(smaller, encoding="unicode"),
-                                  frames=tuple(f for f in case.frames if f != child))
+                                  frames=tuple(f for f in case.frames if f != child),
+                                  contacts=tuple(c for c in case.contacts if c.split(":")[0] != child))
     if case.frames:
         yield dataclasses.replace(case, frames=case.frames[:-1])
+    if case.contacts:
+        yield dataclasses.replace(case, contacts=())
     if case.floating:
-        yield dataclasses.replace(case, floating=False)
+        yield dataclasses.replace(case, floating=False, contacts=())
     if "<dynamics" in case.text:
         import re
         yield dataclasses.replace(case, text=re.sub(r"<dynamics[^>]*/>", "", case.text))
@@ -588,6 +607,7 @@ def _keep(case: Case, finding: Finding, out_dir: str) -> None:
     os.makedirs(out_dir, exist_ok=True)
     doc = {"note": str(finding), **dataclasses.asdict(case)}
     doc["frames"] = list(case.frames)
+    doc["contacts"] = list(case.contacts)
     with open(os.path.join(out_dir, f"fuzz{case.number}.case.yaml"), "w") as handle:
         yaml.safe_dump(doc, handle, sort_keys=False, width=120)
 
@@ -599,4 +619,5 @@ def load_case(path: str) -> Case:
         doc = yaml.safe_load(handle)
     doc.pop("note", None)
     doc["frames"] = tuple(doc.get("frames") or ())
+    doc["contacts"] = tuple(doc.get("contacts") or ())
     return Case(**doc)

@@ -478,7 +478,47 @@ class ConfigurationSpaceReference:
         return self.lie_group.dDifference(self._unit(q), self._unit(q1), pin.ARG1)
 
 
-class PinocchioReference(ConfigurationSpaceReference):
+class ContactReference:
+    """Pinocchio's values of the contact dynamics (``contact_accelerations``, ``contact_forces``)
+    from its rigid-body quantities: ``M = D + diag(armature)`` (``system_matrix``), the
+    free-motion bias ``rnea(q, qd, 0)`` plus friction (``inverse_dynamics``), the contact frames'
+    LOCAL_WORLD_ALIGNED Jacobians (``frame_jacobians``) and classical accelerations at zero
+    accelerations (``frame_jacobian_dot_v``; a sole's drift its spatial acceleration, the classical
+    minus omega x v, as ``constraintDynamics`` holds a 6D contact), and the KKT system solved as a
+    dense matrix by numpy: nothing of symdyn's derivation.  tests/derive/test_contact.py checks this
+    against Pinocchio's ``constraintDynamics`` itself (whose ``lambda_c`` are these forces).
+    :attr:`contact_set` (``((frame index, kind), ...)``) is set by :func:`reduced`."""
+
+    contact_set: tuple = ()
+
+    def _constrained(self, q, qd, tau):
+        J_all, drift_all = np.asarray(self.frame_jacobians(q)), np.asarray(self.frame_jacobian_dot_v(q, qd))
+        qd = np.asarray(qd, dtype=float)
+        rows, gamma = [], []
+        for frame, kind in self.contact_set:
+            J, drift = J_all[6 * frame:6 * frame + 6], np.array(drift_all[6 * frame:6 * frame + 6])
+            if kind == "6d":
+                velocity = J @ qd
+                drift[:3] -= np.cross(velocity[3:], velocity[:3])
+            count = 3 if kind == "3d" else 6
+            rows.append(J[:count])
+            gamma.append(drift[:count])
+        J, gamma = np.vstack(rows), np.concatenate(gamma)
+        M = np.asarray(self.system_matrix(q))
+        bias = np.asarray(self.inverse_dynamics(q, qd, np.zeros(len(qd))))
+        n, m = M.shape[0], len(gamma)
+        system = np.block([[M, J.T], [J, np.zeros((m, m))]])
+        solution = np.linalg.solve(system, np.concatenate([np.asarray(tau, dtype=float) - bias, -gamma]))
+        return solution[:n], -solution[n:]  # [M J^T; J 0][qdd; -lambda] = [tau - b; -gamma]
+
+    def contact_accelerations(self, q, qd, tau):
+        return self._constrained(q, qd, tau)[0]
+
+    def contact_forces(self, q, qd, tau):
+        return self._constrained(q, qd, tau)[1]
+
+
+class PinocchioReference(ContactReference, ConfigurationSpaceReference):
     """Pinocchio's values of symdyn's quantities for a robot (numbers substituted for its
     parameters with ``values``), in symdyn's notation: ``mass_matrix`` excludes armature,
     ``inverse_dynamics`` and ``forward_dynamics`` include viscous and Coulomb friction."""
@@ -851,7 +891,7 @@ for _name in (*ALL_OUTPUTS, "base_wrench", "task_pivot_ratio", "system_matrix"):
         setattr(UrdfReference, _name, _configured(getattr(PinocchioReference, _name)))
 
 
-class MimicReduction(ConfigurationSpaceReference):
+class MimicReduction(ContactReference, ConfigurationSpaceReference):
     """Reference values of a robot with mimic joints, from a reference of the same robot whose
     every joint has its own coordinate (``full``: a :class:`PinocchioReference` or a
     :class:`UrdfReference`, both built with every link's joint free): the mimic's position is
@@ -972,4 +1012,6 @@ def reduced(reference, robot: Robot):
     whose model takes the links in another order (a tree listed with a subtree in two pieces)."""
     order = getattr(reference, "order", None)
     reordered = order is not None and list(order) != list(range(len(robot.links)))
-    return MimicReduction(reference, robot) if robot.mimics or reordered else reference
+    out = MimicReduction(reference, robot) if robot.mimics or reordered else reference
+    out.contact_set = tuple((contact.frame, contact.kind) for contact in getattr(robot, "contacts", ()))
+    return out

@@ -58,6 +58,10 @@ def add_urdf_options(parser) -> None:
                         help="the frames of the frame functions (poses, Jacobians, J-dot v), in order: URDF links "
                              "(a foot merged by fixed joints too), or a robot file's links and the frames its "
                              "'frames:' defines (in place of the file's list)")
+    parser.add_argument("--contacts", metavar="A:3d,B:6d,...", default=None,
+                        help="the contact set of the contact dynamics, in order: frames (as --frames names them) "
+                             "held by the ground, each 3d (a point: its linear velocity zero) or 6d (a sole: its "
+                             "whole velocity zero), in place of the file's 'contacts:'")
     parser.add_argument("--exact-angles", action="store_true",
                         help="URDF input: keep rpy angles as written (default: an angle within 1e-9 rad of a "
                              "multiple of pi/2, such as 1.57079632679, is taken as that multiple so that zeros "
@@ -87,7 +91,8 @@ def load_robot(path, args, parallel: bool = False):
     from ..model.scene import load_input
     return load_input(path, getattr(args, "tip", None), getattr(args, "tool", None),
                       getattr(args, "exact_angles", False), parallel=parallel,
-                      floating_base=getattr(args, "floating_base", False), frames=getattr(args, "frames", None))
+                      floating_base=getattr(args, "floating_base", False), frames=getattr(args, "frames", None),
+                      contacts=getattr(args, "contacts", None))
 
 
 def check_size(robot, args, path) -> None:

@@ -222,7 +222,7 @@ def _urdf_reference(args, robot, values):
     try:
         with _stderr_silenced():  # urdfdom prints its complaints on the process's stderr
             ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None,
-                                floating_base=robot.floating, frames=getattr(args, "frames", None))
+                                floating_base=robot.floating, frames=[f.name for f in robot.frames] or None)
         return ref, "Pinocchio's own URDF parser" + (
             " (near-quarter-turn rpy angles made exact, as symdyn reads them; --exact-angles "
             "keeps them as written)" if snapped else "")

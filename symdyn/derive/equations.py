@@ -62,7 +62,7 @@ from .program import Program, ProgramBuilder, differentiate
 from .tangents import vector_tangents
 from ..model.outputs import (ALL_OUTPUTS, REGISTRY, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
-                             CENTROIDAL_OUTPUTS, CONFIGURATION_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
+                             CENTROIDAL_OUTPUTS, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
                              spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot, serial_robot
@@ -71,6 +71,7 @@ from .configuration import configuration_outputs
 from .kinematics import configuration_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
+from .contact import contact_dynamics
 from .tool import tool_kinematics
 from .centroidal import centroidal_quantities
 from .frames import frame_kinematics
@@ -997,6 +998,40 @@ def _task(d: _Derivation) -> sp.Matrix:
     return d.values[TASK_OUTPUTS[0]]
 
 
+def _contact(d: _Derivation) -> sp.Matrix:
+    """The contact dynamics (:mod:`symdyn.derive.contact`): the constraint rows of each contact's
+    frame (a point's linear rows, a sole's six), their drift (a point's classical acceleration;
+    a sole's spatial one, the classical minus omega x v: Pinocchio's), by the factorization of M
+    forward dynamics uses; status 1 for a singular M, 3 for dependent constraints."""
+    robot, b = d.robot, d.b
+    if not robot.contacts:
+        raise SymdynError(f"{robot.source or robot.name}: the contact functions need contacts: list them under "
+                          "'contacts:' in the robot file or scene (FRAME:3d for a point held, FRAME:6d for a sole), "
+                          "or give --contacts")
+    d.report("contact dynamics (factorization of M, QR of the whitened constraints)")
+    f = _mass_factorization(d)
+    rhs = sp.Matrix(d.tau) - d.get("fd_bias") - d.static_friction
+    rhs = [b.define(f"ctr{i + 1}", e) for i, e in enumerate(rhs)]
+    J_all, drift_all = d.get("frame_jacobians"), d.get("frame_jacobian_dot_v")
+    qd = sp.Matrix(d.qd)
+    rows, gamma = [], []
+    for k, contact in enumerate(robot.contacts):
+        J = J_all[6 * contact.frame:6 * contact.frame + 6, :]
+        drift = list(drift_all[6 * contact.frame:6 * contact.frame + 6])
+        if contact.kind == "6d":
+            linear = [b.define(f"ctv{k + 1}_{i + 1}", e) for i, e in enumerate(J[:3, :] * qd)]
+            angular = [b.define(f"ctw{k + 1}_{i + 1}", e) for i, e in enumerate(J[3:, :] * qd)]
+            turn = sp.Matrix(angular).cross(sp.Matrix(linear))
+            drift = [drift[i] - turn[i] for i in range(3)] + drift[3:]
+        rows += [J[i, :] for i in range(contact.rows)]
+        gamma += [b.define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift[:contact.rows])]
+    result = contact_dynamics(b, f, d.factor_parents is not None, sp.Matrix.vstack(*rows), gamma, rhs)
+    d.values["contact_accelerations"] = result.accelerations
+    d.values["contact_forces"] = result.forces
+    d.checks.append((CONTACT_OUTPUTS, tuple((p, m, 1) for p, m in f.pivots) + tuple((p, m, 3) for p, m in result.pivots)))
+    return result.accelerations
+
+
 def check_task_regular(robot: Robot, program: Program, pivots, states: int = 3, seed: int = 0) -> None:
     """Refuse a task the tool cannot move in at any configuration: the pivots ``(e_k, A_kk)`` of
     the LDL^T of ``A = J_s M^-1 J_s^T`` evaluated at ``states`` random configurations (random
@@ -1082,7 +1117,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, "task": _task, "inverse_dynamics_derivatives": _inverse_dynamics_derivatives,
     "gravity_derivative": _gravity_derivative, "inverse": _inverse_outputs, "frames": _frames,
-    "configuration": _configuration,
+    "configuration": _configuration, "contact": _contact,
     "centroidal": _centroidal, "kinetic_energy": _kinetic_energy,
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")

@@ -150,6 +150,25 @@ def solve_tree(b, f: TreeFactorization, rhs, forward_hint: str, back_hint: str) 
     return x
 
 
+def tree_transposed_solve(b, f: TreeFactorization, rhs, hint: str) -> list[sp.Expr]:
+    """``y`` with ``L^T y = rhs`` (:func:`factor_tree`'s L, from the leaves to the base: entry k
+    reaches k's ancestors only; named ``{hint}{k}``, 1-based)."""
+    y = [sp.sympify(v) for v in rhs]
+    for k in reversed(range(len(f.d))):
+        y[k] = b.define(f"{hint}{k + 1}", y[k])
+        for i in f.ancestors(k):
+            y[i] = y[i] - f.L[k, i] * y[k]
+    return y
+
+
+def tree_lower_solve(b, f: TreeFactorization, rhs, hint: str) -> list[sp.Expr]:
+    """``x`` with ``L x = rhs`` (:func:`factor_tree`'s L, from the base out; named ``{hint}{k}``)."""
+    x: list = [sp.S.Zero] * len(f.d)
+    for k in range(len(f.d)):
+        x[k] = b.define(f"{hint}{k + 1}", rhs[k] - sp.Add(*[f.L[k, i] * x[i] for i in f.ancestors(k)]))
+    return x
+
+
 def inverse_tree(b, f: TreeFactorization, hint: str) -> sp.Matrix:
     """``M^-1`` (n x n, symmetric) of ``M = L^T diag(d) L`` (:func:`factor_tree`) as
     ``L^-1 diag(1/d) L^-T``: ``U = L^-1`` is unit lower triangular with the sparsity of L

@@ -22,7 +22,7 @@ from ..derive import articulated_loops as al
 from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan, tangent_width
 from .cprinter import CPrinter, VectorUnsupported, count_operations, fused_sum
 from .emission import fold_constants, template_environment
-from ..model.outputs import STATUS_CODES
+from ..model.outputs import CONTACT_OUTPUTS, STATUS_CODES
 
 #: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
 ROWS = 4
@@ -402,7 +402,7 @@ QUATERNION = "quat_u"
 #: the status a task-space function returns at a singular task (J M^-1 J^T not positive definite)
 TASK_SINGULAR = STATUS_CODES["TASK_SINGULAR"][0]
 #: the name of each status code a check returns
-STATUS_NAMES = {value: name for name, (value, _) in STATUS_CODES.items()}
+STATUS_NAMES = {value: name for name, (value, _) in STATUS_CODES.items() if name != "CONTACT_SINGULAR"}
 
 
 #: a function whose results hold more distinct values than this (twice the 16 vector registers of
@@ -618,8 +618,8 @@ class BodyWriter:
             if not sp.sympify(d).free_symbols and not sp.sympify(m).free_symbols and \
                     float(d) > (0.0 if sp.sympify(d - m) == 0 else self.ctx.rtol * float(m)):
                 continue  # a constant pivot that passes: no test that is always false (clang's -Wunreachable-code)
-            macro = (f"{self.ctx.prefix.upper()}_TASK_RTOL" if code == TASK_SINGULAR
-                     else pivot_rtol_macro(self.ctx.prefix))
+            macro = (f"{self.ctx.prefix.upper()}_{'CONTACT' if set(self.plan.parts) & set(CONTACT_OUTPUTS) else 'TASK'}"
+                     "_RTOL" if code == TASK_SINGULAR else pivot_rtol_macro(self.ctx.prefix))
             rtol = f"({self.ctx.internal}){macro}"  # (whatever type the user's macro has)
             at = max(_position_of(d, self.position), _position_of(m, self.position))
             self.check_symbols.setdefault(at, set()).update(sp.sympify(d).free_symbols | sp.sympify(m).free_symbols)
@@ -640,8 +640,15 @@ class BodyWriter:
             return
         for code in sorted({code for _, code in checks[at]}):
             self.lines += ["if (" + "\n        || ".join(test for test, c in checks[at] if c == code) + ") {",
-                           f"    return {status_macros(self.ctx.prefix)[STATUS_NAMES[code]]};",
+                           f"    return {status_macros(self.ctx.prefix)[self._status_name(code)]};",
                            "}"]
+
+    def _status_name(self, code: int) -> str:
+        """The header's name of a check's status: 3 is the contact functions' CONTACT_SINGULAR,
+        the task-space functions' TASK_SINGULAR."""
+        if code == TASK_SINGULAR and set(self.plan.parts) & set(CONTACT_OUTPUTS):
+            return "CONTACT_SINGULAR"
+        return STATUS_NAMES[code]
 
     def _placed_writes(self) -> None:
         """Where each target is written: a scratch-array entry, and (:attr:`early_outputs`) an

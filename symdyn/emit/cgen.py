@@ -26,7 +26,7 @@ from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
 from ..derive.configuration import SERIES_BELOW
-from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
+from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
                              factors_mass_matrix)
 
 ARG_DOCS = {
@@ -400,6 +400,19 @@ def _task_context(eqs: Equations, precision: str) -> dict:
             "rtol": repr(pivot_rtol(_checked_arithmetic(precision)))}
 
 
+def _contact_context(eqs: Equations, precision: str) -> dict:
+    """What the header says about the contact set: each contact's frame, kind and entries of
+    the forces, their count and the default of the dependence tolerance macro."""
+    robot, lines, at = eqs.robot, [], 0
+    for contact in robot.contacts:
+        frame = robot.frames[contact.frame]
+        what = ("a point held: force (N) x, y, z" if contact.kind == "3d"
+                else "a sole held: force (N) x, y, z, then moment (N m) x, y, z")
+        lines.append(f"lambda[{at}..{at + contact.rows - 1}]: {frame.name} ({contact.kind}, {what})")
+        at += contact.rows
+    return {"count": robot.contact_rows, "lines": lines, "rtol": repr(pivot_rtol(_checked_arithmetic(precision)))}
+
+
 def _checked_arithmetic(precision: str) -> str:
     """The arithmetic the status-returning functions compute their pivots in: float in float,
     double in double and in mixed (which computes every function that solves with D in double)."""
@@ -413,10 +426,11 @@ def _contract_context(eqs: Equations, precision: str, built) -> dict:
     if not any(f.returns == "int" for f in built):
         return {"statuses": [], "pivot_rtol": "", "pivot_rtol_text": ""}
     task = any(f.name in TASK_OUTPUTS or f.name == "task_space" for f in built)
+    contact = any(f.name in CONTACT_OUTPUTS or f.name == "contact_forward_dynamics" for f in built)
     internal = _checked_arithmetic(precision)
     text = eqs.robot.name.upper()
     return {"statuses": [(name, value, doc.replace("NAME_", f"{text}_")) for name, (value, doc) in STATUS_CODES.items()
-                         if task or name != "TASK_SINGULAR"],
+                         if (task or name != "TASK_SINGULAR") and (contact or name != "CONTACT_SINGULAR")],
             "pivot_rtol": CPrinter({}, internal).literal(pivot_rtol(internal)),
             "pivot_rtol_text": repr(pivot_rtol(internal))}
 
@@ -604,6 +618,7 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
         "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,
+        "contact": _contact_context(eqs, precision) if any(f in CONTACT_OUTPUTS for f in functions) else None,
         "header_only": header_only,
         "notes": [comment_text(note) for note in notes],
         "math_header": True,

@@ -45,13 +45,15 @@ class Dimensions:
     frames: int = 0
     #: entries of q (``dof`` but for a floating base, whose quaternion has 4; None: ``dof``)
     configuration: int | None = None
+    #: rows of the contact constraints (``contacts:``: 3 per point, 6 per sole): the forces' entries
+    contacts: int = 0
 
     @classmethod
     def of(cls, robot, base_parameters: int = 0) -> "Dimensions":
         """The sizes of a serial robot's outputs (``base_parameters``: how many the derivation
         found, for the base regressor)."""
         return cls(robot.nv, len(robot.actuated_joints), base_parameters, len(robot.task_rows), len(robot.frames),
-                   robot.nq)
+                   robot.nq, getattr(robot, "contact_rows", 0))
 
     @property
     def na(self) -> int:
@@ -103,6 +105,7 @@ FAMILIES: dict[str, Family] = {f.name: f for f in (
     Family("task", "task-space dynamics of the tool"),
     Family("derivatives", "derivatives of the dynamics", trees=True, floating=True),
     Family("frames", "the frames' kinematics", trees=True, floating=True),
+    Family("contact", "contact dynamics: the contacts held by the ground", trees=True, floating=True),
     Family("centroidal", "centre of mass and centroidal momentum", trees=True, floating=True),
     Family("configuration", "the configuration space: integrate, difference and their Jacobians", trees=True,
            floating=True),
@@ -110,7 +113,7 @@ FAMILIES: dict[str, Family] = {f.name: f for f in (
 )}
 
 #: the letters the documentation writes each size with (``shape_text``)
-_SIZE_LETTERS = Dimensions(*sp.symbols("N NA NB M K NQ", positive=True, integer=True))
+_SIZE_LETTERS = Dimensions(*sp.symbols("N NA NB M K NQ NC", positive=True, integer=True))
 
 
 @dataclass(frozen=True)
@@ -224,6 +227,8 @@ STATUS_CODES: dict[str, tuple[int, str]] = {
                       "scalar type)"),
     "TASK_SINGULAR": (3, "the task is singular at q: a pivot of the factorization of J M^-1 J^T is not above "
                          "NAME_TASK_RTOL times its diagonal entry"),
+    "CONTACT_SINGULAR": (3, "the contacts' constraints are dependent at q: a pivot of the factorization of "
+                            "J M^-1 J^T (J: the contacts' rows) is not above NAME_CONTACT_RTOL times its diagonal entry"),
 }
 
 _PIVOTS = ("Returns {{prefix}}_OK (0) on success; {{prefix}}_SINGULAR (1) when the mass matrix is singular at q ({why}); "
@@ -243,6 +248,16 @@ _INVERSE_STATUS = ("Returns {prefix}_OK (0) on success; {prefix}_SINGULAR (1) wh
                    "pivot of its LDL^T factorization is not above {prefix}_PIVOT_RTOL, {rtol:g} unless defined, times its "
                    "diagonal entry, or is not a number); {prefix}_NOT_FINITE (2) when an input is NaN or infinite, or a "
                    "result is not finite (NaN or beyond the range of {real}). On a nonzero return nothing is written.")
+
+_CONTACT_STATUS = ("Returns {prefix}_OK (0) on success; {prefix}_SINGULAR (1) when the mass matrix is singular at q (a "
+                   "pivot of its factorization is not above {prefix}_PIVOT_RTOL, {rtol:g} unless defined, times its "
+                   "diagonal entry, or is not a number); {prefix}_NOT_FINITE (2) when an input is NaN or infinite, or a "
+                   "result is not finite (NaN or beyond the range of {real}); {prefix}_CONTACT_SINGULAR (3) when the "
+                   "contacts' constraints are dependent at q: a pivot of the factorization of J M^-1 J^T is not above "
+                   "{prefix}_CONTACT_RTOL times its diagonal entry (two soles on one body, three collinear point "
+                   "contacts on one body, a leg at a singular posture). On a nonzero return nothing is written.")
+#: what the contact outputs are derived from
+_CONTACT_REQUIRES = ("mass_matrix", "coriolis", "gravity", "frame_jacobians", "frame_jacobian_dot_v")
 
 #: what the task-space outputs are derived from
 _TASK_REQUIRES = ("mass_matrix", "coriolis", "gravity", "jacobian", "jacobian_dot_qd")
@@ -495,6 +510,28 @@ SPECS: tuple[OutputSpec, ...] = (
         derivation="frames",
         default=False),
     OutputSpec(
+        name="contact_accelerations", symbol="qdd", family="contact", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.dof, 1), units="rad/s^2 or m/s^2",
+        summary="The accelerations of the constrained system with the contacts listed above held: M qdd = tau - h - c "
+                "- friction + J^T lambda with J qdd + gamma = 0 (J: the contacts' rows of their frames' Jacobians, "
+                "gamma their J-dot qd: a point's classical acceleration, a sole's spatial one, as Pinocchio's "
+                "constraintDynamics), by the factorization of M and a QR of the whitened J (M^-1 and J M^-1 J^T are "
+                "not formed).",
+        arguments=(OutputArgument("qdd", "accelerations of the constrained system, N"),),
+        meaning="q̈ of [M Jᵀ; J 0][q̈; −λ] = [τ − h − c; −γ]", pinocchio="`constraintDynamics`",
+        derivation="contact", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
+        name="contact_forces", symbol="lambda", family="contact", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.contacts, 1), units="N, N m",
+        summary="The contact forces lambda of the constrained system (see NAME_contact_accelerations): contact by "
+                "contact as listed above, each its force on the robot at the frame's origin in world-aligned axes "
+                "(Pinocchio's LOCAL_WORLD_ALIGNED: 3 entries for a point, force then moment for a sole), so that "
+                "M qdd = tau - h - c - friction + J^T lambda.",
+        arguments=(OutputArgument("lambda", "contact forces, NC: contact k's force (N) and, for a sole, moment (N m) "
+                                            "on the robot, world axes at its frame's origin"),),
+        meaning="λ: the contacts' forces on the robot", pinocchio="`data.lambda_c` of `constraintDynamics`",
+        derivation="contact", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
         name="center_of_mass", symbol="com", family="centroidal", inputs=("q",),
         shape=lambda d: (3, 1), units="m",
         summary="Centre of mass of the whole robot (every link, and a floating base's body) in the world, as Pinocchio's centerOfMass.",
@@ -696,6 +733,10 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
     CombinedSpec("frame_kinematics", ("frame_poses", "frame_jacobians", "frame_jacobian_dot_v"),
                  "Poses, Jacobians and J-dot qd of the frames in one call: the same results as NAME_frame_poses, "
                  "NAME_frame_jacobians and NAME_frame_jacobian_dot_v, sharing their sin/cos and link poses."),
+    CombinedSpec("contact_forward_dynamics", ("contact_accelerations", "contact_forces"),
+                 "Contact dynamics in one call: the constrained system's accelerations and the contact forces (as "
+                 "NAME_contact_accelerations and NAME_contact_forces), sharing one factorization of M and one of J "
+                 "M^-1 J^T: the dynamics of a legged robot standing or walking on the contacts listed above."),
     CombinedSpec("task_space", ("task_mass_matrix", "task_bias", "task_gravity", "task_inverse"),
                  "Task-space dynamics of the tool in one call, F = Lambda xdd + mu + Gx: Lambda, mu and Gx as "
                  "NAME_task_mass_matrix, NAME_task_bias and NAME_task_gravity, and Jbar as NAME_task_inverse, "
@@ -756,6 +797,10 @@ CENTROIDAL_OUTPUTS = family("centroidal")
 #: the frame functions (the robot's ``frames:``; by default when it lists frames)
 FRAME_OUTPUTS = family("frames")
 
+#: the contact dynamics (the robot's ``contacts:``; derived together, by default when it lists
+#: contacts)
+CONTACT_OUTPUTS = family("contact")
+
 #: the derivatives of the dynamics and the inverse mass matrix (when asked for)
 DERIVATIVE_OUTPUTS = family("derivatives")
 
@@ -797,6 +842,7 @@ def default_outputs(robot) -> tuple[str, ...]:
     map when the robot has passive joints, and the task-space outputs when it names a task;
     for a kinematic tree, :data:`TREE_OUTPUTS`."""
     frames = FRAME_OUTPUTS if getattr(robot, "frames", ()) else ()
+    frames += CONTACT_OUTPUTS if getattr(robot, "contacts", ()) else ()
     if getattr(robot, "is_tree", False):
         return TREE_OUTPUTS + frames
     return (OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
@@ -815,6 +861,8 @@ def supported_outputs(robot) -> tuple[str, ...]:
         names.discard("reaction_map")
     if not getattr(robot, "frames", ()):
         names -= set(FRAME_OUTPUTS)
+    if not getattr(robot, "contacts", ()):
+        names -= set(CONTACT_OUTPUTS)
     return tuple(name for name in ALL_OUTPUTS if name in names)
 
 

@@ -43,7 +43,12 @@ _RESERVED_WORDS = frozenset({"pi", "e", "E", "I", "sin", "cos", "sqrt"})
 _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any case
 
 TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "base_body", "tool", "task", "parameters",
-            "frames", "links")
+            "frames", "contacts", "links")
+#: the kinds of contact: a point held (its linear velocity zero) and a body held (its whole
+#: velocity zero), each with its rows of the frame's Jacobian (world-aligned axes)
+CONTACT_ROWS = {"3d": 3, "6d": 6}
+#: the fields of a ``contacts:`` entry written as a mapping
+CONTACT_KEYS = ("frame", "kind")
 #: the fields of a frame fixed in a link (``frames:`` entries written as mappings)
 FRAME_KEYS = ("name", "link", "xyz", "rpy")
 #: the fields of ``base_body:`` (the free-floating base's own inertia)
@@ -244,6 +249,21 @@ class NamedFrame:
 
 
 @dataclass(frozen=True)
+class Contact:
+    """A contact of the contact dynamics: the frame ``frame`` (an index into the robot's
+    ``frames``) held, ``kind`` ``"3d"`` (its origin's linear velocity zero: a point foot) or
+    ``"6d"`` (its whole velocity zero: a sole, a gripped tool)."""
+
+    frame: int
+    kind: str
+
+    @property
+    def rows(self) -> int:
+        """Constraint rows: 3 or 6."""
+        return CONTACT_ROWS[self.kind]
+
+
+@dataclass(frozen=True)
 class Robot:
     """A serial chain described by its DH table and inertial parameters.
 
@@ -293,6 +313,13 @@ class Robot:
     base_body: Body | None = None
     #: the frames of the frame functions (``frames:``), in their order
     frames: tuple[NamedFrame, ...] = ()
+    #: the contacts of the contact dynamics (``contacts:``), in their order (the forces' order)
+    contacts: tuple[Contact, ...] = ()
+
+    @property
+    def contact_rows(self) -> int:
+        """Rows of the contact constraints (3 per point contact, 6 per sole): the forces' entries."""
+        return sum(c.rows for c in self.contacts)
 
     @property
     def nv(self) -> int:
@@ -848,6 +875,11 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     parents = read_parents(reader, links_raw, links)
     links = read_mimics(reader, links_raw, links)
     frames = read_frames(reader, doc["frames"], links) if "frames" in doc else ()
+    contacts = ()
+    if "contacts" in doc:
+        wanted = parse_contacts(doc["contacts"], lambda message, at="": reader.fail(message, None, "contacts" + at))
+        frames, contacts = resolve_contacts(frames, links, wanted,
+                                            lambda message, at="": reader.fail(message, None, "contacts" + at))
     runtime_syms = list(reader.runtime.values())
     placements = [e for p in (base, tool, base_body) if p is not None for e in p.expressions()]
     used = set().union(*(e.free_symbols for link in links for e in link.expressions()),
@@ -861,7 +893,57 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
         links=links, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
         source=path, source_hash=source_hash, base=base, tool=tool, task=task,
         runtime_names=tuple(s.name for s in runtime_syms if s in used),
-        parents=parents, floating=floating, base_body=base_body, frames=frames)
+        parents=parents, floating=floating, base_body=base_body, frames=frames, contacts=contacts)
+
+
+def parse_contacts(raw: Any, fail) -> list[tuple[str, str]]:
+    """``[(frame name, kind), ...]`` of a contact set: a list of ``NAME:3d`` / ``NAME:6d``
+    strings or ``{frame: NAME, kind: 3d}`` mappings, or one comma-separated string of the former
+    (the command line's).  ``fail(message, where)`` reports a mistake (``where``: ``[k]``)."""
+    if isinstance(raw, str):
+        raw = [item.strip() for item in raw.split(",") if item.strip()]
+    if not isinstance(raw, list) or not raw:
+        fail("expected a list of contacts, each FRAME:3d (a point held) or FRAME:6d (a sole held)")
+    out: list[tuple[str, str]] = []
+    for k, item in enumerate(raw):
+        at = f"[{k}]"
+        if isinstance(item, dict):
+            unknown = sorted(set(map(str, item)) - set(CONTACT_KEYS))
+            if unknown:
+                fail(f"unknown field {describe(unknown[0])} (a contact has {', '.join(CONTACT_KEYS)})", at)
+            name, kind = item.get("frame"), item.get("kind")
+        elif isinstance(item, str) and item.count(":") == 1:
+            name, kind = (part.strip() for part in item.split(":"))
+        else:
+            fail(f"expected FRAME:3d or FRAME:6d (or {{frame, kind}}), not {describe(item)}", at)
+        if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", name):
+            fail(f"expected a frame's name (letters, digits and '_'), not {describe(name)}", at)
+        kind = kind.lower() if isinstance(kind, str) else kind
+        if kind not in CONTACT_ROWS:
+            fail(f"contact {name}: kind {describe(kind)} is not 3d (a point held) or 6d (a sole held)", at)
+        if any(name == seen for seen, _ in out):
+            fail(f"frame {describe(name)} is in contact twice", at)
+        out.append((name, kind))
+    return out
+
+
+def resolve_contacts(frames: tuple[NamedFrame, ...], links, wanted, fail) -> tuple[tuple[NamedFrame, ...], tuple[Contact, ...]]:
+    """``(frames, contacts)``: each contact's frame found among ``frames`` by name, else a link's
+    own frame (appended to the frames); ``fail(message, where)`` for a name that is neither."""
+    frames = list(frames)
+    index = {link.name: k for k, link in enumerate(links)}
+    contacts = []
+    for k, (name, kind) in enumerate(wanted):
+        found = next((i for i, frame in enumerate(frames) if frame.name == name), None)
+        if found is None:
+            if name not in index:
+                known = [frame.name for frame in frames] + list(index)
+                fail(f"no frame or link named {describe(name)}{_did_you_mean(name, known)} (a contact is held at a "
+                     "frame of 'frames:' or at a link's own frame)", f"[{k}]")
+            frames.append(NamedFrame(name, index[name]))
+            found = len(frames) - 1
+        contacts.append(Contact(found, kind))
+    return tuple(frames), tuple(contacts)
 
 
 def _did_you_mean(name: Any, names) -> str:

@@ -23,10 +23,10 @@ from .errors import RobotFileError, SymdynError, SymdynWarning, describe, displa
 from .geometry import joint_geometry, joint_motion
 from .outputs import ALL_OUTPUTS
 from .inputs import decode_text, load_yaml, read_input
-from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, task_rows
+from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, parse_contacts, resolve_contacts, task_rows
 
 SCENE_VERSION = 1
-SCENE_KEYS = ("scene", "robot", "tip", "tool", "task", "exact_angles", "floating_base", "frames", "name", "functions", "precision", "lock", "payload",
+SCENE_KEYS = ("scene", "robot", "tip", "tool", "task", "exact_angles", "floating_base", "frames", "contacts", "name", "functions", "precision", "lock", "payload",
               "runtime", "values")
 PAYLOAD_KEYS = ("mass", "com", "inertia")
 NAME_TOKEN = re.compile(r"(?<![0-9.])\b[A-Za-z_][A-Za-z0-9_]*")
@@ -83,23 +83,42 @@ def read_robot_document(path: str, tip: str | None = None, tool: str | None = No
 
 
 def load_input(path: str, tip: str | None = None, tool: str | None = None, exact_angles: bool = False,
-               parallel: bool = False, floating_base: bool = False, frames: list[str] | None = None):
+               parallel: bool = False, floating_base: bool = False, frames: list[str] | None = None,
+               contacts=None):
     """A robot file, a URDF or a scene (told apart by a top-level ``scene`` key), read once:
     returns ``(robot, scene or None)``.  ``tip``/``tool``/``exact_angles``: how to read a URDF
     (:func:`symdyn.model.urdf.read_urdf`).  ``parallel``: a platform robot file (``kind:
-    parallel``) gives its :class:`symdyn.model.parallel.ParallelRobot` (else it is refused)."""
+    parallel``) gives its :class:`symdyn.model.parallel.ParallelRobot` (else it is refused).
+    ``contacts``: the contact set (``FRAME:3d,FRAME:6d``, :func:`symdyn.model.robot.parse_contacts`)
+    in place of the file's or scene's; a URDF's contact frames are read as its frames are."""
     path = os.fspath(path)
+    wanted = None
+    if contacts is not None:
+        wanted = parse_contacts(contacts, lambda message, at="": _fail(path, f"--contacts{at}: {message}"))
+        if is_urdf(path):
+            frames = list(frames or []) + [name for name, _ in wanted if name not in (frames or [])]
     doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles, floating_base=floating_base,
                                           frames=frames)
     if parallel:
         from .parallel import from_document as parallel_document, is_parallel_document
         if is_parallel_document(doc):
+            if wanted:
+                _fail(path, "a platform robot has no contact set (its legs' closures are its constraints)", "contacts")
             return parallel_document(doc, path, hashlib.sha256(raw).hexdigest()), None
     if isinstance(doc, dict) and "scene" in doc:
-        scene = _build_scene(path, raw, doc, frames)
+        scene = _build_scene(path, raw, doc, frames, wanted)
         return scene.robot, scene
     robot = from_document(doc, path, hashlib.sha256(raw).hexdigest())
+    if wanted is not None:
+        robot = _with_contacts(path, robot, wanted, "--contacts")
     return (replace(robot, notes=notes) if notes else robot), None
+
+
+def _with_contacts(path: str, robot: Robot, wanted, where: str) -> Robot:
+    """``robot`` with the contact set ``wanted`` (``[(frame name, kind)]``) in place of its own."""
+    frames, contacts = resolve_contacts(robot.frames, robot.links, wanted,
+                                        lambda message, at="": _fail(path, f"{where}{at}: {message}"))
+    return replace(robot, frames=frames, contacts=contacts)
 
 
 def input_files(path: str) -> list[str]:
@@ -259,10 +278,14 @@ def load_scene(path: str) -> Scene:
     return _build_scene(path, raw, load_yaml(decode_text(raw, path), path, "scene file"))
 
 
-def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) -> Scene:
+def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None, contacts=None) -> Scene:
     """The scene of a parsed scene document (``raw``: the file's bytes, for its hash);
-    ``frames`` (the command line's) in place of the scene's ``frames:``."""
-    robot_path, robot_doc, robot_raw, robot_notes = _scene_robot_document(path, doc, frames)
+    ``frames`` and ``contacts`` (the command line's, parsed) in place of the scene's ``frames:``
+    and ``contacts:``."""
+    if contacts is None and isinstance(doc, dict) and "contacts" in doc:
+        contacts = parse_contacts(doc["contacts"], lambda message, at="": _fail(path, message, "contacts" + at))
+    robot_path, robot_doc, robot_raw, robot_notes = _scene_robot_document(path, doc, frames,
+                                                                          [n for n, _ in contacts or ()])
     runtime, values, functions, precision = _scene_choices(path, doc)
     params, payload_names = _scene_parameter_names(path, doc, robot_doc, runtime, values)
     notes = [f"scene: {display_path(os.path.basename(path))} (sha256 {hashlib.sha256(raw).hexdigest()})",
@@ -296,14 +319,18 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None) ->
         task = task_rows(doc["task"], lambda message: _fail(path, message, "task"))
         robot = replace(robot, task=task)
         notes.append("task: Jacobian rows " + ", ".join(str(r) for r in task))
+    if contacts is not None:
+        robot = _with_contacts(path, robot, contacts, "contacts")
+        notes.append("contacts: " + ", ".join(f"{n}:{k}" for n, k in contacts))
     robot = replace(robot, name=name, source=path, source_hash=hashlib.sha256(raw + robot_raw).hexdigest())
     return Scene(robot=robot, functions=functions, precision=precision, notes=tuple(notes),
                  source=path, source_hash=robot.source_hash, locked=locked_joints)
 
 
-def _scene_robot_document(path: str, doc, frames):
+def _scene_robot_document(path: str, doc, frames, contact_frames=()):
     """Check the scene's own keys and read its robot file: ``(robot_path, robot_doc, robot_raw,
-    robot_notes)``, the robot file checked as it is before the scene changes anything."""
+    robot_notes)``, the robot file checked as it is before the scene changes anything (a URDF
+    read with the contacts' frames among its frames)."""
     if not isinstance(doc, dict):
         _fail(path, "expected a mapping")
     for key in doc:
@@ -326,9 +353,12 @@ def _scene_robot_document(path: str, doc, frames):
     for fld, value in (("exact_angles", exact_angles), ("floating_base", floating_base)):
         if not isinstance(value, bool):
             _fail(path, "expected true or false", fld)
+    frames = frames or scene_frames
+    if contact_frames and is_urdf(robot_path):
+        frames = list(frames or []) + [n for n in contact_frames if n not in (frames or [])]
     try:
         robot_doc, robot_raw, robot_notes = read_robot_document(robot_path, tip, tool, "tip: and tool:", exact_angles,
-                                                                floating_base, frames or scene_frames)
+                                                                floating_base, frames)
     except RobotFileError as exc:
         raise RobotFileError(path, f"robot file {display_path(doc['robot'])}: {exc.reason}", field="robot") from None
     # The robot file must be valid as it is before the scene changes anything in it (its own

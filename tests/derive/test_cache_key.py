@@ -23,7 +23,7 @@ from helpers import example_robot_data
 from symdyn.derive import cache
 from symdyn.derive.equations import derive
 from symdyn.model import robot as robot_module
-from symdyn.model.robot import Mimic, Placement, Robot
+from symdyn.model.robot import Contact, Mimic, Placement, Robot
 
 OUTPUTS = ("gravity", "frame_poses")
 
@@ -91,7 +91,7 @@ def sample():
     place = Placement((sp.Float(0.1), sp.Integer(0), sp.Integer(0)), (sp.Integer(0), sp.Integer(0), sp.Float(0.2)))
     last = dataclasses.replace(robot.links[-1], mimic=Mimic(0, sp.Float(0.5), sp.Float(0.1)))
     robot = dataclasses.replace(robot, base=place, tool=place, task=(0, 1, 2), tool_fixed=tuple(sp.eye(4)),
-                                notes=("a note",), links=robot.links[:-1] + (last,))
+                                notes=("a note",), links=robot.links[:-1] + (last,), contacts=(Contact(1, "3d"),))
     missing = [f"{type(v).__name__}.{f.name}" for v in (robot, robot.links[-1]) for f in dataclasses.fields(v)
                if getattr(v, f.name) is None]
     assert not [m for m in missing if m != "Link.fixed"], missing

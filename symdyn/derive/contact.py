@@ -1,0 +1,105 @@
+"""Contact dynamics: the accelerations and contact forces of a robot whose contacts are held,
+symbolic.
+
+With ``M = D + diag(armature)`` (n x n), the contacts' constraint rows ``J`` (m x n: the rows of
+their frames' Jacobians, world-aligned axes), their drift ``gamma`` (m: J-dot qd) and the
+free-motion right-hand side ``r = tau - h - c - friction``, the constrained system is
+
+    [M  J^T] [ qdd  ]   [   r    ]
+    [J   0 ] [-lambda] = [-gamma ]        (M qdd = r + J^T lambda,  J qdd + gamma = 0)
+
+solved without forming M^-1, J M^-1 J^T or the system's inverse (the same route as the task
+space's, :mod:`symdyn.derive.task_space`)::
+
+    M = the factorization forward dynamics uses (L D L^T of a chain, L^T D L of a tree)
+    W = M^-1/2 in that factorization: W W^T = M^-1 (D^-1/2 L^-1 for a chain's, D^-1/2 L^-T a tree's)
+    B^T = W^T J^T = Q R                  (modified Gram-Schmidt: R m x m upper triangular)
+    w = W^T r                            (carried through the same sweep: c = Q^T w, w_perp = w - Q c)
+    t = R^-T gamma,  lambda = -R^-1 (c + t),  qdd = W (w_perp - Q t)
+
+``R^T R = J M^-1 J^T``: ``R_kk^2`` is the k-th pivot of its LDL^T, checked at run time against
+``||b_k||^2`` (the diagonal entry) before anything divides by it; a pivot not above the
+tolerance means dependent constraints (two soles on one body) or a singular posture.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from . import ldlt
+
+
+@dataclass(frozen=True)
+class ContactDynamics:
+    """``accelerations`` (n x 1) and ``forces`` (m x 1) in a program's symbols; ``pivots`` the
+    ``(R_kk^2, (J M^-1 J^T)_kk)`` of the constraints' QR, which the generated code checks."""
+
+    accelerations: sp.Matrix
+    forces: sp.Matrix
+    pivots: tuple
+
+
+def _whitening(b, f, tree: bool):
+    """``(whiten, unwhiten)``: ``v -> W^T v`` and ``u -> W u`` for the factorization ``f`` of M
+    (W W^T = M^-1), each entry named."""
+    roots = [b.define(f"ct_iroot{j + 1}", 1 / sp.sqrt(d)) for j, d in enumerate(f.d)]  # D^-1/2
+    if tree:  # M = L^T D L: M^-1 = L^-1 D^-1 L^-T, W = L^-1 D^-1/2
+        first = lambda v, hint: ldlt.tree_transposed_solve(b, f, v, hint)  # noqa: E731
+        second = lambda u, hint: ldlt.tree_lower_solve(b, f, u, hint)  # noqa: E731
+    else:  # M = L D L^T: M^-1 = L^-T D^-1 L^-1, W = L^-T D^-1/2
+        first = lambda v, hint: ldlt.forward_substitute(b, f, v, hint)  # noqa: E731
+        second = lambda u, hint: ldlt.back_substitute(b, f, u, hint + "{i}")  # noqa: E731
+
+    def whiten(v, hint):
+        return [b.define(f"{hint}w{i + 1}", e * roots[i]) if e != 0 else sp.S.Zero
+                for i, e in enumerate(first(v, f"{hint}y"))]
+
+    def unwhiten(u, hint):
+        return second([e * roots[i] for i, e in enumerate(u)], hint)
+    return whiten, unwhiten
+
+
+def _dot(a, b) -> sp.Expr:
+    return sp.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
+
+
+def contact_dynamics(b, f, tree: bool, J: sp.Matrix, gamma, rhs) -> ContactDynamics:
+    """The constrained accelerations and contact forces (module docstring) for the factorization
+    ``f`` of M (``tree``: :func:`symdyn.derive.ldlt.factor_tree`'s, else :func:`~symdyn.derive.ldlt.factor`'s),
+    the constraint rows ``J`` (m x n), their drift ``gamma`` (m) and ``rhs`` (n), every
+    intermediate named in ``b``."""
+    m, n = J.shape
+    whiten, unwhiten = _whitening(b, f, tree)
+    columns = [whiten([J[k, i] for i in range(n)], f"ctB{k + 1}_") for k in range(m)]
+    w = whiten(list(rhs), "ctW")
+    diagonal = [b.define(f"ctA{k + 1}", _dot(col, col)) for k, col in enumerate(columns)]  # (J M^-1 J^T)_kk
+    R = sp.zeros(m, m)
+    Q: list[list[sp.Expr]] = []
+    pivots, inverse, c = [], [], []
+    work = [list(col) for col in columns]
+    for k in range(m):
+        square = diagonal[k] if k == 0 else b.define(f"ctR{k + 1}sq", _dot(work[k], work[k]))
+        pivots.append((square, diagonal[k]))
+        R[k, k] = b.define(f"ctR{k + 1}_{k + 1}", sp.sqrt(square))
+        inverse.append(b.define(f"ctRinv{k + 1}", 1 / R[k, k]))
+        q = [b.define(f"ctQ{k + 1}_{i + 1}", e * inverse[k]) if e != 0 else sp.S.Zero for i, e in enumerate(work[k])]
+        Q.append(q)
+        for j in range(k + 1, m):
+            R[k, j] = b.define(f"ctR{k + 1}_{j + 1}", _dot(q, work[j]))
+            work[j] = [b.define(f"ctB{j + 1}_{k + 1}_{i + 1}", e - R[k, j] * qi) if qi != 0 else e
+                       for i, (e, qi) in enumerate(zip(work[j], q))]
+        c.append(b.define(f"ctc{k + 1}", _dot(q, w)))
+        w = [b.define(f"ctW{k + 1}_{i + 1}", e - c[k] * qi) if qi != 0 else e for i, (e, qi) in enumerate(zip(w, q))]
+    t: list[sp.Expr] = []
+    for k in range(m):  # R^T t = gamma
+        t.append(b.define(f"ctt{k + 1}", (gamma[k] - sp.Add(*[R[l, k] * t[l] for l in range(k)])) * inverse[k]))
+    forces: list[sp.Expr] = [sp.S.Zero] * m
+    for k in reversed(range(m)):  # R lambda = -(c + t)
+        forces[k] = b.define(f"ctlambda{k + 1}",
+                             (-(c[k] + t[k]) - sp.Add(*[R[k, l] * forces[l] for l in range(k + 1, m)])) * inverse[k])
+    u = [b.define(f"ctu{i + 1}", w[i] - sp.Add(*[Q[k][i] * t[k] for k in range(m) if Q[k][i] != 0]))
+         for i in range(n)]
+    qdd = unwhiten(u, "qdd_ct")
+    return ContactDynamics(sp.Matrix(qdd), sp.Matrix(forces), tuple(pivots))

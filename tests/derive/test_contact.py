@@ -1,0 +1,209 @@
+"""Contact dynamics (contact_accelerations, contact_forces, contact_forward_dynamics): the
+reference against Pinocchio's constraintDynamics itself, symdyn's C, numpy and CasADi against the
+reference on Solo-12 with 4, 3 and 2 point feet, TALOS reduced on two soles, an arm with its tool
+held; the constraints and the equations of motion hold; dependent contacts return status 3, a
+singular M 1, a NaN 2, and nothing is written; contact sets that cannot be read are refused in one
+line."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from helpers import error_line, example_robot_data, normalized_error, robot_path
+from symdyn.check.agreement import CasadiTarget, NumpyTarget
+from symdyn.check.cbuild import build_and_load
+from symdyn.check.pinocchio_model import UrdfReference, compare, reduced
+from symdyn.check.states import random_state
+from symdyn.cli import main
+from symdyn.derive.equations import derive
+from symdyn.emit.cgen import generate_c
+from symdyn.model.errors import SymdynError
+from symdyn.model.outputs import CONTACT_OUTPUTS, Dimensions
+from symdyn.model.scene import load_input
+
+pin = pytest.importorskip("pinocchio")
+
+SOLO = "solo_description/robots/solo12.urdf"
+FEET = ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
+TALOS = "talos_data/robots/talos_reduced.urdf"
+TOL = 1e-10
+NO_PARAMETERS = np.zeros(0)
+_BUILT: dict = {}
+
+
+def _contacts(names, kind="3d") -> str:
+    return ",".join(f"{name}:{kind}" for name in names)
+
+
+def _robot(relative, contacts):
+    robot, _ = load_input(example_robot_data(relative), floating_base=True, contacts=contacts)
+    return robot
+
+
+def _reference(relative, robot):
+    ref = UrdfReference(example_robot_data(relative), floating_base=True, frames=[f.name for f in robot.frames])
+    return reduced(ref, robot)
+
+
+def _states(robot, count, seed=11):
+    rng = np.random.default_rng(seed)
+    return [random_state(robot, rng) for _ in range(count)]
+
+
+def _compiled(key, robot, tmp_path_factory, precision="double"):
+    """One compile per robot and contact set: the combined function and the two single ones."""
+    if key not in _BUILT:
+        eqs = derive(robot, outputs=CONTACT_OUTPUTS)
+        files = generate_c(eqs, CONTACT_OUTPUTS, precision=precision)
+        _BUILT[key] = build_and_load(files, robot.name, Dimensions.of(robot), 0, precision,
+                                     str(tmp_path_factory.mktemp("contact")))
+    return _BUILT[key]
+
+
+@pytest.mark.parametrize("relative,contacts", [(SOLO, _contacts(FEET)), (SOLO, _contacts(FEET[:3])),
+                                               (SOLO, _contacts(FEET[1:3])),
+                                               (TALOS, "left_sole_link:6d,right_sole_link:6d")])
+def test_reference_is_pinocchio_constraint_dynamics(relative, contacts):
+    """The reference (Pinocchio's M, bias, frame Jacobians and accelerations, a dense KKT solve)
+    equals Pinocchio's own constraintDynamics with the same contact models (LOCAL_WORLD_ALIGNED
+    point and 6D contacts; its lambda_c the forces on the robot) at random states."""
+    robot = _robot(relative, contacts)
+    ref = _reference(relative, robot)
+    model = ref.model
+    data = model.createData()
+    models = []
+    for contact in robot.contacts:
+        frame = model.frames[model.getFrameId(robot.frames[contact.frame].name)]
+        kind = pin.ContactType.CONTACT_3D if contact.kind == "3d" else pin.ContactType.CONTACT_6D
+        models.append(pin.RigidConstraintModel(kind, model, frame.parentJoint, frame.placement,
+                                               pin.ReferenceFrame.LOCAL_WORLD_ALIGNED))
+    models = pin.StdVec_RigidConstraintModel(models)
+    datas = pin.StdVec_RigidConstraintData([m.createData() for m in models])
+    pin.initConstraintDynamics(model, data, models, datas)
+    settings = pin.ProximalSettings(1e-14, 0.0, 1)
+    theirs_qdd, theirs_f, mine_qdd, mine_f = [], [], [], []
+    for q, qd, _, tau in _states(robot, 6):
+        theirs_qdd.append(pin.constraintDynamics(model, data, ref.configuration(q), qd, tau - ref.friction(qd),
+                                                 models, datas, settings))  # (friction is symdyn's, as in aba's)
+        theirs_f.append(data.lambda_c.copy())
+        mine_qdd.append(ref.contact_accelerations(q, qd, tau))
+        mine_f.append(ref.contact_forces(q, qd, tau))
+    assert normalized_error(mine_qdd, theirs_qdd) < 1e-9
+    assert normalized_error(mine_f, theirs_f) < 1e-9
+
+
+@pytest.mark.parametrize("feet", [FEET, FEET[:3], FEET[1:3]])
+def test_solo_feet(feet, tmp_path_factory):
+    """Solo-12 standing on 4, 3 and 2 point feet: the C functions (the combined one and the two
+    single ones), numpy and CasADi against the reference; the constraints hold (J qdd + gamma = 0)
+    and so do the equations of motion (M qdd = tau - b + J^T lambda), by Pinocchio's numbers."""
+    robot = _robot(SOLO, _contacts(feet))
+    ref = _reference(SOLO, robot)
+    states = _states(robot, 8)
+    targets = {"numpy": NumpyTarget(derive(robot, outputs=CONTACT_OUTPUTS))}
+    if len(feet) == 4:
+        targets["c"] = _compiled(("solo", feet), robot, tmp_path_factory)
+    if len(feet) == 2:
+        targets["casadi"] = CasadiTarget(derive(robot, outputs=CONTACT_OUTPUTS))
+    for target, lib in targets.items():
+        errors = compare(lib, ref, states, CONTACT_OUTPUTS, NO_PARAMETERS)
+        assert max(errors.values()) < TOL, (target, errors)
+    lib = targets.get("c") or targets["numpy"]
+    for q, qd, _, tau in states:
+        qdd = lib.contact_accelerations(q, qd, tau, NO_PARAMETERS)
+        forces = lib.contact_forces(q, qd, tau, NO_PARAMETERS)
+        J_all = ref.frame_jacobians(q)
+        J = np.vstack([J_all[6 * c.frame:6 * c.frame + 3] for c in robot.contacts])
+        gamma = np.concatenate([ref.frame_jacobian_dot_v(q, qd)[6 * c.frame:6 * c.frame + 3] for c in robot.contacts])
+        scale = np.abs(J).max() * np.abs(qdd).max() + np.abs(gamma).max()
+        assert np.abs(J @ qdd + gamma).max() < 1e-11 * scale
+        M, b = ref.system_matrix(q), ref.inverse_dynamics(q, qd, np.zeros(robot.nv))
+        residual = M @ qdd - (tau - b + J.T @ forces)
+        assert np.abs(residual).max() < 1e-11 * (np.abs(M @ qdd).max() + np.abs(tau - b).max())
+    if "c" in targets:
+        q, qd, _, tau = states[0]
+        status, (qdd, forces) = targets["c"].with_status("contact_forward_dynamics", q, qd, tau)
+        assert status == 0
+        assert normalized_error([qdd], [ref.contact_accelerations(q, qd, tau)]) < TOL
+        assert normalized_error([forces], [ref.contact_forces(q, qd, tau)]) < TOL
+
+
+def test_dependent_contacts_status(tmp_path_factory):
+    """Two soles on one rigid body (Solo's foot and the lower leg it is fixed to) are dependent at
+    every q: status 3 (CONTACT_SINGULAR) and nothing written; a NaN input gives 2; the same
+    library on a regular state returns 0."""
+    robot = _robot(SOLO, "FL_FOOT:6d,FL_LOWER_LEG:6d")
+    lib = _compiled(("solo", "dependent"), robot, tmp_path_factory)
+    q, qd, _, tau = _states(robot, 1)[0]
+    status, (qdd, forces) = lib.with_status("contact_forward_dynamics", q, qd, tau)
+    assert status == 3 and np.all(np.isnan(qdd)) and np.all(np.isnan(forces))
+    regular = _robot(SOLO, "FL_FOOT:6d")
+    lib = _compiled(("solo", "sole"), regular, tmp_path_factory)
+    status, (qdd, forces) = lib.with_status("contact_forward_dynamics", q, qd, tau)
+    assert status == 0 and np.all(np.isfinite(qdd)) and np.all(np.isfinite(forces))
+    ref = _reference(SOLO, regular)
+    assert normalized_error([qdd], [ref.contact_accelerations(q, qd, tau)]) < TOL
+    bad = np.array(q)
+    bad[8] = np.nan
+    status, (qdd, _) = lib.with_status("contact_forward_dynamics", bad, qd, tau)
+    assert status == 2 and np.all(np.isnan(qdd))
+
+
+def test_arm_with_tool_held(tmp_path_factory):
+    """A fixed-base arm whose last link is held (a 6D contact: a closed chain through the
+    ground): the Panda's 7 joints keep one motion; its C against the reference."""
+    robot, _ = load_input(robot_path("panda"), contacts=None)
+    last = robot.links[-1].name
+    robot, _ = load_input(robot_path("panda"), contacts=f"{last}:6d")
+    from symdyn.check.pinocchio_model import PinocchioReference
+    ref = reduced(PinocchioReference(robot), robot)
+    lib = _compiled(("panda", "tool"), robot, tmp_path_factory)
+    errors = compare(lib, ref, _states(robot, 8), CONTACT_OUTPUTS, NO_PARAMETERS)
+    assert max(errors.values()) < 1e-9, errors
+
+
+@pytest.mark.slow
+def test_talos_soles(tmp_path_factory):
+    """TALOS reduced on both soles (two 6D contacts, 12 constraint rows, 38 velocities): C against
+    the reference (itself against constraintDynamics above)."""
+    robot = _robot(TALOS, "left_sole_link:6d,right_sole_link:6d")
+    ref = _reference(TALOS, robot)
+    lib = _compiled(("talos", "soles"), robot, tmp_path_factory)
+    errors = compare(lib, ref, _states(robot, 6), CONTACT_OUTPUTS, NO_PARAMETERS)
+    assert max(errors.values()) < 1e-9, errors
+
+
+@pytest.mark.parametrize("contacts,expected", [
+    ("FL_FOT:3d", "did you mean 'FL_FOOT'"),
+    ("FL_FOOT:4d", "is not 3d (a point held) or 6d"),
+    ("FL_FOOT:3d,FL_FOOT:6d", "in contact twice"),
+    ("FL_FOOT", "expected FRAME:3d or FRAME:6d"),
+])
+def test_contact_set_errors(contacts, expected, capsys, tmp_path):
+    """A contact set that cannot be read stops the CLI with one line naming the file and the
+    problem (never a traceback), and writes nothing."""
+    out = tmp_path / "out"
+    code = main(["generate", example_robot_data(SOLO), "--floating-base", "--contacts", contacts,
+                 "--functions", "contact_forward_dynamics", "--out", str(out)])
+    assert code != 0
+    line = error_line(capsys)
+    assert expected in line and "Traceback" not in line
+    assert not out.exists()
+
+
+def test_robot_file_contacts(tmp_path):
+    """A robot file's ``contacts:`` (a link's own frame, or a frame of ``frames:``) gives the
+    contact functions by default; a name that is neither is refused naming the field."""
+    text = open(robot_path("panda")).read()
+    robot, _ = load_input(robot_path("panda"))
+    last = robot.links[-1].name
+    path = tmp_path / "held.yaml"
+    path.write_text(text + f"contacts: ['{last}:6d']\n")
+    robot, _ = load_input(str(path))
+    assert [robot.frames[c.frame].name for c in robot.contacts] == [last] and robot.contact_rows == 6
+    from symdyn.model.outputs import default_outputs
+    assert set(CONTACT_OUTPUTS) <= set(default_outputs(robot))
+    path.write_text(text + "contacts: ['nowhere:3d']\n")
+    with pytest.raises(SymdynError, match="contacts"):
+        load_input(str(path))
