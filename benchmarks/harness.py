@@ -124,13 +124,14 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "center_of_mass_jacobian": (("jacobianCenterOfMass_subtrees", "jacobianCenterOfMass_whole"), "CENT"),
              "center_of_mass_bias": (("centerOfMassBias",), "CENT"),
              "centroidal_momentum_matrix": (("ccrba_ccrba", "ccrba_map"), "CENT"),
-             "centroidal_bias": (("centroidalBias",), "CENT")}
+             "centroidal_bias": (("centroidalBias",), "CENT"),
+             "contact_forward_dynamics": (("constraintDynamics",), "CONTACT")}
 #: parts of Pinocchio's side in a source of their own (benchmarks/harness_pinocchio_task.cpp,
 #: harness_pinocchio_kin.cpp), so that adding them leaves the cached objects of the others valid
 OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocchio_kin.cpp",
                     "CENT": "harness_pinocchio_centroidal.cpp", "FRAMES": "harness_pinocchio_frames.cpp",
                     "DERIV": "harness_pinocchio_derivatives.cpp",
-                    "FLOAT": "harness_pinocchio_floating.cpp"}
+                    "FLOAT": "harness_pinocchio_floating.cpp", "CONTACT": "harness_pinocchio_contact.cpp"}
 #: a floating base's Pinocchio calls that read q as nq numbers (benchmarks/harness_pinocchio_floating.cpp,
 #: part FLOAT), in place of these; the peer and the cross-check keep the original names
 FLOATING_VARIANTS = {"rnea": "rneaFF", "nonLinearEffects": "nonLinearEffectsFF",
@@ -150,7 +151,7 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "framePoses_all": "Q", "framePoses_each": "Q",
                        "frameJacobians_all": "Q", "frameJacobians_each": "Q", "frameJacobianDotV": "Q, QD",
                        "frameKinematics": "Q, QD", "rneaDerivatives": "Q, QD, QDD", "gravityDerivatives": "Q",
-                       "abaDerivatives": "Q, QD, TAU", "computeMinverse": "Q"}
+                       "abaDerivatives": "Q, QD, TAU", "computeMinverse": "Q", "constraintDynamics": "Q, QD, TAU"}
 
 
 def pinocchio_of(function: str) -> tuple:

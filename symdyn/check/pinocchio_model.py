@@ -124,6 +124,10 @@ def build_model(robot: Robot, values: Mapping | None = None):
         pose = at @ local
         model.addFrame(pin.Frame(f"frame_{frame.name}", joint, pin.SE3(pose[:3, :3].copy(), pose[:3, 3].copy()),
                                  pin.FrameType.OP_FRAME))
+    for contact in robot.contacts:  # the contact set again, its kind in the name (the harness's constraintDynamics)
+        frame = model.frames[model.getFrameId(f"frame_{robot.frames[contact.frame].name}")]
+        model.addFrame(pin.Frame(f"contact{contact.kind}_{robot.frames[contact.frame].name}", frame.parentJoint,
+                                 frame.placement, pin.FrameType.OP_FRAME))
     info = {"damping": np.array(base_rows + [links[k]["damping"] for k in order]),
             "last_body": body,  # pose of the last link frame in its joint frame
             "coulomb": np.array(base_rows + [links[k]["coulomb"] for k in order]),

@@ -23,7 +23,7 @@ from .._version import __version__
 from ..emit.urdf import robot_to_urdf
 from ..model.errors import SymdynError, display_path, one_line
 from ..model.files import write_atomic
-from ..model.robot import from_document
+from ..model.robot import from_document, parse_contacts
 from ..model.scene import is_urdf, load_input, read_robot_document
 from .common import add_urdf_options
 from ..model.scene import input_files
@@ -52,9 +52,18 @@ def add_parser(sub) -> None:
 
 def run(args) -> int:
     path = args.robot
+    contacts = None
+    if args.contacts is not None:
+        if not is_urdf(path) or args.to != "yaml":
+            raise SymdynError(f"{display_path(path)}: --contacts applies to a URDF converted --to yaml (a robot file "
+                              "says 'contacts:'; a URDF has no place for them)")
+        contacts = parse_contacts(args.contacts, lambda message, at="": _refuse(path, f"--contacts{at}: {message}"))
+        args.frames = list(args.frames or []) + [n for n, _ in contacts if n not in (args.frames or [])]
     if is_urdf(path):
         doc, raw, notes = read_robot_document(path, args.tip, args.tool, exact_angles=args.exact_angles,
                                               floating_base=args.floating_base, frames=args.frames)
+        if contacts:
+            doc["contacts"] = [f"{name}:{kind}" for name, kind in contacts]
         robot = from_document(doc, path, hashlib.sha256(raw).hexdigest())  # the document must read back
         if args.to == "yaml":
             text = document_to_yaml(doc, _yaml_header(path, raw, args, notes))
@@ -82,10 +91,16 @@ def run(args) -> int:
     return 0
 
 
+def _refuse(path: str, message: str):
+    raise SymdynError(f"{display_path(path)}: {message}")
+
+
 def _yaml_header(path: str, raw: bytes, args, notes) -> list[str]:
     options = "".join(f" --{name} {one_line(value, 60)}" for name, value in (("tip", args.tip), ("tool", args.tool))
                       if value is not None) + (" --exact-angles" if args.exact_angles else "") \
-        + (" --floating-base" if args.floating_base else "")
+        + (" --floating-base" if args.floating_base else "") \
+        + (f" --frames {one_line(','.join(args.frames), 200)}" if args.frames else "") \
+        + (f" --contacts {one_line(str(args.contacts), 200)}" if args.contacts else "")
     lines = [f"Converted by symdyn {__version__} from {display_path(os.path.basename(path))} "
              f"(sha256 {hashlib.sha256(raw).hexdigest()})",
              f"with: symdyn convert {display_path(os.path.basename(path))} --to yaml{options}",
