@@ -254,8 +254,9 @@ _CONTACT_STATUS = ("Returns {prefix}_OK (0) on success; {prefix}_SINGULAR (1) wh
                    "diagonal entry, or is not a number); {prefix}_NOT_FINITE (2) when an input is NaN or infinite, or a "
                    "result is not finite (NaN or beyond the range of {real}); {prefix}_CONTACT_SINGULAR (3) when the "
                    "contacts' constraints are dependent at q: a pivot of the factorization of J M^-1 J^T is not above "
-                   "{prefix}_CONTACT_RTOL times its diagonal entry (two soles on one body, three collinear point "
-                   "contacts on one body, a leg at a singular posture). On a nonzero return nothing is written.")
+                   "{prefix}_CONTACT_RTOL times its diagonal entry (two soles, or three point contacts, on one body: "
+                   "more rows than its six motions; legs that cannot move their feet apart). On a nonzero return "
+                   "nothing is written.")
 #: what the contact outputs are derived from
 _CONTACT_REQUIRES = ("mass_matrix", "coriolis", "gravity", "frame_jacobians", "frame_jacobian_dot_v")
 
@@ -735,8 +736,9 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
                  "NAME_frame_jacobians and NAME_frame_jacobian_dot_v, sharing their sin/cos and link poses."),
     CombinedSpec("contact_forward_dynamics", ("contact_accelerations", "contact_forces"),
                  "Contact dynamics in one call: the constrained system's accelerations and the contact forces (as "
-                 "NAME_contact_accelerations and NAME_contact_forces), sharing one factorization of M and one of J "
-                 "M^-1 J^T: the dynamics of a legged robot standing or walking on the contacts listed above."),
+                 "NAME_contact_accelerations and NAME_contact_forces), sharing one factorization of M and one QR of "
+                 "the whitened constraints: the dynamics of a legged robot standing or walking on the contacts listed "
+                 "above."),
     CombinedSpec("task_space", ("task_mass_matrix", "task_bias", "task_gravity", "task_inverse"),
                  "Task-space dynamics of the tool in one call, F = Lambda xdd + mu + Gx: Lambda, mu and Gx as "
                  "NAME_task_mass_matrix, NAME_task_bias and NAME_task_gravity, and Jbar as NAME_task_inverse, "
