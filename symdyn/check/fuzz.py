@@ -468,9 +468,9 @@ def _check_cache(case: Case, robot, functions, outcome: Outcome) -> None:
                                             f"the derivation through the cache is {error:.2g} from the reference"))
 
 
-def _inputs(name, state):
+def _inputs(name, state, contact_rows=None):
     from .states import state_arguments
-    return state_arguments(name, state)
+    return state_arguments(name, state, contact_rows)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -415,11 +415,12 @@ def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.
     ``p`` (runtime parameters) is passed to ``mine`` only, when given.
     """
     extra = [] if p is None else [p]
+    contact_rows = sum(3 if kind == "3d" else 6 for _, kind in getattr(reference, "contact_set", ()))
     errors = {}
     for name in functions:
         values, refs = [], []
         for state in states:
-            args = state_arguments(name, state)
+            args = state_arguments(name, state, contact_rows)
             values.append(np.asarray(getattr(mine, name)(*args, *extra), dtype=float))
             refs.append(np.asarray(getattr(reference, name)(*args), dtype=float))
         errors[name] = normalized_error(values, refs, floor.get(name, 0.0) if isinstance(floor, dict) else floor,
@@ -514,6 +515,19 @@ class ContactReference:
         system = np.block([[M, J.T], [J, np.zeros((m, m))]])
         solution = np.linalg.solve(system, np.concatenate([np.asarray(tau, dtype=float) - bias, -gamma]))
         return solution[:n], -solution[n:]  # [M J^T; J 0][qdd; -lambda] = [tau - b; -gamma]
+
+    def _applied(self, q, f):
+        """J^T f: the external forces at the contacts as generalized forces."""
+        J_all = np.asarray(self.frame_jacobians(q))
+        J = np.vstack([J_all[6 * frame:6 * frame + (3 if kind == "3d" else 6)] for frame, kind in self.contact_set])
+        return J.T @ np.asarray(f, dtype=float)
+
+    def inverse_dynamics_ext(self, q, qd, qdd, f):
+        return np.asarray(self.inverse_dynamics(q, qd, qdd)) - self._applied(q, f)
+
+    def forward_dynamics_ext(self, q, qd, tau, f):
+        bias = np.asarray(self.inverse_dynamics(q, qd, np.zeros(len(qd))))
+        return np.linalg.solve(np.asarray(self.system_matrix(q)), np.asarray(tau, dtype=float) + self._applied(q, f) - bias)
 
     def contact_accelerations(self, q, qd, tau):
         return self._constrained(q, qd, tau)[0]

@@ -36,12 +36,24 @@ def second_configuration(q, qdd) -> np.ndarray:
     return np.concatenate([q[:3] + qdd[:3] / 5, quaternion, q[7:] + qdd[6:]])
 
 
-def state_arguments(function: str, state) -> list:
+def state_arguments(function: str, state, contact_rows: int | None = None) -> list:
     """The arguments of a generated function (an output or a combined function) at a state
-    ``[q, qd, qdd, tau]``, in its order: the state's groups as they are, the tangent vector v
+    ``[q, qd, qdd, tau]``, in its order: the state's groups as they are, the external forces at
+    the contacts (``contact_rows`` entries) as :func:`contact_forces_of`, the tangent vector v
     of integrate as qd (a displacement of one second) and the second configuration q1 as
     :func:`second_configuration`."""
     from ..model.outputs import function_inputs
     q, qd, qdd, tau = state[:4]
     given = {"q": q, "qd": qd, "qdd": qdd, "tau": tau, "v": qd}
-    return [second_configuration(q, qdd) if group == "q1" else given[group] for group in function_inputs(function)]
+    groups = function_inputs(function)
+    if "f" in groups:
+        if contact_rows is None:
+            raise ValueError(f"{function} takes external forces at the contacts: give contact_rows")
+        given["f"] = contact_forces_of(tau, contact_rows)
+    return [second_configuration(q, qdd) if group == "q1" else given[group] for group in groups]
+
+
+def contact_forces_of(tau, count: int) -> np.ndarray:
+    """External forces at the contacts drawn from a state (``count`` entries): tau's entries
+    cycled and scaled by 3 (forces of tens of newtons against a leg's torques)."""
+    return 3.0 * np.resize(np.asarray(tau, dtype=float), count)

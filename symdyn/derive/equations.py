@@ -68,7 +68,7 @@ from ..model.outputs import (ALL_OUTPUTS, REGISTRY, EXTRA_OUTPUTS, KINEMATIC_OUT
 from ..model.robot import JACOBIAN_ROWS, Robot, serial_robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
 from .configuration import configuration_outputs
-from .kinematics import configuration_symbols, joint_symbols
+from .kinematics import configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
 from .contact import contact_dynamics
@@ -186,6 +186,11 @@ class Equations:
     def v(self) -> tuple[sp.Symbol, ...]:
         """The tangent vector of the configuration-space functions (n symbols)."""
         return configuration_symbols(self.nq, self.n)[0]
+
+    @property
+    def f(self) -> tuple[sp.Symbol, ...]:
+        """The external forces at the contacts (NC symbols, laid out as the contact forces)."""
+        return contact_force_symbols(self.robot.contact_rows)
 
     @property
     def q1(self) -> tuple[sp.Symbol, ...]:
@@ -1004,32 +1009,59 @@ def _contact(d: _Derivation) -> sp.Matrix:
     a sole's spatial one, the classical minus omega x v: Pinocchio's), by the factorization of M
     forward dynamics uses; status 1 for a singular M, 3 for dependent constraints."""
     robot, b = d.robot, d.b
-    if not robot.contacts:
-        raise SymdynError(f"{robot.source or robot.name}: the contact functions need contacts: list them under "
-                          "'contacts:' in the robot file or scene (FRAME:3d for a point held, FRAME:6d for a sole), "
-                          "or give --contacts")
+    J = _contact_rows(d)
     d.report("contact dynamics (factorization of M, QR of the whitened constraints)")
     f = _mass_factorization(d)
     rhs = sp.Matrix(d.tau) - d.get("fd_bias") - d.static_friction
     rhs = [b.define(f"ctr{i + 1}", e) for i, e in enumerate(rhs)]
-    J_all, drift_all = d.get("frame_jacobians"), d.get("frame_jacobian_dot_v")
+    drift_all = d.get("frame_jacobian_dot_v")
     qd = sp.Matrix(d.qd)
-    rows, gamma = [], []
+    gamma, at = [], 0
     for k, contact in enumerate(robot.contacts):
-        J = J_all[6 * contact.frame:6 * contact.frame + 6, :]
         drift = list(drift_all[6 * contact.frame:6 * contact.frame + 6])
         if contact.kind == "6d":
-            linear = [b.define(f"ctv{k + 1}_{i + 1}", e) for i, e in enumerate(J[:3, :] * qd)]
-            angular = [b.define(f"ctw{k + 1}_{i + 1}", e) for i, e in enumerate(J[3:, :] * qd)]
+            linear = [b.define(f"ctv{k + 1}_{i + 1}", e) for i, e in enumerate(J[at:at + 3, :] * qd)]
+            angular = [b.define(f"ctw{k + 1}_{i + 1}", e) for i, e in enumerate(J[at + 3:at + 6, :] * qd)]
             turn = sp.Matrix(angular).cross(sp.Matrix(linear))
             drift = [drift[i] - turn[i] for i in range(3)] + drift[3:]
-        rows += [J[i, :] for i in range(contact.rows)]
         gamma += [b.define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift[:contact.rows])]
-    result = contact_dynamics(b, f, d.factor_parents is not None, sp.Matrix.vstack(*rows), gamma, rhs)
+        at += contact.rows
+    result = contact_dynamics(b, f, d.factor_parents is not None, J, gamma, rhs)
     d.values["contact_accelerations"] = result.accelerations
     d.values["contact_forces"] = result.forces
     d.checks.append((CONTACT_OUTPUTS, tuple((p, m, 1) for p, m in f.pivots) + tuple((p, m, 3) for p, m in result.pivots)))
     return result.accelerations
+
+
+def _contact_rows(d: _Derivation) -> sp.Matrix:
+    """The contacts' constraint rows (NC x N): each contact's frame's Jacobian, a point's three
+    linear rows, a sole's six (world-aligned axes at the frame's origin)."""
+    if not d.robot.contacts:
+        raise SymdynError(f"{d.robot.source or d.robot.name}: the contact functions need contacts: list them under "
+                          "'contacts:' in the robot file or scene (FRAME:3d for a point held, FRAME:6d for a sole), "
+                          "or give --contacts")
+    J_all = d.get("frame_jacobians")
+    return sp.Matrix.vstack(*[J_all[6 * c.frame:6 * c.frame + c.rows, :] for c in d.robot.contacts])
+
+
+def _external(d: _Derivation) -> sp.Matrix:
+    """Inverse and forward dynamics with external forces f at the contacts (Pinocchio's rnea and
+    aba with fext): tau = ID - J^T f, and M qdd = tau + J^T f - h - c - friction by the
+    factorization forward dynamics uses (status 1 for a singular M)."""
+    robot, b = d.robot, d.b
+    J = _contact_rows(d)
+    force = sp.Matrix(contact_force_symbols(robot.contact_rows))
+    applied = [b.define(f"extF{i + 1}", e) for i, e in enumerate(J.T * force)]  # J^T f, once for both
+    d.report("dynamics with external forces at the contacts")
+    if "inverse_dynamics_ext" in d.need:
+        d.values["inverse_dynamics_ext"] = sp.Matrix(d.get("inverse_dynamics")) - sp.Matrix(applied)
+    if "forward_dynamics_ext" in d.need:
+        rhs = sp.Matrix(d.tau) + sp.Matrix(applied) - d.get("fd_bias") - d.static_friction
+        f = _mass_factorization(d)
+        d.values["forward_dynamics_ext"] = sp.Matrix(_solve_mass(d, [b.define(f"extr{i + 1}", e) for i, e in enumerate(rhs)],
+                                                                 "ext_y", "qdd{i}_ext"))
+        d.checks.append((("forward_dynamics_ext",), tuple((p, m, 1) for p, m in f.pivots)))
+    return d.values.get("inverse_dynamics_ext", d.values.get("forward_dynamics_ext"))
 
 
 def check_task_regular(robot: Robot, program: Program, pivots, states: int = 3, seed: int = 0) -> None:
@@ -1117,7 +1149,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, "task": _task, "inverse_dynamics_derivatives": _inverse_dynamics_derivatives,
     "gravity_derivative": _gravity_derivative, "inverse": _inverse_outputs, "frames": _frames,
-    "configuration": _configuration, "contact": _contact,
+    "configuration": _configuration, "contact": _contact, "external": _external,
     "centroidal": _centroidal, "kinetic_energy": _kinetic_energy,
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")

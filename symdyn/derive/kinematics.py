@@ -30,6 +30,12 @@ def configuration_symbols(nq: int, nv: int) -> tuple[tuple[sp.Symbol, ...], tupl
             tuple(sp.Symbol(f"q1.{k + 1}", real=True) for k in range(nq)))
 
 
+def contact_force_symbols(count: int) -> tuple[sp.Symbol, ...]:
+    """Real symbols of the external forces at the contacts (``count`` entries, laid out as the
+    contact forces); named ``f.1``, ... (not identifiers: no parameter can take them)."""
+    return tuple(sp.Symbol(f"f.{k + 1}", real=True) for k in range(count))
+
+
 def link_transform(robot: Robot, i: int, q: sp.Expr, cos_sin=None) -> sp.Matrix:
     """``^{i-1}A_i`` (standard) or ``^{i-1}T_i`` (modified) of link ``i`` (0-based), 4x4."""
     link = robot.links[i]

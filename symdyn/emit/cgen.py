@@ -26,7 +26,7 @@ from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
 from ..derive.configuration import SERIES_BELOW
-from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
+from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
                              factors_mass_matrix)
 
 ARG_DOCS = {
@@ -36,6 +36,8 @@ ARG_DOCS = {
     "tau": "joint torques/forces, N (N m or N)",
     "v": "a displacement of the joints, N (rad or m): velocity times a time step",
     "q1": "joint positions of a second configuration, N (rad or m)",
+    "f": "external forces at the contacts, NC, laid out as the contact forces (listed above): a point's force (N), "
+         "a sole's force then moment (N m), on the robot, world axes at each frame's origin",
     "p": "runtime parameters, NP, in the order listed above",
 }
 #: the arguments' documentation for a floating base (Pinocchio's free-flyer layout)
@@ -618,7 +620,8 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
         "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,
-        "contact": _contact_context(eqs, precision) if any(f in CONTACT_OUTPUTS for f in functions) else None,
+        "contact": (_contact_context(eqs, precision) if any(f in CONTACT_OUTPUTS + EXTERNAL_OUTPUTS for f in functions)
+                    else None),
         "header_only": header_only,
         "notes": [comment_text(note) for note in notes],
         "math_header": True,

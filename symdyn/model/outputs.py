@@ -25,9 +25,9 @@ PARAMETERS_PER_LINK = len(LINK_PARAMETERS)
 
 #: the input groups of the serial functions, in the order they are passed: the configuration q
 #: (NQ entries), the velocity qd, acceleration qdd and forces tau (NV each), a tangent vector v
-#: (NV: a displacement of the configuration, integrate's) and a second configuration q1 (NQ:
-#: difference's end)
-INPUT_GROUPS = ("q", "qd", "qdd", "tau", "v", "q1")
+#: (NV: a displacement of the configuration, integrate's), a second configuration q1 (NQ:
+#: difference's end) and external forces f at the contacts (NC: laid out as the contact forces)
+INPUT_GROUPS = ("q", "qd", "qdd", "tau", "v", "q1", "f")
 
 
 @dataclass(frozen=True)
@@ -533,6 +533,26 @@ SPECS: tuple[OutputSpec, ...] = (
         meaning="λ: the contacts' forces on the robot", pinocchio="`data.lambda_c` of `constraintDynamics`",
         derivation="contact", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
     OutputSpec(
+        name="inverse_dynamics_ext", symbol="tau", family="contact", inputs=("q", "qd", "qdd", "f"),
+        shape=lambda d: (d.dof, 1), units="N m or N",
+        summary="Inverse dynamics with external forces f at the contacts listed above (each laid out as its contact "
+                "force: a point's force, a sole's force then moment, on the robot, world axes at its frame's "
+                "origin): tau = ID(q, qd, qdd) - J^T f (Pinocchio's rnea with fext), friction included as in "
+                "NAME_inverse_dynamics; dtau/df = -J^T.",
+        arguments=(OutputArgument("tau", "joint torques/forces, N, that give qdd with the external forces f applied"),),
+        meaning="τ = ID(q, q̇, q̈) − Jᵀ f", pinocchio="`rnea` with `fext`",
+        derivation="external", default=False, requires=("inverse_dynamics", "frame_jacobians"),
+        floor_scale="torque"),
+    OutputSpec(
+        name="forward_dynamics_ext", symbol="qdd", family="contact", inputs=("q", "qd", "tau", "f"),
+        shape=lambda d: (d.dof, 1), units="rad/s^2 or m/s^2",
+        summary="Forward dynamics with external forces f at the contacts listed above (laid out as "
+                "NAME_inverse_dynamics_ext's): M qdd = tau + J^T f - h - c - friction (Pinocchio's aba with fext), by "
+                "the factorization forward dynamics uses; dqdd/df = M^-1 J^T.",
+        arguments=(OutputArgument("qdd", "accelerations under tau and the external forces f, N"),),
+        meaning="q̈ of M q̈ = τ + Jᵀ f − h − c", pinocchio="`aba` with `fext`",
+        derivation="external", default=False, requires=("mass_matrix", "frame_jacobians"), status=_INVERSE_STATUS),
+    OutputSpec(
         name="center_of_mass", symbol="com", family="centroidal", inputs=("q",),
         shape=lambda d: (3, 1), units="m",
         summary="Centre of mass of the whole robot (every link, and a floating base's body) in the world, as Pinocchio's centerOfMass.",
@@ -800,8 +820,9 @@ CENTROIDAL_OUTPUTS = family("centroidal")
 FRAME_OUTPUTS = family("frames")
 
 #: the contact dynamics (the robot's ``contacts:``; derived together, by default when it lists
-#: contacts)
-CONTACT_OUTPUTS = family("contact")
+#: contacts), and the dynamics with external forces at the contacts (inputs f)
+CONTACT_OUTPUTS = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "contact")
+EXTERNAL_OUTPUTS = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "external")
 
 #: the derivatives of the dynamics and the inverse mass matrix (when asked for)
 DERIVATIVE_OUTPUTS = family("derivatives")
@@ -844,7 +865,7 @@ def default_outputs(robot) -> tuple[str, ...]:
     map when the robot has passive joints, and the task-space outputs when it names a task;
     for a kinematic tree, :data:`TREE_OUTPUTS`."""
     frames = FRAME_OUTPUTS if getattr(robot, "frames", ()) else ()
-    frames += CONTACT_OUTPUTS if getattr(robot, "contacts", ()) else ()
+    frames += CONTACT_OUTPUTS + EXTERNAL_OUTPUTS if getattr(robot, "contacts", ()) else ()
     if getattr(robot, "is_tree", False):
         return TREE_OUTPUTS + frames
     return (OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
@@ -864,7 +885,7 @@ def supported_outputs(robot) -> tuple[str, ...]:
     if not getattr(robot, "frames", ()):
         names -= set(FRAME_OUTPUTS)
     if not getattr(robot, "contacts", ()):
-        names -= set(CONTACT_OUTPUTS)
+        names -= set(CONTACT_OUTPUTS) | set(EXTERNAL_OUTPUTS)
     return tuple(name for name in ALL_OUTPUTS if name in names)
 
 

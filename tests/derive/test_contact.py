@@ -14,12 +14,12 @@ from helpers import error_line, example_robot_data, normalized_error, robot_path
 from symdyn.check.agreement import CasadiTarget, NumpyTarget
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import UrdfReference, compare, reduced
-from symdyn.check.states import random_state
+from symdyn.check.states import contact_forces_of, random_state
 from symdyn.cli import main
 from symdyn.derive.equations import derive
 from symdyn.emit.cgen import generate_c
 from symdyn.model.errors import SymdynError
-from symdyn.model.outputs import CONTACT_OUTPUTS, Dimensions
+from symdyn.model.outputs import CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, Dimensions
 from symdyn.model.scene import load_input
 
 pin = pytest.importorskip("pinocchio")
@@ -207,3 +207,35 @@ def test_robot_file_contacts(tmp_path):
     path.write_text(text + "contacts: ['nowhere:3d']\n")
     with pytest.raises(SymdynError, match="contacts"):
         load_input(str(path))
+
+
+def test_external_forces_are_pinocchio_fext(tmp_path_factory):
+    """NAME_inverse_dynamics_ext and NAME_forward_dynamics_ext (C) against Pinocchio's rnea and
+    aba with fext: each contact's force (world axes at its frame's origin; a sole's moment too)
+    turned into its frame's axes and moved to its joint's frame, the torques less friction."""
+    robot = _robot(SOLO, "FL_FOOT:3d,HR_FOOT:6d")
+    ref = _reference(SOLO, robot)
+    model, data = ref.model, ref.model.createData()
+    eqs = derive(robot, outputs=EXTERNAL_OUTPUTS)
+    lib = build_and_load(generate_c(eqs, EXTERNAL_OUTPUTS), robot.name, Dimensions.of(robot), 0, "double",
+                         str(tmp_path_factory.mktemp("external")))
+    mine_id, theirs_id, mine_fd, theirs_fd = [], [], [], []
+    for q, qd, qdd, tau in _states(robot, 6):
+        f = contact_forces_of(tau, robot.contact_rows)
+        pq = ref.configuration(q)
+        pin.framesForwardKinematics(model, data, pq)
+        fext = pin.StdVec_Force([pin.Force.Zero() for _ in range(model.njoints)])
+        at = 0
+        for contact in robot.contacts:
+            frame_id = model.getFrameId(robot.frames[contact.frame].name)
+            frame, R = model.frames[frame_id], data.oMf[frame_id].rotation
+            wrench = np.concatenate([f[at:at + 3], f[at + 3:at + 6] if contact.kind == "6d" else np.zeros(3)])
+            local = pin.Force(R.T @ wrench[:3], R.T @ wrench[3:])
+            fext[frame.parentJoint] = fext[frame.parentJoint] + frame.placement.act(local)
+            at += contact.rows
+        theirs_id.append(pin.rnea(model, data, pq, qd, qdd, fext) + ref.friction(qd))
+        theirs_fd.append(pin.aba(model, data, pq, qd, tau - ref.friction(qd), fext))
+        mine_id.append(lib.inverse_dynamics_ext(q, qd, qdd, f))
+        mine_fd.append(lib.forward_dynamics_ext(q, qd, tau, f))
+    assert normalized_error(mine_id, theirs_id) < TOL
+    assert normalized_error(mine_fd, theirs_fd) < TOL
