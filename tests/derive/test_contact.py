@@ -239,3 +239,24 @@ def test_external_forces_are_pinocchio_fext(tmp_path_factory):
         mine_fd.append(lib.forward_dynamics_ext(q, qd, tau, f))
     assert normalized_error(mine_id, theirs_id) < TOL
     assert normalized_error(mine_fd, theirs_fd) < TOL
+
+
+def test_scene_and_convert_contacts(tmp_path, capsys):
+    """A scene's ``contacts:`` over a URDF (feet merged by fixed joints) is read as --contacts
+    is, the command line's set replacing it; ``symdyn convert --contacts`` writes the set into the
+    robot file, which reads back with the same contacts."""
+    scene = tmp_path / "standing.yaml"
+    scene.write_text(f"scene: 1\nrobot: {example_robot_data(SOLO)}\nfloating_base: true\n"
+                     "contacts: [FL_FOOT:3d, HR_FOOT:6d]\n")
+    robot, found = load_input(str(scene))
+    assert [(robot.frames[c.frame].name, c.kind) for c in robot.contacts] == [("FL_FOOT", "3d"), ("HR_FOOT", "6d")]
+    assert robot.contact_rows == 9 and any(note.startswith("contacts:") for note in found.notes)
+    robot, _ = load_input(str(scene), contacts="FR_FOOT:3d")
+    assert [robot.frames[c.frame].name for c in robot.contacts] == ["FR_FOOT"]
+    out = tmp_path / "solo.yaml"
+    assert main(["convert", example_robot_data(SOLO), "--floating-base", "--contacts", "FL_FOOT:3d,HR_FOOT:3d",
+                 "--to", "yaml", "--out", str(out), "--quiet"]) == 0
+    robot, _ = load_input(str(out))
+    assert [(robot.frames[c.frame].name, c.kind) for c in robot.contacts] == [("FL_FOOT", "3d"), ("HR_FOOT", "3d")]
+    assert main(["convert", str(out), "--contacts", "FL_FOOT:3d", "--to", "urdf"]) != 0
+    assert "--contacts applies to a URDF" in error_line(capsys)
