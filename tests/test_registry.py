@@ -118,7 +118,7 @@ def test_every_output_derived_emitted_and_called(everything):
     dims = Dimensions(robot.dof, len(robot.actuated_joints), len(eqs.base_parameters), len(robot.task_rows),
                       len(robot.frames), contacts=robot.contact_rows)
     rng = np.random.default_rng(5)
-    state = {g: rng.uniform(-1, 1, robot.contact_rows if g == "f" else robot.dof) for g in INPUT_GROUPS}
+    state = {g: rng.uniform(-1, 1, {"f": robot.contact_rows, "restitution": 1}.get(g, robot.dof)) for g in INPUT_GROUPS}
     for spec in SPECS:
         assert eqs.output(spec.name).shape == spec.shape(dims), spec.name
         prototype = re.search(rf"\b{robot.name}_{spec.name}\(([^)]*)\)", files[f"{robot.name}_dynamics.h"])
@@ -145,7 +145,7 @@ def test_every_output_derived_emitted_and_called(everything):
 def test_every_output_as_casadi(everything):
     robot, eqs, _, _, _ = everything
     rng = np.random.default_rng(6)
-    state = {g: rng.uniform(-1, 1, robot.contact_rows if g == "f" else robot.dof) for g in INPUT_GROUPS}
+    state = {g: rng.uniform(-1, 1, {"f": robot.contact_rows, "restitution": 1}.get(g, robot.dof)) for g in INPUT_GROUPS}
     for spec in SPECS:
         function = casadi_function(eqs, spec.name)
         assert [function.name_out(k) for k in range(function.n_out())] == (

@@ -529,6 +529,23 @@ class ContactReference:
         bias = np.asarray(self.inverse_dynamics(q, qd, np.zeros(len(qd))))
         return np.linalg.solve(np.asarray(self.system_matrix(q)), np.asarray(tau, dtype=float) + self._applied(q, f) - bias)
 
+    def _impact(self, q, qd, restitution):
+        """(qd_plus, impulse) of [M J^T; J 0][qd+; -impulse] = [M qd; -e J qd] (impulseDynamics)."""
+        J_all, qd = np.asarray(self.frame_jacobians(q)), np.asarray(qd, dtype=float)
+        J = np.vstack([J_all[6 * frame:6 * frame + (3 if kind == "3d" else 6)] for frame, kind in self.contact_set])
+        M = np.asarray(self.system_matrix(q))
+        n, m = M.shape[0], J.shape[0]
+        system = np.block([[M, J.T], [J, np.zeros((m, m))]])
+        e = float(np.asarray(restitution).reshape(-1)[0])
+        solution = np.linalg.solve(system, np.concatenate([M @ qd, -e * (J @ qd)]))
+        return solution[:n], -solution[n:]
+
+    def impulse_velocities(self, q, qd, restitution):
+        return self._impact(q, qd, restitution)[0]
+
+    def impulse_forces(self, q, qd, restitution):
+        return self._impact(q, qd, restitution)[1]
+
     def contact_accelerations(self, q, qd, tau):
         return self._constrained(q, qd, tau)[0]
 

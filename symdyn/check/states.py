@@ -46,6 +46,8 @@ def state_arguments(function: str, state, contact_rows: int | None = None) -> li
     q, qd, qdd, tau = state[:4]
     given = {"q": q, "qd": qd, "qdd": qdd, "tau": tau, "v": qd}
     groups = function_inputs(function)
+    if "restitution" in groups:  # in (0, 1), from the state
+        given["restitution"] = np.array([0.5 * (1.0 + np.tanh(float(np.asarray(qdd).reshape(-1)[0])))])
     if "f" in groups:
         if contact_rows is None:
             raise ValueError(f"{function} takes external forces at the contacts: give contact_rows")

@@ -54,7 +54,7 @@ def call_arguments(function: str, dims: Dimensions) -> tuple[str, list[str], int
     offset in ``out`` (the first at ``out``); and the numbers the outputs take (``dims``: the
     robot's, :meth:`Dimensions.of`)."""
     parts = COMBINED.get(function, (function,))
-    source = {"tau": "qdd[k]", "v": "qd[k]", "q1": "q[(k + 1) % S]", "f": "fext"}
+    source = {"tau": "qdd[k]", "v": "qd[k]", "q1": "q[(k + 1) % S]", "f": "fext", "restitution": "erest"}
     inputs = ", ".join(source.get(g, f"{g}[k]") for g in function_inputs(function))
     sizes = [rows * cols for part in parts for _, (rows, cols) in REGISTRY[part].argument_shapes(dims)]
     offsets = [sum(sizes[:k]) for k in range(len(sizes))]
@@ -72,6 +72,7 @@ def symdyn_harness(prefix: str, dims: Dimensions, functions, precision: str = "d
         extra = ", p"
     if dims.contacts:  # external forces at the contacts (the functions *_ext): constant, of tens of newtons
         includes += f"\nstatic const REAL fext[{dims.contacts}] = {{{', '.join(str(10.0 + k) for k in range(dims.contacts))}}};"
+        includes += "\nstatic const REAL erest[1] = {0.5};"
     body, out_size = "", 1
     for f in functions:
         inputs, outputs, size = call_arguments(f, dims)

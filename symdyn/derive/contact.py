@@ -41,10 +41,10 @@ class ContactDynamics:
     pivots: tuple
 
 
-def _whitening(b, f, tree: bool):
+def _whitening(b, f, tree: bool, hint: str):
     """``(whiten, unwhiten)``: ``v -> W^T v`` and ``u -> W u`` for the factorization ``f`` of M
     (W W^T = M^-1), each entry named."""
-    roots = [b.define(f"ct_iroot{j + 1}", 1 / sp.sqrt(d)) for j, d in enumerate(f.d)]  # D^-1/2
+    roots = [b.define(f"{hint}_iroot{j + 1}", 1 / sp.sqrt(d)) for j, d in enumerate(f.d)]  # D^-1/2
     if tree:  # M = L^T D L: M^-1 = L^-1 D^-1 L^-T, W = L^-1 D^-1/2
         first = lambda v, hint: ldlt.tree_transposed_solve(b, f, v, hint)  # noqa: E731
         second = lambda u, hint: ldlt.tree_lower_solve(b, f, u, hint)  # noqa: E731
@@ -52,12 +52,12 @@ def _whitening(b, f, tree: bool):
         first = lambda v, hint: ldlt.forward_substitute(b, f, v, hint)  # noqa: E731
         second = lambda u, hint: ldlt.back_substitute(b, f, u, hint + "{i}")  # noqa: E731
 
-    def whiten(v, hint):
-        return [b.define(f"{hint}w{i + 1}", e * roots[i]) if e != 0 else sp.S.Zero
-                for i, e in enumerate(first(v, f"{hint}y"))]
+    def whiten(v, name):
+        return [b.define(f"{name}w{i + 1}", e * roots[i]) if e != 0 else sp.S.Zero
+                for i, e in enumerate(first(v, f"{name}y"))]
 
-    def unwhiten(u, hint):
-        return second([e * roots[i] for i, e in enumerate(u)], hint)
+    def unwhiten(u, name):
+        return second([e * roots[i] for i, e in enumerate(u)], name)
     return whiten, unwhiten
 
 
@@ -65,41 +65,41 @@ def _dot(a, b) -> sp.Expr:
     return sp.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
 
 
-def contact_dynamics(b, f, tree: bool, J: sp.Matrix, gamma, rhs) -> ContactDynamics:
+def contact_dynamics(b, f, tree: bool, J: sp.Matrix, gamma, rhs, hint: str = "ct") -> ContactDynamics:
     """The constrained accelerations and contact forces (module docstring) for the factorization
     ``f`` of M (``tree``: :func:`symdyn.derive.ldlt.factor_tree`'s, else :func:`~symdyn.derive.ldlt.factor`'s),
     the constraint rows ``J`` (m x n), their drift ``gamma`` (m) and ``rhs`` (n), every
-    intermediate named in ``b``."""
+    intermediate named in ``b`` (``{hint}...``: the impulse dynamics solve the same system again)."""
     m, n = J.shape
-    whiten, unwhiten = _whitening(b, f, tree)
-    columns = [whiten([J[k, i] for i in range(n)], f"ctB{k + 1}_") for k in range(m)]
-    w = whiten(list(rhs), "ctW")
-    diagonal = [b.define(f"ctA{k + 1}", _dot(col, col)) for k, col in enumerate(columns)]  # (J M^-1 J^T)_kk
+    whiten, unwhiten = _whitening(b, f, tree, hint)
+    columns = [whiten([J[k, i] for i in range(n)], f"{hint}B{k + 1}_") for k in range(m)]
+    w = whiten(list(rhs), f"{hint}W")
+    diagonal = [b.define(f"{hint}A{k + 1}", _dot(col, col)) for k, col in enumerate(columns)]  # (J M^-1 J^T)_kk
     R = sp.zeros(m, m)
     Q: list[list[sp.Expr]] = []
     pivots, inverse, c = [], [], []
     work = [list(col) for col in columns]
     for k in range(m):
-        square = diagonal[k] if k == 0 else b.define(f"ctR{k + 1}sq", _dot(work[k], work[k]))
+        square = diagonal[k] if k == 0 else b.define(f"{hint}R{k + 1}sq", _dot(work[k], work[k]))
         pivots.append((square, diagonal[k]))
-        R[k, k] = b.define(f"ctR{k + 1}_{k + 1}", sp.sqrt(square))
-        inverse.append(b.define(f"ctRinv{k + 1}", 1 / R[k, k]))
-        q = [b.define(f"ctQ{k + 1}_{i + 1}", e * inverse[k]) if e != 0 else sp.S.Zero for i, e in enumerate(work[k])]
+        R[k, k] = b.define(f"{hint}R{k + 1}_{k + 1}", sp.sqrt(square))
+        inverse.append(b.define(f"{hint}Rinv{k + 1}", 1 / R[k, k]))
+        q = [b.define(f"{hint}Q{k + 1}_{i + 1}", e * inverse[k]) if e != 0 else sp.S.Zero for i, e in enumerate(work[k])]
         Q.append(q)
         for j in range(k + 1, m):
-            R[k, j] = b.define(f"ctR{k + 1}_{j + 1}", _dot(q, work[j]))
-            work[j] = [b.define(f"ctB{j + 1}_{k + 1}_{i + 1}", e - R[k, j] * qi) if qi != 0 else e
+            R[k, j] = b.define(f"{hint}R{k + 1}_{j + 1}", _dot(q, work[j]))
+            work[j] = [b.define(f"{hint}B{j + 1}_{k + 1}_{i + 1}", e - R[k, j] * qi) if qi != 0 else e
                        for i, (e, qi) in enumerate(zip(work[j], q))]
-        c.append(b.define(f"ctc{k + 1}", _dot(q, w)))
-        w = [b.define(f"ctW{k + 1}_{i + 1}", e - c[k] * qi) if qi != 0 else e for i, (e, qi) in enumerate(zip(w, q))]
+        c.append(b.define(f"{hint}c{k + 1}", _dot(q, w)))
+        w = [b.define(f"{hint}W{k + 1}_{i + 1}", e - c[k] * qi) if qi != 0 else e for i, (e, qi) in enumerate(zip(w, q))]
     t: list[sp.Expr] = []
     for k in range(m):  # R^T t = gamma
-        t.append(b.define(f"ctt{k + 1}", (gamma[k] - sp.Add(*[R[l, k] * t[l] for l in range(k)])) * inverse[k]))
+        t.append(b.define(f"{hint}t{k + 1}", (gamma[k] - sp.Add(*[R[l, k] * t[l] for l in range(k)])) * inverse[k]))
     forces: list[sp.Expr] = [sp.S.Zero] * m
     for k in reversed(range(m)):  # R lambda = -(c + t)
-        forces[k] = b.define(f"ctlambda{k + 1}",
+        forces[k] = b.define(f"{hint}lambda{k + 1}",
                              (-(c[k] + t[k]) - sp.Add(*[R[k, l] * forces[l] for l in range(k + 1, m)])) * inverse[k])
-    u = [b.define(f"ctu{i + 1}", w[i] - sp.Add(*[Q[k][i] * t[k] for k in range(m) if Q[k][i] != 0]))
+    u = [b.define(f"{hint}u{i + 1}", w[i] - sp.Add(*[Q[k][i] * t[k] for k in range(m) if Q[k][i] != 0]))
          for i in range(n)]
-    qdd = unwhiten(u, "qdd_ct")
+    qdd = unwhiten(u, f"{hint}_x")
     return ContactDynamics(sp.Matrix(qdd), sp.Matrix(forces), tuple(pivots))

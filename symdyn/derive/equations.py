@@ -62,13 +62,13 @@ from .program import Program, ProgramBuilder, differentiate
 from .tangents import vector_tangents
 from ..model.outputs import (ALL_OUTPUTS, REGISTRY, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
-                             CENTROIDAL_OUTPUTS, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
+                             CENTROIDAL_OUTPUTS, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, IMPULSE_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
                              spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot, serial_robot
 from ..model.tolerances import PIVOT_RTOL as TOLERANCES
 from .configuration import configuration_outputs
-from .kinematics import configuration_symbols, contact_force_symbols, joint_symbols
+from .kinematics import RESTITUTION, configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
 from .contact import contact_dynamics
@@ -186,6 +186,11 @@ class Equations:
     def v(self) -> tuple[sp.Symbol, ...]:
         """The tangent vector of the configuration-space functions (n symbols)."""
         return configuration_symbols(self.nq, self.n)[0]
+
+    @property
+    def restitution(self) -> tuple[sp.Symbol, ...]:
+        """The restitution of an impact (one symbol)."""
+        return RESTITUTION
 
     @property
     def f(self) -> tuple[sp.Symbol, ...]:
@@ -1044,6 +1049,25 @@ def _contact_rows(d: _Derivation) -> sp.Matrix:
     return sp.Matrix.vstack(*[J_all[6 * c.frame:6 * c.frame + c.rows, :] for c in d.robot.contacts])
 
 
+def _impulse(d: _Derivation) -> sp.Matrix:
+    """The impulse dynamics (Pinocchio's impulseDynamics): [M J^T; J 0][qd+; -impulse] = [M qd;
+    -e J qd], M qd from the recursion at zero velocity and gravity (plus the armature), solved as
+    the contact dynamics are (:mod:`symdyn.derive.contact`); status 1 and 3 as theirs."""
+    robot, b = d.robot, d.b
+    J = _contact_rows(d)
+    d.report("impulse dynamics (factorization of M, QR of the whitened constraints)")
+    f = _mass_factorization(d)
+    v = sp.Matrix(d.qd)
+    momentum = d.forces(d.zero, list(d.qd), sp.zeros(3, 1), "iv") + armature_matrix(robot) * v
+    rhs = [b.define(f"imr{i + 1}", e) for i, e in enumerate(momentum)]
+    gamma = [b.define(f"img{i + 1}", RESTITUTION[0] * e) for i, e in enumerate(J * v)]
+    result = contact_dynamics(b, f, d.factor_parents is not None, J, gamma, rhs, "im")
+    d.values["impulse_velocities"] = result.accelerations
+    d.values["impulse_forces"] = result.forces
+    d.checks.append((IMPULSE_OUTPUTS, tuple((p, m, 1) for p, m in f.pivots) + tuple((p, m, 3) for p, m in result.pivots)))
+    return result.accelerations
+
+
 def _external(d: _Derivation) -> sp.Matrix:
     """Inverse and forward dynamics with external forces f at the contacts (Pinocchio's rnea and
     aba with fext): tau = ID - J^T f, and M qdd = tau + J^T f - h - c - friction by the
@@ -1149,7 +1173,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, "task": _task, "inverse_dynamics_derivatives": _inverse_dynamics_derivatives,
     "gravity_derivative": _gravity_derivative, "inverse": _inverse_outputs, "frames": _frames,
-    "configuration": _configuration, "contact": _contact, "external": _external,
+    "configuration": _configuration, "contact": _contact, "external": _external, "impulse": _impulse,
     "centroidal": _centroidal, "kinetic_energy": _kinetic_energy,
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")

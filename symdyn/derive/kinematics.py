@@ -36,6 +36,10 @@ def contact_force_symbols(count: int) -> tuple[sp.Symbol, ...]:
     return tuple(sp.Symbol(f"f.{k + 1}", real=True) for k in range(count))
 
 
+#: the restitution of an impact (the impulse dynamics' one input beside q and qd)
+RESTITUTION = (sp.Symbol("restitution.1", real=True),)
+
+
 def link_transform(robot: Robot, i: int, q: sp.Expr, cos_sin=None) -> sp.Matrix:
     """``^{i-1}A_i`` (standard) or ``^{i-1}T_i`` (modified) of link ``i`` (0-based), 4x4."""
     link = robot.links[i]

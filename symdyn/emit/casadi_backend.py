@@ -41,6 +41,7 @@ INPUT_DOCS = {
     "v": "a displacement of the joints (rad or m)",
     "q1": "joint positions of a second configuration (rad or m)",
     "f": "external forces at the contacts (laid out as the contact forces; N, N m, world axes)",
+    "restitution": "restitution of the impact (one entry: 0 the contacts stop, 1 they bounce back)",
     "p": "runtime parameters, in the order of robot.parameters",
 }
 #: a floating base's inputs (Pinocchio's free-flyer first, then the joints)

@@ -22,7 +22,7 @@ from ..derive import articulated_loops as al
 from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan, tangent_width
 from .cprinter import CPrinter, VectorUnsupported, count_operations, fused_sum
 from .emission import fold_constants, template_environment
-from ..model.outputs import CONTACT_OUTPUTS, STATUS_CODES
+from ..model.outputs import CONTACT_OUTPUTS, IMPULSE_OUTPUTS, STATUS_CODES
 
 #: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
 ROWS = 4
@@ -618,7 +618,7 @@ class BodyWriter:
             if not sp.sympify(d).free_symbols and not sp.sympify(m).free_symbols and \
                     float(d) > (0.0 if sp.sympify(d - m) == 0 else self.ctx.rtol * float(m)):
                 continue  # a constant pivot that passes: no test that is always false (clang's -Wunreachable-code)
-            macro = (f"{self.ctx.prefix.upper()}_{'CONTACT' if set(self.plan.parts) & set(CONTACT_OUTPUTS) else 'TASK'}"
+            macro = (f"{self.ctx.prefix.upper()}_{'CONTACT' if self._contact_function else 'TASK'}"
                      "_RTOL" if code == TASK_SINGULAR else pivot_rtol_macro(self.ctx.prefix))
             rtol = f"({self.ctx.internal}){macro}"  # (whatever type the user's macro has)
             at = max(_position_of(d, self.position), _position_of(m, self.position))
@@ -646,9 +646,14 @@ class BodyWriter:
     def _status_name(self, code: int) -> str:
         """The header's name of a check's status: 3 is the contact functions' CONTACT_SINGULAR,
         the task-space functions' TASK_SINGULAR."""
-        if code == TASK_SINGULAR and set(self.plan.parts) & set(CONTACT_OUTPUTS):
+        if code == TASK_SINGULAR and self._contact_function:
             return "CONTACT_SINGULAR"
         return STATUS_NAMES[code]
+
+    @property
+    def _contact_function(self) -> bool:
+        """Whether the function solves with the contacts' constraints (its status 3 is theirs)."""
+        return bool(set(self.plan.parts) & set(CONTACT_OUTPUTS + IMPULSE_OUTPUTS))
 
     def _placed_writes(self) -> None:
         """Where each target is written: a scratch-array entry, and (:attr:`early_outputs`) an

@@ -26,8 +26,8 @@ from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
 from ..derive.configuration import SERIES_BELOW
-from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
-                             factors_mass_matrix)
+from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, IMPULSE_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
+                             INPUT_GROUPS, factors_mass_matrix)
 
 ARG_DOCS = {
     "q": "joint positions, N (rad for revolute, m for prismatic joints)",
@@ -38,6 +38,7 @@ ARG_DOCS = {
     "q1": "joint positions of a second configuration, N (rad or m)",
     "f": "external forces at the contacts, NC, laid out as the contact forces (listed above): a point's force (N), "
          "a sole's force then moment (N m), on the robot, world axes at each frame's origin",
+    "restitution": "restitution of the impact, 1 entry: 0 the contacts stop (Pinocchio's r_coeff), 1 they bounce back",
     "p": "runtime parameters, NP, in the order listed above",
 }
 #: the arguments' documentation for a floating base (Pinocchio's free-flyer layout)
@@ -310,7 +311,8 @@ def _body(eqs: Equations, plan, precision: str, prefix: str, given=None, given_a
     context = BodyContext(prefix=prefix, names=names, angles=angles, internal=internal, scalar=scalar,
                           local_type=real if internal == scalar else internal, real=real, n=eqs.n,
                           rtol=pivot_rtol(internal),  # checked in the arithmetic the pivots are computed in
-                          sizes={"q": eqs.nq} if eqs.nq != eqs.n else {}, given_arrays=frozenset(given_arrays),
+                          sizes={group: len(getattr(eqs, group)) for group in INPUT_GROUPS},
+                          given_arrays=frozenset(given_arrays),
                           fused=fused or len(reduced.statements) >= FUSE_FROM_STATEMENTS, quaternion=quaternion)
     return reduced, context, write_body(plan, reduced, context), group_of
 
@@ -428,7 +430,8 @@ def _contract_context(eqs: Equations, precision: str, built) -> dict:
     if not any(f.returns == "int" for f in built):
         return {"statuses": [], "pivot_rtol": "", "pivot_rtol_text": ""}
     task = any(f.name in TASK_OUTPUTS or f.name == "task_space" for f in built)
-    contact = any(f.name in CONTACT_OUTPUTS or f.name == "contact_forward_dynamics" for f in built)
+    contact = any(f.name in CONTACT_OUTPUTS + IMPULSE_OUTPUTS or f.name in ("contact_forward_dynamics", "impulse_dynamics")
+                  for f in built)
     internal = _checked_arithmetic(precision)
     text = eqs.robot.name.upper()
     return {"statuses": [(name, value, doc.replace("NAME_", f"{text}_")) for name, (value, doc) in STATUS_CODES.items()
@@ -620,7 +623,8 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
         "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,
-        "contact": (_contact_context(eqs, precision) if any(f in CONTACT_OUTPUTS + EXTERNAL_OUTPUTS for f in functions)
+        "contact": (_contact_context(eqs, precision) if any(f in CONTACT_OUTPUTS + EXTERNAL_OUTPUTS + IMPULSE_OUTPUTS
+                                                            for f in functions)
                     else None),
         "header_only": header_only,
         "notes": [comment_text(note) for note in notes],

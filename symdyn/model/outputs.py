@@ -26,8 +26,9 @@ PARAMETERS_PER_LINK = len(LINK_PARAMETERS)
 #: the input groups of the serial functions, in the order they are passed: the configuration q
 #: (NQ entries), the velocity qd, acceleration qdd and forces tau (NV each), a tangent vector v
 #: (NV: a displacement of the configuration, integrate's), a second configuration q1 (NQ:
-#: difference's end) and external forces f at the contacts (NC: laid out as the contact forces)
-INPUT_GROUPS = ("q", "qd", "qdd", "tau", "v", "q1", "f")
+#: difference's end), external forces f at the contacts (NC: laid out as the contact forces) and
+#: the restitution of an impact (1 entry: 0 the contacts stop, 1 they bounce back)
+INPUT_GROUPS = ("q", "qd", "qdd", "tau", "v", "q1", "f", "restitution")
 
 
 @dataclass(frozen=True)
@@ -533,6 +534,24 @@ SPECS: tuple[OutputSpec, ...] = (
         meaning="λ: the contacts' forces on the robot", pinocchio="`data.lambda_c` of `constraintDynamics`",
         derivation="contact", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
     OutputSpec(
+        name="impulse_velocities", symbol="qd_plus", family="contact", inputs=("q", "qd", "restitution"),
+        shape=lambda d: (d.dof, 1), units="rad/s or m/s",
+        summary="The velocity just after the contacts listed above close in an impact at velocity qd (Pinocchio's "
+                "impulseDynamics): M qd_plus = M qd + J^T impulse with J qd_plus = -restitution J qd, by the same "
+                "factorization of M and QR of the whitened constraints as the contact dynamics.",
+        arguments=(OutputArgument("qd_plus", "velocity just after the impact, N"),),
+        meaning="q̇⁺ of [M Jᵀ; J 0][q̇⁺; −Λ] = [M q̇⁻; −e J q̇⁻]", pinocchio="`impulseDynamics`",
+        derivation="impulse", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
+        name="impulse_forces", symbol="impulse", family="contact", inputs=("q", "qd", "restitution"),
+        shape=lambda d: (d.contacts, 1), units="N s, N m s",
+        summary="The contact impulses of that impact (see NAME_impulse_velocities), laid out as the contact forces: "
+                "each contact's impulse on the robot, world axes at its frame's origin.",
+        arguments=(OutputArgument("impulse", "contact impulses, NC: contact k's (N s; a sole's moment's, N m s) on the "
+                                             "robot, world axes at its frame's origin"),),
+        meaning="Λ: the contacts' impulses", pinocchio="`data.impulse_c` of `impulseDynamics`",
+        derivation="impulse", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
         name="inverse_dynamics_ext", symbol="tau", family="contact", inputs=("q", "qd", "qdd", "f"),
         shape=lambda d: (d.dof, 1), units="N m or N",
         summary="Inverse dynamics with external forces f at the contacts listed above (each laid out as its contact "
@@ -759,6 +778,10 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
                  "NAME_contact_accelerations and NAME_contact_forces), sharing one factorization of M and one QR of "
                  "the whitened constraints: the dynamics of a legged robot standing or walking on the contacts listed "
                  "above."),
+    CombinedSpec("impulse_dynamics", ("impulse_velocities", "impulse_forces"),
+                 "An impact in one call: the velocity just after the contacts listed above close and their impulses "
+                 "(as NAME_impulse_velocities and NAME_impulse_forces), sharing one factorization of M and one QR of "
+                 "the whitened constraints: a foot's touchdown in a walking robot's simulation or MPC."),
     CombinedSpec("task_space", ("task_mass_matrix", "task_bias", "task_gravity", "task_inverse"),
                  "Task-space dynamics of the tool in one call, F = Lambda xdd + mu + Gx: Lambda, mu and Gx as "
                  "NAME_task_mass_matrix, NAME_task_bias and NAME_task_gravity, and Jbar as NAME_task_inverse, "
@@ -823,6 +846,7 @@ FRAME_OUTPUTS = family("frames")
 #: contacts), and the dynamics with external forces at the contacts (inputs f)
 CONTACT_OUTPUTS = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "contact")
 EXTERNAL_OUTPUTS = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "external")
+IMPULSE_OUTPUTS = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "impulse")
 
 #: the derivatives of the dynamics and the inverse mass matrix (when asked for)
 DERIVATIVE_OUTPUTS = family("derivatives")
@@ -865,7 +889,7 @@ def default_outputs(robot) -> tuple[str, ...]:
     map when the robot has passive joints, and the task-space outputs when it names a task;
     for a kinematic tree, :data:`TREE_OUTPUTS`."""
     frames = FRAME_OUTPUTS if getattr(robot, "frames", ()) else ()
-    frames += CONTACT_OUTPUTS + EXTERNAL_OUTPUTS if getattr(robot, "contacts", ()) else ()
+    frames += CONTACT_OUTPUTS + IMPULSE_OUTPUTS + EXTERNAL_OUTPUTS if getattr(robot, "contacts", ()) else ()
     if getattr(robot, "is_tree", False):
         return TREE_OUTPUTS + frames
     return (OUTPUTS + (("reaction_map",) if robot.passive_joints else ())
@@ -885,7 +909,7 @@ def supported_outputs(robot) -> tuple[str, ...]:
     if not getattr(robot, "frames", ()):
         names -= set(FRAME_OUTPUTS)
     if not getattr(robot, "contacts", ()):
-        names -= set(CONTACT_OUTPUTS) | set(EXTERNAL_OUTPUTS)
+        names -= set(family("contact"))
     return tuple(name for name in ALL_OUTPUTS if name in names)
 
 

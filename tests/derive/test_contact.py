@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from helpers import error_line, example_robot_data, normalized_error, robot_path
+from helpers import REPO, error_line, example_robot_data, normalized_error, robot_path, run_sanitized
 from symdyn.check.agreement import CasadiTarget, NumpyTarget
 from symdyn.check.cbuild import build_and_load
 from symdyn.check.pinocchio_model import UrdfReference, compare, reduced
@@ -19,7 +19,7 @@ from symdyn.cli import main
 from symdyn.derive.equations import derive
 from symdyn.emit.cgen import generate_c
 from symdyn.model.errors import SymdynError
-from symdyn.model.outputs import CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, Dimensions
+from symdyn.model.outputs import CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, IMPULSE_OUTPUTS, Dimensions
 from symdyn.model.scene import load_input
 
 pin = pytest.importorskip("pinocchio")
@@ -260,3 +260,79 @@ def test_scene_and_convert_contacts(tmp_path, capsys):
     assert [(robot.frames[c.frame].name, c.kind) for c in robot.contacts] == [("FL_FOOT", "3d"), ("HR_FOOT", "3d")]
     assert main(["convert", str(out), "--contacts", "FL_FOOT:3d", "--to", "urdf"]) != 0
     assert "--contacts applies to a URDF" in error_line(capsys)
+
+
+@pytest.mark.parametrize("relative,contacts", [(SOLO, _contacts(FEET)), (TALOS, "left_sole_link:6d,right_sole_link:6d")])
+def test_impulse_dynamics_is_pinocchio(relative, contacts, tmp_path_factory):
+    """The impact of the contacts closing: the reference against Pinocchio's impulseDynamics
+    (Solo-12's four feet, TALOS reduced's two soles, restitutions in (0, 1)), Solo-12's C (the
+    combined function) against the reference; after the impact the contacts move at -e times
+    their velocity before it."""
+    robot = _robot(relative, contacts)
+    ref = _reference(relative, robot)
+    model = ref.model
+    data = model.createData()
+    models = []
+    for contact in robot.contacts:
+        frame = model.frames[model.getFrameId(robot.frames[contact.frame].name)]
+        kind = pin.ContactType.CONTACT_3D if contact.kind == "3d" else pin.ContactType.CONTACT_6D
+        models.append(pin.RigidConstraintModel(kind, model, frame.parentJoint, frame.placement,
+                                               pin.ReferenceFrame.LOCAL_WORLD_ALIGNED))
+    models = pin.StdVec_RigidConstraintModel(models)
+    datas = pin.StdVec_RigidConstraintData([m.createData() for m in models])
+    pin.initConstraintDynamics(model, data, models, datas)
+    settings = pin.ProximalSettings(1e-14, 0.0, 1)
+    lib = None
+    if relative == SOLO:
+        eqs = derive(robot, outputs=IMPULSE_OUTPUTS)
+        lib = build_and_load(generate_c(eqs, IMPULSE_OUTPUTS), robot.name, Dimensions.of(robot), 0, "double",
+                             str(tmp_path_factory.mktemp("impulse")))
+    for k, (q, qd, _, _) in enumerate(_states(robot, 5)):
+        e = np.array([0.2 * k])
+        theirs = pin.impulseDynamics(model, data, ref.configuration(q), qd, models, datas, float(e[0]), settings)
+        mine_v, mine_i = ref.impulse_velocities(q, qd, e), ref.impulse_forces(q, qd, e)
+        assert normalized_error([mine_v], [theirs]) < 1e-9
+        assert normalized_error([mine_i], [data.impulse_c.copy()]) < 1e-9
+        J_all = ref.frame_jacobians(q)
+        J = np.vstack([J_all[6 * c.frame:6 * c.frame + c.rows] for c in robot.contacts])
+        assert np.allclose(J @ mine_v, -e[0] * (J @ qd), atol=1e-9 * np.abs(J @ qd).max())
+        if lib is not None:
+            status, (velocity, impulse) = lib.with_status("impulse_dynamics", q, qd, e)
+            assert status == 0
+            assert normalized_error([velocity], [mine_v]) < TOL
+            assert normalized_error([impulse], [mine_i]) < TOL
+
+
+SANITIZED_MAIN = r"""
+#include <stdio.h>
+#include <stdlib.h>
+#include "space2arm_dynamics.h"
+static double *filled(int count, double base) {  /* exactly count entries: a read past them is reported */
+    double *x = malloc(sizeof(double) * (size_t)count);
+    for (int i = 0; i < count; ++i) x[i] = base + 0.1 * i;
+    return x;
+}
+int main(void) {
+    double *q = filled(19, 0.1), *qd = filled(12, -0.3), *qdd = filled(12, 0.2), *tau = filled(12, 1.0);
+    double *f = filled(SPACE2ARM_CONTACT_ROWS, 5.0), *e = filled(1, 0.5);
+    double *out = filled(12, 0.0), *forces = filled(SPACE2ARM_CONTACT_ROWS, 0.0);
+    int status = space2arm_contact_forward_dynamics(q, qd, tau, out, forces);
+    status |= space2arm_impulse_dynamics(q, qd, e, out, forces);
+    status |= space2arm_forward_dynamics_ext(q, qd, tau, f, out);
+    space2arm_inverse_dynamics_ext(q, qd, qdd, f, out);
+    printf("%d %g\n", status, out[0]);
+    free(q); free(qd); free(qdd); free(tau); free(f); free(e); free(out); free(forces);
+    return 0;
+}
+"""
+
+
+def test_contact_functions_sanitizer_clean(tmp_path):
+    """The contact, impulse and external-force functions read their inputs within their sizes
+    (f: NC entries, the restitution one) and are clean under the address and undefined-behaviour
+    sanitizers, on a floating base whose contact rows are fewer than its velocities."""
+    robot, _ = load_input(str(REPO / "examples" / "trees" / "space_robot.yaml"), contacts="l_wrist:3d")
+    wanted = CONTACT_OUTPUTS + IMPULSE_OUTPUTS + EXTERNAL_OUTPUTS
+    files = generate_c(derive(robot, outputs=wanted), wanted)
+    status, value = run_sanitized(tmp_path, SANITIZED_MAIN, files).split()
+    assert status == "0" and np.isfinite(float(value))

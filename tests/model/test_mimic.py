@@ -21,7 +21,7 @@ from symdyn.check.states import random_state
 from symdyn.cli import main
 from symdyn.derive.equations import coordinate_parents, derive
 from symdyn.model.errors import RobotFileError
-from symdyn.model.outputs import CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, TREE_AVAILABLE, DERIVATIVE_OUTPUTS
+from symdyn.model.outputs import REGISTRY, TREE_AVAILABLE, DERIVATIVE_OUTPUTS
 
 from helpers import error_line, example_robot_data
 
@@ -70,7 +70,7 @@ def test_every_function_is_the_full_tree_projected(floating, across):
     assert robot.dof == len(robot.links) - (3 if across else 2)
     assert (coordinate_parents(robot) is None) == across  # across branches: M is factorized dense
     wanted = [f for f in TREE_AVAILABLE if not (floating and f in DERIVATIVE_OUTPUTS and f != "mass_matrix_inverse")
-              and f not in CONTACT_OUTPUTS + EXTERNAL_OUTPUTS]  # (the gripper holds nothing: the fuzzer crosses mimics with contacts)
+              and REGISTRY[f].family != "contact"]  # (the gripper holds nothing: the fuzzer crosses mimics with contacts)
     eqs = derive(robot, outputs=wanted)
     reference = MimicReduction(PinocchioReference(robot), robot)
     rng = np.random.default_rng(7)
