@@ -51,11 +51,11 @@ def _states(robot, count, seed=11):
     return [random_state(robot, rng) for _ in range(count)]
 
 
-def _compiled(key, robot, tmp_path_factory, precision="double"):
-    """One compile per robot and contact set: the combined function and the two single ones."""
+def _compiled(key, robot, tmp_path_factory, precision="double", wanted=CONTACT_OUTPUTS):
+    """One compile per robot and contact set: the ``wanted`` functions (the combined ones too)."""
     if key not in _BUILT:
-        eqs = derive(robot, outputs=CONTACT_OUTPUTS)
-        files = generate_c(eqs, CONTACT_OUTPUTS, precision=precision)
+        eqs = derive(robot, outputs=wanted)
+        files = generate_c(eqs, wanted, precision=precision)
         _BUILT[key] = build_and_load(files, robot.name, Dimensions.of(robot), 0, precision,
                                      str(tmp_path_factory.mktemp("contact")))
     return _BUILT[key]
@@ -102,8 +102,8 @@ def test_solo_feet(feet, tmp_path_factory):
     ref = _reference(SOLO, robot)
     states = _states(robot, 8)
     targets = {"numpy": NumpyTarget(derive(robot, outputs=CONTACT_OUTPUTS))}
-    if len(feet) == 4:
-        targets["c"] = _compiled(("solo", feet), robot, tmp_path_factory)
+    if len(feet) == 4:  # (the impulse dynamics' test reads the same library)
+        targets["c"] = _compiled(("solo", feet), robot, tmp_path_factory, wanted=CONTACT_OUTPUTS + IMPULSE_OUTPUTS)
     if len(feet) == 2:
         targets["casadi"] = CasadiTarget(derive(robot, outputs=CONTACT_OUTPUTS))
     for target, lib in targets.items():
@@ -131,15 +131,15 @@ def test_solo_feet(feet, tmp_path_factory):
 
 def test_dependent_contacts_status(tmp_path_factory):
     """Two soles on one rigid body (Solo's foot and the lower leg it is fixed to) are dependent at
-    every q: status 3 (CONTACT_SINGULAR) and nothing written; a NaN input gives 2; the same
-    library on a regular state returns 0."""
+    every q: status 3 (CONTACT_SINGULAR) and nothing written; a NaN input gives 2; the four feet
+    at the same state return 0."""
     robot = _robot(SOLO, "FL_FOOT:6d,FL_LOWER_LEG:6d")
     lib = _compiled(("solo", "dependent"), robot, tmp_path_factory)
     q, qd, _, tau = _states(robot, 1)[0]
     status, (qdd, forces) = lib.with_status("contact_forward_dynamics", q, qd, tau)
     assert status == 3 and np.all(np.isnan(qdd)) and np.all(np.isnan(forces))
-    regular = _robot(SOLO, "FL_FOOT:6d")
-    lib = _compiled(("solo", "sole"), regular, tmp_path_factory)
+    regular = _robot(SOLO, _contacts(FEET))
+    lib = _compiled(("solo", FEET), regular, tmp_path_factory, wanted=CONTACT_OUTPUTS + IMPULSE_OUTPUTS)
     status, (qdd, forces) = lib.with_status("contact_forward_dynamics", q, qd, tau)
     assert status == 0 and np.all(np.isfinite(qdd)) and np.all(np.isfinite(forces))
     ref = _reference(SOLO, regular)
@@ -282,11 +282,8 @@ def test_impulse_dynamics_is_pinocchio(relative, contacts, tmp_path_factory):
     datas = pin.StdVec_RigidConstraintData([m.createData() for m in models])
     pin.initConstraintDynamics(model, data, models, datas)
     settings = pin.ProximalSettings(1e-14, 0.0, 1)
-    lib = None
-    if relative == SOLO:
-        eqs = derive(robot, outputs=IMPULSE_OUTPUTS)
-        lib = build_and_load(generate_c(eqs, IMPULSE_OUTPUTS), robot.name, Dimensions.of(robot), 0, "double",
-                             str(tmp_path_factory.mktemp("impulse")))
+    lib = (_compiled(("solo", FEET), robot, tmp_path_factory, wanted=CONTACT_OUTPUTS + IMPULSE_OUTPUTS)
+           if relative == SOLO else None)
     for k, (q, qd, _, _) in enumerate(_states(robot, 5)):
         e = np.array([0.2 * k])
         theirs = pin.impulseDynamics(model, data, ref.configuration(q), qd, models, datas, float(e[0]), settings)
