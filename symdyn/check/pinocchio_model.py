@@ -496,19 +496,24 @@ class ContactReference:
 
     contact_set: tuple = ()
 
+    def _contact_jacobian(self, q) -> np.ndarray:
+        """The contacts' rows of their frames' Jacobians (NC x N): a point's 3 linear, a sole's 6."""
+        J_all = np.asarray(self.frame_jacobians(q))
+        return np.vstack([J_all[6 * frame:6 * frame + (3 if kind == "3d" else 6)] for frame, kind in self.contact_set])
+
     def _constrained(self, q, qd, tau):
-        J_all, drift_all = np.asarray(self.frame_jacobians(q)), np.asarray(self.frame_jacobian_dot_v(q, qd))
+        J, drift_all = self._contact_jacobian(q), np.asarray(self.frame_jacobian_dot_v(q, qd))
         qd = np.asarray(qd, dtype=float)
-        rows, gamma = [], []
+        gamma, at = [], 0
         for frame, kind in self.contact_set:
-            J, drift = J_all[6 * frame:6 * frame + 6], np.array(drift_all[6 * frame:6 * frame + 6])
+            drift = np.array(drift_all[6 * frame:6 * frame + 6])
             if kind == "6d":
-                velocity = J @ qd
+                velocity = J[at:at + 6] @ qd
                 drift[:3] -= np.cross(velocity[3:], velocity[:3])
             count = 3 if kind == "3d" else 6
-            rows.append(J[:count])
             gamma.append(drift[:count])
-        J, gamma = np.vstack(rows), np.concatenate(gamma)
+            at += count
+        gamma = np.concatenate(gamma)
         M = np.asarray(self.system_matrix(q))
         bias = np.asarray(self.inverse_dynamics(q, qd, np.zeros(len(qd))))
         n, m = M.shape[0], len(gamma)
@@ -518,9 +523,7 @@ class ContactReference:
 
     def _applied(self, q, f):
         """J^T f: the external forces at the contacts as generalized forces."""
-        J_all = np.asarray(self.frame_jacobians(q))
-        J = np.vstack([J_all[6 * frame:6 * frame + (3 if kind == "3d" else 6)] for frame, kind in self.contact_set])
-        return J.T @ np.asarray(f, dtype=float)
+        return self._contact_jacobian(q).T @ np.asarray(f, dtype=float)
 
     def inverse_dynamics_ext(self, q, qd, qdd, f):
         return np.asarray(self.inverse_dynamics(q, qd, qdd)) - self._applied(q, f)
@@ -531,8 +534,7 @@ class ContactReference:
 
     def _impact(self, q, qd, restitution):
         """(qd_plus, impulse) of [M J^T; J 0][qd+; -impulse] = [M qd; -e J qd] (impulseDynamics)."""
-        J_all, qd = np.asarray(self.frame_jacobians(q)), np.asarray(qd, dtype=float)
-        J = np.vstack([J_all[6 * frame:6 * frame + (3 if kind == "3d" else 6)] for frame, kind in self.contact_set])
+        J, qd = self._contact_jacobian(q), np.asarray(qd, dtype=float)
         M = np.asarray(self.system_matrix(q))
         n, m = M.shape[0], J.shape[0]
         system = np.block([[M, J.T], [J, np.zeros((m, m))]])

@@ -46,6 +46,24 @@ def _reference(relative, robot):
     return reduced(ref, robot)
 
 
+def _pinocchio_contacts(robot, ref):
+    """``(model, data, models, datas, settings)``: Pinocchio's own contact models of the robot's
+    contact set on the reference's model (LOCAL_WORLD_ALIGNED), its data prepared by
+    initConstraintDynamics, and exact settings (one iteration, no proximal term)."""
+    model = ref.model
+    data = model.createData()
+    models = []
+    for contact in robot.contacts:
+        frame = model.frames[model.getFrameId(robot.frames[contact.frame].name)]
+        kind = pin.ContactType.CONTACT_3D if contact.kind == "3d" else pin.ContactType.CONTACT_6D
+        models.append(pin.RigidConstraintModel(kind, model, frame.parentJoint, frame.placement,
+                                               pin.ReferenceFrame.LOCAL_WORLD_ALIGNED))
+    models = pin.StdVec_RigidConstraintModel(models)
+    datas = pin.StdVec_RigidConstraintData([m.createData() for m in models])
+    pin.initConstraintDynamics(model, data, models, datas)
+    return model, data, models, datas, pin.ProximalSettings(1e-14, 0.0, 1)
+
+
 def _states(robot, count, seed=11):
     rng = np.random.default_rng(seed)
     return [random_state(robot, rng) for _ in range(count)]
@@ -70,18 +88,7 @@ def test_reference_is_pinocchio_constraint_dynamics(relative, contacts):
     point and 6D contacts; its lambda_c the forces on the robot) at random states."""
     robot = _robot(relative, contacts)
     ref = _reference(relative, robot)
-    model = ref.model
-    data = model.createData()
-    models = []
-    for contact in robot.contacts:
-        frame = model.frames[model.getFrameId(robot.frames[contact.frame].name)]
-        kind = pin.ContactType.CONTACT_3D if contact.kind == "3d" else pin.ContactType.CONTACT_6D
-        models.append(pin.RigidConstraintModel(kind, model, frame.parentJoint, frame.placement,
-                                               pin.ReferenceFrame.LOCAL_WORLD_ALIGNED))
-    models = pin.StdVec_RigidConstraintModel(models)
-    datas = pin.StdVec_RigidConstraintData([m.createData() for m in models])
-    pin.initConstraintDynamics(model, data, models, datas)
-    settings = pin.ProximalSettings(1e-14, 0.0, 1)
+    model, data, models, datas, settings = _pinocchio_contacts(robot, ref)
     theirs_qdd, theirs_f, mine_qdd, mine_f = [], [], [], []
     for q, qd, _, tau in _states(robot, 6):
         theirs_qdd.append(pin.constraintDynamics(model, data, ref.configuration(q), qd, tau - ref.friction(qd),
@@ -270,18 +277,7 @@ def test_impulse_dynamics_is_pinocchio(relative, contacts, tmp_path_factory):
     their velocity before it."""
     robot = _robot(relative, contacts)
     ref = _reference(relative, robot)
-    model = ref.model
-    data = model.createData()
-    models = []
-    for contact in robot.contacts:
-        frame = model.frames[model.getFrameId(robot.frames[contact.frame].name)]
-        kind = pin.ContactType.CONTACT_3D if contact.kind == "3d" else pin.ContactType.CONTACT_6D
-        models.append(pin.RigidConstraintModel(kind, model, frame.parentJoint, frame.placement,
-                                               pin.ReferenceFrame.LOCAL_WORLD_ALIGNED))
-    models = pin.StdVec_RigidConstraintModel(models)
-    datas = pin.StdVec_RigidConstraintData([m.createData() for m in models])
-    pin.initConstraintDynamics(model, data, models, datas)
-    settings = pin.ProximalSettings(1e-14, 0.0, 1)
+    model, data, models, datas, settings = _pinocchio_contacts(robot, ref)
     lib = (_compiled(("solo", FEET), robot, tmp_path_factory, wanted=CONTACT_OUTPUTS + IMPULSE_OUTPUTS)
            if relative == SOLO else None)
     for k, (q, qd, _, _) in enumerate(_states(robot, 5)):
