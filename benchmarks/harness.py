@@ -125,7 +125,8 @@ PINOCCHIO = {"inverse_dynamics": (("rnea",), "RNEA"),
              "center_of_mass_bias": (("centerOfMassBias",), "CENT"),
              "centroidal_momentum_matrix": (("ccrba_ccrba", "ccrba_map"), "CENT"),
              "centroidal_bias": (("centroidalBias",), "CENT"),
-             "contact_forward_dynamics": (("constraintDynamics",), "CONTACT")}
+             "contact_forward_dynamics": (("constraintDynamics",), "CONTACT"),
+             "contact_forward_dynamics_derivatives": (("constraintDynamicsDerivatives",), "CONTACT")}
 #: parts of Pinocchio's side in a source of their own (benchmarks/harness_pinocchio_task.cpp,
 #: harness_pinocchio_kin.cpp), so that adding them leaves the cached objects of the others valid
 OWN_SOURCE_PARTS = {"TASK": "harness_pinocchio_task.cpp", "KIN": "harness_pinocchio_kin.cpp",
@@ -151,7 +152,8 @@ PINOCCHIO_ARGUMENTS = {"rnea": "Q, QD, QDD", "computeGeneralizedGravity": "Q", "
                        "framePoses_all": "Q", "framePoses_each": "Q",
                        "frameJacobians_all": "Q", "frameJacobians_each": "Q", "frameJacobianDotV": "Q, QD",
                        "frameKinematics": "Q, QD", "rneaDerivatives": "Q, QD, QDD", "gravityDerivatives": "Q",
-                       "abaDerivatives": "Q, QD, TAU", "computeMinverse": "Q", "constraintDynamics": "Q, QD, TAU"}
+                       "abaDerivatives": "Q, QD, TAU", "computeMinverse": "Q", "constraintDynamics": "Q, QD, TAU",
+                       "constraintDynamicsDerivatives": "Q, QD, TAU"}
 
 
 def pinocchio_of(function: str) -> tuple:

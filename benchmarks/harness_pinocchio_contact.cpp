@@ -4,17 +4,21 @@
 // the model's frames named "contact3d_..." and "contact6d_..." (symdyn's build_model adds one per
 // contact of the robot), LOCAL_WORLD_ALIGNED, as RigidConstraintModels; q is read as nq numbers.
 // constraintDynamics runs at its fastest setting: one iteration, no proximal term (exact for a
-// regular contact set, which the harness's robots have).  Entry point, declared in harness_cases.h:
+// regular contact set, which the harness's robots have).  Entry points, declared in harness_cases.h:
 //   pin_constraintDynamics(q, v, tau, out)
+//   pin_constraintDynamicsDerivatives(q, v, tau, out): constraintDynamics then
+//     computeConstraintDynamicsDerivatives (what symdyn's contact_forward_dynamics_derivatives computes)
 #include <vector>
 #include <pinocchio/multibody.hpp>
 #include <pinocchio/algorithm/constrained-dynamics.hpp>
+#include <pinocchio/algorithm/constrained-dynamics-derivatives.hpp>
 
 extern pinocchio::Model *harness_model;
 typedef Eigen::Map<const Eigen::VectorXd> In;
 
 extern "C" {
 void pin_constraintDynamics(const double *q, const double *v, const double *tau, double *out);
+void pin_constraintDynamicsDerivatives(const double *q, const double *v, const double *tau, double *out);
 }
 
 namespace {
@@ -50,4 +54,13 @@ void pin_constraintDynamics(const double *q, const double *v, const double *tau,
   const pinocchio::Model &model = *harness_model;
   out[0] = pinocchio::constraintDynamics(model, set.data, In(q, model.nq), In(v, model.nv), In(tau, model.nv),
                                          set.models, set.datas, set.settings)[0];
+}
+
+void pin_constraintDynamicsDerivatives(const double *q, const double *v, const double *tau, double *out) {
+  Contacts &set = contacts();
+  const pinocchio::Model &model = *harness_model;
+  pinocchio::constraintDynamics(model, set.data, In(q, model.nq), In(v, model.nv), In(tau, model.nv), set.models,
+                                set.datas, set.settings);
+  pinocchio::computeConstraintDynamicsDerivatives(model, set.data, set.models, set.datas, set.settings);
+  out[0] = set.data.ddq_dq(0, 0) + set.data.dlambda_dv(0, 0);
 }

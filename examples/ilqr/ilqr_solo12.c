@@ -22,6 +22,12 @@
  * when an iteration lowers the cost by less than 1e-6 of it.  Prints the cost per iteration,
  * the time per iteration (linearization, backward and forward passes), then the final errors;
  * exits 0 when the joints end within 1e-3 rad of the targets and 1e-2 rad/s of rest.
+ *
+ * Built with -DON_FEET (and a library generated with Solo-12's four feet as contacts): the same
+ * squat standing on its four feet, the feet held by the ground (point contacts): the contact
+ * dynamics to simulate, their derivatives (dqdd/dq, dqdd/dv and dqdd/dtau of the constrained
+ * system from solo_contact_forward_dynamics_derivatives) to linearize, and the first guess the
+ * torques that hold it at rest (solo_contact_inverse_dynamics at qdd = 0).
  */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
@@ -64,7 +70,12 @@ static int step(const double *x, const double *u, double *next)
 {
     double tau[NV] = {0.0}, qdd[NV], displacement[NV];
     memcpy(tau + 6, u, sizeof(double) * NU);
+#ifdef ON_FEET
+    double lambda[SOLO_CONTACT_ROWS];
+    int status = solo_contact_forward_dynamics(x, x + NQ, tau, qdd, lambda);
+#else
     int status = solo_forward_dynamics_checked(x, x + NQ, tau, qdd);
+#endif
     for (int i = 0; i < NV; ++i) {
         next[NQ + i] = x[NQ + i] + DT * qdd[i];
         displacement[i] = DT * next[NQ + i];
@@ -82,7 +93,12 @@ static int linearize(const double *x, const double *u, double a[NX][NX], double 
     static double fq[NV * NV], fv[NV * NV], minv[NV * NV], jq[NV * NV], jv[NV * NV];
     double tau[NV] = {0.0}, next[NQ + NV], displacement[NV];
     memcpy(tau + 6, u, sizeof(double) * NU);
+#ifdef ON_FEET  /* minv: dqdd/dtau of the constrained system; the forces' derivatives unused */
+    static double qdd[NV], lambda[SOLO_CONTACT_ROWS], lq[SOLO_CONTACT_ROWS * NV], lv[SOLO_CONTACT_ROWS * NV], lt[SOLO_CONTACT_ROWS * NV];
+    int status = solo_contact_forward_dynamics_derivatives(x, x + NQ, tau, qdd, lambda, fq, fv, minv, lq, lv, lt);
+#else
     int status = solo_forward_dynamics_derivatives(x, x + NQ, tau, fq, fv, minv);
+#endif
     if (status != 0 || (status = step(x, u, next)) != 0) {
         return status;
     }
@@ -230,6 +246,14 @@ int main(void)
     xs[0][6] = 1.0;  /* the base at the origin, upright (quaternion w = 1), at rest */
     memcpy(&xs[0][7], stand, sizeof stand);
     for (int k = 0; k < STEPS; ++k) {  /* the first guess: no torque (the robot falls as it stands) */
+#ifdef ON_FEET  /* standing: the torques that hold it at rest on its feet (contact inverse dynamics) */
+        double rest[NV] = {0.0}, tau[NV], lambda[SOLO_CONTACT_ROWS];
+        if (solo_contact_inverse_dynamics(xs[k], rest, rest, tau, lambda) != 0) {
+            fprintf(stderr, "contact inverse dynamics failed in the first rollout\n");
+            return 1;
+        }
+        memcpy(us[k], tau + 6, sizeof us[k]);
+#endif
         if (step(xs[k], us[k], xs[k + 1]) != 0) {
             fprintf(stderr, "forward dynamics failed in the first rollout\n");
             return 1;
@@ -289,6 +313,19 @@ int main(void)
     printf("time per iteration: %.3f ms (linearization %.3f ms, backward pass %.3f ms, forward passes %.3f ms)\n",
            1e3 * (seconds[0] + seconds[1] + seconds[2]) / iteration, 1e3 * seconds[0] / iteration,
            1e3 * seconds[1] / iteration, 1e3 * seconds[2] / iteration);
+#ifdef ON_FEET  /* how far the feet moved: the contacts hold their accelerations, not their positions */
+    double start[16 * SOLO_NFRAMES], end[16 * SOLO_NFRAMES], drift = 0.0, sink = xs[0][2] - xs[STEPS / 2][2];
+    solo_frame_poses(xs[0], start);
+    for (int k = 0; k <= STEPS; ++k) {
+        solo_frame_poses(xs[k], end);
+        for (int f = 0; f < SOLO_NFRAMES; ++f) {
+            double d = 0.0;
+            for (int i = 0; i < 3; ++i) d += pow(end[16 * f + 4 * i + 3] - start[16 * f + 4 * i + 3], 2);
+            drift = fmax(drift, sqrt(d));
+        }
+    }
+    printf("on four feet: the base sinks %.4f m at the crouch; the feet move at most %.3g m\n", sink, drift);
+#endif
     int converged = position < 1e-3 && middle < 1e-3 && velocity < 1e-2;
     printf("final: cost %.9g after %d iterations; crouch %.3g rad, stand %.3g rad, joint rates %.3g rad/s: %s\n",
            current, iteration, middle, position, velocity, converged ? "converged" : "NOT converged");

@@ -3,6 +3,7 @@ the air) with symdyn's generated C, and, when Pinocchio's wheel (pin) is install
 solver linked against Pinocchio (ilqr_solo12_pinocchio.cpp); both at the same gcc flags.
 
     python examples/ilqr/solo12_ddp.py [--flags="-O3 -march=native"] [--out build/solo12_ddp]
+    python examples/ilqr/solo12_ddp.py --on-feet      # the squat standing on four feet (symdyn's C only)
 
 Prints each program's iterations, then the median of each time per iteration over 7 runs of
 each program, interleaved (one solve is a few ms: a single run swings by half), and the ratios;
@@ -22,6 +23,10 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
 FUNCTIONS = "forward_dynamics,forward_dynamics_derivatives,integrate,integrate_jacobians,difference"
+#: standing on four feet: the contact dynamics, their derivatives and contact inverse dynamics
+ON_FEET = "contact_forward_dynamics,contact_forward_dynamics_derivatives,contact_inverse_dynamics,integrate," \
+          "integrate_jacobians,difference,frame_poses"
+FEET = "FL_FOOT:3d,FR_FOOT:3d,HL_FOOT:3d,HR_FOOT:3d"
 
 
 def solo12_urdf() -> str:
@@ -57,20 +62,26 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--flags", default="-O2", help="gcc/g++ optimization flags of both builds (default -O2)")
     parser.add_argument("--out", default=str(REPO / "build" / "solo12_ddp"))
+    parser.add_argument("--on-feet", action="store_true",
+                        help="the squat standing on four feet (contact dynamics; symdyn's build only)")
     args = parser.parse_args(argv)
-    out = Path(args.out)
+    out = Path(args.out + ("_on_feet" if args.on_feet else ""))
     out.mkdir(parents=True, exist_ok=True)
     urdf = solo12_urdf()
     from symdyn.cli import main as symdyn
-    if symdyn(["generate", urdf, "--floating-base", "--functions", FUNCTIONS, "--out", str(out), "--quiet"]) != 0:
+    request = ["--functions", ON_FEET, "--contacts", FEET] if args.on_feet else ["--functions", FUNCTIONS]
+    if symdyn(["generate", urdf, "--floating-base", *request, "--out", str(out), "--quiet"]) != 0:
         return 1
     flags = args.flags.split() + ["-ffp-contract=off"]
     sources = sorted(str(p) for p in out.glob("solo_dynamics*.c"))
     mine = str(out / "ilqr_symdyn")
     subprocess.run(["gcc", *flags, "-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror", f"-I{out}",
-                    str(HERE / "ilqr_solo12.c"), *sources, "-lm", "-o", mine], check=True)
-    print(f"== symdyn's generated C ({' '.join(flags)})")
+                    *(["-DON_FEET"] if args.on_feet else []), str(HERE / "ilqr_solo12.c"), *sources, "-lm", "-o", mine],
+                   check=True)
+    print(f"== symdyn's generated C ({' '.join(flags)}){' on four feet' if args.on_feet else ''}")
     _, cost, ms = run(mine)
+    if args.on_feet:
+        return 0
     try:
         import pinocchio as pin
     except ImportError:

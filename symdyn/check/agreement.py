@@ -13,7 +13,7 @@ import numpy as np
 import sympy as sp
 
 from ..model.tolerances import VERIFY_FLOOR
-from ..model.outputs import REGISTRY, TASK_OUTPUTS
+from ..model.outputs import CONTACT_INVERSE, REGISTRY, TASK_OUTPUTS
 from .pinocchio_model import compare
 
 #: the task-space functions are compared at states whose task's smallest relative pivot (the
@@ -186,10 +186,27 @@ def target_errors(target, reference, robot, eqs, functions, states, p, values, f
     if regressors:
         target = AsTorques(target, *parameter_values(robot, eqs, values))
         reference = ReferenceTorques(reference)
-    task = [f for f in functions if f in TASK_OUTPUTS]
-    errors = compare(target, reference, states, [f for f in functions if f not in task], p, floor, row_floor)
-    if task:
-        regular = [state for state in states if reference.task_pivot_ratio(state[0]) > task_regular]
-        errors.update(compare(target, reference, regular, task, p, floor, row_floor) if regular
-                      else {f: float("nan") for f in task})
+    conditioned = [f for group, _ in CONDITIONED for f in group if f in functions]
+    errors = compare(target, reference, states, [f for f in functions if f not in conditioned], p, floor, row_floor)
+    for group, regular in regular_states(reference, states, functions, task_regular).items():
+        errors.update(compare(target, reference, regular, group, p, floor, row_floor) if regular
+                      else {f: float("nan") for f in group})
     return errors
+
+
+#: the outputs compared only at the states where their problem is regular, and the reference's
+#: measure of that (the smallest pivot of their factorization relative to its diagonal entry):
+#: the task-space functions (J M^-1 J^T) and contact inverse dynamics (the QR of the contacts'
+#: unactuated columns)
+CONDITIONED = ((TASK_OUTPUTS, "task_pivot_ratio"), (CONTACT_INVERSE, "contact_inverse_pivot_ratio"))
+
+
+def regular_states(reference, states, functions, threshold: float = TASK_REGULAR) -> dict[tuple, list]:
+    """For each group of :data:`CONDITIONED` outputs among ``functions``: ``(its outputs among
+    them) -> the states whose pivot ratio is above ``threshold``."""
+    out = {}
+    for group, measure in CONDITIONED:
+        wanted = tuple(f for f in group if f in functions)
+        if wanted:
+            out[wanted] = [state for state in states if getattr(reference, measure)(state[0]) > threshold]
+    return out

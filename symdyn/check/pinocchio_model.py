@@ -495,6 +495,8 @@ class ContactReference:
     :attr:`contact_set` (``((frame index, kind), ...)``) is set by :func:`reduced`."""
 
     contact_set: tuple = ()
+    #: the coordinates contact inverse dynamics gives no force (a floating base's six), set by :func:`reduced`
+    unactuated: tuple = ()
 
     def _contact_jacobian(self, q) -> np.ndarray:
         """The contacts' rows of their frames' Jacobians (NC x N): a point's 3 linear, a sole's 6."""
@@ -553,6 +555,112 @@ class ContactReference:
 
     def contact_forces(self, q, qd, tau):
         return self._constrained(q, qd, tau)[1]
+
+    #: the step and weights of the 8th-order central difference the constraint terms' derivatives
+    #: by q are taken with (truncation ~ h^8 / 630 of the 9th derivative, rounding ~ 1e-16 / h of the
+    #: values): against computeConstraintDynamicsDerivatives on Solo-12, 1.8e-11 with the 6th order
+    #: at h = 1e-3, 5.2e-13 with this (tests/derive/test_contact.py)
+    _STEP = 5e-2
+    _STENCIL = ((1, 4 / 5), (2, -1 / 5), (3, 4 / 105), (4, -1 / 280))
+
+    def _constraint_terms(self, q, qd, qdd, force):
+        """``(J^T lambda, J qdd + gamma)``: the constraints' generalized force at fixed ``force``
+        (world-aligned axes) and the contacts' accelerations (a point's classical, a sole's
+        spatial) at ``qdd``, from Pinocchio's frame Jacobians and accelerations."""
+        J, drift_all = self._contact_jacobian(q), np.asarray(self.frame_jacobian_dot_v(q, qd))
+        qd = np.asarray(qd, dtype=float)
+        gamma, at = [], 0
+        for frame, kind in self.contact_set:
+            drift = np.array(drift_all[6 * frame:6 * frame + 6])
+            if kind == "6d":
+                velocity = J[at:at + 6] @ qd
+                drift[:3] -= np.cross(velocity[3:], velocity[:3])
+            count = 3 if kind == "3d" else 6
+            gamma.append(drift[:count])
+            at += count
+        return J.T @ force, J @ qdd + np.concatenate(gamma)
+
+    def _contact_derivatives(self, q, qd, tau):
+        """``(dqdd/dq, dqdd/dqd, dqdd/dtau, dlambda/dq, dlambda/dqd, dlambda/dtau)``: the implicit
+        function theorem on ``F1 = ID - J^T lambda - tau``, ``F2 = J qdd + gamma`` at the
+        solution, ``[M J^T; J 0][dqdd; -dlambda] = -[dF1; dF2]``, with Pinocchio's RNEA
+        derivatives for ID, and the constraint terms (:meth:`_constraint_terms`, Pinocchio's
+        values) differentiated by an 8th-order central difference along q (+) h e_j (exact in qd:
+        they are linear and quadratic in it); lambda is held in the world's axes."""
+        qdd, force = self._constrained(q, qd, tau)
+        qd = np.asarray(qd, dtype=float)
+        M, J = np.asarray(self.system_matrix(q)), self._contact_jacobian(q)
+        n, m = M.shape[0], J.shape[0]
+        dF1_q = np.array(self.inverse_dynamics_dq(q, qd, qdd), dtype=float)
+        dF1_qd = np.array(self.inverse_dynamics_dqd(q, qd, qdd), dtype=float)
+        dF2_q, dF2_qd = np.zeros((m, n)), np.zeros((m, n))
+        for j in range(n):
+            step = np.zeros(n)
+            for k, weight in self._STENCIL:
+                step[j] = k * self._STEP
+                ahead = self._constraint_terms(self.integrate(q, step), qd, qdd, force)
+                behind = self._constraint_terms(self.integrate(q, -step), qd, qdd, force)
+                dF1_q[:, j] -= weight * (ahead[0] - behind[0]) / self._STEP
+                dF2_q[:, j] += weight * (ahead[1] - behind[1]) / self._STEP
+            rate = np.zeros(n)
+            rate[j] = 1.0
+            ahead, behind = self._constraint_terms(q, qd + rate, qdd, force), self._constraint_terms(q, qd - rate, qdd, force)
+            dF2_qd[:, j] = (ahead[1] - behind[1]) / 2
+        system = np.block([[M, J.T], [J, np.zeros((m, m))]])
+        solved = [-np.linalg.solve(system, np.vstack([a, b])) for a, b in ((dF1_q, dF2_q), (dF1_qd, dF2_qd))]
+        inverse = np.linalg.inv(system)
+        dq, dqd = solved
+        dlambda_dq = -dq[n:]
+        return dq[:n], dqd[:n], inverse[:n, :n], dlambda_dq, -dqd[n:], -inverse[n:, :n]
+
+    def _contact_inverse(self, q, qd, qdd):
+        """``(tau, lambda)`` of the contact inverse dynamics: lambda the least-norm solution of
+        J_u^T lambda = ID_u over the unactuated coordinates (:attr:`unactuated`; numpy's lstsq of
+        the underdetermined system, by the SVD), tau = ID - J^T lambda with those rows zero; ID is
+        Pinocchio's rnea plus friction."""
+        tau = np.array(self.inverse_dynamics(q, qd, qdd), dtype=float)
+        J = self._contact_jacobian(q)
+        rows = list(self.unactuated)
+        force = np.linalg.lstsq(J[:, rows].T, tau[rows], rcond=None)[0] if rows else np.zeros(J.shape[0])
+        tau -= J.T @ force
+        tau[rows] = 0.0
+        return tau, force
+
+    def contact_inverse_pivot_ratio(self, q) -> float:
+        """The smallest pivot R_kk^2 of the QR of the contacts' unactuated columns J_u relative
+        to its column's squared norm (1 for orthogonal columns, 0 where the contacts cannot push
+        the base in every direction): what the generated code checks."""
+        rows = list(self.unactuated)
+        if not rows:
+            return 1.0
+        columns = self._contact_jacobian(q)[:, rows]
+        R = np.linalg.qr(columns, mode="r")
+        norms = np.sum(columns ** 2, axis=0)
+        return float(np.min(np.diag(R) ** 2 / np.where(norms > 0, norms, 1.0))) if columns.shape[0] >= len(rows) else 0.0
+
+    def contact_inverse_torques(self, q, qd, qdd):
+        return self._contact_inverse(q, qd, qdd)[0]
+
+    def contact_inverse_forces(self, q, qd, qdd):
+        return self._contact_inverse(q, qd, qdd)[1]
+
+    def contact_accelerations_dq(self, q, qd, tau):
+        return self._contact_derivatives(q, qd, tau)[0]
+
+    def contact_accelerations_dqd(self, q, qd, tau):
+        return self._contact_derivatives(q, qd, tau)[1]
+
+    def contact_accelerations_dtau(self, q, qd, tau):
+        return self._contact_derivatives(q, qd, tau)[2]
+
+    def contact_forces_dq(self, q, qd, tau):
+        return self._contact_derivatives(q, qd, tau)[3]
+
+    def contact_forces_dqd(self, q, qd, tau):
+        return self._contact_derivatives(q, qd, tau)[4]
+
+    def contact_forces_dtau(self, q, qd, tau):
+        return self._contact_derivatives(q, qd, tau)[5]
 
 
 class PinocchioReference(ContactReference, ConfigurationSpaceReference):
@@ -1051,4 +1159,5 @@ def reduced(reference, robot: Robot):
     reordered = order is not None and list(order) != list(range(len(robot.links)))
     out = MimicReduction(reference, robot) if robot.mimics or reordered else reference
     out.contact_set = tuple((contact.frame, contact.kind) for contact in getattr(robot, "contacts", ()))
+    out.unactuated = tuple(range(6 if robot.floating else 0))
     return out

@@ -66,8 +66,8 @@ def run(args) -> int:
 def _run_serial(args, robot, scene) -> int:
     """verify of a serial robot (a chain, a tree or a floating base): every function asked for,
     compiled, against Pinocchio (of the URDF itself where it can read it); one table of errors."""
-    from ..check.agreement import (REGRESSORS, TASK_REGULAR, compile_equations, mass_conditioning, robot_floors,
-                                   target_errors)
+    from ..check.agreement import (REGRESSORS, TASK_REGULAR, compile_equations, mass_conditioning, regular_states,
+                                   robot_floors, target_errors)
     from ..check.pinocchio_model import PinocchioReference, reduced
     from ..check.states import random_state
     from ..model.scene import is_urdf
@@ -100,11 +100,10 @@ def _run_serial(args, robot, scene) -> int:
             if precision != "double":  # judge the arithmetic, not the rounding of the inputs
                 state = [x.astype(np.float32).astype(float) for x in state]
             states.append(state)
-        task = [f for f in functions if f in TASK_OUTPUTS]
         floors = robot_floors(ref, states, functions)
         conditioning = mass_conditioning(ref, states) if any(factors_mass_matrix(f) for f in functions) else 1.0
         errors = target_errors(lib, ref, robot, eqs, functions, states, p, values, floors, row_floor=ROW_FLOOR[precision])
-        regular = [state for state in states if ref.task_pivot_ratio(state[0]) > TASK_REGULAR] if task else []
+        regular = regular_states(ref, states, functions)
     tolerance = args.tolerance if args.tolerance is not None else DEFAULT_TOLERANCE[precision]
     # what solves with M cannot agree better than its condition number allows (two correct
     # solutions of an ill-conditioned system differ by about cond(M) times the unit roundoff)
@@ -122,9 +121,16 @@ def _run_serial(args, robot, scene) -> int:
     if precision != "double":
         print(f"(each joint's row measured against at least {ROW_FLOOR[precision]:g} of its output's RMS: float rounds the "
               "output's large entries, and that reaches its small ones)")
-    if task:
-        print(f"(task-space functions: compared at the {len(regular)} of the {args.states} states whose task is away "
-              f"from singularities: every pivot of J M^-1 J^T's factorization above {TASK_REGULAR:g} of its diagonal entry)")
+    for group, kept in regular.items():
+        if group[0] in TASK_OUTPUTS:
+            print(f"(task-space functions: compared at the {len(kept)} of the {args.states} states whose task is away "
+                  f"from singularities: every pivot of J M^-1 J^T's factorization above {TASK_REGULAR:g} of its "
+                  "diagonal entry)")
+        else:
+            print(f"(contact inverse dynamics: compared at the {len(kept)} of the {args.states} states where the "
+                  "contacts can push the base in every direction: every pivot of the QR of their base columns "
+                  f"above {TASK_REGULAR:g} of its column's squared norm; at none, 'singular': the function returns "
+                  "status 3 there)")
     if regressors:
         print(f"({', '.join(regressors)}: checked as torques, Y pi and Yb beta with this file's parameters, "
               "against inverse dynamics)")
@@ -135,11 +141,12 @@ def _run_serial(args, robot, scene) -> int:
     width = max([18] + [len(name) for name in functions])
     print(f"{'function':<{width}} {'normalized error':>16}  status")
     failed = False
+    singular = {f for group, kept in regular.items() if not kept for f in group if f not in TASK_OUTPUTS}
     for name in functions:
         err = errors[name]
         ok = bool(np.isfinite(err) and err <= (solved if factors_mass_matrix(name) else tolerance))
-        failed |= not ok
-        print(f"{name:<{width}} {err:>16.3e}  {'ok' if ok else 'FAIL'}")
+        failed |= not ok and name not in singular
+        print(f"{name:<{width}} {err:>16.3e}  {'singular' if name in singular else 'ok' if ok else 'FAIL'}")
     return 1 if failed else 0
 
 

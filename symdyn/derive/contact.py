@@ -39,6 +39,10 @@ class ContactDynamics:
     accelerations: sp.Matrix
     forces: sp.Matrix
     pivots: tuple
+    #: the QR's orthonormal columns (m, each n entries), R (m x m upper triangular) and 1/R_kk
+    Q: tuple = ()
+    R: sp.Matrix | None = None
+    inverse: tuple = ()
 
 
 def _whitening(b, f, tree: bool, hint: str):
@@ -102,4 +106,48 @@ def contact_dynamics(b, f, tree: bool, J: sp.Matrix, gamma, rhs, hint: str = "ct
     u = [b.define(f"{hint}u{i + 1}", w[i] - sp.Add(*[Q[k][i] * t[k] for k in range(m) if Q[k][i] != 0]))
          for i in range(n)]
     qdd = unwhiten(u, f"{hint}_x")
-    return ContactDynamics(sp.Matrix(qdd), sp.Matrix(forces), tuple(pivots))
+    return ContactDynamics(sp.Matrix(qdd), sp.Matrix(forces), tuple(pivots), tuple(tuple(q) for q in Q), R,
+                           tuple(inverse))
+
+
+@dataclass(frozen=True)
+class ConstrainedInverse:
+    """The blocks of the constrained system's inverse,
+
+        [M  J^T]^-1   [K     S   ]
+        [J   0 ]    = [S^T  -A^-1]    K = M^-1 - Z Z^T,  S = Z R^-T = M^-1 J^T A^-1,  A = J M^-1 J^T = R^T R
+
+    with ``Z = W Q`` (n x m); ``K`` (n x n, symmetric), ``S`` (n x m) and ``A_inverse`` (m x m,
+    symmetric), every entry named."""
+
+    K: sp.Matrix
+    S: sp.Matrix
+    A_inverse: sp.Matrix
+
+
+def constrained_inverse(b, f, tree: bool, system: ContactDynamics, Minv: sp.Matrix, hint: str = "ck") -> ConstrainedInverse:
+    """:class:`ConstrainedInverse` of a solved contact system ``system`` (its QR) for the
+    factorization ``f`` of M and M^-1 ``Minv`` (n x n) from it: Z's columns are W q_k (one solve
+    with the factorization each), R^-1 by back substitution (m^3 / 6 products)."""
+    n, m = Minv.shape[0], len(system.Q)
+    _, unwhiten = _whitening(b, f, tree, "ct")
+    Z = sp.Matrix.hstack(*[sp.Matrix(unwhiten(list(q), f"{hint}Z{k + 1}_")) for k, q in enumerate(system.Q)])
+    Rinv = sp.zeros(m, m)
+    for k in range(m):  # R Rinv = 1, column by column from the bottom
+        Rinv[k, k] = system.inverse[k]
+        for i in reversed(range(k)):
+            Rinv[i, k] = b.define(f"{hint}Ri{i + 1}_{k + 1}",
+                                  -sp.Add(*[system.R[i, l] * Rinv[l, k] for l in range(i + 1, k + 1)]) * system.inverse[i])
+    S = sp.Matrix(n, m, lambda i, k: b.define(f"{hint}S{i + 1}_{k + 1}",
+                                              sp.Add(*[Z[i, l] * Rinv[k, l] for l in range(k, m) if Z[i, l] != 0])))
+    A_inverse = sp.zeros(m, m)
+    for i in range(m):
+        for k in range(i, m):
+            A_inverse[i, k] = A_inverse[k, i] = b.define(
+                f"{hint}Ai{i + 1}_{k + 1}", sp.Add(*[Rinv[i, l] * Rinv[k, l] for l in range(k, m)]))
+    K = sp.zeros(n, n)
+    for i in range(n):
+        for j in range(i, n):
+            K[i, j] = K[j, i] = b.define(f"{hint}K{i + 1}_{j + 1}",
+                                         Minv[i, j] - sp.Add(*[Z[i, l] * Z[j, l] for l in range(m) if Z[i, l] != 0]))
+    return ConstrainedInverse(K, S, A_inverse)

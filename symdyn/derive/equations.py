@@ -62,7 +62,7 @@ from .program import Program, ProgramBuilder, differentiate
 from .tangents import vector_tangents
 from ..model.outputs import (ALL_OUTPUTS, REGISTRY, EXTRA_OUTPUTS, KINEMATIC_OUTPUTS, OUTPUT_INPUTS,  # noqa: F401 (part of this module's API)
                              OUTPUT_SYMBOLS, OUTPUTS, PARAMETERS_PER_LINK, TASK_OUTPUTS, TREE_OUTPUTS, TREE_AVAILABLE,
-                             CENTROIDAL_OUTPUTS, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, IMPULSE_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
+                             CENTROIDAL_OUTPUTS, CONFIGURATION_OUTPUTS, CONTACT_DERIVATIVES, CONTACT_INVERSE, CONTACT_OUTPUTS, IMPULSE_OUTPUTS, FORWARD_DERIVATIVES, FRAME_OUTPUTS, INVERSE_OUTPUTS, Dimensions, default_outputs,
                              spec,
                              with_requirements)
 from ..model.robot import JACOBIAN_ROWS, Robot, serial_robot
@@ -71,7 +71,10 @@ from .configuration import configuration_outputs
 from .kinematics import RESTITUTION, configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
-from .contact import contact_dynamics
+from .contact import constrained_inverse, contact_dynamics
+from .poses import tree_poses, world_placement
+from .newton_euler import recursion
+from .spatial import named_vector, skew
 from .tool import tool_kinematics
 from .centroidal import centroidal_quantities
 from .frames import frame_kinematics
@@ -575,6 +578,9 @@ class _Derivation:
         self.checks: list = []
         self.base: tuple = ()
         self.mass_factorization = None
+        self.mass_inverse = None
+        #: the solved contact system: (J, gamma, ContactDynamics), for its derivatives
+        self.contact_system: tuple = ()
         self.inverse_products: tuple = ()
         self.tangent_loops: list = []
         self.jne = self.le = None
@@ -772,7 +778,7 @@ def _by_velocity(d: _Derivation, rigid: sp.Matrix, held: frozenset = frozenset()
 TANGENT_LOOPS_FROM_OPS = 4500
 
 
-def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset = frozenset()):
+def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset = frozenset(), loops: bool = True):
     """``(dtau/dq, dtau/dqd)`` (n x n each: row i = tau_i) of inverse dynamics at the
     accelerations ``qdd`` (``held`` constant): the rigid bodies' forces differentiated by the
     joint positions (forward mode, new statements ``{hint}q...``) and velocities
@@ -788,7 +794,7 @@ def _tau_derivatives(d: _Derivation, qdd, tag: str, hint: str, held: frozenset =
     dqd = sp.Matrix(n, n, lambda i, j: by_qd[i, j] + (damping[i] if i == j else 0))
     program = d.b.build()
     size = sum(sp.count_ops(rhs) for _, rhs in program.needed_for(list(dq) + list(dqd), held))
-    if size >= TANGENT_LOOPS_FROM_OPS and not d.robot.mimics and not d.robot.floating:
+    if loops and size >= TANGENT_LOOPS_FROM_OPS and not d.robot.mimics and not d.robot.floating:
         d.report(f"the same derivatives as vector tangents ({size} operations written out)")
         tangents = vector_tangents(program, list(rigid), [d.joint_q, d.qd], held,
                                    {(1, i, i): damping[i] for i in range(n)})
@@ -912,6 +918,25 @@ def _solve_mass(d: _Derivation, rhs, forward_hint: str, back_hint: str) -> list:
     return solve(d.b, f, rhs, forward_hint, back_hint)
 
 
+def _mass_inverse(d: _Derivation) -> sp.Matrix:
+    """M^-1 (n x n) from the shared factorization: a tree's (and a floating base's) as L^-1
+    diag(1/d) L^-T (:func:`symdyn.derive.ldlt.inverse_tree`), a chain's by solves of M x = e_j,
+    its lower triangle only (mirrored)."""
+    if d.mass_inverse is None:
+        n, b, f = d.n, d.b, _mass_factorization(d)
+        if d.factor_parents is not None:
+            d.mass_inverse = ldlt.inverse_tree(b, f, "Minv")
+        else:
+            Minv = sp.zeros(n, n)
+            for j in range(n):
+                column = _solve_mass(d, [sp.S.One if i == j else sp.S.Zero for i in range(n)], f"mi{j + 1}_y",
+                                     f"Minv{{i}}_{j + 1}")
+                for i in range(j, n):
+                    Minv[i, j] = Minv[j, i] = column[i]
+            d.mass_inverse = Minv
+    return d.mass_inverse
+
+
 def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     """M^-1 and, when asked for, dqdd/dq = -M^-1 dtau/dq and dqdd/dqd = -M^-1 dtau/dqd, the
     derivatives of inverse dynamics taken at the accelerations forward dynamics gives (held
@@ -923,15 +948,7 @@ def _inverse_outputs(d: _Derivation) -> sp.Matrix:
     n, b = d.n, d.b
     d.report("mass_matrix_inverse (solves with the factorization of M)")
     f = _mass_factorization(d)
-    if d.factor_parents is not None:
-        Minv = ldlt.inverse_tree(b, f, "Minv")
-    else:
-        Minv = sp.zeros(n, n)
-        for j in range(n):
-            column = _solve_mass(d, [sp.S.One if i == j else sp.S.Zero for i in range(n)], f"mi{j + 1}_y",
-                                 f"Minv{{i}}_{j + 1}")
-            for i in range(j, n):
-                Minv[i, j] = Minv[j, i] = column[i]
+    Minv = _mass_inverse(d)
     d.values["mass_matrix_inverse"] = Minv
     d.checks.append((INVERSE_OUTPUTS, tuple((p, m, 1) for p, m in f.pivots)))
     if not set(FORWARD_DERIVATIVES) & d.need:
@@ -1032,10 +1049,152 @@ def _contact(d: _Derivation) -> sp.Matrix:
         gamma += [b.define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift[:contact.rows])]
         at += contact.rows
     result = contact_dynamics(b, f, d.factor_parents is not None, J, gamma, rhs)
+    d.contact_system = (J, gamma, result)
     d.values["contact_accelerations"] = result.accelerations
     d.values["contact_forces"] = result.forces
     d.checks.append((CONTACT_OUTPUTS, tuple((p, m, 1) for p, m in f.pivots) + tuple((p, m, 3) for p, m in result.pivots)))
     return result.accelerations
+
+
+def _contact_derivatives(d: _Derivation) -> sp.Matrix:
+    """The derivatives of the contact dynamics by q, qd and tau (Pinocchio's
+    computeConstraintDynamicsDerivatives): the implicit function theorem on the residuals
+    ``F1 = ID(q, qd, qdd) - J^T lambda - tau`` and ``F2 = J qdd + gamma`` at the solution (qdd and
+    lambda held), ``[M J^T; J 0][dqdd; -dlambda] = -[dF1; dF2]``, solved with the blocks of the
+    system's inverse (:func:`symdyn.derive.contact.constrained_inverse`):
+    ``dqdd = -K dF1 - S dF2``, ``dlambda = S^T dF1 - A^-1 dF2``, ``dqdd/dtau = K``,
+    ``dlambda/dtau = -S^T``.  A floating base's columns along q (+) dv, the system written in the
+    base's axes (lambda_b = R^T lambda, R the base's orientation): its position moves nothing
+    (every quantity is relative), turning it by dtheta (its own axes) turns gravity in its frame
+    only, ``dF1 = dID/dg_b [g_b]x``, ``dF2 = 0``, and the forces' world-aligned axes with it,
+    ``dlambda = R dlambda_b - [lambda]x R dtheta`` per 3 rows (holding lambda in the world
+    instead adds ``-J^T [lambda]x R`` to dF1 and gives the same: S^T J^T = 1, K J^T = 0)."""
+    robot, b, n = d.robot, d.b, d.n
+    d.get("contact_accelerations")
+    J, gamma, system = d.contact_system
+    m = J.shape[0]
+    d.report("contact dynamics derivatives (implicit function theorem at the solution)")
+    qdd = [b.define(f"cdd{i + 1}", e, force=True) for i, e in enumerate(system.accelerations)]
+    force = [b.define(f"cdf{i + 1}", e, force=True) for i, e in enumerate(system.forces)]
+    held = frozenset(qdd + force)
+    inverse = constrained_inverse(b, _mass_factorization(d), d.factor_parents is not None, system, _mass_inverse(d))
+    dF1_q, dF1_qd = _tau_derivatives(d, qdd, "ca", "c", held, loops=False)
+    b = d.b  # (a chain's dtau/dqd may have been built in a builder of its own: _cheapest)
+    applied = sp.Matrix([b.define(f"cJf{i + 1}", e) for i, e in enumerate(J.T * sp.Matrix(force))])
+    by_q = differentiate(b.build(), applied, list(d.joint_q), b, "cjq", held=held)
+    base = n - len(d.joint_q)
+    for j, column in enumerate(by_q):
+        dF1_q[:, base + j] -= column
+    constraint = _contact_accelerations_at(d, qdd)
+    dF2_q = sp.zeros(m, n)
+    for j, column in enumerate(differentiate(b.build(), constraint, list(d.joint_q), b, "cgq", held=held)):
+        dF2_q[:, base + j] = column
+    dF2_qd = sp.Matrix.hstack(*differentiate(b.build(), constraint, list(d.qd), b, "cgv", held=held))
+    turn = sp.zeros(m, n)  # -[lambda]x R per 3 rows in the base's turn columns
+    if robot.floating:
+        R_w, _ = world_placement(d.chain)
+        for at in range(0, m, 3):
+            block = -skew(sp.Matrix(force[at:at + 3])) * R_w
+            turn[at:at + 3, 3:6] = block.applyfunc(lambda e: b.define("cLt", e))
+    K, S, Ainv = inverse.K, inverse.S, inverse.A_inverse
+
+    def combination(hint, *terms, extra=None):
+        """``extra`` plus the products ``sign * A B`` of ``terms`` (``(sign, A, B)``), each entry
+        one named sum (the zeros of A and B skipped)."""
+        rows, cols = terms[0][1].shape[0], terms[0][2].shape[1]
+        extra = sp.zeros(rows, cols) if extra is None else extra
+        return sp.Matrix(rows, cols, lambda i, j: b.define(f"{hint}{i + 1}_{j + 1}", extra[i, j] + sp.Add(*[
+            sign * A[i, k] * B[k, j] for sign, A, B in terms for k in range(A.shape[1]) if A[i, k] != 0 and B[k, j] != 0])))
+    d.values["contact_accelerations_dq"] = combination("cAq", (-1, K, dF1_q), (-1, S, dF2_q))
+    d.values["contact_accelerations_dqd"] = combination("cAv", (-1, K, dF1_qd), (-1, S, dF2_qd))
+    d.values["contact_accelerations_dtau"] = K
+    d.values["contact_forces_dq"] = combination("cLq", (1, S.T, dF1_q), (-1, Ainv, dF2_q), extra=turn)
+    d.values["contact_forces_dqd"] = combination("cLv", (1, S.T, dF1_qd), (-1, Ainv, dF2_qd))
+    d.values["contact_forces_dtau"] = -S.T
+    f = _mass_factorization(d)
+    d.checks.append((CONTACT_DERIVATIVES, tuple((p, mm, 1) for p, mm in f.pivots) + tuple((p, mm, 3) for p, mm in system.pivots)))
+    return d.values["contact_accelerations_dq"]
+
+
+def _contact_inverse(d: _Derivation) -> sp.Matrix:
+    """Contact inverse dynamics: ``tau = ID(q, qd, qdd) - J^T lambda`` with a floating base's six
+    coordinates (the unactuated ones) given no force, lambda the least-norm solution of
+    ``J_u^T lambda = ID_u`` (J_u the contact rows' base columns, m x 6; ID_u inverse dynamics'
+    base rows): with the modified Gram-Schmidt QR ``J_u = Q R`` (Q m x 6, R 6 x 6),
+    ``lambda = Q R^-T ID_u`` (status 3 when a pivot R_kk^2 is not above the tolerance times the
+    column's squared norm: the contacts cannot push the base in every direction).  The base's
+    rows of tau are exact zeros.  A fixed base has none: lambda = 0 and tau is inverse dynamics
+    (passive joints are not held by the contacts here: their entries of tau are the forces they
+    would need)."""
+    robot, b = d.robot, d.b
+    J = _contact_rows(d)
+    m = J.shape[0]
+    unactuated = list(range(6 if robot.floating else 0))
+    u = len(unactuated)
+    d.report("contact inverse dynamics (least-norm contact forces by a QR of the base's columns)")
+    tau = d.get("inverse_dynamics")
+    columns = [[J[i, c] for i in range(m)] for c in unactuated]
+    R = sp.zeros(u, u)
+    Q, inverse, pivots = [], [], []
+    work = [list(c) for c in columns]
+    for k in range(u):
+        diagonal = b.define(f"ciA{k + 1}", sp.Add(*[e * e for e in columns[k] if e != 0]))
+        square = diagonal if k == 0 else b.define(f"ciR{k + 1}sq", sp.Add(*[e * e for e in work[k] if e != 0]))
+        pivots.append((square, diagonal))
+        R[k, k] = b.define(f"ciR{k + 1}_{k + 1}", sp.sqrt(square))
+        inverse.append(b.define(f"ciRinv{k + 1}", 1 / R[k, k]))
+        q = [b.define(f"ciQ{k + 1}_{i + 1}", e * inverse[k]) if e != 0 else sp.S.Zero for i, e in enumerate(work[k])]
+        Q.append(q)
+        for j in range(k + 1, u):
+            R[k, j] = b.define(f"ciR{k + 1}_{j + 1}", sp.Add(*[x * y for x, y in zip(q, work[j]) if x != 0 and y != 0]))
+            work[j] = [b.define(f"ciB{j + 1}_{k + 1}_{i + 1}", e - R[k, j] * qi) if qi != 0 else e
+                       for i, (e, qi) in enumerate(zip(work[j], q))]
+    t: list[sp.Expr] = []
+    for k, c in enumerate(unactuated):  # R^T t = ID_u
+        t.append(b.define(f"cit{k + 1}", (tau[c] - sp.Add(*[R[l, k] * t[l] for l in range(k)])) * inverse[k]))
+    forces = [b.define(f"cilambda{i + 1}", sp.Add(*[Q[k][i] * t[k] for k in range(u) if Q[k][i] != 0]))
+              for i in range(m)]
+    applied = J.T * sp.Matrix(forces)
+    d.values["contact_inverse_forces"] = sp.Matrix(forces)
+    d.values["contact_inverse_torques"] = sp.Matrix([sp.S.Zero if i in unactuated else
+                                                     b.define(f"citau{i + 1}", tau[i] - applied[i]) for i in range(d.n)])
+    d.checks.append((CONTACT_INVERSE, tuple((p, mm, 3) for p, mm in pivots)))
+    return d.values["contact_inverse_torques"]
+
+
+def _contact_accelerations_at(d: _Derivation, qdd) -> sp.Matrix:
+    """``J qdd + gamma`` (NC x 1, world-aligned axes) at accelerations ``qdd``: each contact's
+    acceleration (a point's classical, a sole's spatial: the classical minus omega x v) from the
+    Newton-Euler forward recursion at zero gravity, formed in its link's frame and turned to the
+    world through named rotations (what the derivatives differentiate: far fewer operations than
+    the world-frame J qdd + gamma, whose entries expand into the rotations' products)."""
+    robot, b = d.robot, d.b
+    motion: list = []
+    states = recursion(d.chain, d.qd, qdd, sp.zeros(3, 1), "cF", joint_frames=False, base_motion=motion)
+    _, links = tree_poses(d.chain)
+    R_w, _ = world_placement(d.chain)
+    J, rows = _contact_rows(d), []
+    for k, contact in enumerate(robot.contacts):
+        at = len(rows)
+        frame = robot.frames[contact.frame]
+        r = frame.matrix()[:3, 3]
+        if frame.link >= 0:
+            st = states[frame.link]
+            omega, omegad, vd = st.omega, st.omegad, st.vd
+            R = links[frame.link][:3, :3]
+        else:
+            (omega, omegad, vd), R = motion, sp.eye(3)
+        linear = named_vector(b, f"cFl{k + 1}", vd + omegad.cross(r) + omega.cross(omega.cross(r)))
+        rotation = b.matrix(f"cFR{k + 1}", (R_w * R).applyfunc(sp.expand))
+        classical = named_vector(b, f"cF2_{k + 1}", rotation * linear)
+        if contact.kind == "3d":
+            rows += list(classical)
+            continue
+        spin = named_vector(b, f"cFw{k + 1}", rotation * omega)  # the sole's, world axes
+        velocity = named_vector(b, f"cFv{k + 1}", J[at:at + 3, :] * sp.Matrix(d.qd))
+        rows += list(named_vector(b, f"cF2s{k + 1}", classical - spin.cross(velocity)))
+        rows += list(named_vector(b, f"cF2w{k + 1}", rotation * omegad))
+    return sp.Matrix(rows)
 
 
 def _contact_rows(d: _Derivation) -> sp.Matrix:
@@ -1173,7 +1332,7 @@ DERIVATIONS: dict[str, Callable[[_Derivation], sp.Matrix]] = {
     "forward_dynamics": _forward_dynamics, "reaction_map": _reaction_map, "regressor": _regressor,
     "base_regressor": _base_regressor, "task": _task, "inverse_dynamics_derivatives": _inverse_dynamics_derivatives,
     "gravity_derivative": _gravity_derivative, "inverse": _inverse_outputs, "frames": _frames,
-    "configuration": _configuration, "contact": _contact, "external": _external, "impulse": _impulse,
+    "configuration": _configuration, "contact": _contact, "contact_derivatives": _contact_derivatives, "contact_inverse": _contact_inverse, "external": _external, "impulse": _impulse,
     "centroidal": _centroidal, "kinetic_energy": _kinetic_energy,
 }
 _LAGRANGE_ORDER = ("mass_matrix", "coriolis_matrix", "coriolis", "gravity")

@@ -22,7 +22,7 @@ from ..derive import articulated_loops as al
 from .cplan import CORIOLIS_ARRAYS, FunctionPlan, ReducedPlan, tangent_width
 from .cprinter import CPrinter, VectorUnsupported, count_operations, fused_sum
 from .emission import fold_constants, template_environment
-from ..model.outputs import CONTACT_OUTPUTS, IMPULSE_OUTPUTS, STATUS_CODES
+from ..model.outputs import CONTACT_SOLVED, STATUS_CODES
 
 #: rows of L computed together by the looped LDL^T (independent sums for the pipeline)
 ROWS = 4
@@ -653,7 +653,7 @@ class BodyWriter:
     @property
     def _contact_function(self) -> bool:
         """Whether the function solves with the contacts' constraints (its status 3 is theirs)."""
-        return bool(set(self.plan.parts) & set(CONTACT_OUTPUTS + IMPULSE_OUTPUTS))
+        return bool(set(self.plan.parts) & set(CONTACT_SOLVED))
 
     def _placed_writes(self) -> None:
         """Where each target is written: a scratch-array entry, and (:attr:`early_outputs`) an

@@ -26,7 +26,7 @@ from ..derive.equations import Equations
 from ..model.robot import JACOBIAN_ROWS
 from ..model.tolerances import pivot_rtol
 from ..derive.configuration import SERIES_BELOW
-from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, IMPULSE_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
+from ..model.outputs import (ALL_OUTPUTS, CENTROIDAL_OUTPUTS, COMBINED, CONFIGURATION_OUTPUTS, CONTACT_SOLVED, EXTERNAL_OUTPUTS, FRAME_OUTPUTS, COMBINED_SPECS, REGISTRY, TASK_OUTPUTS, STATUS_CODES,
                              INPUT_GROUPS, factors_mass_matrix)
 
 ARG_DOCS = {
@@ -430,8 +430,7 @@ def _contract_context(eqs: Equations, precision: str, built) -> dict:
     if not any(f.returns == "int" for f in built):
         return {"statuses": [], "pivot_rtol": "", "pivot_rtol_text": ""}
     task = any(f.name in TASK_OUTPUTS or f.name == "task_space" for f in built)
-    contact = any(f.name in CONTACT_OUTPUTS + IMPULSE_OUTPUTS or f.name in ("contact_forward_dynamics", "impulse_dynamics")
-                  for f in built)
+    contact = any(part in CONTACT_SOLVED for f in built for part in COMBINED.get(f.name, (f.name,)))
     internal = _checked_arithmetic(precision)
     text = eqs.robot.name.upper()
     return {"statuses": [(name, value, doc.replace("NAME_", f"{text}_")) for name, (value, doc) in STATUS_CODES.items()
@@ -623,8 +622,7 @@ def _file_context(eqs: Equations, functions, precision: str, built, header_only:
         "reaction": ([f"{j + 1} ({robot.links[j].name})" for j in robot.actuated_joints]
                      if "reaction_map" in functions else None),
         "task": _task_context(eqs, precision) if any(f in TASK_OUTPUTS for f in functions) else None,
-        "contact": (_contact_context(eqs, precision) if any(f in CONTACT_OUTPUTS + EXTERNAL_OUTPUTS + IMPULSE_OUTPUTS
-                                                            for f in functions)
+        "contact": (_contact_context(eqs, precision) if any(f in CONTACT_SOLVED + EXTERNAL_OUTPUTS for f in functions)
                     else None),
         "header_only": header_only,
         "notes": [comment_text(note) for note in notes],

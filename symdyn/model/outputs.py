@@ -259,6 +259,12 @@ _CONTACT_STATUS = ("Returns {prefix}_OK (0) on success; {prefix}_SINGULAR (1) wh
                    "more rows than its six motions; legs that cannot move their feet apart). On a nonzero return "
                    "nothing is written.")
 #: what the contact outputs are derived from
+_CONTACT_ID_STATUS = ("Returns {prefix}_OK (0) on success; {prefix}_NOT_FINITE (2) when an input is NaN or infinite, "
+                      "or a result is not finite (NaN or beyond the range of {real}); {prefix}_CONTACT_SINGULAR (3) "
+                      "when the contacts cannot push the base in every direction at q: a pivot of the QR of J_u is not "
+                      "above {prefix}_CONTACT_RTOL times its column's squared norm (fewer than six independent "
+                      "wrenches: one or two point feet, or feet on a line). On a nonzero return nothing is written.")
+
 _CONTACT_REQUIRES = ("mass_matrix", "coriolis", "gravity", "frame_jacobians", "frame_jacobian_dot_v")
 
 #: what the task-space outputs are derived from
@@ -534,6 +540,76 @@ SPECS: tuple[OutputSpec, ...] = (
         meaning="λ: the contacts' forces on the robot", pinocchio="`data.lambda_c` of `constraintDynamics`",
         derivation="contact", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
     OutputSpec(
+        name="contact_accelerations_dq", symbol="dqdd_dq", family="contact", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.dof, d.dof), units="rad/s^2 or m/s^2 per rad or m",
+        summary="Derivative of the constrained accelerations (NAME_contact_accelerations) by the joint positions "
+                "(a floating base's along q (+) dv, Pinocchio's computeConstraintDynamicsDerivatives): the implicit "
+                "function theorem on ID(q, qd, qdd) - J^T lambda = tau, J qdd + gamma = 0, differentiated at the "
+                "solution and solved with the blocks of the constrained system's inverse.",
+        arguments=(OutputArgument("dqdd_dq", "dqdd/dq, N*N row-major: row i = qdd_i, column j = q_j"),),
+        meaning="∂q̈/∂q of the constrained system", pinocchio="`ddq_dq` of `computeConstraintDynamicsDerivatives`",
+        derivation="contact_derivatives", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
+        name="contact_accelerations_dqd", symbol="dqdd_dqd", family="contact", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.dof, d.dof), units="rad/s^2 or m/s^2 per rad/s or m/s",
+        summary="Derivative of the constrained accelerations by the joint velocities, viscous friction included "
+                "(Coulomb friction's derivative is zero away from qd = 0).",
+        arguments=(OutputArgument("dqdd_dqd", "dqdd/dqd, N*N row-major: row i = qdd_i, column j = qd_j"),),
+        meaning="∂q̈/∂q̇ of the constrained system", pinocchio="`ddq_dv` of `computeConstraintDynamicsDerivatives`",
+        derivation="contact_derivatives", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
+        name="contact_accelerations_dtau", symbol="dqdd_dtau", family="contact", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.dof, d.dof), units="1/(kg m^2), 1/(kg m) or 1/kg",
+        summary="Derivative of the constrained accelerations by the joint forces: M^-1 - M^-1 J^T (J M^-1 J^T)^-1 J "
+                "M^-1, the constrained system's inverse inertia (symmetric).",
+        arguments=(OutputArgument("dqdd_dtau", "dqdd/dtau, N*N row-major, symmetric"),),
+        meaning="∂q̈/∂τ of the constrained system", pinocchio="`ddq_dtau` of `computeConstraintDynamicsDerivatives`",
+        derivation="contact_derivatives", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
+        name="contact_forces_dq", symbol="dlambda_dq", family="contact", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.contacts, d.dof), units="N or N m per rad or m",
+        summary="Derivative of the contact forces (NAME_contact_forces, world-aligned axes) by the joint positions "
+                "(a floating base's along q (+) dv: turning the base turns the forces' axes too).",
+        arguments=(OutputArgument("dlambda_dq", "dlambda/dq, NC*N row-major: row i = lambda_i, column j = q_j"),),
+        meaning="∂λ/∂q", pinocchio="`dlambda_dq` of `computeConstraintDynamicsDerivatives`",
+        derivation="contact_derivatives", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
+        name="contact_forces_dqd", symbol="dlambda_dqd", family="contact", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.contacts, d.dof), units="N or N m per rad/s or m/s",
+        summary="Derivative of the contact forces by the joint velocities, viscous friction included.",
+        arguments=(OutputArgument("dlambda_dqd", "dlambda/dqd, NC*N row-major: row i = lambda_i, column j = qd_j"),),
+        meaning="∂λ/∂q̇", pinocchio="`dlambda_dv` of `computeConstraintDynamicsDerivatives`",
+        derivation="contact_derivatives", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
+        name="contact_forces_dtau", symbol="dlambda_dtau", family="contact", inputs=("q", "qd", "tau"),
+        shape=lambda d: (d.contacts, d.dof), units="N or N m per N m or N",
+        summary="Derivative of the contact forces by the joint forces: -(J M^-1 J^T)^-1 J M^-1.",
+        arguments=(OutputArgument("dlambda_dtau", "dlambda/dtau, NC*N row-major: row i = lambda_i, column j = tau_j"),),
+        meaning="∂λ/∂τ", pinocchio="`dlambda_dtau` of `computeConstraintDynamicsDerivatives`",
+        derivation="contact_derivatives", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_STATUS),
+    OutputSpec(
+        name="contact_inverse_torques", symbol="tau", family="contact", inputs=("q", "qd", "qdd"),
+        shape=lambda d: (d.dof, 1), units="N m or N",
+        summary="Contact inverse dynamics (the whole-body controller's problem): the joint forces that give the "
+                "accelerations qdd with a floating base unactuated, tau = ID(q, qd, qdd) - J^T lambda, the contact "
+                "forces lambda (NAME_contact_inverse_forces) the least-norm ones that move the base as asked, "
+                "J_u^T lambda = ID_u (J_u: the contact rows' six base columns, ID_u: inverse dynamics' base rows), "
+                "by a QR of J_u; tau's base entries are zero (a fixed base has none: lambda = 0, tau = ID; passive "
+                "joints get the force they would need). The contacts' own accelerations are not constrained: give a "
+                "qdd that keeps them held (J qdd + gamma = 0) for a standing robot.",
+        arguments=(OutputArgument("tau", "joint forces, N (a floating base's 6 first, zero)"),),
+        meaning="τ with the base unactuated, least-norm contact forces", pinocchio="`rnea` − Jᵀλ, λ by least squares",
+        derivation="contact_inverse", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_ID_STATUS),
+    OutputSpec(
+        name="contact_inverse_forces", symbol="lambda", family="contact", inputs=("q", "qd", "qdd"),
+        shape=lambda d: (d.contacts, 1), units="N, N m",
+        summary="The contact forces of the contact inverse dynamics (see NAME_contact_inverse_torques): the "
+                "least-norm lambda with J_u^T lambda = ID_u, laid out as NAME_contact_forces (on the robot, world axes "
+                "at each frame's origin).",
+        arguments=(OutputArgument("lambda", "contact forces, NC, as NAME_contact_forces"),),
+        meaning="λ of the contact inverse dynamics", pinocchio="least squares on `rnea`'s base rows",
+        derivation="contact_inverse", default=False, requires=_CONTACT_REQUIRES, status=_CONTACT_ID_STATUS),
+    OutputSpec(
         name="impulse_velocities", symbol="qd_plus", family="contact", inputs=("q", "qd", "restitution"),
         shape=lambda d: (d.dof, 1), units="rad/s or m/s",
         summary="The velocity just after the contacts listed above close in an impact at velocity qd (Pinocchio's "
@@ -778,6 +854,19 @@ COMBINED_SPECS: tuple[CombinedSpec, ...] = (
                  "NAME_contact_accelerations and NAME_contact_forces), sharing one factorization of M and one QR of "
                  "the whitened constraints: the dynamics of a legged robot standing or walking on the contacts listed "
                  "above."),
+    CombinedSpec("contact_forward_dynamics_derivatives",
+                 ("contact_accelerations", "contact_forces", "contact_accelerations_dq", "contact_accelerations_dqd",
+                  "contact_accelerations_dtau", "contact_forces_dq", "contact_forces_dqd", "contact_forces_dtau"),
+                 "Contact dynamics and their derivatives in one call: the constrained accelerations and contact forces "
+                 "(as NAME_contact_forward_dynamics) and their derivatives by q, qd and tau (as "
+                 "NAME_contact_accelerations_dq ... NAME_contact_forces_dtau), sharing one factorization of M, one QR "
+                 "of the whitened constraints and the recursion they differentiate: what a DDP or MPC solver "
+                 "linearizes a legged robot's dynamics in contact with."),
+    CombinedSpec("contact_inverse_dynamics", ("contact_inverse_torques", "contact_inverse_forces"),
+                 "Contact inverse dynamics in one call: the joint forces and the least-norm contact forces that give "
+                 "the accelerations qdd with the base unactuated (as NAME_contact_inverse_torques and "
+                 "NAME_contact_inverse_forces), sharing the recursion and one QR: a whole-body controller's "
+                 "feedforward for a robot standing or walking on the contacts listed above."),
     CombinedSpec("impulse_dynamics", ("impulse_velocities", "impulse_forces"),
                  "An impact in one call: the velocity just after the contacts listed above close and their impulses "
                  "(as NAME_impulse_velocities and NAME_impulse_forces), sharing one factorization of M and one QR of "
@@ -847,6 +936,12 @@ FRAME_OUTPUTS = family("frames")
 CONTACT_OUTPUTS = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "contact")
 EXTERNAL_OUTPUTS = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "external")
 IMPULSE_OUTPUTS = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "impulse")
+#: the derivatives of the contact dynamics by q, qd and tau (when asked for)
+CONTACT_DERIVATIVES = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "contact_derivatives")
+#: the outputs that solve with the contacts' constraints (their status 3 is NAME_CONTACT_SINGULAR)
+#: contact inverse dynamics (floating bases; when asked for)
+CONTACT_INVERSE = tuple(s.name for s in SPECS if s.family == "contact" and s.derivation == "contact_inverse")
+CONTACT_SOLVED = CONTACT_OUTPUTS + IMPULSE_OUTPUTS + CONTACT_DERIVATIVES + CONTACT_INVERSE
 
 #: the derivatives of the dynamics and the inverse mass matrix (when asked for)
 DERIVATIVE_OUTPUTS = family("derivatives")

@@ -26,7 +26,13 @@ def private_cache(tmp_path, monkeypatch):
     pytest.importorskip("pinocchio")
 
 
-@pytest.mark.parametrize("path", KEPT, ids=[p.name for p in KEPT])
+#: the kept cases whose check takes the longest (30-50 s of a CPU each): they run with the slow
+#: tests, the others with every test run
+SLOW_KEPT = {"fuzz7.case.yaml", "fuzz208.case.yaml"}
+
+
+@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.name in SLOW_KEPT else p for p in KEPT],
+                         ids=[p.name for p in KEPT])
 def test_kept_cases_pass(path, tmp_path):
     case = fuzz.load_case(str(path))
     outcome = fuzz.check_case(case, str(tmp_path))

@@ -27,7 +27,7 @@ def private_cache(tmp_path, monkeypatch):
     monkeypatch.setenv("SYMDYN_CACHE_DIR", str(tmp_path / "cache"))
 
 
-@pytest.mark.parametrize("robot", ["derivatives_chain", "derivatives_tree"])
+@pytest.mark.parametrize("robot", [pytest.param("derivatives_chain", marks=pytest.mark.slow), "derivatives_tree"])
 def test_derivatives_compile_and_agree(robot, capsys):
     if shutil.which("cc") is None:
         pytest.skip("no C compiler")

@@ -19,7 +19,7 @@ from symdyn.cli import main
 from symdyn.derive.equations import derive
 from symdyn.emit.cgen import generate_c
 from symdyn.model.errors import SymdynError
-from symdyn.model.outputs import CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, IMPULSE_OUTPUTS, Dimensions
+from symdyn.model.outputs import CONTACT_DERIVATIVES, CONTACT_INVERSE, CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, IMPULSE_OUTPUTS, Dimensions
 from symdyn.model.scene import load_input
 
 pin = pytest.importorskip("pinocchio")
@@ -181,6 +181,137 @@ def test_talos_soles(tmp_path_factory):
     assert max(errors.values()) < 1e-9, errors
 
 
+def _pinocchio_derivatives(robot, ref, states):
+    """Pinocchio's computeConstraintDynamicsDerivatives at each state, in symdyn's terms (viscous
+    damping is symdyn's: tau - friction(qd) goes in, so d/dqd gains -d/dtau diag(damping))."""
+    model, data, models, datas, settings = _pinocchio_contacts(robot, ref)
+    damping = np.diag(ref.damping)
+    out = []
+    for q, qd, _, tau in states:
+        pin.constraintDynamics(model, data, ref.configuration(q), qd, tau - ref.friction(qd), models, datas, settings)
+        pin.computeConstraintDynamicsDerivatives(model, data, models, datas, settings)
+        out.append((data.ddq_dq.copy(), data.ddq_dv - data.ddq_dtau @ damping, data.ddq_dtau.copy(),
+                    data.dlambda_dq.copy(), data.dlambda_dv - data.dlambda_dtau @ damping, data.dlambda_dtau.copy()))
+    return out
+
+
+@pytest.mark.parametrize("relative,contacts", [
+    (SOLO, _contacts(FEET)), (SOLO, _contacts(FEET[1:3])),
+    pytest.param(TALOS, "left_sole_link:6d,right_sole_link:6d", marks=pytest.mark.slow)])
+def test_derivative_reference_is_pinocchio(relative, contacts):
+    """The reference's derivatives of the contact dynamics (the implicit function theorem on
+    Pinocchio's RNEA derivatives and its frames' Jacobians and accelerations) against Pinocchio's
+    own computeConstraintDynamicsDerivatives (LOCAL_WORLD_ALIGNED contacts; a floating base's
+    columns along q (+) dv, the forces' axes held in the world)."""
+    robot = _robot(relative, contacts)
+    ref = _reference(relative, robot)
+    states = _states(robot, 3, seed=5)
+    theirs = _pinocchio_derivatives(robot, ref, states)
+    for (q, qd, _, tau), expected in zip(states, theirs):
+        mine = [getattr(ref, name)(q, qd, tau) for name in CONTACT_DERIVATIVES]
+        for name, a, b in zip(CONTACT_DERIVATIVES, mine, expected):
+            assert normalized_error([a], [b]) < 1e-9, name
+
+
+def test_contact_derivatives_solo(tmp_path_factory):
+    """Solo-12 on two feet: the derivatives of its contact dynamics in C (the combined function
+    and the single ones), numpy and CasADi against the reference; dqdd/dtau is symmetric and
+    keeps the feet held (J dqdd/dtau = 0, dlambda/dtau J^T = -1); the combined function's
+    accelerations and forces are the contact dynamics'."""
+    robot = _robot(SOLO, _contacts(FEET[1:3]))  # (two feet: a library a tenth of four feet's)
+    ref = _reference(SOLO, robot)
+    states = _states(robot, 4, seed=7)
+    wanted = CONTACT_DERIVATIVES + CONTACT_OUTPUTS
+    eqs = derive(robot, outputs=wanted)
+    targets = {"numpy": NumpyTarget(eqs), "casadi": CasadiTarget(eqs),
+               "c": _compiled(("solo", "derivatives"), robot, tmp_path_factory, wanted=wanted)}
+    for target, lib in targets.items():
+        errors = compare(lib, ref, states, CONTACT_DERIVATIVES, NO_PARAMETERS)
+        assert max(errors.values()) < 1e-9, (target, errors)
+    lib = targets["c"]
+    q, qd, _, tau = states[0]
+    status, values = lib.with_status("contact_forward_dynamics_derivatives", q, qd, tau)
+    assert status == 0
+    parts = dict(zip(("contact_accelerations", "contact_forces") + CONTACT_DERIVATIVES, values))
+    for name, value in parts.items():
+        assert normalized_error([value], [getattr(ref, name)(q, qd, tau)]) < 1e-9, name
+    K, dlambda_dtau = parts["contact_accelerations_dtau"], parts["contact_forces_dtau"]
+    J = ref._contact_jacobian(q)
+    assert np.abs(K - K.T).max() < 1e-12 * np.abs(K).max()
+    assert np.abs(J @ K).max() < 1e-10 * np.abs(J).max() * np.abs(K).max()
+    assert np.abs(dlambda_dtau @ J.T + np.eye(J.shape[0])).max() < 1e-10
+
+
+def test_contact_derivatives_arm_and_tree(tmp_path_factory):
+    """The derivatives on a fixed base (the Panda with its last link held: a closed chain) and
+    a floating tree of the examples holding one link (6D), in C against the reference."""
+    from symdyn.check.pinocchio_model import PinocchioReference
+    robot, _ = load_input(robot_path("panda"), contacts=None)
+    robot, _ = load_input(robot_path("panda"), contacts=f"{robot.links[-1].name}:6d")
+    ref = reduced(PinocchioReference(robot), robot)
+    lib = _compiled(("panda", "derivatives"), robot, tmp_path_factory, wanted=CONTACT_DERIVATIVES)
+    errors = compare(lib, ref, _states(robot, 4), CONTACT_DERIVATIVES, NO_PARAMETERS)
+    assert max(errors.values()) < 1e-9, errors
+    robot, _ = load_input(str(REPO / "examples" / "trees" / "space_robot.yaml"), contacts="l_wrist:6d")
+    ref = reduced(PinocchioReference(robot), robot)
+    lib = _compiled(("space", "derivatives"), robot, tmp_path_factory, wanted=CONTACT_DERIVATIVES)
+    errors = compare(lib, ref, _states(robot, 4), CONTACT_DERIVATIVES, NO_PARAMETERS)
+    assert max(errors.values()) < 1e-9, errors
+
+
+def test_contact_inverse_dynamics(tmp_path_factory):
+    """Solo-12 on four feet: the joint forces and least-norm contact forces that give qdd with the
+    base unactuated, C (combined and single) and numpy against the reference; the equations of
+    motion hold with them (ID = tau + J^T lambda, the base's tau zero) and lambda is the least-norm
+    one (in the range of J_b, the base's columns); on two point feet (five independent base
+    wrenches) status 3 and nothing written; an arm whose joints are all actuated gets lambda = 0
+    and tau = ID."""
+    robot = _robot(SOLO, _contacts(FEET))
+    ref = _reference(SOLO, robot)
+    states = _states(robot, 6, seed=3)
+    wanted = CONTACT_INVERSE
+    lib = _compiled(("solo", "inverse"), robot, tmp_path_factory, wanted=wanted)
+    for target in (lib, NumpyTarget(derive(robot, outputs=wanted))):
+        errors = compare(target, ref, states, CONTACT_INVERSE, NO_PARAMETERS)
+        assert max(errors.values()) < 1e-10, errors
+    for q, qd, qdd, _ in states:
+        status, (tau, forces) = lib.with_status("contact_inverse_dynamics", q, qd, qdd)
+        assert status == 0 and np.all(tau[:6] == 0)
+        J = ref._contact_jacobian(q)
+        ID = ref.inverse_dynamics(q, qd, qdd)
+        assert np.abs(ID - tau - J.T @ forces).max() < 1e-10 * np.abs(ID).max()
+        basis = np.linalg.qr(J[:, :6])[0]
+        assert np.abs(forces - basis @ (basis.T @ forces)).max() < 1e-10 * np.abs(forces).max()
+    two = _robot(SOLO, _contacts(FEET[1:3]))
+    lib = _compiled(("solo", "inverse2"), two, tmp_path_factory, wanted=wanted)
+    q, qd, qdd, _ = states[0]
+    status, (tau, forces) = lib.with_status("contact_inverse_dynamics", q, qd, qdd)
+    assert status == 3 and np.all(np.isnan(tau)) and np.all(np.isnan(forces))
+    held, _ = load_input(robot_path("panda"), contacts=None)  # every joint actuated: lambda = 0, tau = ID
+    held, _ = load_input(robot_path("panda"), contacts=f"{held.links[-1].name}:6d")
+    numbers = NumpyTarget(derive(held, outputs=CONTACT_INVERSE + ("inverse_dynamics",)))
+    q, qd, qdd, _ = _states(held, 1)[0]
+    assert np.all(numbers.contact_inverse_forces(q, qd, qdd, NO_PARAMETERS) == 0)
+    assert np.allclose(numbers.contact_inverse_torques(q, qd, qdd, NO_PARAMETERS),
+                       numbers.inverse_dynamics(q, qd, qdd, NO_PARAMETERS), rtol=0, atol=0)
+
+
+@pytest.mark.slow
+def test_squat_on_four_feet(tmp_path):
+    """examples/ilqr: iLQR of Solo-12's squat standing on its four feet, with the generated contact
+    dynamics, their derivatives and contact inverse dynamics only, converges (joints within 1e-3
+    rad of the crouch and the stance, at rest) and the feet stay within 1 cm of where they were."""
+    import re
+    import subprocess
+    import sys
+    done = subprocess.run([sys.executable, str(REPO / "examples" / "ilqr" / "solo12_ddp.py"), "--on-feet", "--out",
+                           str(tmp_path / "ddp")], capture_output=True, text=True, timeout=1500)
+    assert done.returncode == 0, done.stdout + done.stderr
+    assert ": converged" in done.stdout, done.stdout
+    drift = float(re.search(r"the feet move at most (\S+) m", done.stdout).group(1))
+    assert drift < 1e-2, done.stdout
+
+
 @pytest.mark.parametrize("contacts,expected", [
     ("FL_FOT:3d", "did you mean 'FL_FOOT'"),
     ("FL_FOOT:4d", "is not 3d (a point held) or 6d"),
@@ -313,19 +444,27 @@ int main(void) {
     status |= space2arm_impulse_dynamics(q, qd, e, out, forces);
     status |= space2arm_forward_dynamics_ext(q, qd, tau, f, out);
     space2arm_inverse_dynamics_ext(q, qd, qdd, f, out);
-    printf("%d %g\n", status, out[0]);
+    double *dq = filled(144, 0.0), *dv = filled(144, 0.0), *dt = filled(144, 0.0);
+    double *lq = filled(12 * SPACE2ARM_CONTACT_ROWS, 0.0), *lv = filled(12 * SPACE2ARM_CONTACT_ROWS, 0.0);
+    double *lt = filled(12 * SPACE2ARM_CONTACT_ROWS, 0.0);
+    status |= space2arm_contact_forward_dynamics_derivatives(q, qd, tau, out, forces, dq, dv, dt, lq, lv, lt);
+    int inverse = space2arm_contact_inverse_dynamics(q, qd, qdd, out, forces);  /* a point cannot hold a base */
+    printf("%d %g %d\n", status, out[0] + dq[0] + lt[0], inverse);
     free(q); free(qd); free(qdd); free(tau); free(f); free(e); free(out); free(forces);
+    free(dq); free(dv); free(dt); free(lq); free(lv); free(lt);
     return 0;
 }
 """
 
 
 def test_contact_functions_sanitizer_clean(tmp_path):
-    """The contact, impulse and external-force functions read their inputs within their sizes
-    (f: NC entries, the restitution one) and are clean under the address and undefined-behaviour
-    sanitizers, on a floating base whose contact rows are fewer than its velocities."""
+    """The contact, impulse and external-force functions, the contact dynamics' derivatives and
+    contact inverse dynamics read their inputs within their sizes (f: NC entries, the restitution
+    one) and are clean under the address and undefined-behaviour sanitizers, on a floating base
+    whose contact rows are fewer than its velocities (one point cannot hold the base: contact
+    inverse dynamics returns status 3)."""
     robot, _ = load_input(str(REPO / "examples" / "trees" / "space_robot.yaml"), contacts="l_wrist:3d")
-    wanted = CONTACT_OUTPUTS + IMPULSE_OUTPUTS + EXTERNAL_OUTPUTS
+    wanted = CONTACT_OUTPUTS + IMPULSE_OUTPUTS + EXTERNAL_OUTPUTS + CONTACT_DERIVATIVES + CONTACT_INVERSE
     files = generate_c(derive(robot, outputs=wanted), wanted)
-    status, value = run_sanitized(tmp_path, SANITIZED_MAIN, files).split()
-    assert status == "0" and np.isfinite(float(value))
+    status, value, inverse = run_sanitized(tmp_path, SANITIZED_MAIN, files).split()
+    assert status == "0" and np.isfinite(float(value)) and inverse == "3"

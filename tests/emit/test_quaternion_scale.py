@@ -68,7 +68,7 @@ def _scaled(q, scale, dtype):
     return scaled.astype(float), unit.astype(float)
 
 
-@pytest.mark.parametrize("precision", ["double", "float"])
+@pytest.mark.parametrize("precision", ["double", pytest.param("float", marks=pytest.mark.slow)])
 def test_every_function_at_every_scale(satellite, precision, tmp_path_factory):
     robot, functions, eqs = satellite
     lib = _compiled(satellite, precision, tmp_path_factory)
