@@ -38,6 +38,7 @@ def test_derivatives_compile_and_agree(robot, capsys):
     assert out.count(" ok") == len(DERIVATIVES.split(",")), out
 
 
+@pytest.mark.slow
 def test_derivative_c_has_no_constant_calls_and_builds_strict(tmp_path):
     if shutil.which("cc") is None:
         pytest.skip("no C compiler")

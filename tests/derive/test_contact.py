@@ -213,6 +213,7 @@ def test_derivative_reference_is_pinocchio(relative, contacts):
             assert normalized_error([a], [b]) < 1e-9, name
 
 
+@pytest.mark.slow
 def test_contact_derivatives_solo(tmp_path_factory):
     """Solo-12 on two feet: the derivatives of its contact dynamics in C (the combined function
     and the single ones), numpy and CasADi against the reference; dqdd/dtau is symmetric and
@@ -242,9 +243,10 @@ def test_contact_derivatives_solo(tmp_path_factory):
     assert np.abs(dlambda_dtau @ J.T + np.eye(J.shape[0])).max() < 1e-10
 
 
-def test_contact_derivatives_arm_and_tree(tmp_path_factory):
-    """The derivatives on a fixed base (the Panda with its last link held: a closed chain) and
-    a floating tree of the examples holding one link (6D), in C against the reference."""
+@pytest.mark.slow
+def test_contact_derivatives_arm(tmp_path_factory):
+    """The derivatives on a fixed base: the Panda with its last link held (a closed chain), in C
+    against the reference."""
     from symdyn.check.pinocchio_model import PinocchioReference
     robot, _ = load_input(robot_path("panda"), contacts=None)
     robot, _ = load_input(robot_path("panda"), contacts=f"{robot.links[-1].name}:6d")
@@ -252,11 +254,30 @@ def test_contact_derivatives_arm_and_tree(tmp_path_factory):
     lib = _compiled(("panda", "derivatives"), robot, tmp_path_factory, wanted=CONTACT_DERIVATIVES)
     errors = compare(lib, ref, _states(robot, 4), CONTACT_DERIVATIVES, NO_PARAMETERS)
     assert max(errors.values()) < 1e-9, errors
+
+
+def test_contact_derivatives_tree(tmp_path_factory):
+    """The derivatives on a floating tree of the examples holding one link (6D), in C against
+    the reference; the combined function's parts are the single ones' values, dqdd/dtau is
+    symmetric and keeps the contact held (J dqdd/dtau = 0, dlambda/dtau J^T = -1)."""
+    from symdyn.check.pinocchio_model import PinocchioReference
     robot, _ = load_input(str(REPO / "examples" / "trees" / "space_robot.yaml"), contacts="l_wrist:6d")
     ref = reduced(PinocchioReference(robot), robot)
-    lib = _compiled(("space", "derivatives"), robot, tmp_path_factory, wanted=CONTACT_DERIVATIVES)
-    errors = compare(lib, ref, _states(robot, 4), CONTACT_DERIVATIVES, NO_PARAMETERS)
+    lib = _compiled(("space", "derivatives"), robot, tmp_path_factory, wanted=CONTACT_DERIVATIVES + CONTACT_OUTPUTS)
+    states = _states(robot, 4)
+    errors = compare(lib, ref, states, CONTACT_DERIVATIVES, NO_PARAMETERS)
     assert max(errors.values()) < 1e-9, errors
+    q, qd, _, tau = states[0]  # the combined function: its parts, and the identities of the blocks
+    status, values = lib.with_status("contact_forward_dynamics_derivatives", q, qd, tau)
+    assert status == 0
+    parts = dict(zip(("contact_accelerations", "contact_forces") + CONTACT_DERIVATIVES, values))
+    for name, value in parts.items():
+        assert normalized_error([value], [getattr(ref, name)(q, qd, tau)]) < 1e-9, name
+    K, dlambda_dtau = parts["contact_accelerations_dtau"], parts["contact_forces_dtau"]
+    J = ref._contact_jacobian(q)
+    assert np.abs(K - K.T).max() < 1e-12 * np.abs(K).max()
+    assert np.abs(J @ K).max() < 1e-10 * np.abs(J).max() * np.abs(K).max()
+    assert np.abs(dlambda_dtau @ J.T + np.eye(J.shape[0])).max() < 1e-10
 
 
 def test_contact_inverse_dynamics(tmp_path_factory):
@@ -447,7 +468,9 @@ int main(void) {
     double *dq = filled(144, 0.0), *dv = filled(144, 0.0), *dt = filled(144, 0.0);
     double *lq = filled(12 * SPACE2ARM_CONTACT_ROWS, 0.0), *lv = filled(12 * SPACE2ARM_CONTACT_ROWS, 0.0);
     double *lt = filled(12 * SPACE2ARM_CONTACT_ROWS, 0.0);
+#if DERIVATIVES
     status |= space2arm_contact_forward_dynamics_derivatives(q, qd, tau, out, forces, dq, dv, dt, lq, lv, lt);
+#endif
     int inverse = space2arm_contact_inverse_dynamics(q, qd, qdd, out, forces);  /* a point cannot hold a base */
     printf("%d %g %d\n", status, out[0] + dq[0] + lt[0], inverse);
     free(q); free(qd); free(qdd); free(tau); free(f); free(e); free(out); free(forces);
@@ -464,7 +487,17 @@ def test_contact_functions_sanitizer_clean(tmp_path):
     whose contact rows are fewer than its velocities (one point cannot hold the base: contact
     inverse dynamics returns status 3)."""
     robot, _ = load_input(str(REPO / "examples" / "trees" / "space_robot.yaml"), contacts="l_wrist:3d")
-    wanted = CONTACT_OUTPUTS + IMPULSE_OUTPUTS + EXTERNAL_OUTPUTS + CONTACT_DERIVATIVES + CONTACT_INVERSE
+    wanted = CONTACT_OUTPUTS + IMPULSE_OUTPUTS + EXTERNAL_OUTPUTS + CONTACT_INVERSE
     files = generate_c(derive(robot, outputs=wanted), wanted)
-    status, value, inverse = run_sanitized(tmp_path, SANITIZED_MAIN, files).split()
+    status, value, inverse = run_sanitized(tmp_path, SANITIZED_MAIN.replace("DERIVATIVES", "0"), files).split()
+    assert status == "0" and np.isfinite(float(value)) and inverse == "3"
+
+
+@pytest.mark.slow
+def test_contact_derivatives_sanitizer_clean(tmp_path):
+    """The same with the contact dynamics' derivatives (a minute and a half of sanitized compiling)."""
+    robot, _ = load_input(str(REPO / "examples" / "trees" / "space_robot.yaml"), contacts="l_wrist:3d")
+    wanted = CONTACT_OUTPUTS + IMPULSE_OUTPUTS + EXTERNAL_OUTPUTS + CONTACT_INVERSE + CONTACT_DERIVATIVES
+    files = generate_c(derive(robot, outputs=wanted), wanted)
+    status, value, inverse = run_sanitized(tmp_path, SANITIZED_MAIN.replace("DERIVATIVES", "1"), files).split()
     assert status == "0" and np.isfinite(float(value)) and inverse == "3"
