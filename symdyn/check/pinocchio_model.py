@@ -559,9 +559,12 @@ class ContactReference:
     #: the step and weights of the 8th-order central difference the constraint terms' derivatives
     #: by q are taken with (truncation ~ h^8 / 630 of the 9th derivative, rounding ~ 1e-16 / h of the
     #: values): against computeConstraintDynamicsDerivatives on Solo-12, 1.8e-11 with the 6th order
-    #: at h = 1e-3, 5.2e-13 with this (tests/derive/test_contact.py)
-    _STEP = 5e-2
+    #: at h = 1e-3, 1.5e-12 with this; fuzz case 0 (a mimic joint at 1.66 times its leader's rate,
+    #: the step divided by that) 1.5e-11 at h = 5e-2, 3e-13 at this
+    _STEP = 2.5e-2
     _STENCIL = ((1, 4 / 5), (2, -1 / 5), (3, 4 / 105), (4, -1 / 280))
+    #: the largest rate of a joint per unit coordinate rate (a mimic joint's multiplier; 1 without)
+    _rate_scale = 1.0
 
     def _constraint_terms(self, q, qd, qdd, force):
         """``(J^T lambda, J qdd + gamma)``: the constraints' generalized force at fixed ``force``
@@ -594,14 +597,15 @@ class ContactReference:
         dF1_q = np.array(self.inverse_dynamics_dq(q, qd, qdd), dtype=float)
         dF1_qd = np.array(self.inverse_dynamics_dqd(q, qd, qdd), dtype=float)
         dF2_q, dF2_qd = np.zeros((m, n)), np.zeros((m, n))
+        h = self._STEP / self._rate_scale  # (a mimic joint turning m times as fast: h / m, the same truncation)
         for j in range(n):
             step = np.zeros(n)
             for k, weight in self._STENCIL:
-                step[j] = k * self._STEP
+                step[j] = k * h
                 ahead = self._constraint_terms(self.integrate(q, step), qd, qdd, force)
                 behind = self._constraint_terms(self.integrate(q, -step), qd, qdd, force)
-                dF1_q[:, j] -= weight * (ahead[0] - behind[0]) / self._STEP
-                dF2_q[:, j] += weight * (ahead[1] - behind[1]) / self._STEP
+                dF1_q[:, j] -= weight * (ahead[0] - behind[0]) / h
+                dF2_q[:, j] += weight * (ahead[1] - behind[1]) / h
             rate = np.zeros(n)
             rate[j] = 1.0
             ahead, behind = self._constraint_terms(q, qd + rate, qdd, force), self._constraint_terms(q, qd - rate, qdd, force)
@@ -1065,6 +1069,7 @@ class MimicReduction(ContactReference, ConfigurationSpaceReference):
             link = robot.links[i]
             self.offset[row] = 0.0 if link.mimic is None else float(link.mimic.offset)
         self.base = base
+        self._rate_scale = max(1.0, float(np.max(np.abs(self.G))))
 
     def _q(self, q):
         q = np.asarray(q, dtype=float)

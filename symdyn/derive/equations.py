@@ -1170,7 +1170,8 @@ def _contact_accelerations_at(d: _Derivation, qdd) -> sp.Matrix:
     the world-frame J qdd + gamma, whose entries expand into the rotations' products)."""
     robot, b = d.robot, d.b
     motion: list = []
-    states = recursion(d.chain, d.qd, qdd, sp.zeros(3, 1), "cF", joint_frames=False, base_motion=motion)
+    states = recursion(d.chain, d.chain.expand(d.qd), d.chain.expand(qdd), sp.zeros(3, 1), "cF", joint_frames=False,
+                       base_motion=motion)  # (per link: mimic joints follow their leaders)
     _, links = tree_poses(d.chain)
     R_w, _ = world_placement(d.chain)
     J, rows = _contact_rows(d), []
