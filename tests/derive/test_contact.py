@@ -214,33 +214,17 @@ def test_derivative_reference_is_pinocchio(relative, contacts):
 
 
 @pytest.mark.slow
-def test_contact_derivatives_solo(tmp_path_factory):
-    """Solo-12 on two feet: the derivatives of its contact dynamics in C (the combined function
-    and the single ones), numpy and CasADi against the reference; dqdd/dtau is symmetric and
-    keeps the feet held (J dqdd/dtau = 0, dlambda/dtau J^T = -1); the combined function's
-    accelerations and forces are the contact dynamics'."""
-    robot = _robot(SOLO, _contacts(FEET[1:3]))  # (two feet: a library a tenth of four feet's)
+def test_contact_derivatives_solo():
+    """Solo-12 on two feet: the derivatives of its contact dynamics in numpy and CasADi against the
+    reference (its C: the squat on four feet below runs it, and the floating tree above checks C
+    against the reference)."""
+    robot = _robot(SOLO, _contacts(FEET[1:3]))
     ref = _reference(SOLO, robot)
     states = _states(robot, 4, seed=7)
-    wanted = CONTACT_DERIVATIVES + CONTACT_OUTPUTS
-    eqs = derive(robot, outputs=wanted)
-    targets = {"numpy": NumpyTarget(eqs), "casadi": CasadiTarget(eqs),
-               "c": _compiled(("solo", "derivatives"), robot, tmp_path_factory, wanted=wanted)}
-    for target, lib in targets.items():
+    eqs = derive(robot, outputs=CONTACT_DERIVATIVES)
+    for target, lib in (("numpy", NumpyTarget(eqs)), ("casadi", CasadiTarget(eqs))):
         errors = compare(lib, ref, states, CONTACT_DERIVATIVES, NO_PARAMETERS)
         assert max(errors.values()) < 1e-9, (target, errors)
-    lib = targets["c"]
-    q, qd, _, tau = states[0]
-    status, values = lib.with_status("contact_forward_dynamics_derivatives", q, qd, tau)
-    assert status == 0
-    parts = dict(zip(("contact_accelerations", "contact_forces") + CONTACT_DERIVATIVES, values))
-    for name, value in parts.items():
-        assert normalized_error([value], [getattr(ref, name)(q, qd, tau)]) < 1e-9, name
-    K, dlambda_dtau = parts["contact_accelerations_dtau"], parts["contact_forces_dtau"]
-    J = ref._contact_jacobian(q)
-    assert np.abs(K - K.T).max() < 1e-12 * np.abs(K).max()
-    assert np.abs(J @ K).max() < 1e-10 * np.abs(J).max() * np.abs(K).max()
-    assert np.abs(dlambda_dtau @ J.T + np.eye(J.shape[0])).max() < 1e-10
 
 
 @pytest.mark.slow
