@@ -301,6 +301,17 @@ def test_contact_inverse_dynamics(tmp_path_factory):
                        numbers.inverse_dynamics(q, qd, qdd, NO_PARAMETERS), rtol=0, atol=0)
 
 
+def test_verify_contact_inverse_on_two_feet(capsys):
+    """symdyn verify of contact inverse dynamics on two point feet (five independent wrenches at
+    every q): nothing to compare, and the function must return status 3 at every state, which
+    verify checks ('singular')."""
+    code = main(["verify", example_robot_data(SOLO), "--floating-base", "--contacts", _contacts(FEET[1:3]),
+                 "--functions", "contact_inverse_dynamics", "--states", "3"])
+    out = capsys.readouterr().out
+    assert code == 0, out
+    assert out.count("  singular") == 2, out
+
+
 @pytest.mark.slow
 def test_squat_on_four_feet(tmp_path):
     """examples/ilqr: iLQR of Solo-12's squat standing on its four feet, with the generated contact

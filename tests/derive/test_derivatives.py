@@ -112,7 +112,8 @@ def test_derivatives_against_central_differences_of_the_compiled_functions(tmp_p
             np.testing.assert_allclose(value, single, rtol=0, atol=1e-12)
 
 
-@pytest.mark.parametrize("path, by_columns", [(str(REPO / "examples" / "trees" / "space_robot.yaml"), True),
+@pytest.mark.parametrize("path, by_columns", [pytest.param(str(REPO / "examples" / "trees" / "space_robot.yaml"), True,
+                                                           marks=pytest.mark.slow),  # (18 s of a CPU)
                                               (robot_path("puma560"), False)])
 def test_forward_dynamics_derivatives_not_finite_write_nothing(path, by_columns, tmp_path):
     """The forward-dynamics derivatives' final test of finite results (the product -M^-1 dtau/dx
