@@ -503,7 +503,10 @@ class ContactReference:
         J_all = np.asarray(self.frame_jacobians(q))
         return np.vstack([J_all[6 * frame:6 * frame + (3 if kind == "3d" else 6)] for frame, kind in self.contact_set])
 
-    def _constrained(self, q, qd, tau):
+    def _rows_and_drift(self, q, qd):
+        """``(J, gamma)``: the contacts' rows (:meth:`_contact_jacobian`) and their drift J-dot qd,
+        a point's classical acceleration at qdd = 0, a sole's spatial one (the classical minus
+        omega x v, as constraintDynamics holds a 6D contact)."""
         J, drift_all = self._contact_jacobian(q), np.asarray(self.frame_jacobian_dot_v(q, qd))
         qd = np.asarray(qd, dtype=float)
         gamma, at = [], 0
@@ -515,7 +518,11 @@ class ContactReference:
             count = 3 if kind == "3d" else 6
             gamma.append(drift[:count])
             at += count
-        gamma = np.concatenate(gamma)
+        return J, np.concatenate(gamma)
+
+    def _constrained(self, q, qd, tau):
+        J, gamma = self._rows_and_drift(q, qd)
+        qd = np.asarray(qd, dtype=float)
         M = np.asarray(self.system_matrix(q))
         bias = np.asarray(self.inverse_dynamics(q, qd, np.zeros(len(qd))))
         n, m = M.shape[0], len(gamma)
@@ -570,18 +577,8 @@ class ContactReference:
         """``(J^T lambda, J qdd + gamma)``: the constraints' generalized force at fixed ``force``
         (world-aligned axes) and the contacts' accelerations (a point's classical, a sole's
         spatial) at ``qdd``, from Pinocchio's frame Jacobians and accelerations."""
-        J, drift_all = self._contact_jacobian(q), np.asarray(self.frame_jacobian_dot_v(q, qd))
-        qd = np.asarray(qd, dtype=float)
-        gamma, at = [], 0
-        for frame, kind in self.contact_set:
-            drift = np.array(drift_all[6 * frame:6 * frame + 6])
-            if kind == "6d":
-                velocity = J[at:at + 6] @ qd
-                drift[:3] -= np.cross(velocity[3:], velocity[:3])
-            count = 3 if kind == "3d" else 6
-            gamma.append(drift[:count])
-            at += count
-        return J.T @ force, J @ qdd + np.concatenate(gamma)
+        J, gamma = self._rows_and_drift(q, qd)
+        return J.T @ force, J @ qdd + gamma
 
     def _contact_derivatives(self, q, qd, tau):
         """``(dqdd/dq, dqdd/dqd, dqdd/dtau, dlambda/dq, dlambda/dqd, dlambda/dtau)``: the implicit
