@@ -33,7 +33,7 @@ TINY = {
     "long_chains.py": ["3", "--smoke", "--functions", "inverse_dynamics,forward_dynamics"],
     "harness.py": ["3", "--smoke"],
     "scenes.py": ["--smoke"],
-    "casadi_speed.py": ["scara", "--smoke", "--functions", "inverse_dynamics,forward_dynamics_dq,mass_matrix_inverse"],
+    "casadi_speed.py": ["scara", "--smoke", "--functions", "inverse_dynamics,forward_dynamics_dq,coriolis_matrix"],
     "fma.py": ["scara", "--smoke"],
     "firmware_instructions.py": ["scara"],
     "firmware_size.py": ["scara"],

@@ -2,11 +2,11 @@
 the air) with symdyn's generated C, and, when Pinocchio's wheel (pin) is installed, the same
 solver linked against Pinocchio (ilqr_solo12_pinocchio.cpp); both at the same gcc flags.
 
-    python examples/ilqr/solo12_ddp.py [--flags="-O3 -march=native"] [--out build/solo12_ddp]
+    python examples/ilqr/solo12_ddp.py [--flags="-O3 -march=native"] [--out build/solo12_ddp] [--runs 7]
     python examples/ilqr/solo12_ddp.py --on-feet      # the squat standing on four feet (symdyn's C only)
 
 Prints each program's iterations, then the median of each time per iteration over 7 runs of
-each program, interleaved (one solve is a few ms: a single run swings by half), and the ratios;
+each program (--runs), interleaved (one solve is a few ms: a single run swings by half), and the ratios;
 exits 0 when both converge to the same cost (within 1e-6 of it).
 """
 
@@ -62,6 +62,8 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--flags", default="-O2", help="gcc/g++ optimization flags of both builds (default -O2)")
     parser.add_argument("--out", default=str(REPO / "build" / "solo12_ddp"))
+    parser.add_argument("--runs", type=int, default=RUNS,
+                        help=f"runs of each build timed, interleaved (default {RUNS}; 1: the comparison only)")
     parser.add_argument("--on-feet", action="store_true",
                         help="the squat standing on four feet (contact dynamics; symdyn's build only)")
     args = parser.parse_args(argv)
@@ -100,11 +102,11 @@ def main(argv=None) -> int:
     _, their_cost, their_ms = run(theirs, model)
     same = abs(cost - their_cost) <= 1e-6 * abs(cost)
     runs = [(ms, their_ms)]
-    for _ in range(RUNS - 1):
+    for _ in range(max(args.runs, 1) - 1):
         runs.append((run(mine, quiet=True)[2], run(theirs, model, quiet=True)[2]))
     ms = {part: statistics.median(r[0][part] for r in runs) for part in ms}
     their_ms = {part: statistics.median(r[1][part] for r in runs) for part in their_ms}
-    print(f"median of {RUNS} runs of each, interleaved:")
+    print(f"median of {max(args.runs, 1)} runs of each, interleaved:")
     for part, what in (("total", "time per iteration"), ("linearization", "linearization (the dynamics' derivatives)"),
                        ("forward", "forward passes (the dynamics, integrate, difference)"),
                        ("backward", "backward pass (the solver's own, the same code)")):

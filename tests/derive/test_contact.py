@@ -320,8 +320,8 @@ def test_squat_on_four_feet(tmp_path):
     import re
     import subprocess
     import sys
-    done = subprocess.run([sys.executable, str(REPO / "examples" / "ilqr" / "solo12_ddp.py"), "--on-feet", "--out",
-                           str(tmp_path / "ddp")], capture_output=True, text=True, timeout=1500)
+    done = subprocess.run([sys.executable, str(REPO / "examples" / "ilqr" / "solo12_ddp.py"), "--on-feet", "--flags=-O1",
+                           "--out", str(tmp_path / "ddp")], capture_output=True, text=True, timeout=1500)
     assert done.returncode == 0, done.stdout + done.stderr
     assert ": converged" in done.stdout, done.stdout
     drift = float(re.search(r"the feet move at most (\S+) m", done.stdout).group(1))

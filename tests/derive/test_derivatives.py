@@ -409,7 +409,8 @@ def test_solo12_ddp_example_converges_as_on_pinocchio(tmp_path):
     Pinocchio (1e-6 of it)."""
     import subprocess
     import sys
-    done = subprocess.run([sys.executable, str(REPO / "examples" / "ilqr" / "solo12_ddp.py"), "--out", str(tmp_path)],
+    done = subprocess.run([sys.executable, str(REPO / "examples" / "ilqr" / "solo12_ddp.py"), "--out", str(tmp_path),
+                           "--flags=-O1", "--runs", "1"],
                           capture_output=True, text=True, timeout=900)
     assert done.returncode == 0, done.stdout[-3000:] + done.stderr[-3000:]
     finals = [line for line in done.stdout.splitlines() if line.startswith("final: cost")]
