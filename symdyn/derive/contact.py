@@ -69,6 +69,42 @@ def _dot(a, b) -> sp.Expr:
     return sp.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
 
 
+@dataclass(frozen=True)
+class GramSchmidt:
+    """The QR of k columns ``A = Q R``: ``Q`` (k orthonormal columns, each a tuple of the
+    columns' length), ``R`` (k x k upper triangular), ``inverse`` (the k 1/R_jj) and ``pivots``
+    (the k ``(R_jj^2, ||a_j||^2)``, which the generated code checks before dividing)."""
+
+    Q: tuple
+    R: sp.Matrix
+    inverse: tuple
+    pivots: tuple
+
+
+def gram_schmidt(b, columns, hint: str) -> GramSchmidt:
+    """The modified Gram-Schmidt QR of ``columns`` (k lists of one length, the matrix's columns),
+    every entry named in ``b`` (``{hint}A``: the squared norms, ``{hint}R``, ``{hint}Rinv``,
+    ``{hint}Q``, ``{hint}B``: the columns as they are swept); entries that are exact zeros stay
+    zeros (a contact's rows read few joints)."""
+    k_count = len(columns)
+    diagonal = [b.define(f"{hint}A{k + 1}", _dot(col, col)) for k, col in enumerate(columns)]
+    R = sp.zeros(k_count, k_count)
+    Q, inverse, pivots = [], [], []
+    work = [list(col) for col in columns]
+    for k in range(k_count):
+        square = diagonal[k] if k == 0 else b.define(f"{hint}R{k + 1}sq", _dot(work[k], work[k]))
+        pivots.append((square, diagonal[k]))
+        R[k, k] = b.define(f"{hint}R{k + 1}_{k + 1}", sp.sqrt(square))
+        inverse.append(b.define(f"{hint}Rinv{k + 1}", 1 / R[k, k]))
+        q = [b.define(f"{hint}Q{k + 1}_{i + 1}", e * inverse[k]) if e != 0 else sp.S.Zero for i, e in enumerate(work[k])]
+        Q.append(tuple(q))
+        for j in range(k + 1, k_count):
+            R[k, j] = b.define(f"{hint}R{k + 1}_{j + 1}", _dot(q, work[j]))
+            work[j] = [b.define(f"{hint}B{j + 1}_{k + 1}_{i + 1}", e - R[k, j] * qi) if qi != 0 else e
+                       for i, (e, qi) in enumerate(zip(work[j], q))]
+    return GramSchmidt(tuple(Q), R, tuple(inverse), tuple(pivots))
+
+
 def contact_dynamics(b, f, tree: bool, J: sp.Matrix, gamma, rhs, hint: str = "ct") -> ContactDynamics:
     """The constrained accelerations and contact forces (module docstring) for the factorization
     ``f`` of M (``tree``: :func:`symdyn.derive.ldlt.factor_tree`'s, else :func:`~symdyn.derive.ldlt.factor`'s),
@@ -78,22 +114,10 @@ def contact_dynamics(b, f, tree: bool, J: sp.Matrix, gamma, rhs, hint: str = "ct
     whiten, unwhiten = _whitening(b, f, tree, hint)
     columns = [whiten([J[k, i] for i in range(n)], f"{hint}B{k + 1}_") for k in range(m)]
     w = whiten(list(rhs), f"{hint}W")
-    diagonal = [b.define(f"{hint}A{k + 1}", _dot(col, col)) for k, col in enumerate(columns)]  # (J M^-1 J^T)_kk
-    R = sp.zeros(m, m)
-    Q: list[list[sp.Expr]] = []
-    pivots, inverse, c = [], [], []
-    work = [list(col) for col in columns]
-    for k in range(m):
-        square = diagonal[k] if k == 0 else b.define(f"{hint}R{k + 1}sq", _dot(work[k], work[k]))
-        pivots.append((square, diagonal[k]))
-        R[k, k] = b.define(f"{hint}R{k + 1}_{k + 1}", sp.sqrt(square))
-        inverse.append(b.define(f"{hint}Rinv{k + 1}", 1 / R[k, k]))
-        q = [b.define(f"{hint}Q{k + 1}_{i + 1}", e * inverse[k]) if e != 0 else sp.S.Zero for i, e in enumerate(work[k])]
-        Q.append(q)
-        for j in range(k + 1, m):
-            R[k, j] = b.define(f"{hint}R{k + 1}_{j + 1}", _dot(q, work[j]))
-            work[j] = [b.define(f"{hint}B{j + 1}_{k + 1}_{i + 1}", e - R[k, j] * qi) if qi != 0 else e
-                       for i, (e, qi) in enumerate(zip(work[j], q))]
+    qr = gram_schmidt(b, columns, hint)
+    Q, R, inverse = qr.Q, qr.R, qr.inverse
+    c = []
+    for k, q in enumerate(Q):  # c = Q^T w, w_perp = w - Q c, one column at a time (modified Gram-Schmidt)
         c.append(b.define(f"{hint}c{k + 1}", _dot(q, w)))
         w = [b.define(f"{hint}W{k + 1}_{i + 1}", e - c[k] * qi) if qi != 0 else e for i, (e, qi) in enumerate(zip(w, q))]
     t: list[sp.Expr] = []
@@ -106,8 +130,7 @@ def contact_dynamics(b, f, tree: bool, J: sp.Matrix, gamma, rhs, hint: str = "ct
     u = [b.define(f"{hint}u{i + 1}", w[i] - sp.Add(*[Q[k][i] * t[k] for k in range(m) if Q[k][i] != 0]))
          for i in range(n)]
     qdd = unwhiten(u, f"{hint}_x")
-    return ContactDynamics(sp.Matrix(qdd), sp.Matrix(forces), tuple(pivots), tuple(tuple(q) for q in Q), R,
-                           tuple(inverse))
+    return ContactDynamics(sp.Matrix(qdd), sp.Matrix(forces), qr.pivots, Q, R, inverse)
 
 
 @dataclass(frozen=True)

@@ -71,7 +71,7 @@ from .configuration import configuration_outputs
 from .kinematics import RESTITUTION, configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
-from .contact import constrained_inverse, contact_dynamics
+from .contact import constrained_inverse, contact_dynamics, gram_schmidt
 from .poses import tree_poses, world_placement
 from .newton_euler import recursion
 from .spatial import named_vector, skew
@@ -1085,7 +1085,7 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     base = n - len(d.joint_q)
     for j, column in enumerate(by_q):
         dF1_q[:, base + j] -= column
-    constraint = _contact_accelerations_at(d, qdd)
+    constraint = _contact_accelerations_at(d, J, qdd)
     dF2_q = sp.zeros(m, n)
     for j, column in enumerate(differentiate(b.build(), constraint, list(d.joint_q), b, "cgq", held=held)):
         dF2_q[:, base + j] = column
@@ -1133,22 +1133,8 @@ def _contact_inverse(d: _Derivation) -> sp.Matrix:
     u = len(unactuated)
     d.report("contact inverse dynamics (least-norm contact forces by a QR of the base's columns)")
     tau = d.get("inverse_dynamics")
-    columns = [[J[i, c] for i in range(m)] for c in unactuated]
-    R = sp.zeros(u, u)
-    Q, inverse, pivots = [], [], []
-    work = [list(c) for c in columns]
-    for k in range(u):
-        diagonal = b.define(f"ciA{k + 1}", sp.Add(*[e * e for e in columns[k] if e != 0]))
-        square = diagonal if k == 0 else b.define(f"ciR{k + 1}sq", sp.Add(*[e * e for e in work[k] if e != 0]))
-        pivots.append((square, diagonal))
-        R[k, k] = b.define(f"ciR{k + 1}_{k + 1}", sp.sqrt(square))
-        inverse.append(b.define(f"ciRinv{k + 1}", 1 / R[k, k]))
-        q = [b.define(f"ciQ{k + 1}_{i + 1}", e * inverse[k]) if e != 0 else sp.S.Zero for i, e in enumerate(work[k])]
-        Q.append(q)
-        for j in range(k + 1, u):
-            R[k, j] = b.define(f"ciR{k + 1}_{j + 1}", sp.Add(*[x * y for x, y in zip(q, work[j]) if x != 0 and y != 0]))
-            work[j] = [b.define(f"ciB{j + 1}_{k + 1}_{i + 1}", e - R[k, j] * qi) if qi != 0 else e
-                       for i, (e, qi) in enumerate(zip(work[j], q))]
+    qr = gram_schmidt(b, [[J[i, c] for i in range(m)] for c in unactuated], "ci")
+    Q, R, inverse = qr.Q, qr.R, qr.inverse
     t: list[sp.Expr] = []
     for k, c in enumerate(unactuated):  # R^T t = ID_u
         t.append(b.define(f"cit{k + 1}", (tau[c] - sp.Add(*[R[l, k] * t[l] for l in range(k)])) * inverse[k]))
@@ -1158,12 +1144,12 @@ def _contact_inverse(d: _Derivation) -> sp.Matrix:
     d.values["contact_inverse_forces"] = sp.Matrix(forces)
     d.values["contact_inverse_torques"] = sp.Matrix([sp.S.Zero if i in unactuated else
                                                      b.define(f"citau{i + 1}", tau[i] - applied[i]) for i in range(d.n)])
-    d.checks.append((CONTACT_INVERSE, tuple((p, mm, 3) for p, mm in pivots)))
+    d.checks.append((CONTACT_INVERSE, tuple((p, mm, 3) for p, mm in qr.pivots)))
     return d.values["contact_inverse_torques"]
 
 
-def _contact_accelerations_at(d: _Derivation, qdd) -> sp.Matrix:
-    """``J qdd + gamma`` (NC x 1, world-aligned axes) at accelerations ``qdd``: each contact's
+def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> sp.Matrix:
+    """``J qdd + gamma`` (NC x 1, world-aligned axes; ``J`` the contact rows) at accelerations ``qdd``: each contact's
     acceleration (a point's classical, a sole's spatial: the classical minus omega x v) from the
     Newton-Euler forward recursion at zero gravity, formed in its link's frame and turned to the
     world through named rotations (what the derivatives differentiate: far fewer operations than
@@ -1174,7 +1160,7 @@ def _contact_accelerations_at(d: _Derivation, qdd) -> sp.Matrix:
                        base_motion=motion)  # (per link: mimic joints follow their leaders)
     _, links = tree_poses(d.chain)
     R_w, _ = world_placement(d.chain)
-    J, rows = _contact_rows(d), []
+    rows: list = []
     for k, contact in enumerate(robot.contacts):
         at = len(rows)
         frame = robot.frames[contact.frame]
