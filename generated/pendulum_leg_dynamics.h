@@ -4,7 +4,7 @@
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
  *   generator : symdyn 0.1.0 (newton-euler; forward dynamics by LDL^T of D, double precision)
  *   input     : pendulum_leg.yaml
- *   sha256    : 64798994b381b3a497a0c095e6d1f967aabc930aea0d5f9455088c4c3e856e05
+ *   sha256    : d45f10268fea15f488c0a529bab52cbe575efb88a0af35320dd5cd3f89d80022
  */
 #ifndef PENDULUM_LEG_DYNAMICS_H
 #define PENDULUM_LEG_DYNAMICS_H

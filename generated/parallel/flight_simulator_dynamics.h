@@ -4,7 +4,7 @@
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
  *   generator : symdyn 0.1.0 (platform robot, double precision)
  *   input     : flight_simulator.yaml
- *   sha256    : 93fc825b95bcb7b117ed3ed5fed22ce4e11455629ee80e2bf373783789f7e29a
+ *   sha256    : a413e747df9e185599877eab4e786746609ee989ec80a4dde7017e83e7437294
  */
 #ifndef FLIGHT_SIMULATOR_DYNAMICS_H
 #define FLIGHT_SIMULATOR_DYNAMICS_H

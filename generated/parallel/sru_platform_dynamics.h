@@ -4,7 +4,7 @@
  * GENERATED FILE — DO NOT EDIT. Regenerate it with symdyn instead.
  *   generator : symdyn 0.1.0 (platform robot, double precision)
  *   input     : sru_platform.yaml
- *   sha256    : 9294d28fe8fa5589f9ea4a3d050f217735d7e7b68650f939fb06b4967ba0f3c9
+ *   sha256    : 103b28fafee2cf3b3b24eef8337b27429aa900c0565ae91f2d584cd51ff83ffd
  */
 #ifndef SRU_PLATFORM_DYNAMICS_H
 #define SRU_PLATFORM_DYNAMICS_H
