@@ -69,6 +69,27 @@ def _dot(a, b) -> sp.Expr:
     return sp.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
 
 
+def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: e) -> list:
+    """The contacts' drift gamma (NC entries, world-aligned axes), as Pinocchio's
+    ``constraintDynamics`` holds its 3D and 6D contacts: a point's classical acceleration at
+    qdd = 0 (its frame's J-dot v, linear rows), a sole's spatial one (the classical minus
+    omega x v, then the angular rows). ``contacts``: the robot's contact set; ``J`` its rows
+    (NC x N); ``drift_all``: every frame's J-dot v (6 per frame, linear first); ``qd`` (N);
+    ``define(name, expr)`` names an intermediate (the identity by default)."""
+    gamma, at = [], 0
+    qd = sp.Matrix(qd)
+    for k, contact in enumerate(contacts):
+        drift = list(drift_all[6 * contact.frame:6 * contact.frame + 6])
+        if contact.kind == "6d":
+            linear = [define(f"ctv{k + 1}_{i + 1}", e) for i, e in enumerate(J[at:at + 3, :] * qd)]
+            angular = [define(f"ctw{k + 1}_{i + 1}", e) for i, e in enumerate(J[at + 3:at + 6, :] * qd)]
+            turn = sp.Matrix(angular).cross(sp.Matrix(linear))
+            drift = [drift[i] - turn[i] for i in range(3)] + drift[3:]
+        gamma += [define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift[:contact.rows])]
+        at += contact.rows
+    return gamma
+
+
 @dataclass(frozen=True)
 class GramSchmidt:
     """The QR of k columns ``A = Q R``: ``Q`` (k orthonormal columns, each a tuple of the

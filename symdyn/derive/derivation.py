@@ -37,7 +37,7 @@ from .equations import armature_matrix, check_tree_request, friction_terms, norm
 from .jacobian_newton_euler import JacobianNewtonEuler
 from .lagrange_euler import LagrangeEuler, q_operator, pseudo_inertia
 from .newton_euler import recursion
-from ..model.errors import SymdynError
+from ..model.errors import SymdynError, warn
 from ..model.robot import Robot
 
 STEPS = ("all", "summary")
@@ -126,6 +126,11 @@ KINDS = {
     "Mx": "M_x(q) = (J D^-1 J^T)^-1, task-space mass matrix",
     "Vx": "V_x(q, qdot) = M_x (J D^-1 h - Jdot qdot), task-space Coriolis and centrifugal force",
     "Gx": "G_x(q) = M_x J D^-1 c, task-space gravity force",
+    "contact_J": "J, the contacts' rows of their frames' Jacobians (world-aligned axes at each frame's origin)",
+    "contact_gamma": "gamma = Jdot qdot, the contacts' acceleration at qdd = 0",
+    "contact_det": "det J_c (contacts that pin the robot: as many rows as joints)",
+    "contact_qdd": "qdd = -J_c^-1 gamma (the contacts alone set the accelerations)",
+    "contact_lambda": "lambda = J_c^-T (D qdd - (tau - h - c)), the contact forces on the robot",
     "D": "D(q), n x n",
     "h": "h(q, qdot), n x 1",
     "c": "c(q), n x 1",
@@ -492,6 +497,56 @@ def _with_task(derivation: Derivation, wanted: bool, progress=None) -> Derivatio
                    shorthand=tuple(sorted(shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))))
 
 
+def contact_section(robot: Robot, notation: _Notation, progress=None) -> Section:
+    """The contact dynamics of the robot's contact set (the functions contact_forward_dynamics):
+    J_c, the contacts' rows of their frames' Jacobians (world-aligned axes at each frame's origin;
+    a point's three linear rows, a sole's six) and gamma = J_c-dot qd as the functions hold them;
+    when the contacts pin the robot (as many rows as joints, at most
+    :data:`TASK_CLOSED_FORM_MAX_DOF`, det J_c not identically zero) the closed forms
+    ``qdd = -J_c^-1 gamma`` and ``lambda = J_c^-T (D qdd - (tau - h - c))`` (D includes the
+    armature; friction left out)."""
+    from .contact import contact_drift
+    eqs = derive(robot, "newton-euler", ["mass_matrix", "coriolis", "gravity", "frame_jacobians",
+                                         "frame_jacobian_dot_v"], progress=progress)
+    trig = lambda M: sp.Matrix(notation.to_trig_symbols(eqs.program, sp.Matrix(M)))  # noqa: E731
+    frames = trig(eqs.output("frame_jacobians"))
+    J = sp.Matrix.vstack(*[frames[6 * c.frame:6 * c.frame + c.rows, :] for c in robot.contacts])
+    gamma = sp.Matrix(contact_drift(robot.contacts, J, trig(eqs.output("frame_jacobian_dot_v")), eqs.qd))
+    quantities = [Quantity("contact_J", (), notation.textbook_matrix(J)),
+                  Quantity("contact_gamma", (), notation.textbook_matrix(gamma))]
+    if J.shape[0] == robot.dof <= TASK_CLOSED_FORM_MAX_DOF and not robot.floating:
+        det = sp.factor(notation.textbook(J.det()))
+        if det != 0:
+            quantities.append(Quantity("contact_det", (), det))
+            J_inv = J.adjugate() / det
+            qdd = -J_inv * gamma
+            rhs = sp.Matrix(eqs.tau) - trig(eqs.coriolis) - trig(eqs.gravity)
+            D = trig(eqs.mass_matrix) + armature_matrix(robot)
+            forces = J_inv.T * (D * qdd - rhs)
+            shown = lambda M: sp.ImmutableMatrix(sp.Matrix(M).applyfunc(lambda e: _rational(notation, e)))  # noqa: E731
+            quantities += [Quantity("contact_qdd", (), shown(qdd)), Quantity("contact_lambda", (), shown(forces))]
+    return Section("contact_dynamics", tuple(quantities))
+
+
+def _with_contacts(derivation: Derivation, progress=None) -> Derivation:
+    """``derivation`` with a last section ``contact_dynamics`` (:func:`contact_section`) when the
+    robot has a contact set and a fixed base (a floating base's rows expand the base's rotation
+    from its quaternion: minutes of printing; one warning line says it is left out)."""
+    robot = derivation.robot
+    if not robot.contacts:
+        return derivation
+    if robot.floating:
+        warn(f"{robot.source or robot.name}: the contact dynamics of a floating base are not printed (its contact "
+             "rows expand the base's rotation from its quaternion); the generated contact functions have no such limit")
+        return derivation
+    from dataclasses import replace
+    notation = _Notation(make_chain(derivation.robot))
+    section = contact_section(derivation.robot, notation, progress)
+    shorthand = dict(derivation.shorthand) | notation.shorthand
+    return replace(derivation, sections=derivation.sections + (section,),
+                   shorthand=tuple(sorted(shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))))
+
+
 def configuration_section(notation: _Notation) -> Section:
     """The configuration space of a floating base (the functions integrate, difference and their
     Jacobians, :mod:`symdyn.derive.configuration`): the base's rotation from its quaternion, and
@@ -550,8 +605,8 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
             raise ValueError("the articulated-body derivation is printed in the named form only "
                              "(its quantities are rational in the joint variables)")
         report = _reporter(robot, "articulated-body", progress)
-        return _with_configuration(_with_task(_with_base_parameters(_articulated_body_steps(robot, steps, report),
-                                                                    base_parameters, progress), task, progress))
+        return _with_configuration(_with_contacts(_with_task(_with_base_parameters(
+            _articulated_body_steps(robot, steps, report), base_parameters, progress), task, progress), progress))
     method = normalize_method(method)
     if steps not in STEPS:
         raise ValueError(f"steps must be one of {', '.join(STEPS)}, not {steps!r}")
@@ -576,10 +631,10 @@ def derive_steps(robot: Robot, method: str = "lagrange-euler", steps: str = "all
     sections.append(Section("results", (Quantity("D", (), results[0]), Quantity("h", (), results[1]),
                                         Quantity("c", (), results[2]))))
     joint = tuple((shown, sym) for sym, shown in notation.to_display.items())
-    return _with_configuration(_with_task(_with_base_parameters(Derivation(
+    return _with_configuration(_with_contacts(_with_task(_with_base_parameters(Derivation(
         robot=robot, method=method, steps=steps, closed_form=closed, sections=tuple(sections),
         where=where, named=named, shorthand=tuple(sorted(notation.shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))),
-        joint_symbols=joint), base_parameters, progress), task, progress))
+        joint_symbols=joint), base_parameters, progress), task, progress), progress))
 
 
 def _reporter(robot: Robot, method: str, progress):

@@ -71,7 +71,7 @@ from .configuration import configuration_outputs
 from .kinematics import RESTITUTION, configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
-from .contact import constrained_inverse, contact_dynamics, gram_schmidt
+from .contact import constrained_inverse, contact_drift, contact_dynamics, gram_schmidt
 from .poses import tree_poses, world_placement
 from .newton_euler import recursion
 from .spatial import named_vector, skew
@@ -1036,18 +1036,7 @@ def _contact(d: _Derivation) -> sp.Matrix:
     f = _mass_factorization(d)
     rhs = sp.Matrix(d.tau) - d.get("fd_bias") - d.static_friction
     rhs = [b.define(f"ctr{i + 1}", e) for i, e in enumerate(rhs)]
-    drift_all = d.get("frame_jacobian_dot_v")
-    qd = sp.Matrix(d.qd)
-    gamma, at = [], 0
-    for k, contact in enumerate(robot.contacts):
-        drift = list(drift_all[6 * contact.frame:6 * contact.frame + 6])
-        if contact.kind == "6d":
-            linear = [b.define(f"ctv{k + 1}_{i + 1}", e) for i, e in enumerate(J[at:at + 3, :] * qd)]
-            angular = [b.define(f"ctw{k + 1}_{i + 1}", e) for i, e in enumerate(J[at + 3:at + 6, :] * qd)]
-            turn = sp.Matrix(angular).cross(sp.Matrix(linear))
-            drift = [drift[i] - turn[i] for i in range(3)] + drift[3:]
-        gamma += [b.define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift[:contact.rows])]
-        at += contact.rows
+    gamma = contact_drift(robot.contacts, J, d.get("frame_jacobian_dot_v"), d.qd, b.define)
     result = contact_dynamics(b, f, d.factor_parents is not None, J, gamma, rhs)
     d.contact_system = (J, gamma, result)
     d.values["contact_accelerations"] = result.accelerations

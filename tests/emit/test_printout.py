@@ -245,3 +245,52 @@ def test_text_rows_fit_and_labels_sit_on_the_baseline(tmp_path):
     for k in raised[:20]:
         m = next(m for m in range(k + 1, len(rows)) if not rows[m].startswith(" "))  # the baseline's row
         assert " = " in rows[m] and rows[k][:len(rows[m].split(" = ")[0]) + 3].strip() == "", (rows[k], rows[m])
+
+
+CYLINDRICAL = """format: 1
+name: cylindrical
+convention: general
+gravity: [0, 0, -9.81]
+links:
+  - {name: waist, joint: revolute, origin: {xyz: [0, 0, 0.3]}, axis: [0, 0, 1], mass: 4, com: [0, 0, 0.1],
+     inertia: {xx: 0.05, yy: 0.05, zz: 0.02}, armature: 0.01}
+  - {name: lift, joint: prismatic, axis: [0, 0, 1], mass: 2, com: [0.05, 0, 0], inertia: {xx: 0.01, yy: 0.02, zz: 0.02}}
+  - {name: reach, joint: prismatic, origin: {xyz: [0.1, 0, 0]}, axis: [1, 0, 0], mass: 1, com: [-0.2, 0.01, 0],
+     inertia: {xx: 0.002, yy: 0.01, zz: 0.01}}
+contacts: [KIND]
+"""
+
+
+@pytest.mark.parametrize("kind", ["reach:3d", "reach:6d"])
+def test_contact_section_equals_the_contact_functions(tmp_path, kind):
+    """A robot with contacts gets a last section, contact dynamics: J_c and gamma always (J_c
+    equal to the frame's Jacobian rows at seeded states), and where the contacts pin the robot
+    (a point held by three joints) the closed forms of qdd and lambda, equal to the generated
+    contact functions (checked against Pinocchio elsewhere; D with the armature)."""
+    from symdyn.derive.equations import derive
+    path = tmp_path / "cylindrical.yaml"
+    path.write_text(CYLINDRICAL.replace("KIND", kind))
+    robot = symdyn.load(str(path))
+    d = derive_steps(robot, "newton-euler", steps="summary")
+    assert d.sections[-1].kind == "contact_dynamics"
+    kinds = [q.kind for q in d.sections[-1].quantities]
+    pinned = kind.endswith("3d")
+    assert kinds == (["contact_J", "contact_gamma", "contact_det", "contact_qdd", "contact_lambda"] if pinned
+                     else ["contact_J", "contact_gamma"])
+    eqs = derive(robot, outputs=["contact_accelerations", "contact_forces", "frame_jacobians"])
+    q, qd, tau = sp.symbols("q1:4"), sp.symbols("qd1:4"), sp.symbols("tau1:4")
+    joint = lambda kind_: sp.lambdify([q, qd, tau], d.to_joint_symbols(d.quantity(kind_)).subs(  # noqa: E731
+        dict(zip(eqs.q, q)) | dict(zip(eqs.qd, qd)) | dict(zip(eqs.tau, tau))), "numpy")
+    J = joint("contact_J")
+    rows = 3 if pinned else 6
+    for state, speed, _, torque in random_states(3, 4, seed=5):
+        state[2] = 0.3 + abs(state[2])  # the reach away from the axis: J_c regular
+        frames = eqs.numeric.frame_jacobians(state)
+        np.testing.assert_allclose(np.array(J(state, speed, torque), dtype=float), frames[:rows, :], rtol=1e-10, atol=1e-12)
+        if pinned:
+            np.testing.assert_allclose(np.array(joint("contact_qdd")(state, speed, torque), dtype=float).ravel(),
+                                       eqs.numeric.contact_accelerations(state, speed, torque), rtol=1e-9, atol=1e-9)
+            np.testing.assert_allclose(np.array(joint("contact_lambda")(state, speed, torque), dtype=float).ravel(),
+                                       eqs.numeric.contact_forces(state, speed, torque), rtol=1e-9, atol=1e-9)
+    text = render(d, "text")
+    assert "Contact dynamics" in text and "J_c" in text
