@@ -200,6 +200,15 @@ def test_checked_in_derivations_are_up_to_date(tmp_path, name, method, filename)
         "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"
 
 
+def test_checked_in_contact_derivation_is_up_to_date(tmp_path):
+    """docs/derivations/cylindrical_held.md: the contact dynamics of an arm its contact pins."""
+    out = tmp_path / "cylindrical_held.md"
+    assert main(["derive", str(REPO / "examples" / "contacts" / "cylindrical_held.yaml"), "--steps", "summary",
+                 "--format", "markdown", "--out", str(out)]) == 0
+    assert out.read_bytes() == (REPO / "docs" / "derivations" / "cylindrical_held.md").read_bytes(), \
+        "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"
+
+
 def test_checked_in_platform_derivation_is_up_to_date(tmp_path):
     """docs/derivations/sru_platform.md: the seed's worked example (identical S-R-U legs,
     actuated joint 4) at its home pose with a twist and actuated accelerations."""
