@@ -489,9 +489,13 @@ def _with_task(derivation: Derivation, wanted: bool, progress=None) -> Derivatio
     """``derivation`` with a last section ``task_space`` (:func:`task_section`)."""
     if not wanted:
         return derivation
-    from dataclasses import replace
     notation = _Notation(make_chain(derivation.robot))
-    section = task_section(derivation.robot, notation, progress)
+    return _appended(derivation, task_section(derivation.robot, notation, progress), notation)
+
+
+def _appended(derivation: Derivation, section: Section, notation: _Notation) -> Derivation:
+    """``derivation`` with ``section`` last and ``notation``'s shorthand added to its own."""
+    from dataclasses import replace
     shorthand = dict(derivation.shorthand) | notation.shorthand
     return replace(derivation, sections=derivation.sections + (section,),
                    shorthand=tuple(sorted(shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))))
@@ -539,12 +543,8 @@ def _with_contacts(derivation: Derivation, progress=None) -> Derivation:
         warn(f"{robot.source or robot.name}: the contact dynamics of a floating base are not printed (its contact "
              "rows expand the base's rotation from its quaternion); the generated contact functions have no such limit")
         return derivation
-    from dataclasses import replace
-    notation = _Notation(make_chain(derivation.robot))
-    section = contact_section(derivation.robot, notation, progress)
-    shorthand = dict(derivation.shorthand) | notation.shorthand
-    return replace(derivation, sections=derivation.sections + (section,),
-                   shorthand=tuple(sorted(shorthand.items(), key=lambda kv: (len(kv[0].name), kv[0].name))))
+    notation = _Notation(make_chain(robot))
+    return _appended(derivation, contact_section(robot, notation, progress), notation)
 
 
 def configuration_section(notation: _Notation) -> Section:
