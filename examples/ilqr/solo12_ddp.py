@@ -101,12 +101,12 @@ def main(argv=None) -> int:
     print(f"== the same solver on Pinocchio ({' '.join(flags)})")
     _, their_cost, their_ms = run(theirs, model)
     same = abs(cost - their_cost) <= 1e-6 * abs(cost)
-    runs = [(ms, their_ms)]
-    for _ in range(max(args.runs, 1) - 1):
+    runs, timed = [(ms, their_ms)], max(args.runs, 1)
+    for _ in range(timed - 1):
         runs.append((run(mine, quiet=True)[2], run(theirs, model, quiet=True)[2]))
     ms = {part: statistics.median(r[0][part] for r in runs) for part in ms}
     their_ms = {part: statistics.median(r[1][part] for r in runs) for part in their_ms}
-    print(f"median of {max(args.runs, 1)} runs of each, interleaved:")
+    print(f"median of {timed} runs of each, interleaved:")
     for part, what in (("total", "time per iteration"), ("linearization", "linearization (the dynamics' derivatives)"),
                        ("forward", "forward passes (the dynamics, integrate, difference)"),
                        ("backward", "backward pass (the solver's own, the same code)")):

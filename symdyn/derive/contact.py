@@ -69,6 +69,13 @@ def _dot(a, b) -> sp.Expr:
     return sp.Add(*[x * y for x, y in zip(a, b) if x != 0 and y != 0])
 
 
+def contact_rows(contacts, frame_jacobians: sp.Matrix) -> sp.Matrix:
+    """The contacts' constraint rows J (NC x N) from every frame's Jacobian ``frame_jacobians``
+    (6 rows per frame, linear first, world-aligned axes at its origin): a point's three linear
+    rows, a sole's six."""
+    return sp.Matrix.vstack(*[frame_jacobians[6 * c.frame:6 * c.frame + c.rows, :] for c in contacts])
+
+
 def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: e) -> list:
     """The contacts' drift gamma (NC entries, world-aligned axes), as Pinocchio's
     ``constraintDynamics`` holds its 3D and 6D contacts: a point's classical acceleration at

@@ -509,12 +509,11 @@ def contact_section(robot: Robot, notation: _Notation, progress=None) -> Section
     :data:`TASK_CLOSED_FORM_MAX_DOF`, det J_c not identically zero) the closed forms
     ``qdd = -J_c^-1 gamma`` and ``lambda = J_c^-T (D qdd - (tau - h - c))`` (D includes the
     armature; friction left out)."""
-    from .contact import contact_drift
+    from .contact import contact_drift, contact_rows
     eqs = derive(robot, "newton-euler", ["mass_matrix", "coriolis", "gravity", "frame_jacobians",
                                          "frame_jacobian_dot_v"], progress=progress)
     trig = lambda M: sp.Matrix(notation.to_trig_symbols(eqs.program, sp.Matrix(M)))  # noqa: E731
-    frames = trig(eqs.output("frame_jacobians"))
-    J = sp.Matrix.vstack(*[frames[6 * c.frame:6 * c.frame + c.rows, :] for c in robot.contacts])
+    J = contact_rows(robot.contacts, trig(eqs.output("frame_jacobians")))
     gamma = sp.Matrix(contact_drift(robot.contacts, J, trig(eqs.output("frame_jacobian_dot_v")), eqs.qd))
     quantities = [Quantity("contact_J", (), notation.textbook_matrix(J)),
                   Quantity("contact_gamma", (), notation.textbook_matrix(gamma))]

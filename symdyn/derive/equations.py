@@ -71,7 +71,7 @@ from .configuration import configuration_outputs
 from .kinematics import RESTITUTION, configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
-from .contact import constrained_inverse, contact_drift, contact_dynamics, gram_schmidt
+from .contact import constrained_inverse, contact_drift, contact_dynamics, contact_rows, gram_schmidt
 from .poses import tree_poses, world_placement
 from .newton_euler import recursion
 from .spatial import named_vector, skew
@@ -1180,8 +1180,7 @@ def _contact_rows(d: _Derivation) -> sp.Matrix:
         raise SymdynError(f"{d.robot.source or d.robot.name}: the contact functions need contacts: list them under "
                           "'contacts:' in the robot file or scene (FRAME:3d for a point held, FRAME:6d for a sole), "
                           "or give --contacts")
-    J_all = d.get("frame_jacobians")
-    return sp.Matrix.vstack(*[J_all[6 * c.frame:6 * c.frame + c.rows, :] for c in d.robot.contacts])
+    return contact_rows(d.robot.contacts, d.get("frame_jacobians"))
 
 
 def _impulse(d: _Derivation) -> sp.Matrix:
