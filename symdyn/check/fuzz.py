@@ -326,7 +326,7 @@ def write_case(case: Case, directory: str) -> str:
 def _reference(case: Case, path: str, robot, values):
     from .pinocchio_model import PinocchioReference, UrdfReference, reduced
     if case.kind != "urdf":
-        return reduced(PinocchioReference(robot, values), robot)
+        return reduced(PinocchioReference(robot, values), robot, values)
     from ..model.urdf import QUARTER_TOLERANCE
     snapped = any("multiple of pi/2" in note for note in robot.notes)
     return reduced(UrdfReference(path, None, None, QUARTER_TOLERANCE if snapped else None, floating_base=case.floating,
@@ -458,7 +458,7 @@ def _check_cache(case: Case, robot, functions, outcome: Outcome) -> None:
     values, p = _parameter_values(other, case.number)
     checked = [name for name in CACHE_CHECKED if name in functions]
     from .agreement import NumpyTarget
-    errors = compare(NumpyTarget(cached), reduced(PinocchioReference(other, values), other),
+    errors = compare(NumpyTarget(cached), reduced(PinocchioReference(other, values), other, values),
                      _states(other, "double", case.number + 1),
                      checked, p, FLOOR, ROW_FLOOR["double"])
     for name, error in errors.items():

@@ -22,9 +22,11 @@ so q = 0 means the same pose in both codes.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import Mapping
 
 import numpy as np
+import sympy as sp
 
 from ..model.outputs import ALL_OUTPUTS
 from ..model.robot import Robot
@@ -415,7 +417,7 @@ def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.
     ``p`` (runtime parameters) is passed to ``mine`` only, when given.
     """
     extra = [] if p is None else [p]
-    contact_rows = sum(3 if kind == "3d" else 6 for _, kind in getattr(reference, "contact_set", ()))
+    contact_rows = sum(3 if held.kind == "3d" else 6 for held in getattr(reference, "contact_set", ()))
     errors = {}
     for name in functions:
         values, refs = [], []
@@ -492,7 +494,9 @@ class ContactReference:
     minus omega x v, as ``constraintDynamics`` holds a 6D contact), and the KKT system solved as a
     dense matrix by numpy: nothing of symdyn's derivation.  tests/derive/test_contact.py checks this
     against Pinocchio's ``constraintDynamics`` itself (whose ``lambda_c`` are these forces).
-    :attr:`contact_set` (``((frame index, kind), ...)``) is set by :func:`reduced`."""
+    :attr:`contact_set` (:class:`HeldContact` s) is set by :func:`reduced`; a point's Baumgarte
+    correction adds ``kd v + kp (p - reference)`` to its drift (Pinocchio's ``corrector`` with one
+    gain on every axis: tests/derive/test_contact.py checks it against constraintDynamics too)."""
 
     contact_set: tuple = ()
     #: the coordinates contact inverse dynamics gives no force (a floating base's six), set by :func:`reduced`
@@ -501,7 +505,8 @@ class ContactReference:
     def _contact_jacobian(self, q) -> np.ndarray:
         """The contacts' rows of their frames' Jacobians (NC x N): a point's 3 linear, a sole's 6."""
         J_all = np.asarray(self.frame_jacobians(q))
-        return np.vstack([J_all[6 * frame:6 * frame + (3 if kind == "3d" else 6)] for frame, kind in self.contact_set])
+        return np.vstack([J_all[6 * held.frame:6 * held.frame + (3 if held.kind == "3d" else 6)]
+                          for held in self.contact_set])
 
     def _rows_and_drift(self, q, qd):
         """``(J, gamma)``: the contacts' rows (:meth:`_contact_jacobian`) and their drift J-dot qd,
@@ -510,11 +515,16 @@ class ContactReference:
         J, drift_all = self._contact_jacobian(q), np.asarray(self.frame_jacobian_dot_v(q, qd))
         qd = np.asarray(qd, dtype=float)
         gamma, at = [], 0
-        for frame, kind in self.contact_set:
+        poses = np.asarray(self.frame_poses(q)) if any(held.kp or held.kd for held in self.contact_set) else None
+        for held in self.contact_set:
+            frame, kind = held.frame, held.kind
             drift = np.array(drift_all[6 * frame:6 * frame + 6])
             if kind == "6d":
                 velocity = J[at:at + 6] @ qd
                 drift[:3] -= np.cross(velocity[3:], velocity[:3])
+            if held.kp or held.kd:
+                position = poses[4 * frame:4 * frame + 3, 3]
+                drift[:3] += held.kd * (J[at:at + 3] @ qd) + held.kp * (position - np.asarray(held.reference))
             count = 3 if kind == "3d" else 6
             gamma.append(drift[:count])
             at += count
@@ -1154,12 +1164,38 @@ class MimicReduction(ContactReference, ConfigurationSpaceReference):
         return self.full.centroidal_bias(self._q(q), self._v(qd))
 
 
-def reduced(reference, robot: Robot):
+@dataclass(frozen=True)
+class HeldContact:
+    """A contact of the reference in numbers: its frame's index, kind and Baumgarte correction
+    (``kp``, ``kd``; ``reference``: 3 numbers, or None)."""
+
+    frame: int
+    kind: str
+    kp: float = 0.0
+    kd: float = 0.0
+    reference: tuple | None = None
+
+
+def held_contacts(robot: Robot, values: Mapping | None = None) -> tuple:
+    """The robot's contacts as :class:`HeldContact` s, ``values`` (symbol -> number)
+    substituted for the runtime parameters their corrections name."""
+    mapping = {sp.Symbol(k, real=True) if isinstance(k, str) else k: v for k, v in (values or {}).items()}
+    mapping.update({s: v for s, v in zip(robot.parameters, robot.nominal) if v is not None and s not in mapping})
+
+    def number(e) -> float:
+        return float(sp.sympify(e).xreplace(mapping))
+    return tuple(HeldContact(c.frame, c.kind, number(c.kp), number(c.kd),
+                             None if c.reference is None else tuple(number(e) for e in c.reference))
+                 for c in getattr(robot, "contacts", ()))
+
+
+def reduced(reference, robot: Robot, values: Mapping | None = None):
     """``reference`` itself, or its :class:`MimicReduction` for a robot with mimic joints, or
-    whose model takes the links in another order (a tree listed with a subtree in two pieces)."""
+    whose model takes the links in another order (a tree listed with a subtree in two pieces);
+    ``values``: the runtime parameters' numbers (the contacts' corrections may name them)."""
     order = getattr(reference, "order", None)
     reordered = order is not None and list(order) != list(range(len(robot.links)))
     out = MimicReduction(reference, robot) if robot.mimics or reordered else reference
-    out.contact_set = tuple((contact.frame, contact.kind) for contact in getattr(robot, "contacts", ()))
+    out.contact_set = held_contacts(robot, values)
     out.unactuated = tuple(range(6 if robot.floating else 0))
     return out

@@ -58,12 +58,12 @@ def run(args) -> int:
             raise SymdynError(f"{display_path(path)}: --contacts applies to a URDF converted --to yaml (a robot file "
                               "says 'contacts:'; a URDF has no place for them)")
         contacts = parse_contacts(args.contacts, lambda message, at="": _refuse(path, f"--contacts{at}: {message}"))
-        args.frames = list(args.frames or []) + [n for n, _ in contacts if n not in (args.frames or [])]
+        args.frames = list(args.frames or []) + [c.name for c in contacts if c.name not in (args.frames or [])]
     if is_urdf(path):
         doc, raw, notes = read_robot_document(path, args.tip, args.tool, exact_angles=args.exact_angles,
                                               floating_base=args.floating_base, frames=args.frames)
         if contacts:
-            doc["contacts"] = [f"{name}:{kind}" for name, kind in contacts]
+            doc["contacts"] = [f"{c.name}:{c.kind}" for c in contacts]
         robot = from_document(doc, path, hashlib.sha256(raw).hexdigest())  # the document must read back
         if args.to == "yaml":
             text = document_to_yaml(doc, _yaml_header(path, raw, args, notes))

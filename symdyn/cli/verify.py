@@ -90,7 +90,7 @@ def _run_serial(args, robot, scene) -> int:
         else:
             ref = PinocchioReference(robot, values)
             reading = "a Pinocchio model of symdyn's reading"
-        ref = reduced(ref, robot)  # mimic joints projected, a tree's joints in Pinocchio's order
+        ref = reduced(ref, robot, values)  # mimic joints projected, a tree's joints in Pinocchio's order
         if robot.mimics:
             reading += (", the mimic joint projected on its leader" if len(robot.mimics) == 1
                         else f", the {len(robot.mimics)} mimic joints projected on their leaders")

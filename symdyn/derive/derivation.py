@@ -510,11 +510,12 @@ def contact_section(robot: Robot, notation: _Notation, progress=None) -> Section
     ``qdd = -J_c^-1 gamma`` and ``lambda = J_c^-T (D qdd - (tau - h - c))`` (D includes the
     armature; friction left out)."""
     from .contact import contact_drift, contact_rows
-    eqs = derive(robot, "newton-euler", ["mass_matrix", "coriolis", "gravity", "frame_jacobians",
+    eqs = derive(robot, "newton-euler", ["mass_matrix", "coriolis", "gravity", "frame_poses", "frame_jacobians",
                                          "frame_jacobian_dot_v"], progress=progress)
     trig = lambda M: sp.Matrix(notation.to_trig_symbols(eqs.program, sp.Matrix(M)))  # noqa: E731
     J = contact_rows(robot.contacts, trig(eqs.output("frame_jacobians")))
-    gamma = sp.Matrix(contact_drift(robot.contacts, J, trig(eqs.output("frame_jacobian_dot_v")), eqs.qd))
+    poses = trig(eqs.output("frame_poses")) if any(c.corrected for c in robot.contacts) else None
+    gamma = sp.Matrix(contact_drift(robot.contacts, J, trig(eqs.output("frame_jacobian_dot_v")), eqs.qd, poses=poses))
     quantities = [Quantity("contact_J", (), notation.textbook_matrix(J)),
                   Quantity("contact_gamma", (), notation.textbook_matrix(gamma))]
     if J.shape[0] == robot.dof <= TASK_CLOSED_FORM_MAX_DOF and not robot.floating:

@@ -71,7 +71,7 @@ from .configuration import configuration_outputs
 from .kinematics import RESTITUTION, configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
-from .contact import constrained_inverse, contact_drift, contact_dynamics, contact_rows, gram_schmidt
+from .contact import constrained_inverse, contact_drift, contact_dynamics, contact_rows, correction, gram_schmidt
 from .poses import tree_poses, world_placement
 from .newton_euler import recursion
 from .spatial import named_vector, skew
@@ -1036,7 +1036,7 @@ def _contact(d: _Derivation) -> sp.Matrix:
     f = _mass_factorization(d)
     rhs = sp.Matrix(d.tau) - d.get("fd_bias") - d.static_friction
     rhs = [b.define(f"ctr{i + 1}", e) for i, e in enumerate(rhs)]
-    gamma = contact_drift(robot.contacts, J, d.get("frame_jacobian_dot_v"), d.qd, b.define)
+    gamma = contact_drift(robot.contacts, J, d.get("frame_jacobian_dot_v"), d.qd, b.define, _corrected_poses(d))
     result = contact_dynamics(b, f, d.factor_parents is not None, J, gamma, rhs)
     d.contact_system = (J, gamma, result)
     d.values["contact_accelerations"] = result.accelerations
@@ -1081,7 +1081,8 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     dF2_qd = sp.Matrix.hstack(*differentiate(b.build(), constraint, list(d.qd), b, "cgv", held=held))
     turn = sp.zeros(m, n)  # -[lambda]x R per 3 rows in the base's turn columns
     if robot.floating:
-        R_w, _ = world_placement(d.chain)
+        R_w, p_w = world_placement(d.chain)
+        _corrected_base_columns(robot, dF2_q, R_w, p_w, b)
         for at in range(0, m, 3):
             block = -skew(sp.Matrix(force[at:at + 3])) * R_w
             turn[at:at + 3, 3:6] = block.applyfunc(lambda e: b.define("cLt", e))
@@ -1103,6 +1104,21 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     f = _mass_factorization(d)
     d.checks.append((CONTACT_DERIVATIVES, tuple((p, mm, 1) for p, mm in f.pivots) + tuple((p, mm, 3) for p, mm in system.pivots)))
     return d.values["contact_accelerations_dq"]
+
+
+def _corrected_base_columns(robot, dF2_q: sp.Matrix, R_w: sp.Matrix, p_w: sp.Matrix, b) -> None:
+    """A floating base's columns of dF2/dq for the contacts with a Baumgarte correction, in
+    place: moving the base moves every point by R dv_lin (the position error's kp R), turning
+    it by dtheta (its own axes) turns the system about the base's origin; at the solution the
+    contact's acceleration terms are -kp (p - reference), so the row's change is
+    ``kp [p_b - reference]x R dtheta`` (the velocity terms turn with the rest: no column)."""
+    at = 0
+    for contact in robot.contacts:
+        if contact.corrected and contact.kp != 0:
+            arm = p_w - sp.Matrix(contact.reference)
+            dF2_q[at:at + 3, 0:3] = (contact.kp * R_w).applyfunc(lambda e: b.define("cgb", e))
+            dF2_q[at:at + 3, 3:6] = (contact.kp * skew(arm) * R_w).applyfunc(lambda e: b.define("cgb", e))
+        at += contact.rows
 
 
 def _contact_inverse(d: _Derivation) -> sp.Matrix:
@@ -1144,6 +1160,7 @@ def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> sp.Matrix:
     world through named rotations (what the derivatives differentiate: far fewer operations than
     the world-frame J qdd + gamma, whose entries expand into the rotations' products)."""
     robot, b = d.robot, d.b
+    poses = _corrected_poses(d)
     motion: list = []
     states = recursion(d.chain, d.chain.expand(d.qd), d.chain.expand(qdd), sp.zeros(3, 1), "cF", joint_frames=False,
                        base_motion=motion)  # (per link: mimic joints follow their leaders)
@@ -1164,13 +1181,20 @@ def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> sp.Matrix:
         rotation = b.matrix(f"cFR{k + 1}", (R_w * R).applyfunc(sp.expand))
         classical = named_vector(b, f"cF2_{k + 1}", rotation * linear)
         if contact.kind == "3d":
-            rows += list(classical)
+            pose = poses[4 * contact.frame:4 * contact.frame + 4, :] if contact.corrected else None
+            rows += [a + c for a, c in zip(classical, correction(contact, J[at:at + 3, :], pose, d.qd))]
             continue
         spin = named_vector(b, f"cFw{k + 1}", rotation * omega)  # the sole's, world axes
         velocity = named_vector(b, f"cFv{k + 1}", J[at:at + 3, :] * sp.Matrix(d.qd))
         rows += list(named_vector(b, f"cF2s{k + 1}", classical - spin.cross(velocity)))
         rows += list(named_vector(b, f"cF2w{k + 1}", rotation * omegad))
     return sp.Matrix(rows)
+
+
+def _corrected_poses(d: _Derivation):
+    """Every frame's pose (4 rows per frame, world) when a contact has a Baumgarte correction
+    (its position error needs them), else None."""
+    return d.get("frame_poses") if any(c.corrected for c in d.robot.contacts) else None
 
 
 def _contact_rows(d: _Derivation) -> sp.Matrix:

@@ -404,6 +404,18 @@ def _task_context(eqs: Equations, precision: str) -> dict:
             "rtol": repr(pivot_rtol(_checked_arithmetic(precision)))}
 
 
+def _correction_lines(contact) -> list[str]:
+    """The header's lines on a contact's Baumgarte correction: its equation, gains and reference."""
+    def shown(e):
+        return f"{float(e):.17g}" if sp.sympify(e).is_number else str(e)
+    lines = ["  Baumgarte correction (Pinocchio's corrector, one gain on every axis): J qdd + gamma"
+             + (" + kd v" if contact.kd != 0 else "") + (" + kp (p - reference)" if contact.kp != 0 else "") + " = 0,",
+             f"  v, p the point's velocity and position, kp = {shown(contact.kp)} 1/s^2, kd = {shown(contact.kd)} 1/s"]
+    if contact.kp != 0:
+        lines.append(f"  reference = ({', '.join(shown(e) for e in contact.reference)}) m, world coordinates")
+    return lines
+
+
 def _contact_context(eqs: Equations, precision: str) -> dict:
     """What the header says about the contact set: each contact's frame, kind and entries of
     the forces, their count and the default of the dependence tolerance macro."""
@@ -413,6 +425,8 @@ def _contact_context(eqs: Equations, precision: str) -> dict:
         what = ("a point held: force (N) x, y, z" if contact.kind == "3d"
                 else "a sole held: force (N) x, y, z, then moment (N m) x, y, z")
         lines.append(f"lambda[{at}..{at + contact.rows - 1}]: {frame.name} ({contact.kind}, {what})")
+        if contact.corrected:
+            lines += _correction_lines(contact)
         at += contact.rows
     return {"count": robot.contact_rows, "lines": lines, "rtol": repr(pivot_rtol(_checked_arithmetic(precision)))}
 

@@ -265,7 +265,7 @@ _CONTACT_ID_STATUS = ("Returns {prefix}_OK (0) on success; {prefix}_NOT_FINITE (
                       "above {prefix}_CONTACT_RTOL times its column's squared norm (fewer than six independent "
                       "wrenches: one or two point feet, or feet on a line). On a nonzero return nothing is written.")
 
-_CONTACT_REQUIRES = ("mass_matrix", "coriolis", "gravity", "frame_jacobians", "frame_jacobian_dot_v")
+_CONTACT_REQUIRES = ("mass_matrix", "coriolis", "gravity", "frame_poses", "frame_jacobians", "frame_jacobian_dot_v")
 
 #: what the task-space outputs are derived from
 _TASK_REQUIRES = ("mass_matrix", "coriolis", "gravity", "jacobian", "jacobian_dot_qd")
@@ -523,7 +523,8 @@ SPECS: tuple[OutputSpec, ...] = (
         summary="The accelerations of the constrained system with the contacts listed above held: M qdd = tau - h - c "
                 "- friction + J^T lambda with J qdd + gamma = 0 (J: the contacts' rows of their frames' Jacobians, "
                 "gamma their J-dot qd: a point's classical acceleration, a sole's spatial one, as Pinocchio's "
-                "constraintDynamics), by the factorization of M and a QR of the whitened J (M^-1 and J M^-1 J^T are "
+                "constraintDynamics; plus kd v + kp (p - reference) for a point with a Baumgarte correction, as "
+                "listed above), by the factorization of M and a QR of the whitened J (M^-1 and J M^-1 J^T are "
                 "not formed).",
         arguments=(OutputArgument("qdd", "accelerations of the constrained system, N"),),
         meaning="q̈ of [M Jᵀ; J 0][q̈; −λ] = [τ − h − c; −γ]", pinocchio="`constraintDynamics`",

@@ -47,8 +47,9 @@ TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "base_b
 #: the kinds of contact: a point held (its linear velocity zero) and a body held (its whole
 #: velocity zero), each with its rows of the frame's Jacobian (world-aligned axes)
 CONTACT_ROWS = {"3d": 3, "6d": 6}
-#: the fields of a ``contacts:`` entry written as a mapping
-CONTACT_KEYS = ("frame", "kind")
+#: the fields of a ``contacts:`` entry written as a mapping (``kp``, ``kd``, ``reference``: the
+#: Baumgarte correction of a point held, :class:`Contact`)
+CONTACT_KEYS = ("frame", "kind", "kp", "kd", "reference")
 #: the fields of a frame fixed in a link (``frames:`` entries written as mappings)
 FRAME_KEYS = ("name", "link", "xyz", "rpy")
 #: the fields of ``base_body:`` (the free-floating base's own inertia)
@@ -252,15 +253,39 @@ class NamedFrame:
 class Contact:
     """A contact of the contact dynamics: the frame ``frame`` (an index into the robot's
     ``frames``) held, ``kind`` ``"3d"`` (its origin's linear velocity zero: a point foot) or
-    ``"6d"`` (its whole velocity zero: a sole, a gripped tool)."""
+    ``"6d"`` (its whole velocity zero: a sole, a gripped tool).
+
+    A point may be held with a Baumgarte correction (Pinocchio's ``corrector`` with the same
+    gain on every axis): its constraint becomes ``a + kd v + kp (p - reference) = 0`` (a, v, p
+    the frame origin's classical acceleration, velocity and position, world axes), ``kp`` (1/s^2)
+    and ``kd`` (1/s) at least 0, ``reference`` (3 entries, m, world) the point it is held at;
+    each an expression of numbers and runtime parameters (a reference that changes at run time
+    is three runtime parameters)."""
 
     frame: int
     kind: str
+    kp: sp.Expr = sp.S.Zero
+    kd: sp.Expr = sp.S.Zero
+    reference: tuple[sp.Expr, ...] | None = None
 
     @property
     def rows(self) -> int:
         """Constraint rows: 3 or 6."""
         return CONTACT_ROWS[self.kind]
+
+    @property
+    def corrected(self) -> bool:
+        """True when the contact has a Baumgarte correction (a gain not identically zero)."""
+        return self.kp != 0 or self.kd != 0
+
+    def expressions(self) -> tuple[sp.Expr, ...]:
+        """The correction's gains and reference (what may name runtime parameters)."""
+        return (self.kp, self.kd, *(self.reference or ()))
+
+    def subs(self, mapping) -> "Contact":
+        return replace(self, kp=sp.sympify(self.kp).xreplace(mapping), kd=sp.sympify(self.kd).xreplace(mapping),
+                       reference=None if self.reference is None else
+                       tuple(sp.sympify(e).xreplace(mapping) for e in self.reference))
 
 
 @dataclass(frozen=True)
@@ -468,6 +493,7 @@ class Robot:
             tool=None if self.tool is None else self.tool.subs(mapping),
             tool_fixed=None if self.tool_fixed is None else tuple(sp.sympify(c).xreplace(mapping)
                                                                     for c in self.tool_fixed),
+            contacts=tuple(contact.subs(mapping) for contact in self.contacts),
             parameters=tuple(s for s, _ in keep),
             nominal=tuple(v for _, v in keep),
             runtime_names=tuple(n for n in self.runtime_names if by_name.get(n) not in mapping),
@@ -877,13 +903,15 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     frames = read_frames(reader, doc["frames"], links) if "frames" in doc else ()
     contacts = ()
     if "contacts" in doc:
-        wanted = parse_contacts(doc["contacts"], lambda message, at="": reader.fail(message, None, "contacts" + at))
+        wanted = parse_contacts(doc["contacts"], lambda message, at="": reader.fail(message, None, "contacts" + at),
+                                lambda value, at: reader.number(value, None, "contacts" + at))
         frames, contacts = resolve_contacts(frames, links, wanted,
                                             lambda message, at="": reader.fail(message, None, "contacts" + at))
     runtime_syms = list(reader.runtime.values())
     placements = [e for p in (base, tool, base_body) if p is not None for e in p.expressions()]
     used = set().union(*(e.free_symbols for link in links for e in link.expressions()),
-                       *(sp.sympify(g).free_symbols for g in (*gravity, *placements)))
+                       *(sp.sympify(g).free_symbols for g in (*gravity, *placements)),
+                       *(sp.sympify(e).free_symbols for contact in contacts for e in contact.expressions()))
     parameters = tuple(runtime_syms)
     nominal = tuple(reader.runtime_nominal[s.name] for s in runtime_syms)
     # Drop runtime parameters that nothing uses: they cannot affect any output.
@@ -896,22 +924,49 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
         parents=parents, floating=floating, base_body=base_body, frames=frames, contacts=contacts)
 
 
-def parse_contacts(raw: Any, fail) -> list[tuple[str, str]]:
-    """``[(frame name, kind), ...]`` of a contact set: a list of ``NAME:3d`` / ``NAME:6d``
-    strings or ``{frame: NAME, kind: 3d}`` mappings, or one comma-separated string of the former
-    (the command line's).  ``fail(message, where)`` reports a mistake (``where``: ``[k]``)."""
+@dataclass(frozen=True)
+class WantedContact:
+    """A contact as a file or the command line names it (before its frame is found): the
+    frame's name, the kind and the Baumgarte correction (:class:`Contact`)."""
+
+    name: str
+    kind: str
+    kp: sp.Expr = sp.S.Zero
+    kd: sp.Expr = sp.S.Zero
+    reference: tuple[sp.Expr, ...] | None = None
+
+    def __str__(self) -> str:
+        gains = f" (kp {self.kp}, kd {self.kd})" if self.kp != 0 or self.kd != 0 else ""
+        return f"{self.name}:{self.kind}{gains}"
+
+
+def _numbers_only(value: Any, at: str) -> sp.Expr:
+    """A plain finite number (where no parameter names can be resolved: a scene's contacts)."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value) or abs(value) > 1e100:
+        raise ExpressionError(f"expected a finite number, not {describe(value)} (expressions of runtime parameters "
+                              "belong in the robot file's contacts)")
+    return _to_exact(value)
+
+
+def parse_contacts(raw: Any, fail, number=None) -> list[WantedContact]:
+    """The contact set as :class:`WantedContact` s: a list of ``NAME:3d`` / ``NAME:6d`` strings or
+    ``{frame: NAME, kind: 3d, kp, kd, reference}`` mappings, or one comma-separated string of the
+    former (the command line's).  ``fail(message, where)`` reports a mistake (``where``:
+    ``[k]``); ``number(value, where)`` reads a gain or reference entry (plain numbers when None)."""
     if isinstance(raw, str):
         raw = [item.strip() for item in raw.split(",") if item.strip()]
     if not isinstance(raw, list) or not raw:
         fail("expected a list of contacts, each FRAME:3d (a point held) or FRAME:6d (a sole held)")
-    out: list[tuple[str, str]] = []
+    out: list[WantedContact] = []
     for k, item in enumerate(raw):
         at = f"[{k}]"
+        gains: dict = {}
         if isinstance(item, dict):
             unknown = sorted(set(map(str, item)) - set(CONTACT_KEYS))
             if unknown:
                 fail(f"unknown field {describe(unknown[0])} (a contact has {', '.join(CONTACT_KEYS)})", at)
             name, kind = item.get("frame"), item.get("kind")
+            gains = {key: item[key] for key in ("kp", "kd", "reference") if key in item}
         elif isinstance(item, str) and item.count(":") == 1:
             name, kind = (part.strip() for part in item.split(":"))
         else:
@@ -921,10 +976,44 @@ def parse_contacts(raw: Any, fail) -> list[tuple[str, str]]:
         kind = kind.lower() if isinstance(kind, str) else kind
         if kind not in CONTACT_ROWS:
             fail(f"contact {name}: kind {describe(kind)} is not 3d (a point held) or 6d (a sole held)", at)
-        if any(name == seen for seen, _ in out):
+        if any(name == seen.name for seen in out):
             fail(f"frame {describe(name)} is in contact twice", at)
-        out.append((name, kind))
+        out.append(WantedContact(name, kind, *_correction(name, kind, gains, at, fail, number)))
     return out
+
+
+def _correction(name: str, kind: str, gains: dict, at: str, fail, number) -> tuple:
+    """``(kp, kd, reference)`` of a contact's Baumgarte correction from its mapping's fields."""
+    if not gains:
+        return sp.S.Zero, sp.S.Zero, None
+
+    def read(value, where):
+        try:
+            return (number or _numbers_only)(value, f"{at}.{where}")
+        except ExpressionError as exc:
+            fail(f"contact {name}: {where}: {exc}", f"{at}.{where}")
+    if kind != "3d":
+        fail(f"contact {name}: a Baumgarte correction (kp, kd, reference) is supported on a point held (3d), not "
+             "yet on a sole (6d): its placement error is a log of SE(3)", at)
+    kp, kd = (read(gains[key], key) if key in gains else sp.S.Zero for key in ("kp", "kd"))
+    for key, gain in (("kp", kp), ("kd", kd)):
+        if gain.is_number and gain < 0:
+            fail(f"contact {name}: {key} is {float(gain):g}: a gain is at least 0 (a negative one drives the "
+                 "contact away from where it is held)", f"{at}.{key}")
+    reference = None
+    if "reference" in gains:
+        raw = gains["reference"]
+        if not isinstance(raw, list) or len(raw) != 3:
+            fail(f"contact {name}: reference: expected [x, y, z], the point held in world coordinates (m)",
+                 f"{at}.reference")
+        reference = tuple(read(value, f"reference[{i}]") for i, value in enumerate(raw))
+    if kp != 0 and reference is None:
+        fail(f"contact {name}: kp needs reference: [x, y, z], the point held in world coordinates (m): the "
+             "correction pulls the contact back to it", at)
+    if kp == 0 and reference is not None:
+        fail(f"contact {name}: reference without kp: the reference is where kp pulls the contact to (give kp, or "
+             "leave the reference out)", f"{at}.reference")
+    return kp, kd, reference
 
 
 def resolve_contacts(frames: tuple[NamedFrame, ...], links, wanted, fail) -> tuple[tuple[NamedFrame, ...], tuple[Contact, ...]]:
@@ -933,7 +1022,8 @@ def resolve_contacts(frames: tuple[NamedFrame, ...], links, wanted, fail) -> tup
     frames = list(frames)
     index = {link.name: k for k, link in enumerate(links)}
     contacts = []
-    for k, (name, kind) in enumerate(wanted):
+    for k, want in enumerate(wanted):
+        name = want.name
         found = next((i for i, frame in enumerate(frames) if frame.name == name), None)
         if found is None:
             if name not in index:
@@ -942,7 +1032,7 @@ def resolve_contacts(frames: tuple[NamedFrame, ...], links, wanted, fail) -> tup
                      "frame of 'frames:' or at a link's own frame)", f"[{k}]")
             frames.append(NamedFrame(name, index[name]))
             found = len(frames) - 1
-        contacts.append(Contact(found, kind))
+        contacts.append(Contact(found, want.kind, want.kp, want.kd, want.reference))
     return tuple(frames), tuple(contacts)
 
 

@@ -96,7 +96,7 @@ def load_input(path: str, tip: str | None = None, tool: str | None = None, exact
     if contacts is not None:
         wanted = parse_contacts(contacts, lambda message, at="": _fail(path, f"--contacts{at}: {message}"))
         if is_urdf(path):
-            frames = list(frames or []) + [name for name, _ in wanted if name not in (frames or [])]
+            frames = list(frames or []) + [c.name for c in wanted if c.name not in (frames or [])]
     doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles, floating_base=floating_base,
                                           frames=frames)
     if parallel:
@@ -115,7 +115,7 @@ def load_input(path: str, tip: str | None = None, tool: str | None = None, exact
 
 
 def _with_contacts(path: str, robot: Robot, wanted, where: str) -> Robot:
-    """``robot`` with the contact set ``wanted`` (``[(frame name, kind)]``) in place of its own."""
+    """``robot`` with the contact set ``wanted`` (:class:`~symdyn.model.robot.WantedContact` s) in place of its own."""
     frames, contacts = resolve_contacts(robot.frames, robot.links, wanted,
                                         lambda message, at="": _fail(path, f"{where}{at}: {message}"))
     return replace(robot, frames=frames, contacts=contacts)
@@ -265,7 +265,8 @@ def _drop_unused(robot: Robot) -> Robot:
     used = set().union(*(e.free_symbols for link in robot.links for e in link.expressions()),
                        *(sp.sympify(e).free_symbols for e in robot.base_inertia.expressions()),
                        *(sp.sympify(g).free_symbols for g in (*robot.gravity, *robot.base_matrix(),
-                                                             *robot.tool_matrix())))
+                                                             *robot.tool_matrix())),
+                       *(sp.sympify(e).free_symbols for contact in robot.contacts for e in contact.expressions()))
     keep = [(s, v) for s, v in zip(robot.parameters, robot.nominal) if s in used]
     return replace(robot, parameters=tuple(s for s, _ in keep), nominal=tuple(v for _, v in keep),
                    runtime_names=tuple(n for n in robot.runtime_names if any(s.name == n for s, _ in keep)))
@@ -285,7 +286,7 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None, co
     if contacts is None and isinstance(doc, dict) and "contacts" in doc:
         contacts = parse_contacts(doc["contacts"], lambda message, at="": _fail(path, message, "contacts" + at))
     robot_path, robot_doc, robot_raw, robot_notes = _scene_robot_document(path, doc, frames,
-                                                                          [n for n, _ in contacts or ()])
+                                                                          [c.name for c in contacts or ()])
     runtime, values, functions, precision = _scene_choices(path, doc)
     params, payload_names = _scene_parameter_names(path, doc, robot_doc, runtime, values)
     notes = [f"scene: {display_path(os.path.basename(path))} (sha256 {hashlib.sha256(raw).hexdigest()})",
@@ -321,7 +322,7 @@ def _build_scene(path: str, raw: bytes, doc, frames: list[str] | None = None, co
         notes.append("task: Jacobian rows " + ", ".join(str(r) for r in task))
     if contacts is not None:
         robot = _with_contacts(path, robot, contacts, "contacts")
-        notes.append("contacts: " + ", ".join(f"{n}:{k}" for n, k in contacts))
+        notes.append("contacts: " + ", ".join(str(c) for c in contacts))
     robot = replace(robot, name=name, source=path, source_hash=hashlib.sha256(raw + robot_raw).hexdigest())
     return Scene(robot=robot, functions=functions, precision=precision, notes=tuple(notes),
                  source=path, source_hash=robot.source_hash, locked=locked_joints)

@@ -1,0 +1,172 @@
+"""Contacts held with a Baumgarte correction (``kp``, ``kd``, ``reference`` on a point contact):
+the reference against Pinocchio's constraintDynamics and computeConstraintDynamicsDerivatives
+with its corrector; symdyn's numpy, CasADi and C (runtime parameters for the point held) against
+the reference; the correction changes the answer (a test that cannot fail is none); gains that
+cannot be read are refused in one line naming the file and field."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import sympy as sp
+
+from helpers import REPO, error_line, example_robot_data, normalized_error
+from symdyn.check.agreement import CasadiTarget, NumpyTarget
+from symdyn.check.cbuild import build_and_load
+from symdyn.check.pinocchio_model import PinocchioReference, UrdfReference, compare, reduced
+from symdyn.check.states import random_state
+from symdyn.cli import main
+from symdyn.derive.equations import derive
+from symdyn.emit.cgen import generate_c
+from symdyn.model.errors import SymdynError
+from symdyn.model.outputs import CONTACT_DERIVATIVES, CONTACT_OUTPUTS, Dimensions
+from symdyn.model.scene import load_input
+
+pin = pytest.importorskip("pinocchio")
+
+SOLO = "solo_description/robots/solo12.urdf"
+FEET = ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")
+BOARD = REPO / "examples" / "contacts" / "tip_on_board.yaml"
+NO_PARAMETERS = np.zeros(0)
+
+
+def _corrected(robot, seed=3):
+    """The robot's contacts each with gains and a reference of its own (exact numbers)."""
+    rng = np.random.default_rng(seed)
+    return dataclasses.replace(robot, contacts=tuple(
+        dataclasses.replace(c, kp=sp.Integer(30 + 20 * k), kd=sp.Integer(5 + k),
+                            reference=tuple(sp.Rational(int(v), 1000) for v in rng.integers(-300, 300, 3)))
+        for k, c in enumerate(robot.contacts)))
+
+
+def _solo(feet):
+    robot, _ = load_input(example_robot_data(SOLO), floating_base=True, contacts=",".join(f"{f}:3d" for f in feet))
+    return robot
+
+
+def _reference(robot):
+    return reduced(UrdfReference(example_robot_data(SOLO), floating_base=True, frames=[f.name for f in robot.frames]),
+                   robot)
+
+
+def _states(robot, count, seed=11):
+    rng = np.random.default_rng(seed)
+    return [random_state(robot, rng) for _ in range(count)]
+
+
+@pytest.mark.parametrize("feet", [FEET, FEET[1:3]])
+def test_reference_is_pinocchio_corrector(feet):
+    """The reference's contact dynamics and derivatives with corrected feet equal Pinocchio's own
+    (RigidConstraintModel with joint2_placement the reference, its Baumgarte parameters kp and
+    kd), and differ from the uncorrected ones by far more than the tolerance."""
+    plain = _solo(feet)
+    robot = _corrected(plain)
+    ref, uncorrected = _reference(robot), _reference(plain)
+    model, data = ref.model, ref.model.createData()
+    models = []
+    for contact in robot.contacts:
+        frame = model.frames[model.getFrameId(robot.frames[contact.frame].name)]
+        held = pin.SE3(np.eye(3), np.array([float(e) for e in contact.reference]))
+        cm = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, frame.parentJoint, frame.placement, 0, held,
+                                      pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        cm.setBaumgarteCorrectorParameters(pin.BaumgarteCorrectorParameters(float(contact.kp), float(contact.kd)))
+        models.append(cm)
+    models = pin.StdVec_RigidConstraintModel(models)
+    datas = pin.StdVec_RigidConstraintData([m.createData() for m in models])
+    pin.initConstraintDynamics(model, data, models, datas)
+    settings = pin.ProximalSettings(1e-14, 0.0, 1)
+    damping = np.diag(ref.damping)
+    for q, qd, _, tau in _states(robot, 3, seed=5):
+        theirs = pin.constraintDynamics(model, data, ref.configuration(q), qd, tau - ref.friction(qd), models, datas,
+                                        settings)
+        mine = ref.contact_accelerations(q, qd, tau)
+        assert normalized_error([mine], [theirs]) < 1e-9
+        assert normalized_error([ref.contact_forces(q, qd, tau)], [data.lambda_c]) < 1e-9
+        assert normalized_error([uncorrected.contact_accelerations(q, qd, tau)], [theirs]) > 1e-3
+        pin.computeConstraintDynamicsDerivatives(model, data, models, datas, settings)
+        expected = (data.ddq_dq, data.ddq_dv - data.ddq_dtau @ damping, data.ddq_dtau,
+                    data.dlambda_dq, data.dlambda_dv - data.dlambda_dtau @ damping, data.dlambda_dtau)
+        for name, value in zip(CONTACT_DERIVATIVES, expected):
+            assert normalized_error([getattr(ref, name)(q, qd, tau)], [value]) < 1e-9, name
+
+
+def test_corrected_feet_numpy_and_casadi():
+    """Solo-12 on two corrected feet: symdyn's contact dynamics and their derivatives (a floating
+    base: the base's columns carry the correction's kp terms) in numpy, the contact dynamics in
+    CasADi, against the reference."""
+    robot = _corrected(_solo(FEET[1:3]))
+    ref = _reference(robot)
+    states = _states(robot, 4, seed=7)
+    eqs = derive(robot, outputs=CONTACT_OUTPUTS + CONTACT_DERIVATIVES)
+    errors = compare(NumpyTarget(eqs), ref, states, CONTACT_OUTPUTS + CONTACT_DERIVATIVES, NO_PARAMETERS)
+    assert max(errors.values()) < 1e-9, errors
+    errors = compare(CasadiTarget(derive(robot, outputs=CONTACT_OUTPUTS)), ref, states, CONTACT_OUTPUTS, NO_PARAMETERS)
+    assert max(errors.values()) < 1e-9, errors
+
+
+def test_point_held_at_runtime_reference(tmp_path):
+    """examples/contacts/tip_on_board.yaml: the point held and kp are runtime parameters (p): the
+    C functions at values other than the nominal ones against Pinocchio's model with those values,
+    derivatives included; the header documents the correction."""
+    robot, _ = load_input(str(BOARD))
+    names = [s.name for s in robot.parameters]
+    assert names == ["board_x", "board_y", "board_z", "kp_tip"]
+    values = dict(zip(robot.parameters, (0.4, -0.1, 0.3, 60.0)))
+    p = np.array([values[s] for s in robot.parameters])
+    ref = reduced(PinocchioReference(robot, values), robot, values)
+    wanted = CONTACT_OUTPUTS + CONTACT_DERIVATIVES
+    files = generate_c(derive(robot, outputs=wanted), wanted)
+    header = next(text for name, text in files.items() if name.endswith(".h"))
+    assert "Baumgarte correction" in header and "reference = (board_x, board_y, board_z)" in header
+    lib = build_and_load(files, robot.name, Dimensions.of(robot), len(p), "double", str(tmp_path))
+    states = _states(robot, 5)
+    errors = compare(lib, ref, states, wanted, p)
+    assert max(errors.values()) < 1e-9, errors
+    nominal = reduced(PinocchioReference(robot), robot)  # the reference moved: another answer
+    q, qd, _, tau = states[0]
+    assert normalized_error([lib.contact_accelerations(q, qd, tau, p)], [nominal.contact_accelerations(q, qd, tau)]) > 1e-3
+
+
+@pytest.mark.parametrize("entry,expected,field", [
+    ("{frame: tip, kind: 3d, kp: -5, reference: [0, 0, 0]}", "a gain is at least 0", "contacts[0].kp"),
+    ("{frame: tip, kind: 3d, kp: 5}", "kp needs reference", "contacts[0]"),
+    ("{frame: tip, kind: 3d, kd: 5, reference: [0, 0, 0]}", "reference without kp", "contacts[0].reference"),
+    ("{frame: tip, kind: 3d, kp: 5, reference: [0, 0]}", "expected [x, y, z]", "contacts[0].reference"),
+    ("{frame: tip, kind: 6d, kp: 5, reference: [0, 0, 0]}", "not yet on a sole", "contacts[0]"),
+    ("{frame: tip, kind: 3d, kp: k_tip, reference: [0, 0, 0]}", "unknown name 'k_tip'", "contacts[0].kp"),
+    ("{frame: tip, kind: 3d, kp: 5, reference: [0, .nan, 0]}", "finite", "contacts[0].reference[1]"),
+    ("{frame: tip, kind: 3d, gain: 5}", "unknown field 'gain'", "contacts[0]"),
+])
+def test_correction_errors(entry, expected, field, tmp_path, capsys):
+    """Gains that cannot be used stop the CLI with one line naming the file, the field and the
+    problem, and write nothing."""
+    text = BOARD.read_text().split("contacts:")[0] + f"contacts:\n  - {entry}\n"
+    path = tmp_path / "board.yaml"
+    path.write_text(text)
+    with pytest.raises(SymdynError) as caught:
+        load_input(str(path))
+    assert expected in str(caught.value) and field in str(caught.value), str(caught.value)
+    out = tmp_path / "out"
+    assert main(["generate", str(path), "--out", str(out)]) != 0
+    line = error_line(capsys)
+    assert expected in line and "board.yaml" in line and "Traceback" not in line
+    assert not out.exists()
+
+
+def test_scene_correction_numbers_only(tmp_path):
+    """A scene's contacts over a URDF take gains and a reference in numbers (read as a robot
+    file's); a name there is refused, pointing to the robot file."""
+    scene = tmp_path / "standing.yaml"
+    scene.write_text(f"scene: 1\nrobot: {example_robot_data(SOLO)}\nfloating_base: true\n"
+                     "contacts: [{frame: FL_FOOT, kind: 3d, kp: 40, kd: 8, reference: [0.2, 0.15, 0]}, HR_FOOT:3d]\n")
+    robot, found = load_input(str(scene))
+    first, second = robot.contacts
+    assert (first.kp, first.kd, first.reference) == (40, 8, (sp.Rational(1, 5), sp.Rational(3, 20), 0))
+    assert not second.corrected
+    assert any("FL_FOOT:3d (kp 40, kd 8)" in note for note in found.notes)
+    scene.write_text(f"scene: 1\nrobot: {example_robot_data(SOLO)}\nfloating_base: true\n"
+                     "contacts: [{frame: FL_FOOT, kind: 3d, kp: k, reference: [0, 0, 0]}]\n")
+    with pytest.raises(SymdynError, match="belong in the robot file"):
+        load_input(str(scene))
