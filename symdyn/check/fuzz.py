@@ -74,6 +74,8 @@ class Case:
     method: str = "newton-euler"
     #: the contact set (``FRAME:3d`` / ``FRAME:6d``, as ``--contacts`` takes it)
     contacts: tuple[str, ...] = ()
+    #: a Baumgarte correction of its point contacts, ``(kp, kd, x, y, z)`` (the reference point), or ()
+    correction: tuple[float, ...] = ()
 
     @property
     def robot_file(self) -> str:
@@ -92,6 +94,7 @@ class Case:
         parts += ["C in small pieces"] if self.small_pieces else []
         parts += [f"frames {','.join(self.frames)}"] if self.frames else []
         parts += [f"contacts {','.join(self.contacts)}"] if self.contacts else []
+        parts += ["corrected (kp {:.4g}, kd {:.4g})".format(*self.correction[:2])] if self.correction else []
         return ", ".join(parts)
 
 
@@ -262,7 +265,9 @@ def random_case(number: int) -> Case:
         text, links = random_urdf(rng, name, floating)
         text = with_mimics(np.random.default_rng([number, 7]), text)  # (its own stream: the cases stay the same)
         frames = tuple(str(f) for f in rng.choice(links[1:], size=int(rng.integers(0, 3)), replace=False))
-        return Case(number, "urdf", text, "", floating, frames, precision, contacts=_random_contacts(number, floating, links))
+        contacts = _random_contacts(number, floating, links)
+        return Case(number, "urdf", text, "", floating, frames, precision, contacts=contacts,
+                    correction=_random_correction(number, contacts))
     text, names = random_dh(rng, name)
     method = str(rng.choice(["newton-euler"] * 3 + ["lagrange-euler", "jacobian-newton-euler"]))
     scene = random_scene(rng, f"fuzz{number}.yaml", names) if rng.random() < 0.25 else ""
@@ -279,6 +284,24 @@ def _random_contacts(number: int, floating: bool, links) -> tuple[str, ...]:
     if not floating or len(links) < 2 or rng.random() < 0.5:
         return ()
     return (f"{rng.choice(links[1:])}:{rng.choice(['3d', '6d'])}",)
+
+
+def _random_correction(number: int, contacts) -> tuple[float, ...]:
+    """Half of the cases holding a point get a Baumgarte correction ``(kp, kd, x, y, z)``: gains
+    in [10, 200] 1/s^2 and [1, 30] 1/s, a reference point in [-0.5, 0.5]^3 m.  Its own stream."""
+    rng = np.random.default_rng([number, 17])
+    if not any(c.endswith(":3d") for c in contacts) or rng.random() < 0.5:
+        return ()
+    return tuple(round(float(v), 6) for v in (rng.uniform(10, 200), rng.uniform(1, 30), *rng.uniform(-0.5, 0.5, 3)))
+
+
+def corrected(robot, correction):
+    """``robot`` with its point contacts held by the Baumgarte ``correction`` ``(kp, kd, x, y, z)``."""
+    from ..model.robot import _to_exact
+    kp, kd, *reference = (_to_exact(v) for v in correction)
+    return dataclasses.replace(robot, contacts=tuple(
+        dataclasses.replace(c, kp=kp, kd=kd, reference=tuple(reference)) if c.kind == "3d" else c
+        for c in robot.contacts))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -393,6 +416,8 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
         path = write_case(case, workdir)
         robot, scene = load_input(path, floating_base=case.floating, frames=list(case.frames) or None,
                                   contacts=",".join(case.contacts) or None)
+        if case.correction and robot.contacts:
+            robot = corrected(robot, case.correction)
         functions = _supported(case, robot)
         outcome.functions = functions
         values, p = _parameter_values(robot, case.number)
@@ -499,10 +524,12 @@ def _urdf_variants(case: Case):
                                   contacts=tuple(c for c in case.contacts if c.split(":")[0] != child))
     if case.frames:
         yield dataclasses.replace(case, frames=case.frames[:-1])
+    if case.correction:
+        yield dataclasses.replace(case, correction=())
     if case.contacts:
-        yield dataclasses.replace(case, contacts=())
+        yield dataclasses.replace(case, contacts=(), correction=())
     if case.floating:
-        yield dataclasses.replace(case, floating=False, contacts=())
+        yield dataclasses.replace(case, floating=False, contacts=(), correction=())
     if "<dynamics" in case.text:
         import re
         yield dataclasses.replace(case, text=re.sub(r"<dynamics[^>]*/>", "", case.text))
@@ -608,6 +635,7 @@ def _keep(case: Case, finding: Finding, out_dir: str) -> None:
     doc = {"note": str(finding), **dataclasses.asdict(case)}
     doc["frames"] = list(case.frames)
     doc["contacts"] = list(case.contacts)
+    doc["correction"] = list(case.correction)
     with open(os.path.join(out_dir, f"fuzz{case.number}.case.yaml"), "w") as handle:
         yaml.safe_dump(doc, handle, sort_keys=False, width=120)
 
@@ -620,4 +648,5 @@ def load_case(path: str) -> Case:
     doc.pop("note", None)
     doc["frames"] = tuple(doc.get("frames") or ())
     doc["contacts"] = tuple(doc.get("contacts") or ())
+    doc["correction"] = tuple(doc.get("correction") or ())
     return Case(**doc)

@@ -132,3 +132,34 @@ def test_some_cases_take_a_big_robots_code_shapes(tmp_path, monkeypatch):
     (tmp_path / "planted").mkdir()
     outcome = fuzz.check_case(case, str(tmp_path / "planted"), targets=("c",))
     assert any(f.target == "c" for f in outcome.findings), outcome.findings
+
+
+HELD = fuzz.Case(
+    number=9002, kind="urdf", floating=True, contacts=("l2:3d",), correction=(60.0, 9.0, 0.1, -0.2, 0.05),
+    text="""<robot name="fz9002">
+  <link name="l0"><inertial><origin xyz="0 0 0.05"/><mass value="2.0"/><inertia ixx="0.02" iyy="0.03" izz="0.025" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="l1"><inertial><origin xyz="0.1 0 0"/><mass value="1.0"/><inertia ixx="0.01" iyy="0.02" izz="0.015" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <link name="l2"><inertial><origin xyz="0 0.02 0.1"/><mass value="0.5"/><inertia ixx="0.004" iyy="0.005" izz="0.003" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="j1" type="revolute"><parent link="l0"/><child link="l1"/><origin xyz="0 0 0.1" rpy="0.3 0 0"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="10" velocity="5"/></joint>
+  <joint name="j2" type="prismatic"><parent link="l1"/><child link="l2"/><origin xyz="0.2 0 0"/><axis xyz="0 0 1"/><limit lower="-0.2" upper="0.2" effort="10" velocity="5"/></joint>
+</robot>
+""")
+
+
+def test_finds_a_correction_left_out(tmp_path, monkeypatch):
+    """A point held with a Baumgarte correction (half of the cases holding a point carry one, the
+    fixed campaign's cases 22 and 27 among them): the case passes, and a derivation that leaves
+    the correction out is found in the contact functions."""
+    assert [k for k in range(30) if fuzz.random_case(k).correction] == [22, 27]
+    assert "corrected (kp 60" in HELD.describe()
+    (tmp_path / "right").mkdir()
+    outcome = fuzz.check_case(HELD, str(tmp_path / "right"), targets=("numpy",))
+    assert not outcome.findings, "\n".join(map(str, outcome.findings))
+    from symdyn.derive import equations
+    monkeypatch.setattr(equations, "correction", lambda contact, J_rows, pose, qd: [0] * contact.rows)
+    monkeypatch.setattr("symdyn.derive.contact.correction", lambda contact, J_rows, pose, qd: [0] * contact.rows)
+    monkeypatch.setenv("SYMDYN_CACHE_DIR", str(tmp_path / "planted_cache"))  # (not the right derivation's)
+    (tmp_path / "planted").mkdir()
+    outcome = fuzz.check_case(HELD, str(tmp_path / "planted"), targets=("numpy",))
+    found = {f.function for f in outcome.findings if f.target == "numpy"}
+    assert {"contact_accelerations", "contact_forces", "contact_accelerations_dq"} <= found, outcome.findings
