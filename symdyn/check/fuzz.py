@@ -276,31 +276,36 @@ def random_case(number: int) -> Case:
 
 
 def _random_contacts(number: int, floating: bool, links) -> tuple[str, ...]:
-    """Half of the floating robots hold one link (a point or a sole): the base's six motions
+    """Half of the floating robots hold one link (a point, a point in a coordinate plane, or a
+    sole): the base's six motions
     span any one contact's, so the set is regular at every state (two contacts, or one on a
     fixed base, can be dependent everywhere: status 3, not a disagreement).  Drawn from the
     case's own stream, so that every other choice of the case stays as it was."""
     rng = np.random.default_rng([number, 13])
     if not floating or len(links) < 2 or rng.random() < 0.5:
         return ()
-    return (f"{rng.choice(links[1:])}:{rng.choice(['3d', '6d'])}",)
+    link, kind = rng.choice(links[1:]), str(rng.choice(['3d', '6d']))
+    plane = np.random.default_rng([number, 19])  # (a stream of its own: the other choices stay)
+    if kind == "3d" and plane.random() < 0.3:
+        kind = str(plane.choice(["xz", "xy", "yz"]))
+    return (f"{link}:{kind}",)
 
 
 def _random_correction(number: int, contacts) -> tuple[float, ...]:
     """Half of the cases holding a point get a Baumgarte correction ``(kp, kd, x, y, z)``: gains
     in [10, 200] 1/s^2 and [1, 30] 1/s, a reference point in [-0.5, 0.5]^3 m.  Its own stream."""
     rng = np.random.default_rng([number, 17])
-    if not any(c.endswith(":3d") for c in contacts) or rng.random() < 0.5:
+    if not any(c.split(":")[1] in ("3d", "xz", "xy", "yz") for c in contacts) or rng.random() < 0.5:
         return ()
     return tuple(round(float(v), 6) for v in (rng.uniform(10, 200), rng.uniform(1, 30), *rng.uniform(-0.5, 0.5, 3)))
 
 
 def corrected(robot, correction):
     """``robot`` with its point contacts held by the Baumgarte ``correction`` ``(kp, kd, x, y, z)``."""
-    from ..model.robot import _to_exact
-    kp, kd, *reference = (_to_exact(v) for v in correction)
+    from ..model.expr import number_to_rational
+    kp, kd, *reference = (number_to_rational(repr(float(v))) for v in correction)
     return dataclasses.replace(robot, contacts=tuple(
-        dataclasses.replace(c, kp=kp, kd=kd, reference=tuple(reference)) if c.kind == "3d" else c
+        dataclasses.replace(c, kp=kp, kd=kd, reference=tuple(reference)) if c.kind != "6d" else c
         for c in robot.contacts))
 
 

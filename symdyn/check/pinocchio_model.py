@@ -417,7 +417,7 @@ def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.
     ``p`` (runtime parameters) is passed to ``mine`` only, when given.
     """
     extra = [] if p is None else [p]
-    contact_rows = sum(3 if held.kind == "3d" else 6 for held in getattr(reference, "contact_set", ()))
+    contact_rows = sum(len(held.axes) for held in getattr(reference, "contact_set", ()))
     errors = {}
     for name in functions:
         values, refs = [], []
@@ -505,8 +505,7 @@ class ContactReference:
     def _contact_jacobian(self, q) -> np.ndarray:
         """The contacts' rows of their frames' Jacobians (NC x N): a point's 3 linear, a sole's 6."""
         J_all = np.asarray(self.frame_jacobians(q))
-        return np.vstack([J_all[6 * held.frame:6 * held.frame + (3 if held.kind == "3d" else 6)]
-                          for held in self.contact_set])
+        return np.vstack([J_all[[6 * held.frame + a for a in held.axes]] for held in self.contact_set])
 
     def _rows_and_drift(self, q, qd):
         """``(J, gamma)``: the contacts' rows (:meth:`_contact_jacobian`) and their drift J-dot qd,
@@ -522,11 +521,12 @@ class ContactReference:
             if kind == "6d":
                 velocity = J[at:at + 6] @ qd
                 drift[:3] -= np.cross(velocity[3:], velocity[:3])
+            count = len(held.axes)
+            drift = drift[list(held.axes)]
             if held.kp or held.kd:
-                position = poses[4 * frame:4 * frame + 3, 3]
-                drift[:3] += held.kd * (J[at:at + 3] @ qd) + held.kp * (position - np.asarray(held.reference))
-            count = 3 if kind == "3d" else 6
-            gamma.append(drift[:count])
+                position = poses[4 * frame:4 * frame + 3, 3] - np.asarray(held.reference)
+                drift += held.kd * (J[at:at + count] @ qd) + held.kp * position[list(held.axes)]
+            gamma.append(drift)
             at += count
         return J, np.concatenate(gamma)
 
@@ -1174,6 +1174,12 @@ class HeldContact:
     kp: float = 0.0
     kd: float = 0.0
     reference: tuple | None = None
+
+    @property
+    def axes(self) -> tuple[int, ...]:
+        """The rows of the frame's Jacobian held (0-2 linear, 3-5 angular)."""
+        from ..model.robot import CONTACT_AXES
+        return CONTACT_AXES[self.kind]
 
 
 def held_contacts(robot: Robot, values: Mapping | None = None) -> tuple:

@@ -72,19 +72,21 @@ def _dot(a, b) -> sp.Expr:
 def contact_rows(contacts, frame_jacobians: sp.Matrix) -> sp.Matrix:
     """The contacts' constraint rows J (NC x N) from every frame's Jacobian ``frame_jacobians``
     (6 rows per frame, linear first, world-aligned axes at its origin): a point's three linear
-    rows, a sole's six."""
-    return sp.Matrix.vstack(*[frame_jacobians[6 * c.frame:6 * c.frame + c.rows, :] for c in contacts])
+    rows, a sole's six, a planar contact's two (its kind's axes)."""
+    return sp.Matrix.vstack(*[frame_jacobians[6 * c.frame + a, :] for c in contacts for a in c.axes])
 
 
 def correction(contact, J_rows: sp.Matrix, pose: sp.Matrix, qd) -> list:
-    """A point's Baumgarte correction (3 entries, world axes; zeros without gains): ``kd v +
-    kp (p - reference)`` with ``v = J_rows qd`` its velocity and ``p`` its position (``pose``:
-    the frame's 4 x 4 pose in the world), Pinocchio's ``corrector`` with the gain on every axis
-    (its LOCAL_WORLD_ALIGNED error R diag(K) R^T e is K e then)."""
+    """A point's Baumgarte correction (an entry per row, world axes; zeros without gains):
+    ``kd v + kp (p - reference)`` on the contact's axes, with ``v = J_rows qd`` its velocity
+    (``J_rows``: the contact's rows) and ``p`` its position (``pose``: the frame's 4 x 4 pose in
+    the world), Pinocchio's ``corrector`` with the gain on every axis (its LOCAL_WORLD_ALIGNED
+    error R diag(K) R^T e is K e then)."""
     if not contact.corrected:
         return [sp.S.Zero] * contact.rows
-    velocity = J_rows * sp.Matrix(qd) if contact.kd != 0 else sp.zeros(3, 1)
-    error = (pose[:3, 3] - sp.Matrix(contact.reference)) if contact.kp != 0 else sp.zeros(3, 1)
+    velocity = J_rows * sp.Matrix(qd) if contact.kd != 0 else sp.zeros(contact.rows, 1)
+    error = ([pose[a, 3] - contact.reference[a] for a in contact.axes] if contact.kp != 0
+             else [sp.S.Zero] * contact.rows)
     return [contact.kd * v + contact.kp * e for v, e in zip(velocity, error)]
 
 
@@ -92,7 +94,8 @@ def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: 
     """The contacts' drift gamma (NC entries, world-aligned axes), as Pinocchio's
     ``constraintDynamics`` holds its 3D and 6D contacts: a point's classical acceleration at
     qdd = 0 (its frame's J-dot v, linear rows), a sole's spatial one (the classical minus
-    omega x v, then the angular rows), plus a corrected point's :func:`correction`.
+    omega x v, then the angular rows; a planar contact's two rows of the point's), plus a
+    corrected point's :func:`correction`.
     ``contacts``: the robot's contact set; ``J`` its rows (NC x N); ``drift_all``: every frame's
     J-dot v (6 per frame, linear first); ``qd`` (N); ``define(name, expr)`` names an
     intermediate (the identity by default); ``poses``: every frame's pose (4 rows per frame,
@@ -106,10 +109,11 @@ def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: 
             angular = [define(f"ctw{k + 1}_{i + 1}", e) for i, e in enumerate(J[at + 3:at + 6, :] * qd)]
             turn = sp.Matrix(angular).cross(sp.Matrix(linear))
             drift = [drift[i] - turn[i] for i in range(3)] + drift[3:]
+        drift = [drift[a] for a in contact.axes]
         if contact.corrected:
             pose = poses[4 * contact.frame:4 * contact.frame + 4, :]
-            drift = [a + c for a, c in zip(drift, correction(contact, J[at:at + 3, :], pose, qd))]
-        gamma += [define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift[:contact.rows])]
+            drift = [a + c for a, c in zip(drift, correction(contact, J[at:at + contact.rows, :], pose, qd))]
+        gamma += [define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift)]
         at += contact.rows
     return gamma
 

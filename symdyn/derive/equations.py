@@ -1074,7 +1074,7 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     base = n - len(d.joint_q)
     for j, column in enumerate(by_q):
         dF1_q[:, base + j] -= column
-    constraint = _contact_accelerations_at(d, J, qdd)
+    constraint, points = _contact_accelerations_at(d, J, qdd)
     dF2_q = sp.zeros(m, n)
     for j, column in enumerate(differentiate(b.build(), constraint, list(d.joint_q), b, "cgq", held=held)):
         dF2_q[:, base + j] = column
@@ -1083,9 +1083,16 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     if robot.floating:
         R_w, p_w = world_placement(d.chain)
         _corrected_base_columns(robot, dF2_q, R_w, p_w, b)
-        for at in range(0, m, 3):
-            block = -skew(sp.Matrix(force[at:at + 3])) * R_w
-            turn[at:at + 3, 3:6] = block.applyfunc(lambda e: b.define("cLt", e))
+        at = 0
+        for contact, point in zip(robot.contacts, points):
+            if contact.kind in ("3d", "6d"):
+                for first in range(at, at + contact.rows, 3):
+                    block = -skew(sp.Matrix(force[first:first + 3])) * R_w
+                    turn[first:first + 3, 3:6] = block.applyfunc(lambda e: b.define("cLt", e))
+            else:
+                dF2_q[at:at + contact.rows, :] = _planar_base_columns(d, contact, force[at:at + contact.rows], point,
+                                                                      dF1_q, dF2_q[at:at + contact.rows, :], R_w, p_w)
+            at += contact.rows
     K, S, Ainv = inverse.K, inverse.S, inverse.A_inverse
 
     def combination(hint, *terms, extra=None):
@@ -1106,6 +1113,35 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     return d.values["contact_accelerations_dq"]
 
 
+def _planar_base_columns(d: _Derivation, contact, force, point, dF1_q: sp.Matrix, rows: sp.Matrix, R_w, p_w) -> sp.Matrix:
+    """A planar contact's rows of dF2/dq with a floating base's columns filled in (``rows``: its
+    rows so far; dF1_q gains its term in place).  The directions it holds are the world's, which
+    do not turn with the base, so its force is held in the world (no turn term): turning the base
+    by dtheta turns J^T lambda = J3^T f (f its force as a world vector, J3 its frame's linear rows)
+    by ``J3^T [f]x R dtheta`` (dF1 loses it), and its point's acceleration a (all three axes: it
+    moves out of the plane freely), velocity v and offset from the base by ``-[.]x R dtheta``: its
+    rows gain ``-P [a + kd v]x R - kp P [p - p_b]x R`` (P: its axes), and ``kp P R`` along the
+    base's displacement."""
+    b = d.b
+    f = sp.zeros(3, 1)
+    for a, value in zip(contact.axes, force):
+        f[a] = value
+    J3 = d.get("frame_jacobians")[6 * contact.frame:6 * contact.frame + 3, :]
+    moment = (-J3.T * skew(f) * R_w).applyfunc(lambda e: b.define("cPf", e) if e != 0 else e)
+    dF1_q[:, 3:6] = dF1_q[:, 3:6] + moment
+    moving = sp.Matrix(point)
+    if contact.kd != 0:
+        moving += contact.kd * (J3 * sp.Matrix(d.qd))
+    turned = -skew(moving) * R_w
+    if contact.kp != 0:
+        origin = d.get("frame_poses")[4 * contact.frame:4 * contact.frame + 3, 3]
+        turned -= contact.kp * skew(origin - p_w) * R_w
+        rows[:, 0:3] = sp.Matrix([list(contact.kp * R_w[a, :]) for a in contact.axes])
+    rows[:, 3:6] = sp.Matrix([list(turned[a, :]) for a in contact.axes])
+    rows[:, 0:6] = rows[:, 0:6].applyfunc(lambda e: b.define("cPg", e) if e != 0 else e)
+    return rows
+
+
 def _corrected_base_columns(robot, dF2_q: sp.Matrix, R_w: sp.Matrix, p_w: sp.Matrix, b) -> None:
     """A floating base's columns of dF2/dq for the contacts with a Baumgarte correction, in
     place: moving the base moves every point by R dv_lin (the position error's kp R), turning
@@ -1114,7 +1150,7 @@ def _corrected_base_columns(robot, dF2_q: sp.Matrix, R_w: sp.Matrix, p_w: sp.Mat
     ``kp [p_b - reference]x R dtheta`` (the velocity terms turn with the rest: no column)."""
     at = 0
     for contact in robot.contacts:
-        if contact.corrected and contact.kp != 0:
+        if contact.kind == "3d" and contact.kp != 0:  # (a planar contact's: _planar_base_columns)
             arm = p_w - sp.Matrix(contact.reference)
             dF2_q[at:at + 3, 0:3] = (contact.kp * R_w).applyfunc(lambda e: b.define("cgb", e))
             dF2_q[at:at + 3, 3:6] = (contact.kp * skew(arm) * R_w).applyfunc(lambda e: b.define("cgb", e))
@@ -1153,9 +1189,11 @@ def _contact_inverse(d: _Derivation) -> sp.Matrix:
     return d.values["contact_inverse_torques"]
 
 
-def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> sp.Matrix:
-    """``J qdd + gamma`` (NC x 1, world-aligned axes; ``J`` the contact rows) at accelerations ``qdd``: each contact's
-    acceleration (a point's classical, a sole's spatial: the classical minus omega x v) from the
+def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> tuple[sp.Matrix, list]:
+    """``(J qdd + gamma, points)`` (NC x 1, world-aligned axes; ``J`` the contact rows) at accelerations
+    ``qdd``, and each contact frame origin's classical acceleration (3 x 1, world axes: all three
+    entries, a planar contact's third too): each contact's acceleration on its axes (a point's
+    classical, a sole's spatial: the classical minus omega x v; a Baumgarte correction added) from the
     Newton-Euler forward recursion at zero gravity, formed in its link's frame and turned to the
     world through named rotations (what the derivatives differentiate: far fewer operations than
     the world-frame J qdd + gamma, whose entries expand into the rotations' products)."""
@@ -1167,6 +1205,7 @@ def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> sp.Matrix:
     _, links = tree_poses(d.chain)
     R_w, _ = world_placement(d.chain)
     rows: list = []
+    points: list = []
     for k, contact in enumerate(robot.contacts):
         at = len(rows)
         frame = robot.frames[contact.frame]
@@ -1180,15 +1219,17 @@ def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> sp.Matrix:
         linear = named_vector(b, f"cFl{k + 1}", vd + omegad.cross(r) + omega.cross(omega.cross(r)))
         rotation = b.matrix(f"cFR{k + 1}", (R_w * R).applyfunc(sp.expand))
         classical = named_vector(b, f"cF2_{k + 1}", rotation * linear)
-        if contact.kind == "3d":
+        points.append(classical)
+        if contact.kind != "6d":
             pose = poses[4 * contact.frame:4 * contact.frame + 4, :] if contact.corrected else None
-            rows += [a + c for a, c in zip(classical, correction(contact, J[at:at + 3, :], pose, d.qd))]
+            held = correction(contact, J[at:at + contact.rows, :], pose, d.qd)
+            rows += [classical[a] + c for a, c in zip(contact.axes, held)]
             continue
         spin = named_vector(b, f"cFw{k + 1}", rotation * omega)  # the sole's, world axes
         velocity = named_vector(b, f"cFv{k + 1}", J[at:at + 3, :] * sp.Matrix(d.qd))
         rows += list(named_vector(b, f"cF2s{k + 1}", classical - spin.cross(velocity)))
         rows += list(named_vector(b, f"cF2w{k + 1}", rotation * omegad))
-    return sp.Matrix(rows)
+    return sp.Matrix(rows), points
 
 
 def _corrected_poses(d: _Derivation):

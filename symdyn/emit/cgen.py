@@ -422,8 +422,8 @@ def _contact_context(eqs: Equations, precision: str) -> dict:
     robot, lines, at = eqs.robot, [], 0
     for contact in robot.contacts:
         frame = robot.frames[contact.frame]
-        what = ("a point held: force (N) x, y, z" if contact.kind == "3d"
-                else "a sole held: force (N) x, y, z, then moment (N m) x, y, z")
+        what = {"3d": "a point held: force (N) x, y, z", "6d": "a sole held: force (N) x, y, z, then moment (N m) x, y, z"}.get(
+            contact.kind, f"a point held in the {contact.kind} plane: force (N) {', '.join(contact.kind)}")
         lines.append(f"lambda[{at}..{at + contact.rows - 1}]: {frame.name} ({contact.kind}, {what})")
         if contact.corrected:
             lines += _correction_lines(contact)

@@ -44,9 +44,20 @@ _RESERVED_FOLDED = frozenset({"nan", "inf", "infinity", "oo", "zoo"})  # in any 
 
 TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "base_body", "tool", "task", "parameters",
             "frames", "contacts", "links")
-#: the kinds of contact: a point held (its linear velocity zero) and a body held (its whole
-#: velocity zero), each with its rows of the frame's Jacobian (world-aligned axes)
-CONTACT_ROWS = {"3d": 3, "6d": 6}
+#: the kinds of contact: a point held (its linear velocity zero), a body held (its whole
+#: velocity zero) and a point held in a coordinate plane (its velocity's two entries in that plane
+#: zero: a planar robot's foot), each with its rows of the frame's Jacobian (world-aligned axes at
+#: the frame's origin, linear 0-2 then angular 3-5)
+CONTACT_AXES = {"3d": (0, 1, 2), "6d": (0, 1, 2, 3, 4, 5), "xz": (0, 2), "xy": (0, 1), "yz": (1, 2)}
+CONTACT_ROWS = {kind: len(axes) for kind, axes in CONTACT_AXES.items()}
+#: the kinds that hold a point (no angular rows): the ones a Baumgarte correction applies to
+POINT_CONTACTS = ("3d", "xz", "xy", "yz")
+#: what each kind holds, for messages and headers
+CONTACT_MEANING = {"3d": "a point held", "6d": "a sole held", "xz": "a point held in the xz plane",
+                   "xy": "a point held in the xy plane", "yz": "a point held in the yz plane"}
+#: the kinds as a message lists them
+CONTACT_KINDS_TEXT = ("3d (a point held), 6d (a sole held) or xz, xy, yz (a point held in that plane: a planar "
+                      "robot's foot)")
 #: the fields of a ``contacts:`` entry written as a mapping (``kp``, ``kd``, ``reference``: the
 #: Baumgarte correction of a point held, :class:`Contact`)
 CONTACT_KEYS = ("frame", "kind", "kp", "kd", "reference")
@@ -252,12 +263,14 @@ class NamedFrame:
 @dataclass(frozen=True)
 class Contact:
     """A contact of the contact dynamics: the frame ``frame`` (an index into the robot's
-    ``frames``) held, ``kind`` ``"3d"`` (its origin's linear velocity zero: a point foot) or
-    ``"6d"`` (its whole velocity zero: a sole, a gripped tool).
+    ``frames``) held, ``kind`` ``"3d"`` (its origin's linear velocity zero: a point foot),
+    ``"6d"`` (its whole velocity zero: a sole, a gripped tool) or ``"xz"``, ``"xy"``, ``"yz"``
+    (its origin's velocity zero along those two world axes: a planar robot's foot).
 
     A point may be held with a Baumgarte correction (Pinocchio's ``corrector`` with the same
     gain on every axis): its constraint becomes ``a + kd v + kp (p - reference) = 0`` (a, v, p
-    the frame origin's classical acceleration, velocity and position, world axes), ``kp`` (1/s^2)
+    the frame origin's classical acceleration, velocity and position, world axes; on the kind's
+    axes: a planar contact's two), ``kp`` (1/s^2)
     and ``kd`` (1/s) at least 0, ``reference`` (3 entries, m, world) the point it is held at;
     each an expression of numbers and runtime parameters (a reference that changes at run time
     is three runtime parameters)."""
@@ -270,8 +283,13 @@ class Contact:
 
     @property
     def rows(self) -> int:
-        """Constraint rows: 3 or 6."""
+        """Constraint rows: 3, 6 or 2."""
         return CONTACT_ROWS[self.kind]
+
+    @property
+    def axes(self) -> tuple[int, ...]:
+        """The rows of the frame's Jacobian (0-2 linear, 3-5 angular, world axes) it holds."""
+        return CONTACT_AXES[self.kind]
 
     @property
     def corrected(self) -> bool:
@@ -956,7 +974,7 @@ def parse_contacts(raw: Any, fail, number=None) -> list[WantedContact]:
     if isinstance(raw, str):
         raw = [item.strip() for item in raw.split(",") if item.strip()]
     if not isinstance(raw, list) or not raw:
-        fail("expected a list of contacts, each FRAME:3d (a point held) or FRAME:6d (a sole held)")
+        fail("expected a list of contacts, each FRAME:KIND with KIND " + CONTACT_KINDS_TEXT)
     out: list[WantedContact] = []
     for k, item in enumerate(raw):
         at = f"[{k}]"
@@ -970,12 +988,12 @@ def parse_contacts(raw: Any, fail, number=None) -> list[WantedContact]:
         elif isinstance(item, str) and item.count(":") == 1:
             name, kind = (part.strip() for part in item.split(":"))
         else:
-            fail(f"expected FRAME:3d or FRAME:6d (or {{frame, kind}}), not {describe(item)}", at)
+            fail(f"expected FRAME:3d, FRAME:6d or FRAME:xz (or {{frame, kind}}), not {describe(item)}", at)
         if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]{0,63}", name):
             fail(f"expected a frame's name (letters, digits and '_'), not {describe(name)}", at)
         kind = kind.lower() if isinstance(kind, str) else kind
         if kind not in CONTACT_ROWS:
-            fail(f"contact {name}: kind {describe(kind)} is not 3d (a point held) or 6d (a sole held)", at)
+            fail(f"contact {name}: kind {describe(kind)} is not {CONTACT_KINDS_TEXT}", at)
         if any(name == seen.name for seen in out):
             fail(f"frame {describe(name)} is in contact twice", at)
         out.append(WantedContact(name, kind, *_correction(name, kind, gains, at, fail, number)))
@@ -992,9 +1010,9 @@ def _correction(name: str, kind: str, gains: dict, at: str, fail, number) -> tup
             return (number or _numbers_only)(value, f"{at}.{where}")
         except ExpressionError as exc:
             fail(f"contact {name}: {where}: {exc}", f"{at}.{where}")
-    if kind != "3d":
-        fail(f"contact {name}: a Baumgarte correction (kp, kd, reference) is supported on a point held (3d), not "
-             "yet on a sole (6d): its placement error is a log of SE(3)", at)
+    if kind not in POINT_CONTACTS:
+        fail(f"contact {name}: a Baumgarte correction (kp, kd, reference) is supported on a point held (3d, xz, xy, "
+             "yz), not yet on a sole (6d): its placement error is a log of SE(3)", at)
     kp, kd = (read(gains[key], key) if key in gains else sp.S.Zero for key in ("kp", "kd"))
     for key, gain in (("kp", kp), ("kd", kd)):
         if gain.is_number and gain < 0:

@@ -330,9 +330,9 @@ def test_squat_on_four_feet(tmp_path):
 
 @pytest.mark.parametrize("contacts,expected", [
     ("FL_FOT:3d", "did you mean 'FL_FOOT'"),
-    ("FL_FOOT:4d", "is not 3d (a point held) or 6d"),
+    ("FL_FOOT:4d", "is not 3d (a point held), 6d (a sole held) or xz, xy, yz"),
     ("FL_FOOT:3d,FL_FOOT:6d", "in contact twice"),
-    ("FL_FOOT", "expected FRAME:3d or FRAME:6d"),
+    ("FL_FOOT", "expected FRAME:3d, FRAME:6d or FRAME:xz"),
 ])
 def test_contact_set_errors(contacts, expected, capsys, tmp_path):
     """A contact set that cannot be read stops the CLI with one line naming the file and the

@@ -200,12 +200,14 @@ def test_checked_in_derivations_are_up_to_date(tmp_path, name, method, filename)
         "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"
 
 
-def test_checked_in_contact_derivation_is_up_to_date(tmp_path):
-    """docs/derivations/cylindrical_held.md: the contact dynamics of an arm its contact pins."""
-    out = tmp_path / "cylindrical_held.md"
-    assert main(["derive", str(REPO / "examples" / "contacts" / "cylindrical_held.yaml"), "--steps", "summary",
+@pytest.mark.parametrize("name", ["cylindrical_held", "compass_biped"])
+def test_checked_in_contact_derivation_is_up_to_date(tmp_path, name):
+    """docs/derivations/cylindrical_held.md and compass_biped.md: the contact dynamics of an arm
+    its contact pins, and of a planar biped in double support (a planar contact)."""
+    out = tmp_path / f"{name}.md"
+    assert main(["derive", str(REPO / "examples" / "contacts" / f"{name}.yaml"), "--steps", "summary",
                  "--format", "markdown", "--out", str(out)]) == 0
-    assert out.read_bytes() == (REPO / "docs" / "derivations" / "cylindrical_held.md").read_bytes(), \
+    assert out.read_bytes() == (REPO / "docs" / "derivations" / f"{name}.md").read_bytes(), \
         "docs/derivations is stale: remake it with the commands in docs/derivations/README.md"
 
 
@@ -303,3 +305,28 @@ def test_contact_section_equals_the_contact_functions(tmp_path, kind):
                                        eqs.numeric.contact_forces(state, speed, torque), rtol=1e-9, atol=1e-9)
     text = render(d, "text")
     assert "Contact dynamics" in text and "J_c" in text
+
+
+def test_compass_biped_closed_forms_equal_the_contact_functions():
+    """The planar biped's printout (a planar contact, xz: two rows pinning two joints): J_c is
+    the swing foot's x and z rows, det J_c = sin q2 (zero at the aligned legs), and the closed
+    forms of qdd and lambda equal the generated contact functions at seeded states."""
+    from symdyn.derive.equations import derive
+    robot = symdyn.load(str(REPO / "examples" / "contacts" / "compass_biped.yaml"))
+    d = derive_steps(robot, "newton-euler", steps="summary")
+    assert [q.kind for q in d.sections[-1].quantities] == ["contact_J", "contact_gamma", "contact_det", "contact_qdd",
+                                                           "contact_lambda"]
+    eqs = derive(robot, outputs=["contact_accelerations", "contact_forces", "frame_jacobians"])
+    q, qd, tau = sp.symbols("q1:3"), sp.symbols("qd1:3"), sp.symbols("tau1:3")
+    joint = lambda kind_: sp.lambdify([q, qd, tau], d.to_joint_symbols(d.quantity(kind_)).subs(  # noqa: E731
+        dict(zip(eqs.q, q)) | dict(zip(eqs.qd, qd)) | dict(zip(eqs.tau, tau))), "numpy")
+    for state, speed, _, torque in random_states(2, 4, seed=5):
+        state[1] = 0.3 + abs(state[1])  # the legs apart
+        frames = eqs.numeric.frame_jacobians(state)
+        np.testing.assert_allclose(np.array(joint("contact_J")(state, speed, torque), dtype=float), frames[[0, 2], :],
+                                   rtol=1e-10, atol=1e-12)
+        assert float(joint("contact_det")(state, speed, torque)) == pytest.approx(np.sin(state[1]), rel=1e-12)
+        np.testing.assert_allclose(np.array(joint("contact_qdd")(state, speed, torque), dtype=float).ravel(),
+                                   eqs.numeric.contact_accelerations(state, speed, torque), rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(np.array(joint("contact_lambda")(state, speed, torque), dtype=float).ravel(),
+                                   eqs.numeric.contact_forces(state, speed, torque), rtol=1e-9, atol=1e-9)

@@ -1,8 +1,16 @@
-"""Contacts held with a Baumgarte correction (``kp``, ``kd``, ``reference`` on a point contact):
-the reference against Pinocchio's constraintDynamics and computeConstraintDynamicsDerivatives
-with its corrector; symdyn's numpy, CasADi and C (runtime parameters for the point held) against
-the reference; the correction changes the answer (a test that cannot fail is none); gains that
-cannot be read are refused in one line naming the file and field."""
+"""Contacts held with a Baumgarte correction (``kp``, ``kd``, ``reference`` on a point contact)
+and planar contacts (``xz``, ``xy``, ``yz``: a point held along two world axes).
+
+The correction: the reference against Pinocchio's constraintDynamics and
+computeConstraintDynamicsDerivatives with its corrector; symdyn's numpy, CasADi and C (runtime
+parameters for the point held) against the reference; the correction changes the answer; gains
+that cannot be read are refused in one line naming the file and field.
+
+Planar contacts: Pinocchio has none, so the reference solves the KKT system with the rows of
+Pinocchio's frame Jacobians and accelerations that the plane holds (its derivatives by finite
+differences, lambda held in the world); symdyn's numpy and C against it on a floating base (where
+the held directions do not turn with the base: the derivatives' base columns need their own
+terms, and leaving them out is caught) and on the compass biped."""
 
 from __future__ import annotations
 
@@ -21,7 +29,7 @@ from symdyn.cli import main
 from symdyn.derive.equations import derive
 from symdyn.emit.cgen import generate_c
 from symdyn.model.errors import SymdynError
-from symdyn.model.outputs import CONTACT_DERIVATIVES, CONTACT_OUTPUTS, Dimensions
+from symdyn.model.outputs import CONTACT_DERIVATIVES, CONTACT_OUTPUTS, EXTERNAL_OUTPUTS, IMPULSE_OUTPUTS, Dimensions
 from symdyn.model.scene import load_input
 
 pin = pytest.importorskip("pinocchio")
@@ -170,3 +178,68 @@ def test_scene_correction_numbers_only(tmp_path):
                      "contacts: [{frame: FL_FOOT, kind: 3d, kp: k, reference: [0, 0, 0]}]\n")
     with pytest.raises(SymdynError, match="belong in the robot file"):
         load_input(str(scene))
+
+
+PLANAR_SETS = ["FR_FOOT:xz,HL_FOOT:3d", "FR_FOOT:yz,HL_FOOT:xy,FL_FOOT:3d"]
+
+
+@pytest.mark.parametrize("contacts", PLANAR_SETS)
+def test_planar_contacts_on_a_floating_base(contacts, monkeypatch):
+    """Solo-12 holding feet in coordinate planes (the second set corrected too): every contact
+    function and the derivatives in numpy against the reference; the reference's solution keeps
+    the plane's rows of the feet still and the equations of motion hold, by Pinocchio's numbers;
+    without the planar contacts' base-turn terms the derivatives by q disagree."""
+    robot = _solo_set(contacts)
+    if robot.contacts[-1].kind == "3d" and len(robot.contacts) == 3:
+        robot = _corrected(robot)
+    ref = _reference(robot)
+    states = _states(robot, 3, seed=13)
+    wanted = CONTACT_OUTPUTS + CONTACT_DERIVATIVES + IMPULSE_OUTPUTS + EXTERNAL_OUTPUTS
+    errors = compare(NumpyTarget(derive(robot, outputs=wanted)), ref, states, wanted, NO_PARAMETERS)
+    assert max(errors.values()) < 1e-9, errors
+    q, qd, _, tau = states[0]
+    qdd, forces = ref.contact_accelerations(q, qd, tau), ref.contact_forces(q, qd, tau)
+    J_all, drift = ref.frame_jacobians(q), ref.frame_jacobian_dot_v(q, qd)
+    rows = [6 * c.frame + a for c in robot.contacts for a in c.axes]
+    assert len(rows) == robot.contact_rows == len(forces)
+    if not any(c.corrected for c in robot.contacts):
+        assert np.abs(J_all[rows] @ qdd + drift[rows]).max() < 1e-10 * (1 + np.abs(drift[rows]).max())
+    M, b = ref.system_matrix(q), ref.inverse_dynamics(q, qd, np.zeros(robot.nv))
+    assert np.abs(M @ qdd - (tau - b + J_all[rows].T @ forces)).max() < 1e-9 * (1 + np.abs(tau - b).max())
+    from symdyn.derive import equations
+    monkeypatch.setattr(equations, "_planar_base_columns", lambda d, contact, force, point, dF1_q, rows, R_w, p_w: rows)
+    errors = compare(NumpyTarget(derive(robot, outputs=("contact_accelerations_dq",))), ref, states,
+                     ("contact_accelerations_dq",), NO_PARAMETERS)
+    assert errors["contact_accelerations_dq"] > 1e-4, errors
+
+
+def _solo_set(contacts):
+    robot, _ = load_input(example_robot_data(SOLO), floating_base=True, contacts=contacts)
+    return robot
+
+
+def test_compass_biped_in_c(tmp_path):
+    """examples/contacts/compass_biped.yaml (a planar contact on a fixed base, two rows pinning
+    two joints): C against Pinocchio's model, derivatives and impulse dynamics included, away
+    from the aligned legs (dqdd/dtau zero but for rounding: pinned); at the aligned legs status
+    3 (CONTACT_SINGULAR)."""
+    robot, _ = load_input(str(REPO / "examples" / "contacts" / "compass_biped.yaml"))
+    assert [(robot.frames[c.frame].name, c.kind, c.rows) for c in robot.contacts] == [("swing_foot", "xz", 2)]
+    ref = reduced(PinocchioReference(robot), robot)
+    wanted = CONTACT_OUTPUTS + CONTACT_DERIVATIVES + IMPULSE_OUTPUTS
+    files = generate_c(derive(robot, outputs=wanted), wanted)
+    header = next(text for name, text in files.items() if name.endswith(".h"))
+    assert "a point held in the xz plane: force (N) x, z" in header
+    lib = build_and_load(files, robot.name, Dimensions.of(robot), 0, "double", str(tmp_path))
+    states = _states(robot, 5)
+    for state in states:
+        state[0][1] = 0.4 + abs(state[0][1])  # the legs apart: det J_c = s2 away from 0
+    pinned = "contact_accelerations_dtau"  # zero: the contacts leave no motion to the torques
+    errors = compare(lib, ref, states, [f for f in wanted if f != pinned], NO_PARAMETERS)
+    assert max(errors.values()) < 1e-9, errors
+    q, qd, _, tau = states[0]
+    scale = np.abs(np.linalg.inv(ref.system_matrix(q))).max()
+    assert np.abs(lib.contact_accelerations_dtau(q, qd, tau)).max() < 1e-13 * scale
+    q = np.array([0.3, 0.0])
+    status, (qdd, forces) = lib.with_status("contact_forward_dynamics", q, qd, tau)
+    assert status == 3 and np.all(np.isnan(qdd)) and np.all(np.isnan(forces))
