@@ -161,7 +161,7 @@ def robot_to_urdf(robot: Robot) -> str:
                   f'    <parent link="{parent}"/>', f'    <child link="{name}"/>', "  </joint>",
                   "  " + _comment(f"frame {frame.name} of the frame functions (read it back with --frames {name})"),
                   f'  <link name="{name}"/>']
-    lines += ["</robot>", ""]
+    lines += _contact_lines(robot, source) + ["</robot>", ""]
     if armature:
         warn(f"{source}: armature of {', '.join(armature[:6])}{' ...' if len(armature) > 6 else ''} is left "
              "out of the URDF (URDF has no rotor inertia; the values are in comments)")
@@ -170,6 +170,19 @@ def robot_to_urdf(robot: Robot) -> str:
              f"{'is a passive joint' if len(passive) == 1 else 'are passive joints'} (actuated: false), which "
              "URDF cannot say: written as ordinary joints, with a comment")
     return "\n".join(lines)
+
+
+def _contact_lines(robot: Robot, source: str) -> list[str]:
+    """A comment naming the robot's contact set (URDF has no place for one), and a warning."""
+    if not robot.contacts:
+        return []
+    held = ",".join(f"{robot.frames[c.frame].name}:{c.kind}" for c in robot.contacts)
+    corrected = [robot.frames[c.frame].name for c in robot.contacts if c.corrected]
+    gains = (f"; the Baumgarte correction of {', '.join(corrected)} is lost (give it in a scene's contacts:)"
+             if corrected else "")
+    warn(f"{source}: the contact set ({held}) is left out of the URDF (URDF has no place for one; read it back "
+         f"with --contacts {held}{gains})")
+    return ["  " + _comment(f"contact set of the contact dynamics: {held} (read it back with --contacts {held})")]
 
 
 def _link_lines(robot: Robot, link, what: str, parent: str, post, armature: list, passive: list):

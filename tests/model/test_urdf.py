@@ -299,6 +299,24 @@ def test_written_urdf_has_the_same_dynamics_in_pinocchio(name):
     assert np.allclose(pin.rnea(back, back_data, q, v, a), pin.rnea(reference, ref_data, q, v, a), rtol=1e-12, atol=1e-10)
 
 
+def test_writer_names_the_contact_set(tmp_path):
+    """A robot file's contact set has no place in a URDF: a comment and a warning name it (and a
+    Baumgarte correction lost), and --contacts with the comment's set reads it back."""
+    path = str(REPO / "examples" / "contacts" / "tip_on_board.yaml")
+    robot = symdyn.load(path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", SymdynWarning)
+        text = robot_to_urdf(robot)
+    assert "<!-- contact set of the contact dynamics: tip:3d (read it back with - -contacts tip:3d) -->" in text
+    assert any("the contact set (tip:3d) is left out of the URDF" in str(w.message)
+               and "Baumgarte correction of tip is lost" in str(w.message) for w in caught), [str(w.message) for w in caught]
+    out = tmp_path / "board.urdf"
+    out.write_text(text)
+    from symdyn.model.scene import load_input
+    back, _ = load_input(str(out), contacts="tip:3d")
+    assert [(back.frames[c.frame].name, c.kind, c.corrected) for c in back.contacts] == [("tip", "3d", False)]
+
+
 def test_writer_output(capsys):
     robot = symdyn.load(robot_path("puma560"))
     with warnings.catch_warnings(record=True) as caught:
