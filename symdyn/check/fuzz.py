@@ -293,19 +293,26 @@ def _random_contacts(number: int, floating: bool, links) -> tuple[str, ...]:
 
 def _random_correction(number: int, contacts) -> tuple[float, ...]:
     """Half of the cases holding a point get a Baumgarte correction ``(kp, kd, x, y, z)``: gains
-    in [10, 200] 1/s^2 and [1, 30] 1/s, a reference point in [-0.5, 0.5]^3 m.  Its own stream."""
+    in [10, 200] 1/s^2 and [1, 30] 1/s, a reference point in [-0.5, 0.5]^3 m; half of those
+    holding a sole ``(kp, kd, x, y, z, roll, pitch, yaw)``, the angles in [-1, 1] rad.  Its own
+    stream."""
     rng = np.random.default_rng([number, 17])
-    if not any(c.split(":")[1] in ("3d", "xz", "xy", "yz") for c in contacts) or rng.random() < 0.5:
+    if not contacts:
         return ()
-    return tuple(round(float(v), 6) for v in (rng.uniform(10, 200), rng.uniform(1, 30), *rng.uniform(-0.5, 0.5, 3)))
+    sole = any(c.endswith(":6d") for c in contacts)
+    if rng.random() < 0.5 or (sole and rng.random() < 0.3):  # (a sole's draw after: the points' stay)
+        return ()
+    drawn = [rng.uniform(10, 200), rng.uniform(1, 30), *rng.uniform(-0.5, 0.5, 3)]
+    return tuple(round(float(v), 6) for v in drawn + (list(rng.uniform(-1, 1, 3)) if sole else []))
 
 
 def corrected(robot, correction):
-    """``robot`` with its point contacts held by the Baumgarte ``correction`` ``(kp, kd, x, y, z)``."""
+    """``robot`` with its contacts held by the Baumgarte ``correction`` ``(kp, kd, x, y, z)``, or
+    ``(kp, kd, x, y, z, roll, pitch, yaw)`` for a sole."""
     from ..model.expr import number_to_rational
     kp, kd, *reference = (number_to_rational(repr(float(v))) for v in correction)
     return dataclasses.replace(robot, contacts=tuple(
-        dataclasses.replace(c, kp=kp, kd=kd, reference=tuple(reference)) if c.kind != "6d" else c
+        dataclasses.replace(c, kp=kp, kd=kd, reference=tuple(reference[:c.rows if c.kind == "6d" else 3]))
         for c in robot.contacts))
 
 

@@ -524,11 +524,37 @@ class ContactReference:
             count = len(held.axes)
             drift = drift[list(held.axes)]
             if held.kp or held.kd:
-                position = poses[4 * frame:4 * frame + 3, 3] - np.asarray(held.reference)
-                drift += held.kd * (J[at:at + count] @ qd) + held.kp * position[list(held.axes)]
+                drift += held.kd * (J[at:at + count] @ qd) + held.kp * self._placement_error(held, poses)
             gamma.append(drift)
             at += count
         return J, np.concatenate(gamma)
+
+    def _half_turn_margin(self, q) -> float:
+        """pi minus the largest rotation angle of a corrected sole from its reference at q (inf
+        without one): log6 is smooth below a half turn and jumps across it, so a difference
+        quotient of the placement error must not step over it."""
+        soles = [held for held in self.contact_set if held.kind == "6d" and held.kp]
+        if not soles:
+            return float("inf")
+        poses = np.asarray(self.frame_poses(q))
+        return min(np.pi - np.linalg.norm(self._sole_log(held, poses).angular) for held in soles)
+
+    def _sole_log(self, held, poses):
+        """Pinocchio's ``log6(M^-1 M_ref)`` of a corrected sole (M its frame's placement)."""
+        import pinocchio as pin
+        pose = poses[4 * held.frame:4 * held.frame + 4]
+        reference = pin.SE3(pin.rpy.rpyToMatrix(*held.reference[3:]), np.asarray(held.reference[:3], dtype=float))
+        return pin.log6(pin.SE3(pose[:3, :3].copy(), pose[:3, 3].copy()).actInv(reference))
+
+    def _placement_error(self, held, poses) -> np.ndarray:
+        """A corrected contact's placement error, world-aligned, on its axes: a point's ``p -
+        reference``; a sole's ``-X log6(M^-1 M_ref)`` (Pinocchio's ``log6``, X = diag(R, R))."""
+        pose = poses[4 * held.frame:4 * held.frame + 4]
+        if held.kind != "6d":
+            return (pose[:3, 3] - np.asarray(held.reference))[list(held.axes)]
+        xi = self._sole_log(held, poses)
+        R = pose[:3, :3]
+        return -np.concatenate([R @ xi.linear, R @ xi.angular])
 
     def _constrained(self, q, qd, tau):
         J, gamma = self._rows_and_drift(q, qd)
@@ -605,6 +631,7 @@ class ContactReference:
         dF1_qd = np.array(self.inverse_dynamics_dqd(q, qd, qdd), dtype=float)
         dF2_q, dF2_qd = np.zeros((m, n)), np.zeros((m, n))
         h = self._STEP / self._rate_scale  # (a mimic joint turning m times as fast: h / m, the same truncation)
+        h = min(h, self._half_turn_margin(q) / 10)  # (the stencil, 4 h, stays on the near side of the log's cut)
         for j in range(n):
             step = np.zeros(n)
             for k, weight in self._STENCIL:

@@ -14,6 +14,9 @@ v = [v_lin (3); omega (3); joints] in the base frame, as Pinocchio's ``integrate
   ``d(q1 (-) q0)/dq1 = Jr(log6 M)^-1`` and ``d(q1 (-) q0)/dq0 = -Jr(log6 M)^-1 Ad(M^-1)``,
   ``M = M0^-1 M1``.
 
+The same log (:func:`relative_log`, from two rotation matrices) gives a corrected sole's
+placement error, and SE(3)'s inverse left Jacobian its derivative.
+
 A quaternion of any nonzero scale is taken as its unit quaternion (the emitters divide it by
 its largest entry first).  The maps' coefficients are even functions of the rotation angle
 theta with removable singularities at 0 (``(theta - sin theta) / theta^3``, ...): below
@@ -229,3 +232,47 @@ def _difference(builder, q0, q1, joints: int, wanted) -> dict[str, sp.Matrix]:
             Rt = sp.Matrix(3, 3, lambda i, j: b.define(f"xd_R{j + 1}{i + 1}", R[j, i]))
             out["difference_dq0"] = _with_joints(-jlog * _block(Rt, -Rt * skew(offset), Rt), joints, -1)
     return out
+
+
+class _Definer:
+    """A builder's ``define`` from a plain ``define(name, expr)`` (a printout's: the identity)."""
+
+    def __init__(self, define):
+        self._define = define
+
+    def define(self, name: str, expr, force: bool = False):
+        return self._define(name, expr)
+
+
+def relative_log(define, R1: sp.Matrix, p1: sp.Matrix, R2: sp.Matrix, p2: sp.Matrix, hint: str):
+    """``(rho, phi, jacobian)``: ``log6(M1^-1 M2)`` of two placements (``R1``, ``p1``: the first's
+    rotation and origin in the world; ``R2``, ``p2`` the second's) as Pinocchio's ``log6`` gives
+    it (``phi = log3(R1^T R2)``, the angle in [0, pi]; ``rho = V(phi)^-1 R1^T (p2 - p1)``), and a
+    function returning SE(3)'s inverse left Jacobian at it, ``Jl^-1([rho; phi])`` (6 x 6:
+    ``log6(exp(eps) X) = log6(X) + Jl^-1 eps`` to first order).  The angle comes from
+    ``atan2(|w|, (tr R - 1) / 2)``, w = vee(R - R^T) / 2; ``phi = (theta / sin theta) w``, its
+    coefficient by its series near 0 (:class:`_Angle`): accurate for a rotation well away from pi
+    (a sole turned half a turn from where it is held), where the axis of ``R - R^T`` vanishes.
+    ``define(name, expr)`` names each intermediate."""
+    b = _Definer(define)
+    R = sp.Matrix(3, 3, lambda i, j: define(f"{hint}_R{i + 1}{j + 1}", (R1[:, i].T * R2[:, j])[0, 0]))
+    offset = _named(b, f"{hint}_t", R1.T * (p2 - p1))
+    w = _named(b, f"{hint}_w", [(R[2, 1] - R[1, 2]) / 2, (R[0, 2] - R[2, 0]) / 2, (R[1, 0] - R[0, 1]) / 2])
+    s = define(f"{hint}_s", sp.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2))  # sin(theta)
+    cosine = define(f"{hint}_c", (R[0, 0] + R[1, 1] + R[2, 2] - 1) / 2)
+    theta = define(f"{hint}_th", sp.atan2(s, cosine))
+    t2 = define(f"{hint}_t2", theta * theta)
+    angle = _Angle(b, hint, t2, theta, define(f"{hint}_hs", sp.sin(theta / 2)), define(f"{hint}_hc", sp.cos(theta / 2)))
+    per_sin = angle.coefficient("angle_per_sin")  # theta / sin(theta/2): theta / sin(theta) = that / (2 cos(theta/2))
+    phi = _named(b, f"{hint}_phi", [per_sin * e / (2 * angle.half_cos) for e in w])
+    e = angle.coefficient("e")
+    wt = _named(b, f"{hint}_wt", cross(phi, offset))
+    rho = _named(b, f"{hint}_rho", offset - wt / 2 + e * cross(phi, wt))  # V(phi)^-1 offset
+
+    def jacobian() -> sp.Matrix:
+        W = skew(phi)
+        A = sp.Matrix(3, 3, lambda i, j: define(f"{hint}_A{i + 1}{j + 1}", (sp.eye(3) - W / 2 + e * W * W)[i, j]))
+        corner = -A * _offdiagonal(angle, rho, phi) * A
+        corner = sp.Matrix(3, 3, lambda i, j: define(f"{hint}_B{i + 1}{j + 1}", corner[i, j]))
+        return _block(A, corner, A)
+    return rho, phi, jacobian

@@ -76,21 +76,49 @@ def contact_rows(contacts, frame_jacobians: sp.Matrix) -> sp.Matrix:
     return sp.Matrix.vstack(*[frame_jacobians[6 * c.frame + a, :] for c in contacts for a in c.axes])
 
 
-def correction(contact, J_rows: sp.Matrix, pose: sp.Matrix, qd) -> list:
-    """A point's Baumgarte correction (an entry per row, world axes; zeros without gains):
-    ``kd v + kp (p - reference)`` on the contact's axes, with ``v = J_rows qd`` its velocity
-    (``J_rows``: the contact's rows) and ``p`` its position (``pose``: the frame's 4 x 4 pose in
-    the world), Pinocchio's ``corrector`` with the gain on every axis (its LOCAL_WORLD_ALIGNED
-    error R diag(K) R^T e is K e then)."""
+def correction(contact, J_rows: sp.Matrix, pose: sp.Matrix, qd, define=lambda name, e: e, hint: str = "cb",
+               sole_log: bool = True) -> list:
+    """A contact's Baumgarte correction (an entry per row, world axes; zeros without gains),
+    Pinocchio's ``corrector`` with the gain on every axis (its LOCAL_WORLD_ALIGNED error
+    R diag(K) R^T e is K e then): a point's ``kd v + kp (p - reference)`` on its axes, a sole's
+    ``kd v - kp X log6(M^-1 M_ref)`` (X = diag(R, R): :func:`sole_error`), with ``v = J_rows qd``
+    its velocity (``J_rows``: the contact's rows) and ``p``, R, M from ``pose`` (the frame's 4 x 4
+    pose in the world); ``define(name, expr)`` names a sole's intermediates; ``sole_log`` False
+    leaves a sole's log term out (a printout states it instead of expanding it)."""
     if not contact.corrected:
         return [sp.S.Zero] * contact.rows
     velocity = J_rows * sp.Matrix(qd) if contact.kd != 0 else sp.zeros(contact.rows, 1)
-    error = ([pose[a, 3] - contact.reference[a] for a in contact.axes] if contact.kp != 0
-             else [sp.S.Zero] * contact.rows)
+    if contact.kp == 0 or (contact.kind == "6d" and not sole_log):
+        error = [sp.S.Zero] * contact.rows
+    elif contact.kind == "6d":
+        error = [-e for e in sole_error(contact, pose, define, hint)[0]]
+    else:
+        error = [pose[a, 3] - contact.reference[a] for a in contact.axes]
     return [contact.kd * v + contact.kp * e for v, e in zip(velocity, error)]
 
 
-def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: e, poses=None) -> list:
+def sole_error(contact, pose: sp.Matrix, define, hint: str):
+    """``(error, jacobian)`` of a sole held with a correction: ``X log6(M^-1 M_ref)`` (6 entries,
+    world-aligned: the placement's log in the frame's axes turned to the world's, X = diag(R, R))
+    and a function returning ``X Jl^-1 X^T`` (6 x 6), what the error's derivative along the
+    frame's world-aligned motion ``delta`` (its Jacobian's columns) is made of:
+    ``d(X xi) = -[[R xi_lin]x; [R xi_ang]x] delta_ang - X Jl^-1(xi) X^T delta`` (M moving by the
+    local twist X^T delta turns M^-1 M_ref by its inverse on the left)."""
+    from .configuration import relative_log
+    R1, p1 = pose[:3, :3], pose[:3, 3]
+    R2, p2 = contact.reference_placement()
+    rho, phi, jacobian = relative_log(define, R1, p1, R2, p2, hint)
+    error = [define(f"{hint}_e{i + 1}", e) for i, e in enumerate(list(R1 * rho) + list(R1 * phi))]
+
+    def turned_jacobian() -> sp.Matrix:
+        X = sp.diag(R1, R1)
+        product = X * jacobian() * X.T
+        return sp.Matrix(6, 6, lambda i, j: define(f"{hint}_X{i + 1}_{j + 1}", product[i, j]))
+    return error, turned_jacobian
+
+
+def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: e, poses=None,
+                  sole_logs: bool = True) -> list:
     """The contacts' drift gamma (NC entries, world-aligned axes), as Pinocchio's
     ``constraintDynamics`` holds its 3D and 6D contacts: a point's classical acceleration at
     qdd = 0 (its frame's J-dot v, linear rows), a sole's spatial one (the classical minus
@@ -99,7 +127,7 @@ def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: 
     ``contacts``: the robot's contact set; ``J`` its rows (NC x N); ``drift_all``: every frame's
     J-dot v (6 per frame, linear first); ``qd`` (N); ``define(name, expr)`` names an
     intermediate (the identity by default); ``poses``: every frame's pose (4 rows per frame,
-    world), needed when a contact is corrected."""
+    world), needed when a contact is corrected; ``sole_logs`` False: see :func:`correction`."""
     gamma, at = [], 0
     qd = sp.Matrix(qd)
     for k, contact in enumerate(contacts):
@@ -112,7 +140,8 @@ def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: 
         drift = [drift[a] for a in contact.axes]
         if contact.corrected:
             pose = poses[4 * contact.frame:4 * contact.frame + 4, :]
-            drift = [a + c for a, c in zip(drift, correction(contact, J[at:at + contact.rows, :], pose, qd))]
+            held = correction(contact, J[at:at + contact.rows, :], pose, qd, define, f"ctb{k + 1}", sole_logs)
+            drift = [a + c for a, c in zip(drift, held)]
         gamma += [define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift)]
         at += contact.rows
     return gamma

@@ -515,7 +515,8 @@ def contact_section(robot: Robot, notation: _Notation, progress=None) -> Section
     trig = lambda M: sp.Matrix(notation.to_trig_symbols(eqs.program, sp.Matrix(M)))  # noqa: E731
     J = contact_rows(robot.contacts, trig(eqs.output("frame_jacobians")))
     poses = trig(eqs.output("frame_poses")) if any(c.corrected for c in robot.contacts) else None
-    gamma = sp.Matrix(contact_drift(robot.contacts, J, trig(eqs.output("frame_jacobian_dot_v")), eqs.qd, poses=poses))
+    gamma = sp.Matrix(contact_drift(robot.contacts, J, trig(eqs.output("frame_jacobian_dot_v")), eqs.qd, poses=poses,
+                                    sole_logs=False))  # (a corrected sole's log term: stated in the notes, not expanded)
     quantities = [Quantity("contact_J", (), notation.textbook_matrix(J)),
                   Quantity("contact_gamma", (), notation.textbook_matrix(gamma))]
     if J.shape[0] == robot.dof <= TASK_CLOSED_FORM_MAX_DOF and not robot.floating:

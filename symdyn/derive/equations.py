@@ -71,7 +71,7 @@ from .configuration import configuration_outputs
 from .kinematics import RESTITUTION, configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
-from .contact import constrained_inverse, contact_drift, contact_dynamics, contact_rows, correction, gram_schmidt
+from .contact import constrained_inverse, contact_drift, contact_dynamics, contact_rows, correction, gram_schmidt, sole_error
 from .poses import tree_poses, world_placement
 from .newton_euler import recursion
 from .spatial import named_vector, skew
@@ -1079,6 +1079,7 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     for j, column in enumerate(differentiate(b.build(), constraint, list(d.joint_q), b, "cgq", held=held)):
         dF2_q[:, base + j] = column
     dF2_qd = sp.Matrix.hstack(*differentiate(b.build(), constraint, list(d.qd), b, "cgv", held=held))
+    _sole_columns(d, dF2_q)
     turn = sp.zeros(m, n)  # -[lambda]x R per 3 rows in the base's turn columns
     if robot.floating:
         R_w, p_w = world_placement(d.chain)
@@ -1111,6 +1112,32 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     f = _mass_factorization(d)
     d.checks.append((CONTACT_DERIVATIVES, tuple((p, mm, 1) for p, mm in f.pivots) + tuple((p, mm, 3) for p, mm in system.pivots)))
     return d.values["contact_accelerations_dq"]
+
+
+def _sole_columns(d: _Derivation, dF2_q: sp.Matrix) -> None:
+    """The derivative of a corrected sole's placement term ``-kp X log6(M^-1 M_ref)`` (left out
+    of the residual :func:`_contact_accelerations_at` differentiates) added to its rows of dF2/dq
+    in place, in closed form (:func:`symdyn.derive.contact.sole_error`): along its frame's
+    world-aligned motion delta (the columns of its Jacobian J6), ``kp [[e_lin]x; [e_ang]x]
+    delta_ang + kp X Jl^-1 X^T delta`` (e = X xi).  A floating base's columns (the system in the
+    base's axes) keep the second term only: turning the base turns the residual's other terms,
+    kp X xi at the solution, by ``-kp [[e_lin]x; [e_ang]x] R dtheta``, which cancels the first."""
+    robot, b = d.robot, d.b
+    at = 0
+    for k, contact in enumerate(robot.contacts):
+        if contact.kind == "6d" and contact.kp != 0:
+            pose = d.get("frame_poses")[4 * contact.frame:4 * contact.frame + 4, :]
+            error, jacobian = sole_error(contact, pose, b.define, f"cgs{k + 1}")
+            J6 = d.get("frame_jacobians")[6 * contact.frame:6 * contact.frame + 6, :]
+            along = contact.kp * jacobian() * J6
+            turning = contact.kp * sp.Matrix.vstack(skew(sp.Matrix(error[:3])), skew(sp.Matrix(error[3:]))) * J6[3:6, :]
+            base = 6 if robot.floating else 0
+            for i in range(6):
+                for j in range(dF2_q.shape[1]):
+                    extra = along[i, j] + (turning[i, j] if j >= base else 0)
+                    if extra != 0:
+                        dF2_q[at + i, j] = b.define("cgS", dF2_q[at + i, j] + extra)
+        at += contact.rows
 
 
 def _planar_base_columns(d: _Derivation, contact, force, point, dF1_q: sp.Matrix, rows: sp.Matrix, R_w, p_w) -> sp.Matrix:
@@ -1227,8 +1254,9 @@ def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> tuple[sp.Mat
             continue
         spin = named_vector(b, f"cFw{k + 1}", rotation * omega)  # the sole's, world axes
         velocity = named_vector(b, f"cFv{k + 1}", J[at:at + 3, :] * sp.Matrix(d.qd))
-        rows += list(named_vector(b, f"cF2s{k + 1}", classical - spin.cross(velocity)))
-        rows += list(named_vector(b, f"cF2w{k + 1}", rotation * omegad))
+        damping = contact.kd if contact.corrected else 0  # (its log term: _sole_columns, in closed form)
+        rows += list(named_vector(b, f"cF2s{k + 1}", classical - spin.cross(velocity) + damping * velocity))
+        rows += list(named_vector(b, f"cF2w{k + 1}", rotation * omegad + damping * spin))
     return sp.Matrix(rows), points
 
 

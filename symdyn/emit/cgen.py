@@ -408,10 +408,17 @@ def _correction_lines(contact) -> list[str]:
     """The header's lines on a contact's Baumgarte correction: its equation, gains and reference."""
     def shown(e):
         return f"{float(e):.17g}" if sp.sympify(e).is_number else str(e)
+    sole = contact.kind == "6d"
+    held = " - kp X log6(M^-1 M_ref)" if sole else " + kp (p - reference)"
     lines = ["  Baumgarte correction (Pinocchio's corrector, one gain on every axis): J qdd + gamma"
-             + (" + kd v" if contact.kd != 0 else "") + (" + kp (p - reference)" if contact.kp != 0 else "") + " = 0,",
-             f"  v, p the point's velocity and position, kp = {shown(contact.kp)} 1/s^2, kd = {shown(contact.kd)} 1/s"]
-    if contact.kp != 0:
+             + (" + kd v" if contact.kd != 0 else "") + (held if contact.kp != 0 else "") + " = 0,",
+             (f"  v the frame's velocity, M its placement, X = diag(R, R) its rotation, kp = {shown(contact.kp)} 1/s^2, "
+              if sole else f"  v, p the point's velocity and position, kp = {shown(contact.kp)} 1/s^2, ")
+             + f"kd = {shown(contact.kd)} 1/s"]
+    if contact.kp != 0 and sole:
+        lines.append(f"  M_ref: origin ({', '.join(shown(e) for e in contact.reference[:3])}) m, rotation roll, pitch, "
+                     f"yaw ({', '.join(shown(e) for e in contact.reference[3:])}) rad about the fixed world axes")
+    elif contact.kp != 0:
         lines.append(f"  reference = ({', '.join(shown(e) for e in contact.reference)}) m, world coordinates")
     return lines
 

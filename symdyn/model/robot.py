@@ -50,8 +50,6 @@ TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "base_b
 #: the frame's origin, linear 0-2 then angular 3-5)
 CONTACT_AXES = {"3d": (0, 1, 2), "6d": (0, 1, 2, 3, 4, 5), "xz": (0, 2), "xy": (0, 1), "yz": (1, 2)}
 CONTACT_ROWS = {kind: len(axes) for kind, axes in CONTACT_AXES.items()}
-#: the kinds that hold a point (no angular rows): the ones a Baumgarte correction applies to
-POINT_CONTACTS = ("3d", "xz", "xy", "yz")
 #: what each kind holds, for messages and headers
 CONTACT_MEANING = {"3d": "a point held", "6d": "a sole held", "xz": "a point held in the xz plane",
                    "xy": "a point held in the xy plane", "yz": "a point held in the yz plane"}
@@ -267,13 +265,15 @@ class Contact:
     ``"6d"`` (its whole velocity zero: a sole, a gripped tool) or ``"xz"``, ``"xy"``, ``"yz"``
     (its origin's velocity zero along those two world axes: a planar robot's foot).
 
-    A point may be held with a Baumgarte correction (Pinocchio's ``corrector`` with the same
-    gain on every axis): its constraint becomes ``a + kd v + kp (p - reference) = 0`` (a, v, p
-    the frame origin's classical acceleration, velocity and position, world axes; on the kind's
-    axes: a planar contact's two), ``kp`` (1/s^2)
-    and ``kd`` (1/s) at least 0, ``reference`` (3 entries, m, world) the point it is held at;
-    each an expression of numbers and runtime parameters (a reference that changes at run time
-    is three runtime parameters)."""
+    A contact may be held with a Baumgarte correction (Pinocchio's ``corrector`` with the same
+    gain on every axis): a point's constraint becomes ``a + kd v + kp (p - reference) = 0`` (a,
+    v, p the frame origin's classical acceleration, velocity and position, world axes; on the
+    kind's axes: a planar contact's two), a sole's ``a + kd v - kp X log6(M^-1 M_ref) = 0`` (a its
+    spatial acceleration, v its velocity, world-aligned; M its placement, M_ref the reference's,
+    X = diag(R, R) with R its rotation); ``kp`` (1/s^2) and ``kd`` (1/s) at least 0,
+    ``reference`` the point held (3 entries, m, world) or the placement (6: x, y, z in m, then
+    roll, pitch, yaw in rad about the fixed axes); each an expression of numbers and runtime
+    parameters (a reference that changes at run time is runtime parameters)."""
 
     frame: int
     kind: str
@@ -295,6 +295,10 @@ class Contact:
     def corrected(self) -> bool:
         """True when the contact has a Baumgarte correction (a gain not identically zero)."""
         return self.kp != 0 or self.kd != 0
+
+    def reference_placement(self) -> tuple[sp.Matrix, sp.Matrix]:
+        """``(R, p)``: a sole's reference rotation (3 x 3) and origin (3 x 1), world."""
+        return _rpy_matrix(*self.reference[3:6]), sp.Matrix(self.reference[:3])
 
     def expressions(self) -> tuple[sp.Expr, ...]:
         """The correction's gains and reference (what may name runtime parameters)."""
@@ -922,7 +926,8 @@ def from_document(doc: Any, path: str, source_hash: str = "") -> Robot:
     contacts = ()
     if "contacts" in doc:
         wanted = parse_contacts(doc["contacts"], lambda message, at="": reader.fail(message, None, "contacts" + at),
-                                lambda value, at: reader.number(value, None, "contacts" + at))
+                                lambda value, at: reader.number(value, None, "contacts" + at),
+                                lambda value, at: reader.angle(value, None, "contacts" + at))
         frames, contacts = resolve_contacts(frames, links, wanted,
                                             lambda message, at="": reader.fail(message, None, "contacts" + at))
     runtime_syms = list(reader.runtime.values())
@@ -966,11 +971,12 @@ def _numbers_only(value: Any, at: str) -> sp.Expr:
     return _to_exact(value)
 
 
-def parse_contacts(raw: Any, fail, number=None) -> list[WantedContact]:
+def parse_contacts(raw: Any, fail, number=None, angle=None) -> list[WantedContact]:
     """The contact set as :class:`WantedContact` s: a list of ``NAME:3d`` / ``NAME:6d`` strings or
     ``{frame: NAME, kind: 3d, kp, kd, reference}`` mappings, or one comma-separated string of the
     former (the command line's).  ``fail(message, where)`` reports a mistake (``where``:
-    ``[k]``); ``number(value, where)`` reads a gain or reference entry (plain numbers when None)."""
+    ``[k]``); ``number(value, where)`` reads a gain or reference entry (plain numbers when None),
+    ``angle(expr, where)`` turns a sole's reference angle into rad (None: taken as rad)."""
     if isinstance(raw, str):
         raw = [item.strip() for item in raw.split(",") if item.strip()]
     if not isinstance(raw, list) or not raw:
@@ -996,11 +1002,11 @@ def parse_contacts(raw: Any, fail, number=None) -> list[WantedContact]:
             fail(f"contact {name}: kind {describe(kind)} is not {CONTACT_KINDS_TEXT}", at)
         if any(name == seen.name for seen in out):
             fail(f"frame {describe(name)} is in contact twice", at)
-        out.append(WantedContact(name, kind, *_correction(name, kind, gains, at, fail, number)))
+        out.append(WantedContact(name, kind, *_correction(name, kind, gains, at, fail, number, angle)))
     return out
 
 
-def _correction(name: str, kind: str, gains: dict, at: str, fail, number) -> tuple:
+def _correction(name: str, kind: str, gains: dict, at: str, fail, number, angle=None) -> tuple:
     """``(kp, kd, reference)`` of a contact's Baumgarte correction from its mapping's fields."""
     if not gains:
         return sp.S.Zero, sp.S.Zero, None
@@ -1010,24 +1016,24 @@ def _correction(name: str, kind: str, gains: dict, at: str, fail, number) -> tup
             return (number or _numbers_only)(value, f"{at}.{where}")
         except ExpressionError as exc:
             fail(f"contact {name}: {where}: {exc}", f"{at}.{where}")
-    if kind not in POINT_CONTACTS:
-        fail(f"contact {name}: a Baumgarte correction (kp, kd, reference) is supported on a point held (3d, xz, xy, "
-             "yz), not yet on a sole (6d): its placement error is a log of SE(3)", at)
     kp, kd = (read(gains[key], key) if key in gains else sp.S.Zero for key in ("kp", "kd"))
     for key, gain in (("kp", kp), ("kd", kd)):
         if gain.is_number and gain < 0:
             fail(f"contact {name}: {key} is {float(gain):g}: a gain is at least 0 (a negative one drives the "
                  "contact away from where it is held)", f"{at}.{key}")
     reference = None
+    size, shape = (6, "[x, y, z, roll, pitch, yaw], the placement held: its origin in world coordinates (m), its "
+                   "rotation about the fixed x, y, z axes (rad)") if kind == "6d" else (
+                   3, "[x, y, z], the point held in world coordinates (m)")
     if "reference" in gains:
         raw = gains["reference"]
-        if not isinstance(raw, list) or len(raw) != 3:
-            fail(f"contact {name}: reference: expected [x, y, z], the point held in world coordinates (m)",
-                 f"{at}.reference")
+        if not isinstance(raw, list) or len(raw) != size:
+            fail(f"contact {name}: reference: expected {shape}", f"{at}.reference")
         reference = tuple(read(value, f"reference[{i}]") for i, value in enumerate(raw))
+        if size == 6 and angle is not None:
+            reference = reference[:3] + tuple(angle(e, f"{at}.reference[{3 + i}]") for i, e in enumerate(reference[3:]))
     if kp != 0 and reference is None:
-        fail(f"contact {name}: kp needs reference: [x, y, z], the point held in world coordinates (m): the "
-             "correction pulls the contact back to it", at)
+        fail(f"contact {name}: kp needs reference: {shape}: the correction pulls the contact back to it", at)
     if kp == 0 and reference is not None:
         fail(f"contact {name}: reference without kp: the reference is where kp pulls the contact to (give kp, or "
              "leave the reference out)", f"{at}.reference")
