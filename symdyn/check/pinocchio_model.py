@@ -494,9 +494,10 @@ class ContactReference:
     minus omega x v, as ``constraintDynamics`` holds a 6D contact), and the KKT system solved as a
     dense matrix by numpy: nothing of symdyn's derivation.  tests/derive/test_contact.py checks this
     against Pinocchio's ``constraintDynamics`` itself (whose ``lambda_c`` are these forces).
-    :attr:`contact_set` (:class:`HeldContact` s) is set by :func:`reduced`; a point's Baumgarte
-    correction adds ``kd v + kp (p - reference)`` to its drift (Pinocchio's ``corrector`` with one
-    gain on every axis: tests/derive/test_contact.py checks it against constraintDynamics too)."""
+    :attr:`contact_set` (:class:`HeldContact` s) is set by :func:`reduced`; a Baumgarte correction
+    adds ``kd v + kp (p - reference)`` to a point's drift, ``kd v - kp X log6(M^-1 M_ref)`` to a
+    sole's (Pinocchio's ``corrector`` with one gain on every axis, its ``log6``:
+    tests/derive/test_contact_kinds.py checks it against constraintDynamics too)."""
 
     contact_set: tuple = ()
     #: the coordinates contact inverse dynamics gives no force (a floating base's six), set by :func:`reduced`
@@ -1194,7 +1195,7 @@ class MimicReduction(ContactReference, ConfigurationSpaceReference):
 @dataclass(frozen=True)
 class HeldContact:
     """A contact of the reference in numbers: its frame's index, kind and Baumgarte correction
-    (``kp``, ``kd``; ``reference``: 3 numbers, or None)."""
+    (``kp``, ``kd``; ``reference``: a point's 3 numbers, a sole's 6, or None)."""
 
     frame: int
     kind: str

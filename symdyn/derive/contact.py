@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from . import ldlt
+from .configuration import relative_log
 
 
 @dataclass(frozen=True)
@@ -104,7 +105,6 @@ def sole_error(contact, pose: sp.Matrix, define, hint: str):
     frame's world-aligned motion ``delta`` (its Jacobian's columns) is made of:
     ``d(X xi) = -[[R xi_lin]x; [R xi_ang]x] delta_ang - X Jl^-1(xi) X^T delta`` (M moving by the
     local twist X^T delta turns M^-1 M_ref by its inverse on the left)."""
-    from .configuration import relative_log
     R1, p1 = pose[:3, :3], pose[:3, 3]
     R2, p2 = contact.reference_placement()
     rho, phi, jacobian = relative_log(define, R1, p1, R2, p2, hint)

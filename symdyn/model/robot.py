@@ -50,14 +50,11 @@ TOP_KEYS = ("format", "name", "convention", "gravity", "angles", "base", "base_b
 #: the frame's origin, linear 0-2 then angular 3-5)
 CONTACT_AXES = {"3d": (0, 1, 2), "6d": (0, 1, 2, 3, 4, 5), "xz": (0, 2), "xy": (0, 1), "yz": (1, 2)}
 CONTACT_ROWS = {kind: len(axes) for kind, axes in CONTACT_AXES.items()}
-#: what each kind holds, for messages and headers
-CONTACT_MEANING = {"3d": "a point held", "6d": "a sole held", "xz": "a point held in the xz plane",
-                   "xy": "a point held in the xy plane", "yz": "a point held in the yz plane"}
 #: the kinds as a message lists them
 CONTACT_KINDS_TEXT = ("3d (a point held), 6d (a sole held) or xz, xy, yz (a point held in that plane: a planar "
                       "robot's foot)")
-#: the fields of a ``contacts:`` entry written as a mapping (``kp``, ``kd``, ``reference``: the
-#: Baumgarte correction of a point held, :class:`Contact`)
+#: the fields of a ``contacts:`` entry written as a mapping (``kp``, ``kd``, ``reference``: its
+#: Baumgarte correction, :class:`Contact`)
 CONTACT_KEYS = ("frame", "kind", "kp", "kd", "reference")
 #: the fields of a frame fixed in a link (``frames:`` entries written as mappings)
 FRAME_KEYS = ("name", "link", "xyz", "rpy")
