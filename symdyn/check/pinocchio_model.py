@@ -508,7 +508,7 @@ class ContactReference:
         J_all = np.asarray(self.frame_jacobians(q))
         return np.vstack([J_all[[6 * held.frame + a for a in held.axes]] for held in self.contact_set])
 
-    def _rows_and_drift(self, q, qd):
+    def _rows_and_drift(self, q, qd, sole_logs: bool = True):
         """``(J, gamma)``: the contacts' rows (:meth:`_contact_jacobian`) and their drift J-dot qd,
         a point's classical acceleration at qdd = 0, a sole's spatial one (the classical minus
         omega x v, as constraintDynamics holds a 6D contact)."""
@@ -525,20 +525,38 @@ class ContactReference:
             count = len(held.axes)
             drift = drift[list(held.axes)]
             if held.kp or held.kd:
-                drift += held.kd * (J[at:at + count] @ qd) + held.kp * self._placement_error(held, poses)
+                drift += held.kd * (J[at:at + count] @ qd)
+                if held.kind != "6d" or sole_logs:
+                    drift += held.kp * self._placement_error(held, poses)
             gamma.append(drift)
             at += count
         return J, np.concatenate(gamma)
 
-    def _half_turn_margin(self, q) -> float:
-        """pi minus the largest rotation angle of a corrected sole from its reference at q (inf
-        without one): log6 is smooth below a half turn and jumps across it, so a difference
-        quotient of the placement error must not step over it."""
-        soles = [held for held in self.contact_set if held.kind == "6d" and held.kp]
-        if not soles:
-            return float("inf")
-        poses = np.asarray(self.frame_poses(q))
-        return min(np.pi - np.linalg.norm(self._sole_log(held, poses).angular) for held in soles)
+    def _sole_log_derivative(self, q) -> np.ndarray:
+        """The derivative by q (NC x N, along q (+) dv) of the corrected soles' terms
+        ``-kp X log6(M^-1 M_ref)`` (zero rows elsewhere), from Pinocchio's ``Jlog6``: the frame
+        moving by its world-aligned motion delta (its Jacobian's columns: J6) turns X by
+        [delta_ang]x and M^-1 M_ref = Y by exp(-X^T delta) on the left, so the term changes by
+        ``kp [[e_lin]x; [e_ang]x] delta_ang + kp X Jlog6(Y) Ad(Y^-1) X^T delta`` (e = X log6(Y))."""
+        import pinocchio as pin
+        poses, J_all = np.asarray(self.frame_poses(q)), np.asarray(self.frame_jacobians(q))
+        rows, at = [], 0
+        for held in self.contact_set:
+            block = np.zeros((len(held.axes), J_all.shape[1]))
+            if held.kind == "6d" and held.kp:
+                pose = poses[4 * held.frame:4 * held.frame + 4]
+                R = pose[:3, :3]
+                X = np.kron(np.eye(2), R)
+                Y = pin.SE3(R.copy(), pose[:3, 3].copy()).actInv(
+                    pin.SE3(pin.rpy.rpyToMatrix(*held.reference[3:]), np.asarray(held.reference[:3], dtype=float)))
+                xi = pin.log6(Y)
+                e_lin, e_ang = R @ xi.linear, R @ xi.angular
+                J6 = J_all[6 * held.frame:6 * held.frame + 6]
+                turn = np.vstack([pin.skew(e_lin), pin.skew(e_ang)]) @ J6[3:]
+                block = held.kp * (turn + X @ pin.Jlog6(Y) @ Y.inverse().action @ X.T @ J6)
+            rows.append(block)
+            at += len(held.axes)
+        return np.vstack(rows)
 
     def _sole_log(self, held, poses):
         """Pinocchio's ``log6(M^-1 M_ref)`` of a corrected sole (M its frame's placement)."""
@@ -613,8 +631,10 @@ class ContactReference:
     def _constraint_terms(self, q, qd, qdd, force):
         """``(J^T lambda, J qdd + gamma)``: the constraints' generalized force at fixed ``force``
         (world-aligned axes) and the contacts' accelerations (a point's classical, a sole's
-        spatial) at ``qdd``, from Pinocchio's frame Jacobians and accelerations."""
-        J, gamma = self._rows_and_drift(q, qd)
+        spatial) at ``qdd``, from Pinocchio's frame Jacobians and accelerations; a corrected
+        sole's log term left out (:meth:`_sole_log_derivative` differentiates it: log6 jumps at a
+        half turn, and a difference quotient near it loses its digits)."""
+        J, gamma = self._rows_and_drift(q, qd, sole_logs=False)
         return J.T @ force, J @ qdd + gamma
 
     def _contact_derivatives(self, q, qd, tau):
@@ -632,7 +652,6 @@ class ContactReference:
         dF1_qd = np.array(self.inverse_dynamics_dqd(q, qd, qdd), dtype=float)
         dF2_q, dF2_qd = np.zeros((m, n)), np.zeros((m, n))
         h = self._STEP / self._rate_scale  # (a mimic joint turning m times as fast: h / m, the same truncation)
-        h = min(h, self._half_turn_margin(q) / 10)  # (the stencil, 4 h, stays on the near side of the log's cut)
         for j in range(n):
             step = np.zeros(n)
             for k, weight in self._STENCIL:
@@ -646,6 +665,8 @@ class ContactReference:
             ahead, behind = self._constraint_terms(q, qd + rate, qdd, force), self._constraint_terms(q, qd - rate, qdd, force)
             dF2_qd[:, j] = (ahead[1] - behind[1]) / 2
         system = np.block([[M, J.T], [J, np.zeros((m, m))]])
+        if any(held.kind == "6d" and held.kp for held in self.contact_set):
+            dF2_q += self._sole_log_derivative(q)
         solved = [-np.linalg.solve(system, np.vstack([a, b])) for a, b in ((dF1_q, dF2_q), (dF1_qd, dF2_qd))]
         inverse = np.linalg.inv(system)
         dq, dqd = solved
