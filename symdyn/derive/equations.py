@@ -159,6 +159,14 @@ class Equations:
     #: ``dqdd/dqd = -Minv dtau_dqd`` as a loop (the outputs hold the same products written
     #: out); else ``()``
     inverse_products: tuple = ()
+    #: ``(W, dF_q, dF_qd, solution)`` when a contact derivative (by q or qd) was derived, for
+    #: emitters that write its products as loops (the outputs hold the same products written
+    #: out): ``[dqdd/dx; dlambda/dx] = -W [dF1/dx; dF2/dx]`` with ``W = [K S; -S^T A^-1]``
+    #: ((n + m) x (n + m), the constrained system's inverse with its force rows negated: its first
+    #: n columns are dqdd/dtau and dlambda/dtau), the residuals' derivatives ``dF_q`` and
+    #: ``dF_qd`` ((n + m) x n; a floating base's turn of the forces folded into dF1 as
+    #: ``-J^T [lambda]x R``) and the solution ``[qdd; lambda]`` ((n + m) x 1); else ``()``
+    contact_products: tuple = ()
     #: ``((parts, tangents), ...)``: for derivative outputs whose straight-line statements pass
     #: :data:`TANGENT_LOOPS_FROM_OPS`, their vector forward-mode form
     #: (:class:`symdyn.derive.tangents.VectorTangents`) for emitters that write them as loops:
@@ -582,6 +590,7 @@ class _Derivation:
         #: the solved contact system: (J, gamma, ContactDynamics), for its derivatives
         self.contact_system: tuple = ()
         self.inverse_products: tuple = ()
+        self.contact_products: tuple = ()
         self.tangent_loops: list = []
         self.jne = self.le = None
         if method == "jacobian-newton-euler":
@@ -1095,6 +1104,7 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
                                                                       dF1_q, dF2_q[at:at + contact.rows, :], R_w, p_w)
             at += contact.rows
     K, S, Ainv = inverse.K, inverse.S, inverse.A_inverse
+    d.contact_products = _contact_products(d, inverse, J, turn, (dF1_q, dF2_q), (dF1_qd, dF2_qd), qdd + force)
 
     def combination(hint, *terms, extra=None):
         """``extra`` plus the products ``sign * A B`` of ``terms`` (``(sign, A, B)``), each entry
@@ -1112,6 +1122,28 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
     f = _mass_factorization(d)
     d.checks.append((CONTACT_DERIVATIVES, tuple((p, mm, 1) for p, mm in f.pivots) + tuple((p, mm, 3) for p, mm in system.pivots)))
     return d.values["contact_accelerations_dq"]
+
+
+#: the contact derivatives :attr:`Equations.contact_products` gives as products
+CONTACT_PRODUCT_OUTPUTS = ("contact_accelerations_dq", "contact_accelerations_dqd", "contact_forces_dq",
+                           "contact_forces_dqd")
+
+
+def _contact_products(d: _Derivation, inverse, J: sp.Matrix, turn: sp.Matrix, by_q, by_qd, solution) -> tuple:
+    """:attr:`Equations.contact_products`: ``W = [K S; -S^T A^-1]`` and the stacked residual
+    derivatives, a floating base's turn of the forces (``turn``, m x n: ``-[lambda]x R`` in the
+    base's turn columns) folded into dF1/dq as ``J^T turn`` (S^T J^T = 1 gives dlambda its
+    ``turn``, K J^T = 0 leaves dqdd alone), so that one product ``-W dF`` gives every entry."""
+    n, m = d.n, J.shape[0]
+    W = sp.Matrix.vstack(sp.Matrix.hstack(inverse.K, inverse.S), sp.Matrix.hstack(-inverse.S.T, inverse.A_inverse))
+    dF1_q = sp.Matrix(by_q[0])
+    if any(e != 0 for e in turn):
+        folded = (J.T * turn).applyfunc(lambda e: d.b.define("cLj", e) if e != 0 else e)
+        dF1_q = (dF1_q + folded).applyfunc(lambda e: d.b.define("cLk", e) if e.is_Add else e)
+    dF_q = sp.Matrix.vstack(dF1_q, by_q[1])
+    dF_qd = sp.Matrix.vstack(*by_qd)
+    assert W.shape == (n + m, n + m) and dF_q.shape == dF_qd.shape == (n + m, n)
+    return tuple(sp.ImmutableMatrix(x) for x in (W, dF_q, dF_qd, sp.Matrix(solution)))
 
 
 def _sole_columns(d: _Derivation, dF2_q: sp.Matrix) -> None:
@@ -1254,7 +1286,7 @@ def _contact_accelerations_at(d: _Derivation, J: sp.Matrix, qdd) -> tuple[sp.Mat
             continue
         spin = named_vector(b, f"cFw{k + 1}", rotation * omega)  # the sole's, world axes
         velocity = named_vector(b, f"cFv{k + 1}", J[at:at + 3, :] * sp.Matrix(d.qd))
-        damping = contact.kd if contact.corrected else 0  # (its log term: _sole_columns, in closed form)
+        damping = contact.kd  # (0 without a correction; its log term: _sole_columns, in closed form)
         rows += list(named_vector(b, f"cF2s{k + 1}", classical - spin.cross(velocity) + damping * velocity))
         rows += list(named_vector(b, f"cF2w{k + 1}", rotation * omegad + damping * spin))
     return sp.Matrix(rows), points
@@ -1475,6 +1507,7 @@ def derive(robot: Robot, method: str = "newton-euler", outputs: Iterable[str] | 
                      fd_loops=d.fd_loops if "forward_dynamics" in wanted else (),
                      joint_trig=chain.joint_trig,
                      inverse_products=d.inverse_products if set(FORWARD_DERIVATIVES) & set(wanted) else (),
+                     contact_products=d.contact_products if set(CONTACT_PRODUCT_OUTPUTS) & set(wanted) else (),
                      tangent_loops=tuple((parts, t) for parts, t in d.tangent_loops if set(parts) & set(wanted)),
                      checks=tuple((outputs, checks) for outputs, checks in d.checks
                                   if any(name in wanted for name in outputs)))

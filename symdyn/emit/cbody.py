@@ -213,6 +213,27 @@ def _column_products(products, store: str, limit: str, fabs: str, bits, fma: str
     return lines, Counter({"mul": mul, "add": add})
 
 
+def contact_product_loop(products, store: str, internal: str, scalar: str, fma: str, prefix: str) -> tuple[list[str], Counter]:
+    """C lines forming the contact derivatives ``-W dF`` (``products``: a
+    :class:`~symdyn.emit.cplan.ContactProducts`) column by column, each column one loop over the
+    padded rows of W's columns (k where dF's column is not identically zero, fused by ``fma``),
+    checking every result, the solution and W, and writing the outputs, ending with ``return 0``;
+    and their operation counts (every lane the loops run)."""
+    n, stride = products.n, products.stride
+    limit, fabs = _limit(internal, scalar)
+    columns, mul, add = [], 0, 0
+    for b, (_, array, nonzero_rows) in enumerate(products.blocks):
+        for j, nonzero in enumerate(nonzero_rows):
+            terms = [(True, f"cdd_w[{k * stride} + i]", f"{array}[{k * n + j}]") for k in nonzero]
+            columns.append(((b * n + j) * stride, fused_sum(terms, fma) if terms else "0"))
+            mul, add = mul + stride * len(nonzero), add + stride * max(len(nonzero) - 1, 0)
+    checked = [("cdd_r", len(products.blocks) * n * stride), ("cdd_w", products.rows * stride),
+               ("cdd_a", products.rows)]
+    lines = _macro_lines(_loops().contact_products(stride, columns, checked, products.writes, store, limit, fabs,
+                                                   _exponent_bits(internal, scalar), status_macros(prefix)))
+    return lines, Counter({"mul": mul, "add": add})
+
+
 def tangent_loops(tangent, printer, store: str, fma: str) -> tuple[list[str], Counter, int]:
     """C lines of a :class:`~symdyn.emit.cplan.TangentPlan`: each step a loop over the
     directions (``dv_t``, one row of :func:`tangent_width` entries per live tangent, rows reused
@@ -424,7 +445,7 @@ def writes_results_early(plan: FunctionPlan, reduced: ReducedPlan) -> bool:
     every function but those that check their results before writing them (forward dynamics,
     task space, the inverse mass matrix) or write them from scratch arrays (the looped solve,
     the products of the forward-dynamics derivatives)."""
-    if plan.checked or plan.looped or plan.sweeps or plan.products:
+    if plan.checked or plan.looped or plan.sweeps or plan.products or plan.contact_products:
         return False
     values = {expr for target, expr in zip(plan.targets, reduced.outputs)
               if not target.local and sp.sympify(expr).free_symbols}
@@ -503,10 +524,17 @@ class BodyWriter:
             n, blocks, _, stride, _ = plan.products
             self._declare([("fdd_m", n * n)] + [(array, n * stride) for array, _ in blocks]
                           + [("fdd_r", len(blocks) * n * stride)])
+        if plan.contact_products:
+            if self.vector:
+                raise VectorUnsupported("the contact derivatives' product loop")
+            cp = plan.contact_products
+            self._declare([("cdd_w", cp.rows * cp.stride), ("cdd_a", cp.rows)]
+                          + [(array, cp.rows * cp.n) for _, array, _ in cp.blocks]
+                          + [("cdd_r", len(cp.blocks) * cp.n * cp.stride)])
         self.segment_start = len(self.lines)
         late = self._statements(checks)
         self.segment_end = len(self.lines)
-        if plan.checked and not plan.looped and not plan.sweeps and not plan.products:
+        if plan.checked and not plan.looped and not plan.sweeps and not plan.products and not plan.contact_products:
             self._checked_results(late)
         else:
             for target, expr in late:
@@ -536,7 +564,8 @@ class BodyWriter:
         inverse-dynamics derivatives' tangent loops, where fusing measured slower: a step's sum
         fused is a chain of FMAs, and an add has half an FMA's latency on current x86 cores
         (iiwa14's dtau/dq 391 -> 466 ns, gcc -O3 -march=native; docs/benchmarks.md)."""
-        fused = self.ctx.fused or self.plan.products or (self.plan.sweeps is not None and FUSED_ARTICULATED_LOOPS)
+        fused = (self.ctx.fused or self.plan.products or self.plan.contact_products
+                 or (self.plan.sweeps is not None and FUSED_ARTICULATED_LOOPS))
         return fma_macro(self.ctx.prefix) if fused else ""
 
     def _declare(self, arrays) -> None:
@@ -749,6 +778,11 @@ class BodyWriter:
             self.ops += coriolis_ops(n)
         if plan.products:
             lines, ops = product_loop(plan.products, self.store, ctx.internal, ctx.scalar, self._loop_fma(), ctx.prefix)
+            self.lines += lines
+            self.ops += ops
+        if plan.contact_products:
+            lines, ops = contact_product_loop(plan.contact_products, self.store, ctx.internal, ctx.scalar,
+                                              self._loop_fma(), ctx.prefix)
             self.lines += lines
             self.ops += ops
         if plan.looped:

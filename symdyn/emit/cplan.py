@@ -90,6 +90,9 @@ class FunctionPlan:
     #: (:func:`product_stride`), ``columns`` the product by columns' nonzero rows of dtau/dx
     #: (:func:`product_columns`) or None for the product by rows; None otherwise
     products: tuple | None = None
+    #: the contact derivatives written as ``-W dF`` after the statements
+    #: (:attr:`Equations.contact_products`, :class:`ContactProducts`), or None
+    contact_products: "ContactProducts | None" = None
     #: derivatives written as vector tangents by loops (:class:`TangentPlan`), or None
     tangents: "TangentPlan | None" = None
     #: program symbols the function takes as given (its statements stop there: a stage of a
@@ -313,6 +316,67 @@ def _product_targets(eqs: Equations, plan: FunctionPlan) -> None:
     _set_checks(eqs, plan)
 
 
+#: where each contact output's entries come from in the contact product loop: ``(block, first
+#: row)`` of the results ``cdd_r`` (block 0 by q, 1 by qd), or ``(source array, first row)`` of
+#: the solution ``cdd_a`` and of W's first n columns ``cdd_w`` (dqdd/dtau = K, dlambda/dtau = -S^T)
+CONTACT_PRODUCT_SOURCES = {
+    "contact_accelerations": ("cdd_a", 0), "contact_forces": ("cdd_a", 1),
+    "contact_accelerations_dq": (0, 0), "contact_forces_dq": (0, 1),
+    "contact_accelerations_dqd": (1, 0), "contact_forces_dqd": (1, 1),
+    "contact_accelerations_dtau": ("cdd_w", 0), "contact_forces_dtau": ("cdd_w", 1),
+}
+#: the scratch array of each block of residual derivatives (by q, by qd) in the product loop
+CONTACT_PRODUCT_ARRAYS = ("cdd_q", "cdd_v")
+
+
+@dataclass(frozen=True)
+class ContactProducts:
+    """The contact derivatives' product loop (:attr:`Equations.contact_products`): ``n`` joints'
+    velocities, ``rows`` = n + m (accelerations then forces), ``stride`` the rows rounded up to
+    whole vectors (:func:`tangent_width`: W's columns and the results' columns are that long,
+    column-major, the padding zero); ``blocks`` per block of residual derivatives computed (by
+    q, by qd) ``(block, array, columns)``, ``columns[j]`` the rows k where dF's column j is not
+    identically zero; ``writes``: ``(output argument, source, first row, rows, columns)``, the
+    output's entry (i, j) read from ``source[j * stride + first + i]``."""
+
+    n: int
+    rows: int
+    stride: int
+    blocks: tuple
+    writes: tuple
+
+
+def _contact_product_plan(eqs: Equations, plan: FunctionPlan) -> None:
+    """A function with contact derivatives by q or qd (and only contact outputs): W (column-major,
+    ``cdd_w``), the solution (``cdd_a``) and the nonzero entries of each needed dF (``cdd_q``,
+    ``cdd_v``, row-major n columns) into scratch arrays as soon as computed; the loop that ends
+    the body forms ``-W dF`` column by column, checks every result and writes the outputs."""
+    W, dF_q, dF_qd, solution = eqs.contact_products
+    n, rows = eqs.n, W.shape[0]
+    stride = tangent_width(rows)
+    wanted = sorted({CONTACT_PRODUCT_SOURCES[part][0] for part in plan.parts} & {0, 1})
+    blocks = tuple((block, CONTACT_PRODUCT_ARRAYS[block],
+                    tuple(tuple(k for k in range(rows) if (dF_q, dF_qd)[block][k, j] != 0) for j in range(n)))
+                   for block in wanted)
+    targets = [Target(f"cdd_w[{k * stride + i}]", W[i, k] if i < rows else sp.S.Zero, True)
+               for k in range(rows) for i in range(stride)]
+    targets += [Target(f"cdd_a[{i}]", solution[i], True) for i in range(rows)]
+    for block, array, columns in blocks:
+        dF = (dF_q, dF_qd)[block]
+        targets += [Target(f"{array}[{k * n + j}]", dF[k, j], True) for j, nonzero in enumerate(columns) for k in nonzero]
+    writes = []
+    for part in plan.parts:
+        source, half = CONTACT_PRODUCT_SOURCES[part]
+        first, count = (0, n) if half == 0 else (n, rows - n)
+        columns = 1 if source == "cdd_a" else n
+        if isinstance(source, int):
+            source = f"cdd_r + {wanted.index(source) * n * stride}"
+        writes.append((REGISTRY[part].arguments[0].name, source, first, count, columns))
+    plan.targets = targets
+    plan.contact_products = ContactProducts(n, rows, stride, blocks, tuple(writes))
+    _set_checks(eqs, plan)
+
+
 def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
     """Stage 1 for the function ``name`` (an output, or a combined function of several)."""
     parts = COMBINED.get(name, (name,))
@@ -321,6 +385,9 @@ def collect_targets(eqs: Equations, name: str) -> FunctionPlan:
         plan.checked = True
         if eqs.inverse_products and set(parts) & set(PRODUCT_ARRAYS):
             _product_targets(eqs, plan)
+        elif (eqs.contact_products and set(parts) <= set(CONTACT_PRODUCT_SOURCES)
+              and any(isinstance(CONTACT_PRODUCT_SOURCES[part][0], int) for part in parts)):
+            _contact_product_plan(eqs, plan)
         else:
             _checked_targets(eqs, plan)
         return plan

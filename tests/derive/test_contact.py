@@ -262,6 +262,19 @@ def test_contact_derivatives_tree(tmp_path_factory):
     assert np.abs(K - K.T).max() < 1e-12 * np.abs(K).max()
     assert np.abs(J @ K).max() < 1e-10 * np.abs(J).max() * np.abs(K).max()
     assert np.abs(dlambda_dtau @ J.T + np.eye(J.shape[0])).max() < 1e-10
+    # torques from ordinary up past where the results overflow (the product loop's final test of
+    # finite results stands behind the dynamics' own): status 0 writes finite numbers, any other
+    # status writes nothing
+    statuses = set()
+    for scale in np.concatenate([[1.0], 1e306 * np.linspace(1, 179, 96)]):
+        big = np.full(len(tau), scale) * np.linspace(1, 0.5, len(tau))
+        status, values = lib.with_status("contact_forward_dynamics_derivatives", q, qd, big)
+        statuses.add(status)
+        if status == 0:
+            assert all(np.all(np.isfinite(value)) for value in values), scale
+        else:
+            assert status == 2 and all(np.all(np.isnan(value)) for value in values), (scale, status)
+    assert statuses == {0, 2}
 
 
 def test_contact_inverse_dynamics(tmp_path_factory):
