@@ -104,6 +104,7 @@ def test_shrinks_to_the_links_that_matter(tmp_path, monkeypatch):
     assert not small.frames or small.frames == tuple(f for f in case.frames if f in small.text)
 
 
+@pytest.mark.slow
 def test_a_small_campaign(tmp_path):
     """Three robots end to end through the command line's campaign (the fixed campaign of 30
     is .ci/run's); a failure is kept as a case file."""
@@ -146,6 +147,7 @@ HELD = fuzz.Case(
 """)
 
 
+@pytest.mark.slow
 def test_finds_a_correction_left_out(tmp_path, monkeypatch):
     """A point held with a Baumgarte correction (half of the cases holding a point carry one, the
     fixed campaign's cases 22 and 27 among them): the case passes, and a derivation that leaves
