@@ -219,11 +219,14 @@ class ConstrainedInverse:
         [J   0 ]    = [S^T  -A^-1]    K = M^-1 - Z Z^T,  S = Z R^-T = M^-1 J^T A^-1,  A = J M^-1 J^T = R^T R
 
     with ``Z = W Q`` (n x m); ``K`` (n x n, symmetric), ``S`` (n x m) and ``A_inverse`` (m x m,
-    symmetric), every entry named."""
+    symmetric), every entry named; ``Z`` and ``R_inverse`` (m x m, upper triangular) they are
+    formed from: ``[K S; -S^T A^-1] = diag(M^-1, 0) + [Z; R^-1] [-Z; R^-1]^T``."""
 
     K: sp.Matrix
     S: sp.Matrix
     A_inverse: sp.Matrix
+    Z: sp.Matrix
+    R_inverse: sp.Matrix
 
 
 def constrained_inverse(b, f, tree: bool, system: ContactDynamics, Minv: sp.Matrix, hint: str = "ck") -> ConstrainedInverse:
@@ -251,4 +254,4 @@ def constrained_inverse(b, f, tree: bool, system: ContactDynamics, Minv: sp.Matr
         for j in range(i, n):
             K[i, j] = K[j, i] = b.define(f"{hint}K{i + 1}_{j + 1}",
                                          Minv[i, j] - sp.Add(*[Z[i, l] * Z[j, l] for l in range(m) if Z[i, l] != 0]))
-    return ConstrainedInverse(K, S, A_inverse)
+    return ConstrainedInverse(K, S, A_inverse, Z, Rinv)

@@ -159,13 +159,15 @@ class Equations:
     #: ``dqdd/dqd = -Minv dtau_dqd`` as a loop (the outputs hold the same products written
     #: out); else ``()``
     inverse_products: tuple = ()
-    #: ``(W, dF_q, dF_qd, solution)`` when a contact derivative (by q or qd) was derived, for
-    #: emitters that write its products as loops (the outputs hold the same products written
-    #: out): ``[dqdd/dx; dlambda/dx] = -W [dF1/dx; dF2/dx]`` with ``W = [K S; -S^T A^-1]``
-    #: ((n + m) x (n + m), the constrained system's inverse with its force rows negated: its first
-    #: n columns are dqdd/dtau and dlambda/dtau), the residuals' derivatives ``dF_q`` and
-    #: ``dF_qd`` ((n + m) x n; a floating base's turn of the forces folded into dF1 as
-    #: ``-J^T [lambda]x R``) and the solution ``[qdd; lambda]`` ((n + m) x 1); else ``()``
+    #: ``(Minv, U, V, dF_q, dF_qd, solution)`` when a contact derivative (by q or qd) was
+    #: derived, for emitters that write its products as loops (the outputs hold the same
+    #: products written out): ``[dqdd/dx; dlambda/dx] = -W [dF1/dx; dF2/dx]`` with
+    #: ``W = [K S; -S^T A^-1] = diag(M^-1, 0) + U V^T`` ((n + m) x (n + m), the constrained
+    #: system's inverse with its force rows negated: its first n columns are dqdd/dtau and
+    #: dlambda/dtau), ``U = [Z; R^-1]`` and ``V = [-Z; R^-1]`` ((n + m) x m), M^-1 (n x n), the
+    #: residuals' derivatives ``dF_q`` and ``dF_qd`` ((n + m) x n; a floating base's turn of the
+    #: forces folded into dF1 as ``-J^T [lambda]x R``) and the solution ``[qdd; lambda]``
+    #: ((n + m) x 1); else ``()``
     contact_products: tuple = ()
     #: ``((parts, tangents), ...)``: for derivative outputs whose straight-line statements pass
     #: :data:`TANGENT_LOOPS_FROM_OPS`, their vector forward-mode form
@@ -1104,7 +1106,8 @@ def _contact_derivatives(d: _Derivation) -> sp.Matrix:
                                                                       dF1_q, dF2_q[at:at + contact.rows, :], R_w, p_w)
             at += contact.rows
     K, S, Ainv = inverse.K, inverse.S, inverse.A_inverse
-    d.contact_products = _contact_products(d, inverse, J, turn, (dF1_q, dF2_q), (dF1_qd, dF2_qd), qdd + force)
+    d.contact_products = _contact_products(d, inverse, _mass_inverse(d), J, turn, (dF1_q, dF2_q), (dF1_qd, dF2_qd),
+                                           qdd + force)
 
     def combination(hint, *terms, extra=None):
         """``extra`` plus the products ``sign * A B`` of ``terms`` (``(sign, A, B)``), each entry
@@ -1129,21 +1132,24 @@ CONTACT_PRODUCT_OUTPUTS = ("contact_accelerations_dq", "contact_accelerations_dq
                            "contact_forces_dqd")
 
 
-def _contact_products(d: _Derivation, inverse, J: sp.Matrix, turn: sp.Matrix, by_q, by_qd, solution) -> tuple:
-    """:attr:`Equations.contact_products`: ``W = [K S; -S^T A^-1]`` and the stacked residual
-    derivatives, a floating base's turn of the forces (``turn``, m x n: ``-[lambda]x R`` in the
-    base's turn columns) folded into dF1/dq as ``J^T turn`` (S^T J^T = 1 gives dlambda its
-    ``turn``, K J^T = 0 leaves dqdd alone), so that one product ``-W dF`` gives every entry."""
+def _contact_products(d: _Derivation, inverse, Minv: sp.Matrix, J: sp.Matrix, turn: sp.Matrix, by_q, by_qd,
+                      solution) -> tuple:
+    """:attr:`Equations.contact_products`: M^-1, ``U = [Z; R^-1]``, ``V = [-Z; R^-1]`` (``W =
+    diag(M^-1, 0) + U V^T``) and the stacked residual derivatives, a floating base's turn of the
+    forces (``turn``, m x n: ``-[lambda]x R`` in the base's turn columns) folded into dF1/dq as
+    ``J^T turn`` (S^T J^T = 1 gives dlambda its ``turn``, K J^T = 0 leaves dqdd alone), so that
+    one product ``-W dF`` gives every entry."""
     n, m = d.n, J.shape[0]
-    W = sp.Matrix.vstack(sp.Matrix.hstack(inverse.K, inverse.S), sp.Matrix.hstack(-inverse.S.T, inverse.A_inverse))
+    Z, Rinv = inverse.Z, inverse.R_inverse
+    U, V = sp.Matrix.vstack(Z, Rinv), sp.Matrix.vstack(-Z, Rinv)
     dF1_q = sp.Matrix(by_q[0])
     if any(e != 0 for e in turn):
         folded = (J.T * turn).applyfunc(lambda e: d.b.define("cLj", e) if e != 0 else e)
         dF1_q = (dF1_q + folded).applyfunc(lambda e: d.b.define("cLk", e) if e.is_Add else e)
     dF_q = sp.Matrix.vstack(dF1_q, by_q[1])
     dF_qd = sp.Matrix.vstack(*by_qd)
-    assert W.shape == (n + m, n + m) and dF_q.shape == dF_qd.shape == (n + m, n)
-    return tuple(sp.ImmutableMatrix(x) for x in (W, dF_q, dF_qd, sp.Matrix(solution)))
+    assert U.shape == V.shape == (n + m, m) and Minv.shape == (n, n) and dF_q.shape == dF_qd.shape == (n + m, n)
+    return tuple(sp.ImmutableMatrix(x) for x in (Minv, U, V, dF_q, dF_qd, sp.Matrix(solution)))
 
 
 def _sole_columns(d: _Derivation, dF2_q: sp.Matrix) -> None:

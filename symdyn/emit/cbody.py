@@ -214,14 +214,21 @@ def _column_products(products, store: str, limit: str, fabs: str, bits, fma: str
 
 
 def contact_product_loop(products, store: str, internal: str, scalar: str, fma: str, prefix: str) -> tuple[list[str], Counter]:
-    """C lines forming the contact derivatives ``-W dF`` (``products``: a
-    :class:`~symdyn.emit.cplan.ContactProducts`) column by column, each column one loop over the
-    padded rows of W's columns (k where dF's column is not identically zero, fused by ``fma``),
-    checking every result, the solution and W, and writing the outputs, ending with ``return 0``;
-    and their operation counts (every lane the loops run)."""
-    n, stride = products.n, products.stride
+    """C lines forming W's columns ``M^-1[:, c] + sum_l U[:, l] V[c, l]`` and then the contact
+    derivatives ``-W dF`` (``products``: a :class:`~symdyn.emit.cplan.ContactProducts`) column by
+    column, each column one loop over the padded rows (the terms: V's nonzero entries of the
+    column, dF's nonzero rows; fused by ``fma``), checking every result, the solution and W, and
+    writing the outputs, ending with ``return 0``; and their operation counts (every lane the loops
+    run)."""
+    n, m, stride = products.n, products.m, products.stride
     limit, fabs = _limit(internal, scalar)
-    columns, mul, add = [], 0, 0
+    forming, mul, add = [], 0, 0
+    for c, nonzero in enumerate(products.forming):
+        terms = ([(False, "", f"cdd_m[{c * stride} + i]")] if c < n else []) + [
+            (False, f"cdd_u[{l * stride} + i]", f"cdd_t[{c * m + l}]") for l in nonzero]
+        forming.append((c * stride, fused_sum(terms, fma) if terms else "0"))
+        mul, add = mul + stride * len(nonzero), add + stride * max(len(terms) - 1, 0)
+    columns = []
     for b, (_, array, nonzero_rows) in enumerate(products.blocks):
         for j, nonzero in enumerate(nonzero_rows):
             terms = [(True, f"cdd_w[{k * stride} + i]", f"{array}[{k * n + j}]") for k in nonzero]
@@ -229,8 +236,8 @@ def contact_product_loop(products, store: str, internal: str, scalar: str, fma: 
             mul, add = mul + stride * len(nonzero), add + stride * max(len(nonzero) - 1, 0)
     checked = [("cdd_r", len(products.blocks) * n * stride), ("cdd_w", products.rows * stride),
                ("cdd_a", products.rows)]
-    lines = _macro_lines(_loops().contact_products(stride, columns, checked, products.writes, store, limit, fabs,
-                                                   _exponent_bits(internal, scalar), status_macros(prefix)))
+    lines = _macro_lines(_loops().contact_products(stride, forming, columns, checked, products.writes, store, limit,
+                                                   fabs, _exponent_bits(internal, scalar), status_macros(prefix)))
     return lines, Counter({"mul": mul, "add": add})
 
 
@@ -528,7 +535,8 @@ class BodyWriter:
             if self.vector:
                 raise VectorUnsupported("the contact derivatives' product loop")
             cp = plan.contact_products
-            self._declare([("cdd_w", cp.rows * cp.stride), ("cdd_a", cp.rows)]
+            self._declare([("cdd_m", cp.n * cp.stride), ("cdd_u", cp.m * cp.stride), ("cdd_t", cp.rows * cp.m),
+                           ("cdd_w", cp.rows * cp.stride), ("cdd_a", cp.rows)]
                           + [(array, cp.rows * cp.n) for _, array, _ in cp.blocks]
                           + [("cdd_r", len(cp.blocks) * cp.n * cp.stride)])
         self.segment_start = len(self.lines)

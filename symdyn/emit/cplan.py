@@ -331,35 +331,44 @@ CONTACT_PRODUCT_ARRAYS = ("cdd_q", "cdd_v")
 
 @dataclass(frozen=True)
 class ContactProducts:
-    """The contact derivatives' product loop (:attr:`Equations.contact_products`): ``n`` joints'
-    velocities, ``rows`` = n + m (accelerations then forces), ``stride`` the rows rounded up to
-    whole vectors (:func:`tangent_width`: W's columns and the results' columns are that long,
-    column-major, the padding zero); ``blocks`` per block of residual derivatives computed (by
-    q, by qd) ``(block, array, columns)``, ``columns[j]`` the rows k where dF's column j is not
-    identically zero; ``writes``: ``(output argument, source, first row, rows, columns)``, the
-    output's entry (i, j) read from ``source[j * stride + first + i]``."""
+    """The contact derivatives' product loops (:attr:`Equations.contact_products`): ``n`` joints'
+    velocities, ``m`` constraint rows, ``rows`` = n + m (accelerations then forces), ``stride``
+    the rows rounded up to whole vectors (:func:`tangent_width`: every column below is that long,
+    column-major, the padding zero).  W's columns are formed first, ``W[:, c] = M^-1[:, c] (c < n)
+    + sum_l U[:, l] V[c, l]`` (``cdd_m``, ``cdd_u``, the entries of V in ``cdd_t``), ``forming[c]``
+    the l where V[c, l] is not identically zero; then ``blocks``, per block of residual
+    derivatives computed (by q, by qd), ``(block, array, columns)``, ``columns[j]`` the rows k
+    where dF's column j is not identically zero; ``writes``: ``(output argument, source, first
+    row, rows, columns)``, the output's entry (i, j) read from ``source[j * stride + first + i]``."""
 
     n: int
+    m: int
     rows: int
     stride: int
+    forming: tuple
     blocks: tuple
     writes: tuple
 
 
 def _contact_product_plan(eqs: Equations, plan: FunctionPlan) -> None:
-    """A function with contact derivatives by q or qd (and only contact outputs): W (column-major,
-    ``cdd_w``), the solution (``cdd_a``) and the nonzero entries of each needed dF (``cdd_q``,
-    ``cdd_v``, row-major n columns) into scratch arrays as soon as computed; the loop that ends
-    the body forms ``-W dF`` column by column, checks every result and writes the outputs."""
-    W, dF_q, dF_qd, solution = eqs.contact_products
-    n, rows = eqs.n, W.shape[0]
+    """A function with contact derivatives by q or qd (and only contact outputs): M^-1 and U
+    (column-major, ``cdd_m``, ``cdd_u``), V's nonzero entries (``cdd_t``), the solution
+    (``cdd_a``) and the nonzero entries of each needed dF (``cdd_q``, ``cdd_v``, row-major n
+    columns) into scratch arrays as soon as computed; the loops that end the body form W, then
+    ``-W dF`` column by column, check every result and write the outputs."""
+    Minv, U, V, dF_q, dF_qd, solution = eqs.contact_products
+    n, (rows, m) = eqs.n, U.shape
     stride = tangent_width(rows)
     wanted = sorted({CONTACT_PRODUCT_SOURCES[part][0] for part in plan.parts} & {0, 1})
     blocks = tuple((block, CONTACT_PRODUCT_ARRAYS[block],
                     tuple(tuple(k for k in range(rows) if (dF_q, dF_qd)[block][k, j] != 0) for j in range(n)))
                    for block in wanted)
-    targets = [Target(f"cdd_w[{k * stride + i}]", W[i, k] if i < rows else sp.S.Zero, True)
-               for k in range(rows) for i in range(stride)]
+    forming = tuple(tuple(l for l in range(m) if V[c, l] != 0) for c in range(rows))
+    targets = [Target(f"cdd_m[{c * stride + i}]", Minv[i, c] if i < n else sp.S.Zero, True)
+               for c in range(n) for i in range(stride)]
+    targets += [Target(f"cdd_u[{l * stride + i}]", U[i, l] if i < rows else sp.S.Zero, True)
+                for l in range(m) for i in range(stride)]
+    targets += [Target(f"cdd_t[{c * m + l}]", V[c, l], True) for c in range(rows) for l in forming[c]]
     targets += [Target(f"cdd_a[{i}]", solution[i], True) for i in range(rows)]
     for block, array, columns in blocks:
         dF = (dF_q, dF_qd)[block]
@@ -373,7 +382,7 @@ def _contact_product_plan(eqs: Equations, plan: FunctionPlan) -> None:
             source = f"cdd_r + {wanted.index(source) * n * stride}"
         writes.append((REGISTRY[part].arguments[0].name, source, first, count, columns))
     plan.targets = targets
-    plan.contact_products = ContactProducts(n, rows, stride, blocks, tuple(writes))
+    plan.contact_products = ContactProducts(n, m, rows, stride, forming, blocks, tuple(writes))
     _set_checks(eqs, plan)
 
 
