@@ -78,21 +78,25 @@ def contact_rows(contacts, frame_jacobians: sp.Matrix) -> sp.Matrix:
 
 
 def correction(contact, J_rows: sp.Matrix, pose: sp.Matrix, qd, define=lambda name, e: e, hint: str = "cb",
-               sole_log: bool = True) -> list:
+               sole_log: bool = True, solved: dict | None = None) -> list:
     """A contact's Baumgarte correction (an entry per row, world axes; zeros without gains),
     Pinocchio's ``corrector`` with the gain on every axis (its LOCAL_WORLD_ALIGNED error
     R diag(K) R^T e is K e then): a point's ``kd v + kp (p - reference)`` on its axes, a sole's
     ``kd v - kp X log6(M^-1 M_ref)`` (X = diag(R, R): :func:`sole_error`), with ``v = J_rows qd``
     its velocity (``J_rows``: the contact's rows) and ``p``, R, M from ``pose`` (the frame's 4 x 4
     pose in the world); ``define(name, expr)`` names a sole's intermediates; ``sole_log`` False
-    leaves a sole's log term out (a printout states it instead of expanding it)."""
+    leaves a sole's log term out (a printout states it instead of expanding it); ``solved``: a
+    dict that gets a sole's :func:`sole_error` under ``hint`` (its derivatives reuse it)."""
     if not contact.corrected:
         return [sp.S.Zero] * contact.rows
     velocity = J_rows * sp.Matrix(qd) if contact.kd != 0 else sp.zeros(contact.rows, 1)
     if contact.kp == 0 or (contact.kind == "6d" and not sole_log):
         error = [sp.S.Zero] * contact.rows
     elif contact.kind == "6d":
-        error = [-e for e in sole_error(contact, pose, define, hint)[0]]
+        found = sole_error(contact, pose, define, hint)
+        if solved is not None:
+            solved[hint] = found
+        error = [-e for e in found[0]]
     else:
         error = [pose[a, 3] - contact.reference[a] for a in contact.axes]
     return [contact.kd * v + contact.kp * e for v, e in zip(velocity, error)]
@@ -118,7 +122,7 @@ def sole_error(contact, pose: sp.Matrix, define, hint: str):
 
 
 def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: e, poses=None,
-                  sole_logs: bool = True) -> list:
+                  sole_logs: bool = True, solved: dict | None = None) -> list:
     """The contacts' drift gamma (NC entries, world-aligned axes), as Pinocchio's
     ``constraintDynamics`` holds its 3D and 6D contacts: a point's classical acceleration at
     qdd = 0 (its frame's J-dot v, linear rows), a sole's spatial one (the classical minus
@@ -127,7 +131,8 @@ def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: 
     ``contacts``: the robot's contact set; ``J`` its rows (NC x N); ``drift_all``: every frame's
     J-dot v (6 per frame, linear first); ``qd`` (N); ``define(name, expr)`` names an
     intermediate (the identity by default); ``poses``: every frame's pose (4 rows per frame,
-    world), needed when a contact is corrected; ``sole_logs`` False: see :func:`correction`."""
+    world), needed when a contact is corrected; ``sole_logs`` False, ``solved``: see
+    :func:`correction` (contact k's sole error under ``f"ctb{k + 1}"``)."""
     gamma, at = [], 0
     qd = sp.Matrix(qd)
     for k, contact in enumerate(contacts):
@@ -140,7 +145,7 @@ def contact_drift(contacts, J: sp.Matrix, drift_all, qd, define=lambda name, e: 
         drift = [drift[a] for a in contact.axes]
         if contact.corrected:
             pose = poses[4 * contact.frame:4 * contact.frame + 4, :]
-            held = correction(contact, J[at:at + contact.rows, :], pose, qd, define, f"ctb{k + 1}", sole_logs)
+            held = correction(contact, J[at:at + contact.rows, :], pose, qd, define, f"ctb{k + 1}", sole_logs, solved)
             drift = [a + c for a, c in zip(drift, held)]
         gamma += [define(f"ctg{k + 1}_{i + 1}", e) for i, e in enumerate(drift)]
         at += contact.rows

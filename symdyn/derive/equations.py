@@ -71,7 +71,7 @@ from .configuration import configuration_outputs
 from .kinematics import RESTITUTION, configuration_symbols, contact_force_symbols, joint_symbols
 from .numeric import NumericEquations, compile_function
 from .task_space import task_space
-from .contact import constrained_inverse, contact_drift, contact_dynamics, contact_rows, correction, gram_schmidt, sole_error
+from .contact import constrained_inverse, contact_drift, contact_dynamics, contact_rows, correction, gram_schmidt
 from .poses import tree_poses, world_placement
 from .newton_euler import recursion
 from .spatial import named_vector, skew
@@ -591,6 +591,10 @@ class _Derivation:
         self.mass_inverse = None
         #: the solved contact system: (J, gamma, ContactDynamics), for its derivatives
         self.contact_system: tuple = ()
+        #: each corrected sole's :func:`~symdyn.derive.contact.sole_error` from the contact
+        #: dynamics' drift, its Jacobian evaluated (key ``f"ctb{k}"``, k its 1-based place in the
+        #: set), for the derivatives
+        self.sole_errors: dict = {}
         self.inverse_products: tuple = ()
         self.contact_products: tuple = ()
         self.tangent_loops: list = []
@@ -1047,7 +1051,11 @@ def _contact(d: _Derivation) -> sp.Matrix:
     f = _mass_factorization(d)
     rhs = sp.Matrix(d.tau) - d.get("fd_bias") - d.static_friction
     rhs = [b.define(f"ctr{i + 1}", e) for i, e in enumerate(rhs)]
-    gamma = contact_drift(robot.contacts, J, d.get("frame_jacobian_dot_v"), d.qd, b.define, _corrected_poses(d))
+    solved: dict = {}
+    gamma = contact_drift(robot.contacts, J, d.get("frame_jacobian_dot_v"), d.qd, b.define, _corrected_poses(d),
+                          solved=solved)
+    if set(CONTACT_DERIVATIVES) & d.need:  # their X Jl^-1 X^T now, in this builder (a later one may replace it)
+        d.sole_errors = {key: (error, jacobian()) for key, (error, jacobian) in solved.items()}
     result = contact_dynamics(b, f, d.factor_parents is not None, J, gamma, rhs)
     d.contact_system = (J, gamma, result)
     d.values["contact_accelerations"] = result.accelerations
@@ -1164,10 +1172,9 @@ def _sole_columns(d: _Derivation, dF2_q: sp.Matrix) -> None:
     at = 0
     for k, contact in enumerate(robot.contacts):
         if contact.kind == "6d" and contact.kp != 0:
-            pose = d.get("frame_poses")[4 * contact.frame:4 * contact.frame + 4, :]
-            error, jacobian = sole_error(contact, pose, b.define, f"cgs{k + 1}")
+            error, jacobian = d.sole_errors[f"ctb{k + 1}"]  # (the contact dynamics' drift made it)
             J6 = d.get("frame_jacobians")[6 * contact.frame:6 * contact.frame + 6, :]
-            along = contact.kp * jacobian() * J6
+            along = contact.kp * jacobian * J6
             turning = contact.kp * sp.Matrix.vstack(skew(sp.Matrix(error[:3])), skew(sp.Matrix(error[3:]))) * J6[3:6, :]
             base = 6 if robot.floating else 0
             for i in range(6):
