@@ -64,13 +64,14 @@ def _compare(lib, name, precision, tolerance, functions=OUTPUTS):
 
 @pytest.mark.parametrize("name", ROBOTS)
 def test_compiled_double_agrees_with_pinocchio(name, tmp_path):
-    """The checked-in C compiles with -std=c99 -Wall -Wextra -Wpedantic -Werror (one compile per
-    robot: any warning fails it) and agrees with Pinocchio."""
+    """The checked-in C compiles with -std=c99 -Wall -Wextra -Wpedantic -Werror at -O2, what users
+    build with (one compile per robot: any warning fails it), and agrees with Pinocchio."""
     import symdyn
     from helpers import robot_path
     robot = symdyn.load(robot_path(name))
     files = {f.name: f.read_text() for f in GENERATED.glob(f"{name}_dynamics.*")}
-    lib = build_and_load(files, name, Dimensions.of(robot), len(robot.parameters), "double", str(tmp_path))
+    lib = build_and_load(files, name, Dimensions.of(robot), len(robot.parameters), "double", str(tmp_path),
+                         extra_flags=("-O2",))
     _compare(lib, name, "double", 1e-10)
 
 
@@ -435,3 +436,17 @@ def test_long_bodies_fused_agree_with_pinocchio(tmp_path, monkeypatch):
     pointer = ctypes.POINTER(ctypes.c_double)
     fused_lib.lib.puma560_mass_matrix_batch(ctypes.c_int(len(q)), q.ctypes.data_as(pointer), batch.ctypes.data_as(pointer))
     assert np.array_equal(batch, np.array([fused_lib.mass_matrix(x).ravel() for x in q]))
+
+
+def test_check_optimization_level(monkeypatch):
+    """compile_shared's -O flag: -O2 (what users build with) unless SYMDYN_CHECK_OPTIMIZATION names
+    another level (the suite sets -O1); anything else in it is ignored, never passed to the compiler."""
+    from symdyn.check.cbuild import OPTIMIZATION_VARIABLE, optimization_flag
+    monkeypatch.delenv(OPTIMIZATION_VARIABLE, raising=False)
+    assert optimization_flag() == "-O2"
+    for level in ("-O0", "-O1", "-O3", "-Os"):
+        monkeypatch.setenv(OPTIMIZATION_VARIABLE, level)
+        assert optimization_flag() == level
+    for junk in ("-O9", "-O1 -fsanitize=address", "; rm -rf /", ""):
+        monkeypatch.setenv(OPTIMIZATION_VARIABLE, junk)
+        assert optimization_flag() == "-O2"
