@@ -57,7 +57,8 @@ def add_urdf_options(parser) -> None:
     parser.add_argument("--frames", metavar="A,B,...", type=lambda text: [n.strip() for n in text.split(",") if n.strip()],
                         help="the frames of the frame functions (poses, Jacobians, J-dot v), in order: URDF links "
                              "(a foot merged by fixed joints too), or a robot file's links and the frames its "
-                             "'frames:' defines (in place of the file's list)")
+                             "'frames:' defines (in place of the file's list); an MJCF's sites are its frames, "
+                             "and this adds bodies (or sites) by name")
     parser.add_argument("--contacts", metavar="A:3d,B:6d,...", default=None,
                         help="the contact set of the contact dynamics, in order: frames (as --frames names them) "
                              "held by the ground, each 3d (a point: its linear velocity zero) or 6d (a sole: its "

@@ -1,6 +1,7 @@
-"""``symdyn convert``: a URDF to a robot file (YAML), or a robot file (or scene) to URDF.
+"""``symdyn convert``: a URDF or MJCF to a robot file (YAML), or a robot file (or scene) to URDF.
 
-``--to yaml`` reads a URDF (:mod:`symdyn.model.urdf`: the chain from its root to ``--tip``) and
+``--to yaml`` reads a URDF (:mod:`symdyn.model.urdf`: the chain from its root to ``--tip``) or
+an MJCF (:mod:`symdyn.model.mjcf`: its whole tree) and
 writes the robot file in the format's general form, with the source, the symdyn version and the
 reading's notes as comments; ``--to urdf`` writes :func:`symdyn.emit.urdf.robot_to_urdf` of a
 robot file, a scene or a URDF (the latter normalized: fixed joints merged, one chain).  A robot
@@ -24,11 +25,11 @@ from ..emit.urdf import robot_to_urdf
 from ..model.errors import SymdynError, display_path, one_line
 from ..model.files import write_atomic
 from ..model.robot import from_document, parse_contacts
-from ..model.scene import is_urdf, load_input, read_robot_document
+from ..model.scene import is_robot_xml, load_input, read_robot_document
 from .common import add_urdf_options
 from ..model.scene import input_files
 
-HELP = "convert a URDF to a robot file (YAML), or a robot file or scene to URDF"
+HELP = "convert a URDF or MuJoCo MJCF to a robot file (YAML), or a robot file, scene or MJCF to URDF"
 FORMATS = ("urdf", "yaml")
 
 
@@ -38,7 +39,8 @@ def add_parser(sub) -> None:
                        "docs/urdf.md); the YAML is a robot file with convention: general. A robot file's "
                        "runtime parameters take their values; one without a value cannot be written as URDF. "
                        "With --out the file is replaced atomically (never an input file).")
-    p.add_argument("robot", metavar="ROBOT", help="a robot file (.yaml), a scene, or a URDF (.urdf, any case)")
+    p.add_argument("robot", metavar="ROBOT", help="a robot file (.yaml), a scene, a URDF (.urdf, any case) or a MuJoCo MJCF "
+                   "(.xml with a <mujoco> element, or .mjcf)")
     p.add_argument("--to", required=True, choices=FORMATS, help="urdf: a URDF file; yaml: a robot file "
                    "(from a URDF)")
     p.add_argument("--out", metavar="FILE", default=None, help="write to FILE (default: standard output)")
@@ -54,12 +56,12 @@ def run(args) -> int:
     path = args.robot
     contacts = None
     if args.contacts is not None:
-        if not is_urdf(path) or args.to != "yaml":
+        if not is_robot_xml(path) or args.to != "yaml":
             raise SymdynError(f"{display_path(path)}: --contacts applies to a URDF converted --to yaml (a robot file "
                               "says 'contacts:'; a URDF has no place for them)")
         contacts = parse_contacts(args.contacts, lambda message, at="": _refuse(path, f"--contacts{at}: {message}"))
         args.frames = list(args.frames or []) + [c.name for c in contacts if c.name not in (args.frames or [])]
-    if is_urdf(path):
+    if is_robot_xml(path):
         doc, raw, notes = read_robot_document(path, args.tip, args.tool, exact_angles=args.exact_angles,
                                               floating_base=args.floating_base, frames=args.frames)
         if contacts:

@@ -23,6 +23,7 @@ from .errors import RobotFileError, SymdynError, SymdynWarning, describe, displa
 from .geometry import joint_geometry, joint_motion
 from .outputs import ALL_OUTPUTS
 from .inputs import decode_text, load_yaml, read_input
+from .mjcf import is_mjcf_text
 from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, parse_contacts, resolve_contacts, task_rows
 
 SCENE_VERSION = 1
@@ -54,6 +55,27 @@ def is_urdf(path) -> bool:
     return os.fspath(path).lower().endswith(".urdf")
 
 
+def is_mjcf(path) -> bool:
+    """Whether ``path`` names a MuJoCo MJCF file: extension ``.mjcf``, or ``.xml`` with a
+    ``<mujoco>`` top element (best effort: a file that cannot be read is not one; reading it
+    reports the problem)."""
+    name = os.fspath(path).lower()
+    if name.endswith(".mjcf"):
+        return True
+    if not name.endswith(".xml"):
+        return False
+    from .mjcf import is_mjcf_text
+    try:
+        return is_mjcf_text(decode_text(read_input(os.fspath(path)), os.fspath(path)))
+    except (SymdynError, OSError):
+        return False
+
+
+def is_robot_xml(path) -> bool:
+    """Whether ``path`` is read as XML (a URDF or an MJCF), not as a YAML robot file or scene."""
+    return is_urdf(path) or is_mjcf(path)
+
+
 def read_robot_document(path: str, tip: str | None = None, tool: str | None = None,
                         option: str = "--tip/--tool", exact_angles: bool = False, floating_base: bool = False,
                         frames: list[str] | None = None):
@@ -64,6 +86,15 @@ def read_robot_document(path: str, tip: str | None = None, tool: str | None = No
     links; a robot file's links or the frames its ``frames:`` defines), in place of the file's."""
     raw = read_input(path)
     text = decode_text(raw, path)
+    if not is_urdf(path) and (path.lower().endswith(".mjcf") or is_mjcf_text(text)):
+        if floating_base:
+            raise RobotFileError(path, "an MJCF says itself whether its base floats (a <freejoint> on a body of the "
+                                       "world): --floating-base applies to URDF files")
+        if tip is not None or tool is not None:
+            raise RobotFileError(path, f"{option} apply to URDF files (an MJCF is read whole; its sites are frames)")
+        from .mjcf import read_mjcf
+        doc, notes = read_mjcf(text, path, frames=frames, exact_angles=exact_angles)
+        return doc, raw, tuple(notes)
     if is_urdf(path):
         from .urdf import read_urdf
         doc, notes = read_urdf(text, path, tip=tip, tool=tool, exact_angles=exact_angles, floating_base=floating_base,
@@ -95,7 +126,7 @@ def load_input(path: str, tip: str | None = None, tool: str | None = None, exact
     wanted = None
     if contacts is not None:
         wanted = parse_contacts(contacts, lambda message, at="": _fail(path, f"--contacts{at}: {message}"))
-        if is_urdf(path):
+        if is_robot_xml(path):
             frames = list(frames or []) + [c.name for c in wanted if c.name not in (frames or [])]
     doc, raw, notes = read_robot_document(path, tip, tool, exact_angles=exact_angles, floating_base=floating_base,
                                           frames=frames)
@@ -355,7 +386,7 @@ def _scene_robot_document(path: str, doc, frames, contact_frames=()):
         if not isinstance(value, bool):
             _fail(path, "expected true or false", fld)
     frames = frames or scene_frames
-    if contact_frames and is_urdf(robot_path):
+    if contact_frames and is_robot_xml(robot_path):
         frames = list(frames or []) + [n for n in contact_frames if n not in (frames or [])]
     try:
         robot_doc, robot_raw, robot_notes = read_robot_document(robot_path, tip, tool, "tip: and tool:", exact_angles,

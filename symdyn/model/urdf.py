@@ -69,9 +69,10 @@ class _Refused(Exception):
     """Raised inside the expat handlers for a construct the reader does not accept."""
 
 
-def parse_xml(text: str, path: str):
-    """The root element of the XML ``text`` (the content of ``path``); DOCTYPE and entity
-    declarations are refused, and every problem is one :class:`RobotFileError` line."""
+def parse_xml(text: str, path: str, kind: str = "a URDF"):
+    """The root element of the XML ``text`` (the content of ``path``, ``kind`` of file: a URDF,
+    an MJCF); DOCTYPE and entity declarations are refused, and every problem is one
+    :class:`RobotFileError` line."""
     builder = TreeBuilder()
     parser = expat.ParserCreate()
 
@@ -92,7 +93,7 @@ def parse_xml(text: str, path: str):
         return builder.close()
     except _Refused as exc:
         raise RobotFileError(path, f"not accepted: the file has {exc} (line {parser.CurrentLineNumber}); "
-                                   "a URDF needs none, and they are refused so that no entity is ever "
+                                   f"{kind} needs none, and they are refused so that no entity is ever "
                                    "expanded") from None
     except expat.ExpatError as exc:
         raise RobotFileError(path, f"not valid XML (line {exc.lineno}, column {exc.offset + 1}): "
@@ -394,9 +395,12 @@ def _names(names, limit: int = _NAMES_SHOWN) -> str:
 class _Reader:
     """One URDF file's links and joints, and the chain from its root to a tip."""
 
-    def __init__(self, text: str, path: str, exact_angles: bool = False):
+    def __init__(self, text: str, path: str, exact_angles: bool = False, file_order: bool = False,
+                 joint_fields: dict | None = None):
         self.path = path
         self.exact_angles = exact_angles
+        self.file_order = file_order  # a link's joints in the file's order (else by name, as Pinocchio's URDF reader)
+        self.joint_fields = joint_fields or {}  # moving joint -> more fields of its link (armature)
         self.snapped: list[str] = []  # the rpy texts taken as exact quarter turns
         root = parse_xml(text, path)
         if root.tag != "robot":
@@ -685,13 +689,17 @@ def default_tip(text: str, path: str) -> str:
 
 def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None,
               exact_angles: bool = False, floating_base: bool = False,
-              frames: list[str] | None = None) -> tuple[dict, list[str]]:
+              frames: list[str] | None = None, whole_tree: bool = False, file_order: bool = False,
+              joint_fields: dict | None = None) -> tuple[dict, list[str]]:
     """:func:`read_chain_or_tree`, with ``frames`` (URDF link names, in order) as the
     document's ``frames:``: each link's frame on the moving link it is rigidly attached to (a
     link merged by fixed joints, such as a foot; or the child link of a moving joint, whose own
-    frame it is), or on the base."""
-    urdf = _Reader(text, path, exact_angles)
-    doc, notes = read_chain_or_tree(urdf, tip, tool, floating_base)
+    frame it is), or on the base.  For a URDF made from another format
+    (:mod:`symdyn.model.mjcf`): ``whole_tree`` reads the tree even when it is a chain,
+    ``file_order`` numbers each link's joints as the file orders them, and ``joint_fields``
+    adds fields (armature) to the links of the moving joints it names."""
+    urdf = _Reader(text, path, exact_angles, file_order, joint_fields)
+    doc, notes = read_chain_or_tree(urdf, tip, tool, floating_base, whole_tree)
     if frames:
         doc["frames"] = _frame_entries(urdf, frames, {link["name"] for link in doc["links"]})
     return doc, notes
@@ -726,7 +734,7 @@ def _frame_entries(urdf: _Reader, names, link_names: set) -> list:
 
 
 def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None = None,
-                       floating_base: bool = False) -> tuple[dict, list[str]]:
+                       floating_base: bool = False, whole_tree: bool = False) -> tuple[dict, list[str]]:
     """The robot document (``convention: general``, see ``docs/urdf.md``) of the chain of a URDF
     from its root link to ``tip`` (default: the only leaf), and notes saying what was merged,
     locked or left out.  ``tool``: a link rigidly attached to the last moving link whose frame is
@@ -735,12 +743,15 @@ def read_chain_or_tree(urdf: "_Reader", tip: str | None = None, tool: str | None
     angle as written, else angles within :data:`QUARTER_TOLERANCE` of a multiple of pi/2 are
     taken as that multiple, so that zeros fold).  Problems raise :class:`RobotFileError` (one
     line); doubtful readings give a :func:`~symdyn.model.errors.warn` line.  ``floating_base``:
-    the whole tree on a free-floating root link (:func:`read_tree`; no tip or tool then)."""
+    the whole tree on a free-floating root link (:func:`read_tree`; no tip or tool then);
+    ``whole_tree``: the tree even when it is one chain."""
     path = urdf.path
     name = _robot_name(urdf.robot_name)
     if name != urdf.robot_name:
         urdf.warn(f"{describe(urdf.robot_name)} renamed '{name}' (robot names: a-z, 0-9 and '_', at most "
                   f"{MAX_NAME} characters)", None, "robot name")
+    if whole_tree:
+        return read_tree(urdf, name, floating=floating_base)
     if floating_base:
         if tip is not None or tool is not None:
             urdf.fail("--floating-base reads the whole tree on its free root link: --tip and --tool do not apply")
@@ -925,6 +936,7 @@ def _joint_entry(urdf: _Reader, joint: _Joint, pending: Frame, pending_joints: l
     mimic = _mimic_entry(urdf, joint)
     if mimic is not None:
         extra["mimic"] = mimic
+    extra.update(urdf.joint_fields.get(joint.name, {}))
     return entry, extra
 
 
@@ -1047,7 +1059,8 @@ def read_tree(urdf: _Reader, name: str, floating: bool = False) -> tuple[dict, l
             ground_links.append(link)
         else:
             bodies[owner] = bodies[owner].plus(body)
-        return [(j, owner, frame, fixed_path) for j in sorted(urdf.child_joints[link], key=lambda j: j.name)]
+        order = (lambda j: j.index) if urdf.file_order else (lambda j: j.name)
+        return [(j, owner, frame, fixed_path) for j in sorted(urdf.child_joints[link], key=order)]
 
     pending = visit(urdf.root, -1, Frame(), [])[::-1]
     while pending:  # iterative depth-first walk: deep trees do not recurse
