@@ -123,9 +123,9 @@ def _identified_robot_file(args, eqs, result) -> str:
     """The robot file's document with the identifiable values replaced (see the module's
     documentation), as YAML with the identification in comments."""
     from .convert import document_to_yaml
-    from ..model.scene import is_urdf, read_robot_document
+    from ..model.scene import is_robot_xml, read_robot_document
     robot = eqs.robot
-    if is_urdf(args.robot):
+    if is_robot_xml(args.robot):
         doc, _, _ = read_robot_document(args.robot, args.tip, args.tool, exact_angles=args.exact_angles)
     else:
         import yaml

@@ -52,6 +52,7 @@ MAX_ELEMENTS = 200_000
 #: the most files an MJCF may include, and how deeply includes may nest
 MAX_INCLUDES = 64
 MAX_INCLUDE_DEPTH = 8
+MAX_INCLUDED_BYTES = 16 * 1024 * 1024
 #: MuJoCo's smallest mass or volume that counts (mjMINVAL and the geom tests)
 _MIN_MASS = 1e-14
 
@@ -67,10 +68,18 @@ _ZERO = _MP.mpf(0)
 _I3 = ((_MP.mpf(1), _ZERO, _ZERO), (_ZERO, _MP.mpf(1), _ZERO), (_ZERO, _ZERO, _MP.mpf(1)))
 
 
+def xml_top_element(text: str) -> str | None:
+    """The name of an XML text's top element (a look at its start, not a parse: the XML
+    declaration, comments and a DOCTYPE before it are passed over); None when the text does not
+    start as XML does."""
+    head = re.sub(r"<\?.*?\?>|<!--.*?-->|<!DOCTYPE[^\[>]*(?:\[.*?\])?\s*>", "", text[:65536], flags=re.S)
+    match = re.match(r"<([A-Za-z_][A-Za-z0-9_.:-]*)", head.lstrip(" \t\r\n\ufeff"))
+    return match.group(1) if match else None
+
+
 def is_mjcf_text(text: str) -> bool:
-    """Whether an XML text's top element is ``<mujoco>`` (a look at its start, not a parse)."""
-    body = re.sub(r"<\?.*?\?>|<!--.*?-->", "", text[:65536], flags=re.S).lstrip()
-    return body.startswith("<mujoco") and (len(body) == 7 or not (body[7].isalnum() or body[7] in "_-.:"))
+    """Whether an XML text's top element is ``<mujoco>``."""
+    return xml_top_element(text) == "mujoco"
 
 
 # ---------------------------------------------------------------------------------------------
@@ -165,14 +174,16 @@ class _Reader:
         self.path = path
         self.folder = os.path.realpath(os.path.dirname(os.path.abspath(path)))
         self.included: list[str] = []
+        self.included_bytes = 0
         self.unmodelled: dict[str, int] = {}
         root = parse_xml(text, path, "an MJCF")
         if root.tag != "mujoco":
             self.fail(f"the top element is <{one_line(root.tag, 40)}>, not <mujoco>: not an MJCF file")
         self.model_name = root.get("model") or os.path.splitext(os.path.basename(path))[0]
         self.root = self.expand_includes(root, 0, {os.path.realpath(path)})
-        count = sum(1 for _ in self.root.iter())
-        if count > MAX_ELEMENTS:
+        if sum(1 for _ in self.root.iter("body")) > MAX_LINKS:
+            self.fail(f"more than {MAX_LINKS} bodies: not accepted")
+        if sum(1 for _ in self.root.iter()) > MAX_ELEMENTS:
             self.fail(f"more than {MAX_ELEMENTS} elements: not accepted")
         self.read_compiler()
         self.classes = self.read_defaults()
@@ -188,17 +199,22 @@ class _Reader:
 
     # -- includes
 
-    def expand_includes(self, element, depth: int, open_files: set):
-        """``element`` with each ``<include file>`` replaced by the included file's elements."""
-        for index, child in enumerate(list(element)):
-            if child.tag == "include":
-                parts = self.included_elements(child, depth, open_files)
-                element.remove(child)
-                for k, part in enumerate(parts):
-                    element.insert(index + k, part)
-            else:
-                self.expand_includes(child, depth, open_files)
-        return element
+    def expand_includes(self, root, depth: int, open_files: set):
+        """``root`` with each ``<include file>`` replaced by the included file's elements (a walk
+        without recursion: elements may nest deeply)."""
+        stack = [root]
+        while stack:
+            element = stack.pop()
+            children = list(element)
+            if any(child.tag == "include" for child in children):
+                for child in children:
+                    element.remove(child)
+                for child in children:
+                    for part in (self.included_elements(child, depth, open_files) if child.tag == "include"
+                                 else [child]):
+                        element.append(part)
+            stack.extend(child for child in element if child.tag != "include")
+        return root
 
     def included_elements(self, include, depth: int, open_files: set) -> list:
         name = include.get("file")
@@ -216,7 +232,11 @@ class _Reader:
             self.fail("the included file is outside the model's folder: not opened", where, "file")
         if target in open_files:
             self.fail("the file includes itself (an include cycle)", where, "file")
-        text = decode_text(read_input(target), target)
+        raw = read_input(target)
+        self.included_bytes += len(raw)
+        if self.included_bytes > MAX_INCLUDED_BYTES:
+            self.fail(f"the included files hold more than {MAX_INCLUDED_BYTES} bytes", where, "file")
+        text = decode_text(raw, target)
         self.included.append(target)
         root = parse_xml(text, target, "an MJCF")
         if root.tag != "mujoco":
@@ -468,7 +488,7 @@ class _Bodies:
             reader.fail(f"two bodies are named {describe(name)}", where, "name")
         self.names.add(name)
         if element.get("gravcomp") not in (None, "0"):
-            reader.note_unmodelled("gravity compensation (gravcomp)")
+            reader.note_unmodelled("bod|ies with gravity compensation (gravcomp)")
         pose = frame * reader.pose(dict(element.attrib), where)
         childclass = element.get("childclass", cls)
         if childclass not in reader.classes:
@@ -535,7 +555,7 @@ class _Bodies:
                 reader.fail(f"{key} must not be negative", where, key)
             if value != 0:
                 fields[key] = number_text(value)
-        for key, what in (("stiffness", "joint springs (stiffness)"),):
+        for key, what in (("stiffness", "joint spring|s (stiffness)"),):
             if reader.values(attributes.get(key, "0"), 1, where, key)[0] != 0:
                 reader.note_unmodelled(what)
         body.joints.append(_JointSpec(name, kind, pos if kind == "hinge" else (_ZERO,) * 3, axis, ref, fields,
@@ -965,9 +985,17 @@ def _notes(reader: _Reader, tree: _Bodies, urdf: _Urdf, notes: list[str]) -> lis
     return out
 
 
+def _plural(what: str, count: int) -> str:
+    """``what`` (``"spring|s (stiffness)"``, ``"bod|ies"``) for ``count`` things."""
+    stem, _, rest = what.partition("|")
+    ending, space, tail = rest.partition(" ")
+    singular = "y" if ending == "ies" else ""
+    return stem + (ending if count != 1 else singular) + space + tail
+
+
 def _warn_unmodelled(reader: _Reader) -> None:
-    for tag, what in (("actuator", "actuators (tau is the joint force: gear, gains and limits are the user's)"),
-                      ("tendon", "tendons"), ("equality", "equality constraints")):
+    for tag, what in (("actuator", "actuator|s (tau is the joint force: gear, gains and limits are the user's)"),
+                      ("tendon", "tendon|s"), ("equality", "equality constraint|s")):
         for section in reader.root.iter(tag):
             count = sum(1 for _ in section)
             if count:
@@ -975,7 +1003,7 @@ def _warn_unmodelled(reader: _Reader) -> None:
     armatures = [e for e in reader.root.iter() if e.tag in ("spatial", "fixed", "general", "motor", "position")
                  and e.get("armature") not in (None, "0")]
     if armatures:
-        reader.note_unmodelled("tendon or actuator armature (MuJoCo adds it to the mass matrix)", len(armatures))
+        reader.note_unmodelled("tendon or actuator armature| (MuJoCo adds it to the mass matrix)", len(armatures))
     if reader.unmodelled:
-        items = ", ".join(f"{count} {what}" for what, count in reader.unmodelled.items())
+        items = ", ".join(f"{count} {_plural(what, count)}" for what, count in reader.unmodelled.items())
         warn(f"{one_line(reader.path, 200)}: not in the equations of motion: {items}")

@@ -23,7 +23,7 @@ from .errors import RobotFileError, SymdynError, SymdynWarning, describe, displa
 from .geometry import joint_geometry, joint_motion
 from .outputs import ALL_OUTPUTS
 from .inputs import decode_text, load_yaml, read_input
-from .mjcf import is_mjcf_text
+from .mjcf import xml_top_element
 from .robot import MAX_NAME, ROBOT_NAME_PATTERN, Link, Robot, from_document, parse_contacts, resolve_contacts, task_rows
 
 SCENE_VERSION = 1
@@ -55,25 +55,28 @@ def is_urdf(path) -> bool:
     return os.fspath(path).lower().endswith(".urdf")
 
 
+def _top_element(path) -> str | None:
+    """The top element of an ``.xml`` or ``.mjcf`` file (best effort: None when it cannot be
+    read; reading it reports the problem)."""
+    from .mjcf import xml_top_element
+    try:
+        return xml_top_element(decode_text(read_input(os.fspath(path)), os.fspath(path)))
+    except (SymdynError, OSError):
+        return None
+
+
 def is_mjcf(path) -> bool:
     """Whether ``path`` names a MuJoCo MJCF file: extension ``.mjcf``, or ``.xml`` with a
-    ``<mujoco>`` top element (best effort: a file that cannot be read is not one; reading it
-    reports the problem)."""
+    ``<mujoco>`` top element."""
     name = os.fspath(path).lower()
-    if name.endswith(".mjcf"):
-        return True
-    if not name.endswith(".xml"):
-        return False
-    from .mjcf import is_mjcf_text
-    try:
-        return is_mjcf_text(decode_text(read_input(os.fspath(path)), os.fspath(path)))
-    except (SymdynError, OSError):
-        return False
+    return name.endswith(".mjcf") or (name.endswith(".xml") and _top_element(path) == "mujoco")
 
 
 def is_robot_xml(path) -> bool:
-    """Whether ``path`` is read as XML (a URDF or an MJCF), not as a YAML robot file or scene."""
-    return is_urdf(path) or is_mjcf(path)
+    """Whether ``path`` is read as XML (a URDF, ``.urdf`` or ``.xml`` with a ``<robot>`` top
+    element, or an MJCF), not as a YAML robot file or scene."""
+    name = os.fspath(path).lower()
+    return is_urdf(path) or name.endswith(".mjcf") or (name.endswith(".xml") and _top_element(path) is not None)
 
 
 def read_robot_document(path: str, tip: str | None = None, tool: str | None = None,
@@ -86,7 +89,11 @@ def read_robot_document(path: str, tip: str | None = None, tool: str | None = No
     links; a robot file's links or the frames its ``frames:`` defines), in place of the file's."""
     raw = read_input(path)
     text = decode_text(raw, path)
-    if not is_urdf(path) and (path.lower().endswith(".mjcf") or is_mjcf_text(text)):
+    top = None if is_urdf(path) else xml_top_element(text)
+    if top not in (None, "mujoco", "robot") or (top is None and path.lower().endswith((".mjcf", ".xml"))):
+        raise RobotFileError(path, f"an XML file whose top element is {describe('<' + top + '>') if top else 'not found'}: "
+                                   "symdyn reads URDF (<robot>) and MuJoCo MJCF (<mujoco>) files")
+    if top == "mujoco":
         if floating_base:
             raise RobotFileError(path, "an MJCF says itself whether its base floats (a <freejoint> on a body of the "
                                        "world): --floating-base applies to URDF files")
@@ -95,7 +102,7 @@ def read_robot_document(path: str, tip: str | None = None, tool: str | None = No
         from .mjcf import read_mjcf
         doc, notes = read_mjcf(text, path, frames=frames, exact_angles=exact_angles)
         return doc, raw, tuple(notes)
-    if is_urdf(path):
+    if is_urdf(path) or top == "robot":
         from .urdf import read_urdf
         doc, notes = read_urdf(text, path, tip=tip, tool=tool, exact_angles=exact_angles, floating_base=floating_base,
                                frames=frames)

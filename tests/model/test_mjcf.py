@@ -80,6 +80,19 @@ def _relative(mine, theirs) -> float:
 # MuJoCo
 
 
+def mujoco_model(path: str):
+    """MuJoCo's compiled model of ``path``, compiled in a scratch folder: MuJoCo writes its
+    warnings (settotalmass is deprecated in MuJoCo 4) to MUJOCO_LOG.TXT in the current folder."""
+    import tempfile
+    here = os.getcwd()
+    with tempfile.TemporaryDirectory() as scratch:
+        os.chdir(scratch)
+        try:
+            return mujoco.MjModel.from_xml_path(path)
+        finally:
+            os.chdir(here)
+
+
 def _mujoco_full_mass(m, d) -> np.ndarray:
     M = np.zeros((m.nv, m.nv))
     if hasattr(d, "qM"):  # MuJoCo 3
@@ -108,7 +121,7 @@ def test_reading_is_mujocos(name):
     the model's gravity option), total mass and centre of mass of symdyn's reading against
     MuJoCo's compiled model, and every site's pose, at random states."""
     robot, model = read(name)
-    m = mujoco.MjModel.from_xml_path(_path(name))
+    m = mujoco_model(_path(name))
     d = mujoco.MjData(m)
     data = model.createData()
     assert model.nv == m.nv
@@ -149,7 +162,7 @@ def test_sites_are_frames_and_counted():
     """Every named site is a frame, in the file's order; the joints are MuJoCo's, in its order."""
     robot, _ = read("every_form")
     assert [f.name for f in robot.frames] == ["world_mark", "elbow_site", "tip", "bob_site"]
-    m = mujoco.MjModel.from_xml_path(EVERY_FORM)
+    m = mujoco_model(EVERY_FORM)
     names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) for j in range(m.njnt)]
     assert [link.name for link in robot.links] == names
     robot, _ = read("walker")
@@ -188,7 +201,7 @@ def _pinocchio_model(name: str, tmp_path):
         warnings.simplefilter("ignore")
         theirs = pin.buildModelFromMJCF(_flattened(_path(name), tmp_path) if name == "walker" else _path(name))
     theirs = theirs[0] if isinstance(theirs, tuple) else theirs
-    m = mujoco.MjModel.from_xml_path(_path(name))
+    m = mujoco_model(_path(name))
     if name == "half_cheetah":  # settotalmass="14": MuJoCo scales every mass and inertia
         scale = m.body_subtreemass[1] / pin.computeTotalMass(theirs)
         for k in range(1, theirs.njoints):
@@ -220,3 +233,117 @@ def test_reading_is_pinocchios(name, tmp_path):
             mine = mine_data.oMf[model.getFrameId(f"frame_{frame.name}")]
             their = offset * their_data.oMf[theirs.getFrameId(frame.name)]
             assert np.abs(mine.homogeneous - their.homogeneous).max() < 1e-12, frame.name
+
+
+# ---------------------------------------------------------------------------------------------
+# The command line: generate, verify, convert, and hostile files
+
+_ARM = """<mujoco model="arm">
+  <worldbody>
+    <body name="a" pos="0 0 0.1">
+      <joint name="j1" axis="0 0 1"/>
+      <geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.03"/>
+      {extra}
+    </body>
+  </worldbody>
+</mujoco>
+"""
+
+
+def test_verify_and_generate_an_mjcf(tmp_path, capsys):
+    """symdyn verify compiles every default function of the hand-written floating walker (its
+    includes, sites as frames) and agrees; generate writes C whose header names the MJCF, the
+    joint order and the free joint's conventions."""
+    from symdyn.cli import main
+    assert main(["verify", WALKER, "--states", "3", "--functions",
+                 "inverse_dynamics,mass_matrix,forward_dynamics,frame_poses"]) == 0
+    out = capsys.readouterr().out
+    assert out.count(" ok") == 4, out
+    assert main(["generate", EVERY_FORM, "--out", str(tmp_path / "c"), "--quiet", "--no-cache",
+                 "--functions", "inverse_dynamics"]) == 0
+    header = (tmp_path / "c" / "every_form_dynamics.h").read_text()
+    assert "every_form.xml" in header and "joints numbered as MuJoCo numbers them" in header
+    assert "not in the equations of motion: 1 actuator (tau is" in capsys.readouterr().err
+
+
+def test_convert_to_yaml_and_urdf(tmp_path, capsys):
+    """convert --to yaml writes a robot file that reads as the same robot; --to urdf a URDF that
+    Pinocchio's URDF parser reads as the same mass matrix (armature, which URDF cannot hold,
+    named in a warning)."""
+    from symdyn.cli import main
+    robot, model = read("every_form")
+    assert main(["convert", EVERY_FORM, "--to", "yaml", "--out", str(tmp_path / "r.yaml"), "--quiet"]) == 0
+    again, _ = build_model(symdyn.load(str(tmp_path / "r.yaml")))
+    assert main(["convert", EVERY_FORM, "--to", "urdf", "--out", str(tmp_path / "r.urdf"), "--quiet"]) == 0
+    assert "armature" in capsys.readouterr().err
+    urdf = pin.buildModelFromUrdf(str(tmp_path / "r.urdf"))
+    urdf.gravity = model.gravity
+    # Pinocchio's URDF parser takes a link's child joints by name: the same joints, another order
+    order = [urdf.getJointId(link.name) - 1 for link in robot.links]
+    assert sorted(order) == list(range(model.nv))
+    for q, v, a, _ in _states(model, 3):
+        M = pin.crba(model, model.createData(), q)
+        assert _relative(pin.crba(again, again.createData(), q), M) < TOLERANCE
+        q_urdf = np.empty(model.nq)
+        q_urdf[order] = q
+        M_urdf = pin.crba(urdf, urdf.createData(), q_urdf)[np.ix_(order, order)]
+        assert _relative(M_urdf, M - np.diag(model.armature)) < TOLERANCE
+
+
+HOSTILE = {
+    "entity": ('<?xml version="1.0"?><!DOCTYPE m [<!ENTITY a "aaaa">]><mujoco><worldbody/></mujoco>',
+               "DOCTYPE"),
+    "outside": (_ARM.format(extra='<include file="../secret.xml"/>'), "outside the model's folder"),
+    "absolute": (_ARM.format(extra='<include file="/etc/passwd"/>'), "relative to the model's folder"),
+    "cycle": (_ARM.format(extra='<include file="model.xml"/>'), "includes itself"),
+    "nan": (_ARM.format(extra='<geom type="sphere" size="nan"/>'), "not a decimal number"),
+    "huge": (_ARM.replace('pos="0 0 0.1"', 'pos="0 0 1e400"'), "too large"),
+    "huge_mass": (_ARM.format(extra='<inertial pos="0 0 0" mass="1e101" diaginertia="1 1 1"/>'), "too large"),
+    "ball": (_ARM.replace('axis="0 0 1"', 'type="ball"'), "ball joints are not supported"),
+    "mesh": (_ARM.format(extra='<geom type="mesh" mesh="m"/>'), "needs its mesh file"),
+    "class": (_ARM.format(extra='<geom class="nope" size="0.1"/>'), "unknown default class"),
+    "orientations": (_ARM.replace('pos="0 0 0.1"', 'pos="0 0 0.1" euler="0 0 1" quat="1 0 0 0"'),
+                     "several orientations"),
+    "free_deep": (_ARM.format(extra='<body name="b"><freejoint/></body>'), "a free joint must be"),
+    "not_mjcf": ("<mujocomodel/>", "top element is '<mujocomodel>'"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(HOSTILE))
+def test_hostile_mjcf_refused_in_one_line(case, tmp_path, capsys, monkeypatch):
+    """Entities, includes outside the folder, absolute or cyclic, NaN, numbers beyond the
+    format's bounds, unsupported joints and geoms, unknown classes: one error line naming the
+    file, exit 1, nothing written, no traceback."""
+    from symdyn.cli import main
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "secret.xml").write_text("<mujoco/>")
+    folder = tmp_path / "model"
+    folder.mkdir()
+    text, expected = HOSTILE[case]
+    (folder / "model.xml").write_text(text)
+    status = main(["generate", str(folder / "model.xml"), "--out", str(tmp_path / "out"), "--quiet", "--no-cache"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 1 and "Traceback" not in "\n".join(err)
+    assert len(err) == 1 or all(line.startswith("symdyn: warning: ") for line in err[:-1]), err
+    assert err[-1].startswith("symdyn: error: ") and expected in err[-1] and "model.xml" in err[-1], err
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("shape", ["flat", "nested"])
+def test_a_hundred_thousand_bodies_refused_quickly(shape, tmp_path, capsys):
+    """100,000 bodies, side by side or nested 100,000 deep: refused in one line (the body bound)
+    within seconds of CPU time, no recursion error."""
+    import time
+    from symdyn.cli import main
+    count = 100_000
+    if shape == "flat":
+        bodies = '<body><joint/><geom size="0.1"/></body>' * count
+    else:
+        bodies = '<body><joint/><geom size="0.1"/>' * count + "</body>" * count
+    path = tmp_path / "many.xml"
+    path.write_text(f"<mujoco><worldbody>{bodies}</worldbody></mujoco>")
+    start = time.process_time()
+    status = main(["convert", str(path), "--to", "yaml"])
+    assert time.process_time() - start < 20
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 1 and len(err) == 1 and "more than 2000 bodies" in err[0], err
