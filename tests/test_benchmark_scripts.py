@@ -85,7 +85,11 @@ def test_every_script_has_a_tiny_run():
     assert sorted(p.name for p in BENCHMARKS.glob("*.py")) == sorted(TINY)
 
 
-@pytest.mark.parametrize("script", list(TINY))
+#: the scripts whose tiny run takes longest (15 s on 2 cores), run with the slow-marked tests
+SLOW_SCRIPTS = ("parallel_speed.py",)
+
+
+@pytest.mark.parametrize("script", [pytest.param(s, marks=pytest.mark.slow) if s in SLOW_SCRIPTS else s for s in TINY])
 def test_script_runs_tiny(script):
     reason = _missing_tool(script)
     if reason:

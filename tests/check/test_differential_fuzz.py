@@ -28,7 +28,7 @@ def private_cache(tmp_path, monkeypatch):
 
 #: the kept cases whose check takes the longest (13-50 s of a CPU each): they run with the slow
 #: tests, the others with every test run
-SLOW_KEPT = {"fuzz7.case.yaml", "fuzz208.case.yaml", "fuzz304.case.yaml"}
+SLOW_KEPT = {"fuzz7.case.yaml", "fuzz208.case.yaml", "fuzz304.case.yaml", "fuzz323.case.yaml"}
 
 
 @pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow) if p.name in SLOW_KEPT else p for p in KEPT],

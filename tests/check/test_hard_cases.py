@@ -161,6 +161,7 @@ def test_reference_is_independent_and_exact_on_a_textbook_case():
     np.testing.assert_allclose(ref.coriolis_matrix(q, qd) @ qd, h, rtol=1e-14)
 
 
+@pytest.mark.slow
 def test_bench_measures_every_variant(tmp_path, capsys):
     """symdyn bench on a 3-joint chain: every variant measured, each error within its bound,
     table and plot written; a robot with free parameters is refused in one line."""
