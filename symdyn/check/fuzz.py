@@ -8,7 +8,9 @@ angles written as 1.5707963267948966 or 1.570796327, a fixed or floating base, f
 link, fixed ones too) or a Denavit-Hartenberg table (standard or modified, twists written as
 numbers, as ``pi/2`` or as 1.5707963267948966, prismatic joints, armature, damping and Coulomb
 friction, a tool, passive joints), sometimes behind a scene (a locked joint, a payload whose mass
-is a runtime parameter), in double, float or mixed precision, by one of the methods.
+is a runtime parameter), in double, float or mixed precision, by one of the methods.  Three URDF
+trees in ten (those without mimic joints) are read as the MJCF of the same robot
+(:mod:`symdyn.check.fuzz_mjcf`), still against Pinocchio's reading of the URDF.
 
 :func:`check_case` derives every output the robot supports
 (:func:`symdyn.model.outputs.supported_outputs`), emits and compiles the C with ``-Wall -Wextra
@@ -76,6 +78,9 @@ class Case:
     contacts: tuple[str, ...] = ()
     #: a Baumgarte correction of its point contacts, ``(kp, kd, x, y, z)`` (the reference point), or ()
     correction: tuple[float, ...] = ()
+    #: a URDF case read as the MJCF of the same robot (:mod:`symdyn.check.fuzz_mjcf`; the
+    #: reference stays Pinocchio's reading of the URDF)
+    as_mjcf: bool = False
 
     @property
     def robot_file(self) -> str:
@@ -89,7 +94,8 @@ class Case:
         return bool(np.random.default_rng([self.number, 11]).random() < 0.3)
 
     def describe(self) -> str:
-        parts = [self.kind + (" + scene" if self.scene else ""), self.precision, self.method]
+        parts = [self.kind + (" + scene" if self.scene else "") + (" as MJCF" if self.as_mjcf else ""), self.precision,
+                 self.method]
         parts += ["floating base"] if self.floating else []
         parts += ["C in small pieces"] if self.small_pieces else []
         parts += [f"frames {','.join(self.frames)}"] if self.frames else []
@@ -266,8 +272,9 @@ def random_case(number: int) -> Case:
         text = with_mimics(np.random.default_rng([number, 7]), text)  # (its own stream: the cases stay the same)
         frames = tuple(str(f) for f in rng.choice(links[1:], size=int(rng.integers(0, 3)), replace=False))
         contacts = _random_contacts(number, floating, links)
+        as_mjcf = bool(np.random.default_rng([number, 23]).random() < 0.3) and "<mimic" not in text
         return Case(number, "urdf", text, "", floating, frames, precision, contacts=contacts,
-                    correction=_random_correction(number, contacts))
+                    correction=_random_correction(number, contacts), as_mjcf=as_mjcf)
     text, names = random_dh(rng, name)
     method = str(rng.choice(["newton-euler"] * 3 + ["lagrange-euler", "jacobian-newton-euler"]))
     scene = random_scene(rng, f"fuzz{number}.yaml", names) if rng.random() < 0.25 else ""
@@ -347,9 +354,16 @@ class Outcome:
 
 
 def write_case(case: Case, directory: str) -> str:
-    """Write the case's files into ``directory``; the path symdyn reads (the scene, if any)."""
+    """Write the case's files into ``directory``; the path symdyn reads (the scene, if any; the
+    MJCF of a case read as one, beside its URDF)."""
     with open(os.path.join(directory, case.robot_file), "w") as handle:
         handle.write(case.text)
+    if case.as_mjcf:
+        from .fuzz_mjcf import mjcf_of_urdf
+        path = os.path.join(directory, f"fuzz{case.number}.xml")
+        with open(path, "w") as handle:
+            handle.write(mjcf_of_urdf(case.text, case.number, case.floating))
+        return path
     if not case.scene:
         return os.path.join(directory, case.robot_file)
     path = os.path.join(directory, f"fuzz{case.number}_scene.yaml")
@@ -359,12 +373,21 @@ def write_case(case: Case, directory: str) -> str:
 
 
 def _reference(case: Case, path: str, robot, values):
+    """Pinocchio's model of the case: of symdyn's reading of a DH table; else Pinocchio's own
+    reading of the URDF (of the URDF beside it for a case read as MJCF, which keeps its angles as
+    written, as MuJoCo does)."""
     from .pinocchio_model import PinocchioReference, UrdfReference, reduced
     if case.kind != "urdf":
         return reduced(PinocchioReference(robot, values), robot, values)
     from ..model.urdf import QUARTER_TOLERANCE
     snapped = any("multiple of pi/2" in note for note in robot.notes)
-    return reduced(UrdfReference(path, None, None, QUARTER_TOLERANCE if snapped else None, floating_base=case.floating,
+    path = os.path.join(os.path.dirname(path), case.robot_file)
+    tip = None
+    if case.as_mjcf and not robot.is_tree and not robot.floating:  # an MJCF's chain ends at its last joint's body
+        import xml.etree.ElementTree as ET  # (the fuzzer's own URDF)
+        tip = next(j.find("child").get("link") for j in ET.fromstring(case.text).iter("joint")
+                   if j.get("name") == robot.links[-1].name)
+    return reduced(UrdfReference(path, tip, None, QUARTER_TOLERANCE if snapped else None, floating_base=case.floating,
                                  frames=[f.name for f in robot.frames] or None), robot)
 
 
@@ -426,8 +449,8 @@ def check_case(case: Case, workdir: str, targets=("c", "numpy", "casadi", "cache
     stage = outcome.enter("load")
     try:
         path = write_case(case, workdir)
-        robot, scene = load_input(path, floating_base=case.floating, frames=list(case.frames) or None,
-                                  contacts=",".join(case.contacts) or None)
+        robot, scene = load_input(path, floating_base=case.floating and not case.as_mjcf,  # (an MJCF says so itself)
+                                  frames=list(case.frames) or None, contacts=",".join(case.contacts) or None)
         if case.correction and robot.contacts:
             robot = corrected(robot, case.correction)
         functions = _supported(case, robot)
@@ -545,6 +568,8 @@ def _urdf_variants(case: Case):
     if "<dynamics" in case.text:
         import re
         yield dataclasses.replace(case, text=re.sub(r"<dynamics[^>]*/>", "", case.text))
+    if case.as_mjcf:
+        yield dataclasses.replace(case, as_mjcf=False)
 
 
 def _dh_variants(case: Case):

@@ -955,7 +955,8 @@ def read_mjcf(text: str, path: str, frames: list[str] | None = None,
             wanted.append(link)
     floating = tree.free is not None
     doc, notes = read_urdf(urdf_text, path, exact_angles=exact_angles, floating_base=floating,
-                           frames=wanted or None, whole_tree=True, file_order=True, joint_fields=urdf.joint_fields)
+                           frames=wanted or None, whole_tree=True, file_order=True, joint_fields=urdf.joint_fields,
+                           quarter_tolerance=0.0)
     doc["gravity"] = [number_text(g) for g in reader.gravity]
     notes = _notes(reader, tree, urdf, notes)
     _warn_unmodelled(reader)

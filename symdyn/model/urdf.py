@@ -396,9 +396,10 @@ class _Reader:
     """One URDF file's links and joints, and the chain from its root to a tip."""
 
     def __init__(self, text: str, path: str, exact_angles: bool = False, file_order: bool = False,
-                 joint_fields: dict | None = None):
+                 joint_fields: dict | None = None, quarter_tolerance: float = QUARTER_TOLERANCE):
         self.path = path
         self.exact_angles = exact_angles
+        self.quarter_tolerance = quarter_tolerance
         self.file_order = file_order  # a link's joints in the file's order (else by name, as Pinocchio's URDF reader)
         self.joint_fields = joint_fields or {}  # moving joint -> more fields of its link (armature)
         self.snapped: list[str] = []  # the rpy texts taken as exact quarter turns
@@ -522,7 +523,7 @@ class _Reader:
             if abs(value) > MAX_ANGLE:
                 self.fail(f"angle {describe(text)} is larger than {MAX_ANGLE:g} rad", where, f"{label} rpy")
             k = round(float(value) / (math.pi / 2))
-            if not self.exact_angles and abs(float(value) - k * math.pi / 2) <= QUARTER_TOLERANCE:
+            if not self.exact_angles and abs(float(value) - k * math.pi / 2) <= self.quarter_tolerance:
                 rpy.append((Quarter(k) if k else _ZERO, quarter_text(k)))
                 if float(value) != k * math.pi / 2 and text not in self.snapped:
                     self.snapped.append(text)
@@ -690,15 +691,17 @@ def default_tip(text: str, path: str) -> str:
 def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None,
               exact_angles: bool = False, floating_base: bool = False,
               frames: list[str] | None = None, whole_tree: bool = False, file_order: bool = False,
-              joint_fields: dict | None = None) -> tuple[dict, list[str]]:
+              joint_fields: dict | None = None, quarter_tolerance: float = QUARTER_TOLERANCE) -> tuple[dict, list[str]]:
     """:func:`read_chain_or_tree`, with ``frames`` (URDF link names, in order) as the
     document's ``frames:``: each link's frame on the moving link it is rigidly attached to (a
     link merged by fixed joints, such as a foot; or the child link of a moving joint, whose own
     frame it is), or on the base.  For a URDF made from another format
     (:mod:`symdyn.model.mjcf`): ``whole_tree`` reads the tree even when it is a chain,
     ``file_order`` numbers each link's joints as the file orders them, and ``joint_fields``
-    adds fields (armature) to the links of the moving joints it names."""
-    urdf = _Reader(text, path, exact_angles, file_order, joint_fields)
+    adds fields (armature) to the links of the moving joints it names; ``quarter_tolerance``
+    (rad): how near a multiple of pi/2 an rpy angle is taken as one (0: only the double nearest
+    it, which is what a URDF made from exact rotations writes)."""
+    urdf = _Reader(text, path, exact_angles, file_order, joint_fields, quarter_tolerance)
     doc, notes = read_chain_or_tree(urdf, tip, tool, floating_base, whole_tree)
     if frames:
         doc["frames"] = _frame_entries(urdf, frames, {link["name"] for link in doc["links"]})

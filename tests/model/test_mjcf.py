@@ -347,3 +347,37 @@ def test_a_hundred_thousand_bodies_refused_quickly(shape, tmp_path, capsys):
     assert time.process_time() - start < 20
     err = capsys.readouterr().err.strip().splitlines()
     assert status == 1 and len(err) == 1 and "more than 2000 bodies" in err[0], err
+
+
+def test_fuzz_renditions_read_as_their_urdf(tmp_path):
+    """The differential fuzzer's MJCF renditions of its random URDF trees (every orientation form,
+    degrees and radians, both eulerseqs, full and principal inertias, free joints): symdyn's
+    reading of each MJCF is its reading of the URDF (mass matrix, inverse dynamics and frames at
+    random states, 20 cases); the campaign checks them against Pinocchio's reading of the URDF."""
+    from symdyn.check import fuzz
+    cases = [c for c in map(fuzz.random_case, range(400)) if c.as_mjcf][:20]
+    assert {c.floating for c in cases} == {False, True}
+    for case in cases:
+        folder = tmp_path / str(case.number)
+        folder.mkdir()
+        mjcf = fuzz.write_case(case, str(folder))
+        frames = list(case.frames) or None
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", SymdynWarning)
+            # (an MJCF's angles are as written, as MuJoCo takes them: the URDF's too, not 1e-9 from a quarter turn snapped)
+            from_urdf = symdyn.load(str(folder / case.robot_file), floating_base=case.floating, frames=frames,
+                                    exact_angles=True)
+            from_mjcf = symdyn.load(mjcf, frames=frames)
+        assert [link.name for link in from_mjcf.links] == [link.name for link in from_urdf.links], case.number
+        mine, _ = build_model(from_mjcf)
+        theirs, _ = build_model(from_urdf)
+        for q, v, a, _ in _states(mine, 3, seed=case.number):
+            assert _relative(pin.crba(mine, mine.createData(), q), pin.crba(theirs, theirs.createData(), q)) < 1e-12
+            assert _relative(pin.rnea(mine, mine.createData(), q, v, a),
+                             pin.rnea(theirs, theirs.createData(), q, v, a)) < 1e-12, case.number
+            mine_data, their_data = mine.createData(), theirs.createData()
+            pin.framesForwardKinematics(mine, mine_data, q)
+            pin.framesForwardKinematics(theirs, their_data, q)
+            for frame in from_urdf.frames:
+                ours = mine_data.oMf[mine.getFrameId(f"frame_{frame.name}")].homogeneous
+                assert np.abs(ours - their_data.oMf[theirs.getFrameId(f"frame_{frame.name}")].homogeneous).max() < 1e-12
