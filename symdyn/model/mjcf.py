@@ -45,7 +45,7 @@ from .errors import RobotFileError, describe, display_path, one_line, warn
 from .expr import ExpressionError, number_to_rational
 from .inputs import decode_text, read_input
 from .robot import MAX_MAGNITUDE
-from .urdf import MAX_LINKS, Frame, matrix_rpy, number_text, parse_xml, read_urdf
+from .urdf import MAX_LINKS, Frame, matrix_rpy, number_text, parse_xml, read_urdf, valid_link_name
 
 #: the most elements an MJCF (with its includes) may have
 MAX_ELEMENTS = 200_000
@@ -161,6 +161,16 @@ class _BodySpec:
     inertia: _Inertia = field(default_factory=_Inertia)
     sites: list = field(default_factory=list)  # (name, Frame in the body frame)
     explicit: bool = False  # an <inertial> is used
+    #: no inertia source (no <inertial>, no geom with mass): MuJoCo then puts a bounded mass at the
+    #: numbers of the body's own pos, turned by its own orientation (its compiler's reading)
+    sourceless: bool = False
+    own_pose: Frame = field(default_factory=Frame)
+    static: bool = False  # welded to the world: no joint in it or above it
+    unknown_mass: bool = False  # a static body's mesh geoms: left out, so never needed but by settotalmass
+
+
+class _NeedsMesh(Exception):
+    """A geom whose inertia needs its mesh (refused on a moving body)."""
 
 
 # ---------------------------------------------------------------------------------------------
@@ -494,7 +504,7 @@ class _Bodies:
         if childclass not in reader.classes:
             reader.fail(f"unknown default class {describe(childclass)}", where, "childclass")
         index = len(self.bodies)
-        body = _BodySpec(name, parent, pose)
+        body = _BodySpec(name, parent, pose, own_pose=reader.pose(dict(element.attrib), where))
         self.bodies.append(body)
         geoms, inertial, children = [], None, []
         for item, inner, item_class in _body_items(reader, element, childclass):
@@ -510,7 +520,13 @@ class _Bodies:
                 continue
             else:
                 children.append((item, index, inner, item_class))
-        body.inertia = self.body_inertia(body, geoms, inertial)
+        body.static = not body.joints and (parent < 0 or self.bodies[parent].static)
+        try:
+            body.inertia = self.body_inertia(body, geoms, inertial)
+        except _NeedsMesh as need:
+            if not body.static:
+                reader.fail(need.args[0], need.args[1], "type")
+            body.unknown_mass = True  # (left out with the ground)
         return children
 
     def read_joint(self, body: _BodySpec, index: int, element, frame: Frame, cls: str) -> None:
@@ -558,6 +574,8 @@ class _Bodies:
         for key, what in (("stiffness", "joint spring|s (stiffness)"),):
             if reader.values(attributes.get(key, "0"), 1, where, key)[0] != 0:
                 reader.note_unmodelled(what)
+        if any(v != 0 for v in reader.values(attributes.get("springdamper", "0 0"), 2, where, "springdamper")):
+            reader.note_unmodelled("joint spring-damper|s (springdamper: its stiffness and damping too)")
         body.joints.append(_JointSpec(name, kind, pos if kind == "hinge" else (_ZERO,) * 3, axis, ref, fields,
                                       self.limits(attributes, kind, where)))
 
@@ -599,13 +617,12 @@ class _Bodies:
         if inertial is not None and mode != "true":
             body.explicit = True
             return self.explicit_inertia(body, *inertial)
-        if mode == "false":
-            return _Inertia()
-        total = _Inertia()
-        for index, (element, frame, cls) in enumerate(geoms):
+        total, counted = _Inertia(), False
+        for index, (element, frame, cls) in enumerate(geoms if mode != "false" else ()):
             part = self.geom_inertia_of(body, index, element, frame, cls)
             if part is not None:
-                total = total.plus(part)
+                total, counted = total.plus(part), True
+        body.sourceless = not counted
         return total
 
     def explicit_inertia(self, body: _BodySpec, element, frame: Frame) -> _Inertia:
@@ -648,9 +665,13 @@ class _Bodies:
         if kind == "plane":
             return None
         if kind in ("mesh", "hfield", "sdf") or attributes.get("mesh") is not None:
-            reader.fail(f"a {kind} geom's inertia needs its {kind} file, which symdyn does not read: give the body an "
-                        "<inertial> (with inertiafromgeom=\"auto\"), or put the geom in a group outside "
-                        "inertiagrouprange", where, "type")
+            weightless = reader.values(attributes["mass"], 1, where, "mass")[0] == 0 if "mass" in attributes else \
+                reader.values(attributes.get("density", "1000"), 1, where, "density")[0] == 0
+            if weightless:
+                return None
+            raise _NeedsMesh(f"a {kind} geom's volume and inertia come from its {kind}, which symdyn does not read: "
+                             "give the body an <inertial> (with inertiafromgeom=\"auto\"), the geom mass=\"0\", or "
+                             "put it in a group outside inertiagrouprange", where)
         shape, pose = self.geom_shape(kind, attributes, where)
         shell = reader.flag(attributes.get("shellinertia", "false"), where, "shellinertia")
         if shell and kind in ("ellipsoid", "box"):
@@ -753,6 +774,9 @@ def _compiler_bounds(reader: _Reader, bodies: list) -> None:
     if reader.bound_mass > 0 or reader.bound_inertia > 0 or reader.balance:
         for body in bodies:
             inertia = body.inertia
+            if body.sourceless:  # MuJoCo's compiler: the body's own pos and orientation as the inertial frame
+                inertia = _Inertia(inertia.mass, body.own_pose.t,
+                                   _mul(body.own_pose.R, _mul(inertia.inertia, _transpose(body.own_pose.R))))
             matrix = np.array([[float(e) for e in row] for row in inertia.inertia])
             moments, axes = np.linalg.eigh(matrix)
             changed = np.maximum(moments, float(reader.bound_inertia))
@@ -760,11 +784,19 @@ def _compiler_bounds(reader: _Reader, bodies: list) -> None:
             if reader.balance and (a + b < c or a + c < b or b + c < a):
                 changed = np.full(3, changed.mean())
             mass = max(inertia.mass, reader.bound_mass)
+            if body.sourceless:
+                R = np.array([[float(e) for e in row] for row in body.own_pose.R])
+                moments, axes = np.zeros(3), R
+                changed = np.full(3, float(reader.bound_inertia))
             if mass != inertia.mass or not np.array_equal(changed, moments):
                 rebuilt = axes @ np.diag(changed) @ axes.T
                 body.inertia = _Inertia(mass, inertia.com,
                                         tuple(tuple(_MP.mpf(float(v)) for v in row) for row in rebuilt))
     if reader.total_mass > 0:
+        unknown = [body.name for body in bodies if body.unknown_mass]
+        if unknown:
+            reader.fail(f"settotalmass needs the mass of body {describe(unknown[0])}, which its mesh geoms hold: "
+                        "give it an <inertial>", "<compiler>", "settotalmass")
         total = sum((body.inertia.mass for body in bodies), _ZERO)
         scale = max(_MP.mpf("1e-15"), reader.total_mass / max(_MP.mpf("1e-15"), total))
         for body in bodies:
@@ -800,6 +832,7 @@ class _Urdf:
         self.site_links: dict[str, str] = {}  # site name -> its link
         self.body_links: dict[int, str] = {}
         self.dropped: list[str] = []
+        self.renamed_sites: list[tuple[str, str]] = []
         self.joint_names = set(tree.joint_names)
 
     def link_name(self, wanted: str) -> str:
@@ -907,18 +940,23 @@ class _Urdf:
             extra += "<dynamics" + (f" damping=\"{damping}\"" if damping else "") + \
                 (f" friction=\"{friction}\"" if friction else "") + "/>"
         if joint.limits is not None:
-            extra += f"<limit lower=\"{number_text(joint.limits[0])}\" upper=\"{number_text(joint.limits[1])}\" " \
-                     "effort=\"0\" velocity=\"0\"/>"
+            extra += f"<limit lower=\"{number_text(joint.limits[0])}\" upper=\"{number_text(joint.limits[1])}\"/>"
         if "armature" in joint.fields:
             self.joint_fields[joint.name] = {"armature": joint.fields["armature"]}
         return extra
 
     def attach_sites(self, link: str, sites: list) -> None:
+        """A link on a fixed joint per site, named as the site where that name is a valid frame
+        name that no body or other site has (else made one: the renames noted)."""
         for k, (name, frame) in enumerate(sites):
             shown = name or f"{link}_site{k + 1}"
-            child = self.link_name(shown if shown not in self.tree.names else f"{shown}_site")
+            wanted = shown if shown not in self.tree.names else f"{shown}_site"
+            child = valid_link_name(wanted, self.links | self.tree.names)
+            self.links.add(child)
             if name:
                 self.site_links[name] = child
+                if child != name:
+                    self.renamed_sites.append((name, child))
             self.link(child)
             self.joint(f"{child}_fixed", "fixed", link, child, frame)
 
@@ -956,7 +994,7 @@ def read_mjcf(text: str, path: str, frames: list[str] | None = None,
     floating = tree.free is not None
     doc, notes = read_urdf(urdf_text, path, exact_angles=exact_angles, floating_base=floating,
                            frames=wanted or None, whole_tree=True, file_order=True, joint_fields=urdf.joint_fields,
-                           quarter_tolerance=0.0)
+                           quarter_tolerance=0.0, source="MJCF")
     doc["gravity"] = [number_text(g) for g in reader.gravity]
     notes = _notes(reader, tree, urdf, notes)
     _warn_unmodelled(reader)
@@ -967,7 +1005,7 @@ def _notes(reader: _Reader, tree: _Bodies, urdf: _Urdf, notes: list[str]) -> lis
     out = [f"read from MJCF {display_path(os.path.basename(reader.path))}"
            + (f" (with {len(reader.included)} included file{'s' if len(reader.included) > 1 else ''})"
               if reader.included else "")
-           + f": {len(tree.bodies)} bodies, joints numbered as MuJoCo numbers them (bodies depth first as written, "
+           + f": {len(tree.bodies)} bod{'y' if len(tree.bodies) == 1 else 'ies'}, joints numbered as MuJoCo numbers them (bodies depth first as written, "
              "each body's joints in order); a body's joints after its first are joined by massless links"]
     if tree.free is not None:
         out.append("the free joint is the floating base with Pinocchio's free-flyer conventions, not MuJoCo's: q = "
@@ -977,6 +1015,11 @@ def _notes(reader: _Reader, tree: _Bodies, urdf: _Urdf, notes: list[str]) -> lis
     if reader.total_mass > 0:
         out.append(f"settotalmass {float(reader.total_mass):g} kg applied (masses and inertias scaled)")
     out.extend(f"left out: {item}" for item in urdf.dropped)
+    if urdf.renamed_sites:
+        shown = ", ".join(f"{one_line(a, 40)} -> {b}" for a, b in urdf.renamed_sites[:8])
+        more = len(urdf.renamed_sites) - 8
+        out.append(f"sites renamed as frames (C identifiers, distinct from the bodies' names): {shown}"
+                   + (f" and {more} more" if more > 0 else ""))
     for note in notes[1:]:
         if note.startswith("<dynamics damping friction>"):
             note = "damping and frictionloss read as viscous damping and Coulomb friction (coulomb)"
@@ -995,7 +1038,8 @@ def _plural(what: str, count: int) -> str:
 
 
 def _warn_unmodelled(reader: _Reader) -> None:
-    for tag, what in (("actuator", "actuator|s (tau is the joint force: gear, gains and limits are the user's)"),
+    for tag, what in (("actuator", "actuator|s (symdyn's tau is the generalized force: transmissions, gear, gains "
+                                   "and limits are the user's)"),
                       ("tendon", "tendon|s"), ("equality", "equality constraint|s")):
         for section in reader.root.iter(tag):
             count = sum(1 for _ in section)

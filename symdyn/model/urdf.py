@@ -396,8 +396,10 @@ class _Reader:
     """One URDF file's links and joints, and the chain from its root to a tip."""
 
     def __init__(self, text: str, path: str, exact_angles: bool = False, file_order: bool = False,
-                 joint_fields: dict | None = None, quarter_tolerance: float = QUARTER_TOLERANCE):
+                 joint_fields: dict | None = None, quarter_tolerance: float = QUARTER_TOLERANCE,
+                 source: str = "URDF"):
         self.path = path
+        self.source = source  # the format the file was written from (a URDF made from an MJCF: "MJCF")
         self.exact_angles = exact_angles
         self.quarter_tolerance = quarter_tolerance
         self.file_order = file_order  # a link's joints in the file's order (else by name, as Pinocchio's URDF reader)
@@ -651,6 +653,11 @@ def _renamed_note(urdf: "_Reader", notes: list) -> None:
                  + "; ".join(f"{one_line(full, 200)} -> {short}" for full, short in urdf.renamed))
 
 
+def valid_link_name(name: str, taken: set) -> str:
+    """A valid link name (a C identifier of at most 31 characters) for ``name``, not in ``taken``."""
+    return _link_name(name, taken)
+
+
 def _link_name(name: str, taken: set) -> str:
     """A valid, unused link name for the URDF joint ``name``."""
     out = re.sub(r"[^A-Za-z0-9_]", "_", name) or "_"
@@ -691,7 +698,8 @@ def default_tip(text: str, path: str) -> str:
 def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = None,
               exact_angles: bool = False, floating_base: bool = False,
               frames: list[str] | None = None, whole_tree: bool = False, file_order: bool = False,
-              joint_fields: dict | None = None, quarter_tolerance: float = QUARTER_TOLERANCE) -> tuple[dict, list[str]]:
+              joint_fields: dict | None = None, quarter_tolerance: float = QUARTER_TOLERANCE,
+              source: str = "URDF") -> tuple[dict, list[str]]:
     """:func:`read_chain_or_tree`, with ``frames`` (URDF link names, in order) as the
     document's ``frames:``: each link's frame on the moving link it is rigidly attached to (a
     link merged by fixed joints, such as a foot; or the child link of a moving joint, whose own
@@ -700,8 +708,9 @@ def read_urdf(text: str, path: str, tip: str | None = None, tool: str | None = N
     ``file_order`` numbers each link's joints as the file orders them, and ``joint_fields``
     adds fields (armature) to the links of the moving joints it names; ``quarter_tolerance``
     (rad): how near a multiple of pi/2 an rpy angle is taken as one (0: only the double nearest
-    it, which is what a URDF made from exact rotations writes)."""
-    urdf = _Reader(text, path, exact_angles, file_order, joint_fields, quarter_tolerance)
+    it, which is what a URDF made from exact rotations writes); ``source``: the format the URDF
+    was made from (only a URDF's fixed root with branches draws the --floating-base hint)."""
+    urdf = _Reader(text, path, exact_angles, file_order, joint_fields, quarter_tolerance, source)
     doc, notes = read_chain_or_tree(urdf, tip, tool, floating_base, whole_tree)
     if frames:
         doc["frames"] = _frame_entries(urdf, frames, {link["name"] for link in doc["links"]})
@@ -1104,7 +1113,7 @@ def read_tree(urdf: _Reader, name: str, floating: bool = False) -> tuple[dict, l
                      f"{_kg(ground.mass)} kg: links {_plain(ground_links)}")
     elif ground.mass != 0:
         notes.append(f"fixed to the ground, inertia left out ({_kg(ground.mass)} kg): links {_plain(ground_links)}")
-        if on_base > 1:  # branches on a root that carries mass: a legged or mobile robot, most likely
+        if on_base > 1 and urdf.source == "URDF":  # branches on a heavy root: a legged or mobile robot, most likely
             urdf.warn(f"the root link {describe(urdf.root)} ({_kg(ground.mass)} kg) is fixed to the ground and its "
                       f"inertia left out, with {on_base} branches of joints on it: give --floating-base if the robot "
                       "moves freely (a legged or mobile robot)")

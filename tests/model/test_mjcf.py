@@ -26,6 +26,7 @@ mujoco = pytest.importorskip("mujoco")
 
 DATA = REPO / "tests" / "data" / "mjcf"
 EVERY_FORM = str(DATA / "every_form.xml")
+QUIRKS = str(DATA / "quirks.xml")
 WALKER = str(DATA / "walker" / "robot.xml")
 GYM = ("ant", "humanoid", "half_cheetah", "walker2d", "hopper", "pusher")
 TOLERANCE = 1e-11
@@ -41,7 +42,7 @@ def gymnasium_asset(name: str) -> str:
 
 
 def _path(name: str) -> str:
-    return {"every_form": EVERY_FORM, "walker": WALKER}.get(name) or gymnasium_asset(name)
+    return {"every_form": EVERY_FORM, "walker": WALKER, "quirks": QUIRKS}.get(name) or gymnasium_asset(name)
 
 
 _READ = {}
@@ -115,7 +116,7 @@ def _to_mujoco(model, q, v):
     return qpos, qvel, T
 
 
-@pytest.mark.parametrize("name", GYM + ("every_form", "walker"))
+@pytest.mark.parametrize("name", GYM + ("every_form", "walker", "quirks"))
 def test_reading_is_mujocos(name):
     """Mass matrix (with armature; a floating base through its velocity map), bias forces (with
     the model's gravity option), total mass and centre of mass of symdyn's reading against
@@ -137,25 +138,23 @@ def test_reading_is_mujocos(name):
             a[:3] = -np.cross(v[3:6], v[:3])
         assert _relative(T @ pin.rnea(model, data, q, v, a), d.qfrc_bias) < TOLERANCE, name
         moving = [b for b in range(1, m.nbody) if _moves(m, b)]
-        roots = [b for b in moving if m.body_parentid[b] == 0]
+        roots = [b for b in moving if not _moves(m, m.body_parentid[b])]
         total = sum(m.body_subtreemass[b] for b in roots)
         com = sum(m.body_subtreemass[b] * d.subtree_com[b] for b in roots) / total
         assert abs(pin.computeTotalMass(model) - total) < 1e-12 * total
         assert np.abs(pin.centerOfMass(model, data, q) - com).max() < 1e-12
         pin.framesForwardKinematics(model, data, q)
-        for frame in robot.frames:
-            site = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_SITE, frame.name)
+        named = [site for site in range(m.nsite) if mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_SITE, site)]
+        assert len(named) == len(robot.frames)  # (every named site a frame, in MuJoCo's order)
+        for frame, site in zip(robot.frames, named):
             pose = data.oMf[model.getFrameId(f"frame_{frame.name}")]
             assert np.abs(pose.translation - d.site_xpos[site]).max() < 1e-12, frame.name
             assert np.abs(pose.rotation - d.site_xmat[site].reshape(3, 3)).max() < 1e-12, frame.name
 
 
 def _moves(m, body: int) -> bool:
-    """Whether a MuJoCo body is in a tree with a joint (else it is fixed to the world, and left out)."""
-    root = body
-    while m.body_parentid[root] != 0:
-        root = m.body_parentid[root]
-    return any(m.body_rootid[j] == root for j in range(1, m.nbody) if m.body_jntnum[j] > 0)
+    """Whether a MuJoCo body moves (else it is welded to the world, and left out)."""
+    return m.body_weldid[body] != 0
 
 
 def test_sites_are_frames_and_counted():
@@ -167,6 +166,26 @@ def test_sites_are_frames_and_counted():
     assert [link.name for link in robot.links] == names
     robot, _ = read("walker")
     assert robot.floating and [f.name for f in robot.frames] == ["imu", "l_sole", "r_sole"]
+
+
+def test_what_the_reading_says():
+    """The quirks file: sites renamed as frames are noted (a name that is not a C identifier, one
+    repeated, one a body's), the spring-damper is in the one warning line, the fixed base with
+    two branches draws no --floating-base advice (an MJCF says itself whether it floats), limits
+    carry no effort or velocity the file does not give, and the mesh geoms (on the body welded to
+    the world, and a weightless one) are accepted."""
+    from symdyn.model.scene import read_robot_document
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        doc, _, notes = read_robot_document(QUIRKS)
+    lines = [str(w.message) for w in caught]
+    assert len(lines) == 1 and "1 joint spring-damper (springdamper" in lines[0], lines
+    assert not any("--floating-base" in line for line in lines)
+    renamed = next(note for note in notes if note.startswith("sites renamed"))
+    assert "cam/rgb -> cam_rgb" in renamed and "cam_rgb -> cam_rgb_2" in renamed and "left_tip -> left_tip_site" in renamed
+    assert [f if isinstance(f, str) else f["name"] for f in doc["frames"]] == ["cam_rgb", "cam_rgb_2", "left_tip_site"]
+    limits = [link["limits"] for link in doc["links"] if "limits" in link]
+    assert limits == [{"lower": "-0.1", "upper": "0.1"}], limits
 
 
 # ---------------------------------------------------------------------------------------------
@@ -263,7 +282,7 @@ def test_verify_and_generate_an_mjcf(tmp_path, capsys):
                  "--functions", "inverse_dynamics"]) == 0
     header = (tmp_path / "c" / "every_form_dynamics.h").read_text()
     assert "every_form.xml" in header and "joints numbered as MuJoCo numbers them" in header
-    assert "not in the equations of motion: 1 actuator (tau is" in capsys.readouterr().err
+    assert "not in the equations of motion: 1 actuator (symdyn's tau is" in capsys.readouterr().err
 
 
 def test_convert_to_yaml_and_urdf(tmp_path, capsys):
@@ -300,7 +319,7 @@ HOSTILE = {
     "huge": (_ARM.replace('pos="0 0 0.1"', 'pos="0 0 1e400"'), "too large"),
     "huge_mass": (_ARM.format(extra='<inertial pos="0 0 0" mass="1e101" diaginertia="1 1 1"/>'), "too large"),
     "ball": (_ARM.replace('axis="0 0 1"', 'type="ball"'), "ball joints are not supported"),
-    "mesh": (_ARM.format(extra='<geom type="mesh" mesh="m"/>'), "needs its mesh file"),
+    "mesh": (_ARM.format(extra='<geom type="mesh" mesh="m"/>'), "come from its mesh, which symdyn does not read"),
     "class": (_ARM.format(extra='<geom class="nope" size="0.1"/>'), "unknown default class"),
     "orientations": (_ARM.replace('pos="0 0 0.1"', 'pos="0 0 0.1" euler="0 0 1" quat="1 0 0 0"'),
                      "several orientations"),
