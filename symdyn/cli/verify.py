@@ -70,7 +70,7 @@ def _run_serial(args, robot, scene) -> int:
                                    robot_floors, target_errors)
     from ..check.pinocchio_model import PinocchioReference, reduced
     from ..check.states import random_state
-    from ..model.scene import is_urdf
+    from ..model.scene import is_mjcf, is_urdf
     if args.all and args.functions:
         raise SymdynError("--all and --functions choose the functions two ways: give one")
     asked = supported_outputs(robot) if args.all else parse_functions(args.functions) if args.functions else None
@@ -87,6 +87,8 @@ def _run_serial(args, robot, scene) -> int:
         regressors = [f for f in functions if f in REGRESSORS]
         if is_urdf(args.robot) and scene is None:  # Pinocchio reads the file itself: an independent reading
             ref, reading = _urdf_reference(args, robot, values)
+        elif is_mjcf(args.robot) and scene is None:  # MuJoCo compiles it: the format's own reading
+            ref, reading = _mjcf_reference(args, robot, values)
         else:
             ref = PinocchioReference(robot, values)
             reading = "a Pinocchio model of symdyn's reading"
@@ -230,14 +232,31 @@ def _derive(args, robot, functions, fd_method):
 BY_KIND = {SERIAL.name: _run_serial, PLATFORM.name: _run_platform}
 
 
+def _mjcf_reference(args, robot, values):
+    """MuJoCo's compiled model of the MJCF for the dynamics and the sites' poses (or, without
+    MuJoCo or where its compiler refuses the file, a Pinocchio model of symdyn's reading, with a
+    warning) and the words that say which."""
+    from ..check.mujoco_model import MujocoReference, MujocoUnavailable
+    from ..check.pinocchio_model import PinocchioReference
+    from ..model.errors import display_path, warn
+    try:
+        return MujocoReference(robot, args.robot, values), (
+            "MuJoCo's own compiled model (mass matrix, h, c, inverse and forward dynamics, the sites' poses) and a "
+            "Pinocchio model of symdyn's reading (the rest)")
+    except MujocoUnavailable as exc:
+        warn(f"{display_path(args.robot)}: {exc}: the reading is checked against a Pinocchio model of itself only")
+        return PinocchioReference(robot, values), "a Pinocchio model of symdyn's reading"
+
+
 def _urdf_reference(args, robot, values):
     """Pinocchio's own reading of the URDF (or, where its parser refuses the file, a Pinocchio
     model of symdyn's reading, with a warning) and the words that say which."""
     from ..check.pinocchio_model import PinocchioReference, UrdfReference
+    from ..check.quiet import stderr_silenced
     from ..model.urdf import QUARTER_TOLERANCE
     snapped = not args.exact_angles and any("multiple of pi/2" in note for note in robot.notes)
     try:
-        with _stderr_silenced():  # urdfdom prints its complaints on the process's stderr
+        with stderr_silenced():  # urdfdom prints its complaints on the process's stderr
             ref = UrdfReference(args.robot, args.tip, args.tool, QUARTER_TOLERANCE if snapped else None,
                                 floating_base=robot.floating, frames=[f.name for f in robot.frames] or None)
         return ref, "Pinocchio's own URDF parser" + (
@@ -248,24 +267,4 @@ def _urdf_reference(args, robot, values):
         warn(f"{args.robot}: Pinocchio's URDF parser cannot read it ({type(exc).__name__}: "
              f"{one_line(exc, 160)}); comparing with a Pinocchio model of symdyn's reading instead")
         return PinocchioReference(robot, values), "a Pinocchio model of symdyn's reading"
-
-
-class _stderr_silenced:
-    """Point file descriptor 2 at the null device for a while (C libraries write there directly)."""
-
-    def __enter__(self):
-        import os
-        import sys
-        sys.stderr.flush()
-        self.saved = os.dup(2)
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, 2)
-        os.close(devnull)
-        return self
-
-    def __exit__(self, *exc):
-        import os
-        os.dup2(self.saved, 2)
-        os.close(self.saved)
-        return False
 

@@ -278,11 +278,46 @@ def test_verify_and_generate_an_mjcf(tmp_path, capsys):
                  "inverse_dynamics,mass_matrix,forward_dynamics,frame_poses"]) == 0
     out = capsys.readouterr().out
     assert out.count(" ok") == 4, out
+    assert "against MuJoCo's own compiled model" in out
     assert main(["generate", EVERY_FORM, "--out", str(tmp_path / "c"), "--quiet", "--no-cache",
                  "--functions", "inverse_dynamics"]) == 0
     header = (tmp_path / "c" / "every_form_dynamics.h").read_text()
     assert "every_form.xml" in header and "joints numbered as MuJoCo numbers them" in header
     assert "not in the equations of motion: 1 actuator (symdyn's tau is" in capsys.readouterr().err
+
+
+def test_mujoco_reference_is_independent(tmp_path, monkeypatch, capsys):
+    """verify's reference for an MJCF is MuJoCo's own compile of the file: the same numbers as a
+    Pinocchio model of symdyn's reading of a file MuJoCo reads alike (sites too), different ones
+    when MuJoCo compiles another file (a heavier link: a reading that got the mass wrong would
+    fail); without MuJoCo, verify says so in a warning and checks against the reading only."""
+    from symdyn.check import mujoco_model
+    from symdyn.check.mujoco_model import MujocoReference, MujocoUnavailable
+    from symdyn.check.pinocchio_model import PinocchioReference
+    from symdyn.cli import main
+    robot, model = read("walker")
+    theirs, ours = MujocoReference(robot, WALKER), PinocchioReference(robot)
+    for q, v, a, tau in _states(model, 3):
+        for name, args in (("mass_matrix", (q,)), ("coriolis", (q, v)), ("gravity", (q,)),
+                           ("inverse_dynamics", (q, v, a)), ("forward_dynamics", (q, v, tau)), ("frame_poses", (q,))):
+            assert _relative(getattr(theirs, name)(*args), getattr(ours, name)(*args)) < TOLERANCE, name
+    heavier = tmp_path / "walker"
+    (heavier / "parts").mkdir(parents=True)
+    for part in ("robot.xml", "parts/defaults.xml", "parts/leg_left.xml", "parts/leg_right.xml"):
+        (heavier / part).write_text((DATA / "walker" / part).read_text())
+    text = (heavier / "parts" / "leg_left.xml").read_text()
+    (heavier / "parts" / "leg_left.xml").write_text(text.replace('size="0.035"', 'size="0.035" density="1200"'))
+    other = MujocoReference(robot, str(heavier / "robot.xml"))
+    q = _states(model, 1)[0][0]
+    assert _relative(other.mass_matrix(q), ours.mass_matrix(q)) > 1e-3
+
+    def refused(path):
+        raise MujocoUnavailable("MuJoCo is not installed (pip install mujoco)")
+    monkeypatch.setattr(mujoco_model, "compile_mjcf", refused)
+    assert main(["verify", WALKER, "--states", "2", "--functions", "mass_matrix"]) == 0
+    captured = capsys.readouterr()
+    assert "against a Pinocchio model of symdyn's reading" in captured.out
+    assert "MuJoCo is not installed" in captured.err
 
 
 def test_convert_to_yaml_and_urdf(tmp_path, capsys):
