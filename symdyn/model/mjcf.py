@@ -1040,7 +1040,8 @@ def _plural(what: str, count: int) -> str:
 def _warn_unmodelled(reader: _Reader) -> None:
     for tag, what in (("actuator", "actuator|s (symdyn's tau is the generalized force: transmissions, gear, gains "
                                    "and limits are the user's)"),
-                      ("tendon", "tendon|s"), ("equality", "equality constraint|s")):
+                      ("tendon", "tendon|s"), ("equality", "equality constraint|s"),
+                      ("deformable", "deformable object|s (flex, skin)")):
         for section in reader.root.iter(tag):
             count = sum(1 for _ in section)
             if count:

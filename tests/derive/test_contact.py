@@ -244,6 +244,7 @@ def test_contact_derivatives_arm(tmp_path_factory):
     assert max(errors.values()) < 1e-9, errors
 
 
+@pytest.mark.slow  # (22 s: the README suite keeps the arm's C and Solo's numpy; the fuzz campaign floating trees)
 def test_contact_derivatives_tree(tmp_path_factory):
     """The derivatives on a floating tree of the examples holding one link (6D), in C against
     the reference; the combined function's parts are the single ones' values, dqdd/dtau is

@@ -127,6 +127,7 @@ def test_reference_is_pinocchio_corrector(contacts):
                 assert np.abs(mine[:, j] - column).max() < 1e-6 * np.abs(column).max(), j
 
 
+@pytest.mark.slow  # (17 s of compiling the Panda's corrected sole)
 def test_corrected_sole_both_branches(tmp_path):
     """A sole held with a correction, the Panda's last link: the placement error's log near the
     reference (its coefficients' series, turned by 0.1 rad) and far from it (the closed forms):

@@ -152,6 +152,39 @@ def test_reading_is_mujocos(name):
             assert np.abs(pose.rotation - d.site_xmat[site].reshape(3, 3)).max() < 1e-12, frame.name
 
 
+@pytest.mark.parametrize("name", GYM + ("every_form", "walker", "quirks"))
+def test_body_masses_and_inertias_are_mujocos(name):
+    """Every moving body's mass, centre of mass and inertia tensor (with the bodies welded to it,
+    which symdyn merges into it) against MuJoCo's compiled body_mass, body_ipos, body_iquat and
+    body_inertia, compared in the world frame at a random state."""
+    robot, model = read(name)
+    m = mujoco_model(_path(name))
+    d = mujoco.MjData(m)
+    data = model.createData()
+    q, v, _, _ = _states(model, 1, seed=3)[0]
+    qpos, qvel, _ = _to_mujoco(model, q, v)
+    d.qpos[:], d.qvel[:] = qpos, qvel
+    mujoco.mj_forward(m, d)
+    pin.forwardKinematics(model, data, q)
+    joint_of = {link.name: k + 1 + (1 if robot.floating else 0) for k, link in enumerate(robot.links)}
+    for weld in sorted({int(w) for w in m.body_weldid[1:] if w != 0}):
+        members = [b for b in range(1, m.nbody) if m.body_weldid[b] == weld]
+        theirs = pin.Inertia.Zero()
+        for b in members:  # MuJoCo's body inertias, in the world
+            R = d.ximat[b].reshape(3, 3)
+            local = pin.Inertia(m.body_mass[b], np.zeros(3), R @ np.diag(m.body_inertia[b]) @ R.T)
+            theirs += pin.SE3(np.eye(3), d.xipos[b]).act(local)
+        jnt = [j for j in range(m.njnt) if m.jnt_bodyid[j] == weld]
+        if m.jnt_type[jnt[0]] == mujoco.mjtJoint.mjJNT_FREE:
+            joint = 1
+        else:
+            joint = joint_of[mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, jnt[-1])]
+        ours = data.oMi[joint].act(model.inertias[joint])
+        assert abs(ours.mass - theirs.mass) < 1e-12 * theirs.mass, (name, weld)
+        assert np.abs(ours.lever - theirs.lever).max() < 1e-12, (name, weld)
+        assert np.abs(ours.inertia - theirs.inertia).max() < 1e-12 * max(np.abs(theirs.inertia).max(), 1e-9), (name, weld)
+
+
 def _moves(m, body: int) -> bool:
     """Whether a MuJoCo body moves (else it is welded to the world, and left out)."""
     return m.body_weldid[body] != 0
