@@ -47,9 +47,10 @@ def compile_mjcf(path: str):
         import mujoco
     except ImportError:
         raise MujocoUnavailable("MuJoCo is not installed (pip install mujoco)") from None
+    path = os.path.abspath(path)  # (before moving to the scratch folder)
     with _in_scratch_folder(), stderr_silenced():  # (its warnings: settotalmass is deprecated in MuJoCo 4)
         try:
-            return mujoco.MjModel.from_xml_path(os.path.abspath(path))
+            return mujoco.MjModel.from_xml_path(path)
         except ValueError as exc:  # (its message names the element and line)
             first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
             raise MujocoUnavailable(f"MuJoCo's compiler refuses the file: {first[:200]}") from None

@@ -977,6 +977,9 @@ def read_mjcf(text: str, path: str, frames: list[str] | None = None,
     warning line."""
     reader = _Reader(text, path)
     tree = _Bodies(reader)
+    if not any(body.joints for body in tree.bodies):
+        reader.fail("no body has a joint: nothing moves (give the moving bodies <joint>s, or the robot's root body "
+                    "a <freejoint/>)")
     _compiler_bounds(reader, tree.bodies)
     urdf = _Urdf(reader, tree)
     urdf_text = urdf.text()

@@ -344,6 +344,9 @@ def test_mujoco_reference_is_independent(tmp_path, monkeypatch, capsys):
     q = _states(model, 1)[0][0]
     assert _relative(other.mass_matrix(q), ours.mass_matrix(q)) > 1e-3
 
+    monkeypatch.chdir(DATA)  # a path relative to the current folder (MuJoCo compiles in a scratch one)
+    assert MujocoReference(read("every_form")[0], "every_form.xml").mj.nv == 7
+
     def refused(path):
         raise MujocoUnavailable("MuJoCo is not installed (pip install mujoco)")
     monkeypatch.setattr(mujoco_model, "compile_mjcf", refused)
@@ -392,6 +395,8 @@ HOSTILE = {
     "orientations": (_ARM.replace('pos="0 0 0.1"', 'pos="0 0 0.1" euler="0 0 1" quat="1 0 0 0"'),
                      "several orientations"),
     "free_deep": (_ARM.format(extra='<body name="b"><freejoint/></body>'), "a free joint must be"),
+    "static": ('<mujoco><worldbody><body name="a"><geom size="0.1"/></body></worldbody></mujoco>',
+               "no body has a joint"),
     "not_mjcf": ("<mujocomodel/>", "top element is '<mujocomodel>'"),
 }
 
