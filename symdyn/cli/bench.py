@@ -27,7 +27,7 @@ def add_parser(sub) -> None:
                        "A platform robot (kind: parallel): symdyn C (natural orthogonal complement, noc-double and "
                        "noc-float), CasADi SX and C, and Pinocchio's closed-loop equivalents, the error against "
                        "Pinocchio's closed-loop model.")
-    p.add_argument("robots", nargs="+", metavar="ROBOT", help="robot file(s) (.yaml: arms or platforms), URDF(s) or scene(s), without free parameters")
+    p.add_argument("robots", nargs="+", metavar="ROBOT", help="robot file(s) (.yaml: arms or platforms), URDF(s), MuJoCo MJCF(s) or scene(s), without free parameters")
     p.add_argument("--out", metavar="DIR", help="write bench.md, bench.csv and bench.png to DIR (default: print the table only)")
     p.add_argument("--functions", metavar="LIST", default=None,
                    help=f"comma-separated functions to measure (default: a scene's functions, else "

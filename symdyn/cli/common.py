@@ -64,7 +64,7 @@ def add_urdf_options(parser) -> None:
                              "held by the ground, each 3d (a point: its linear velocity zero) or 6d (a sole: its "
                              "whole velocity zero), in place of the file's 'contacts:'")
     parser.add_argument("--exact-angles", action="store_true",
-                        help="URDF input: keep rpy angles as written (default: an angle within 1e-9 rad of a "
+                        help="URDF and MJCF input: keep rpy angles as written (default: an angle within 1e-9 rad of a "
                              "multiple of pi/2, such as 1.57079632679, is taken as that multiple so that zeros "
                              "fold; the header lists them)")
 

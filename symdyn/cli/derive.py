@@ -23,7 +23,7 @@ def add_parser(sub) -> None:
                        "(forward and backward recursion of Table 3.2), ending with D, h, c, or the "
                        "articulated-body algorithm (forward dynamics, and the reaction map of a robot with "
                        "passive joints).")
-    p.add_argument("robot", metavar="ROBOT", help="robot file (.yaml), URDF (.urdf) or scene, or a platform robot "
+    p.add_argument("robot", metavar="ROBOT", help="robot file (.yaml), URDF (.urdf), MuJoCo MJCF (.xml, .mjcf) or scene, or a platform robot "
                    "(kind: parallel): its derivation by the natural orthogonal complement in the order of "
                    "the parallel-manipulator notes (leg Jacobians, A_J, the scalar twist-shape relations, Y, Z, T, L_J, M, N, "
                    "Lambda, phi), each evaluated at one state")

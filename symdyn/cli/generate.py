@@ -29,7 +29,8 @@ def add_parser(sub) -> None:
                        "replaced, never an input file, nor (without --force) a file generated from "
                        "another input or not by symdyn.")
     p.add_argument("robots", nargs="+", metavar="ROBOT", help="robot file(s) (.yaml: an arm, docs/robot-format.md, "
-                   "or a platform, docs/parallel-format.md), URDF file(s) (.urdf) or scene file(s) "
+                   "or a platform, docs/parallel-format.md), URDF file(s) (.urdf), MuJoCo MJCF file(s) (.xml, .mjcf; "
+                   "docs/mjcf.md) or scene file(s) "
                    "(docs/scene-format.md: locked joints, payload, runtime parameters)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory (created if missing)")
     p.add_argument("--name", metavar="NAME", default=None,

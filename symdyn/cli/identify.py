@@ -32,7 +32,7 @@ def add_parser(sub) -> None:
     p = sub.add_parser("identify", help=HELP, description=HELP + ". The CSV has a header naming the "
                        "columns q1..qN, qd1..qdN, qdd1..qddN, tau1..tauN (any order) and one sample per row "
                        "(SI units, rad; '#' lines are comments).")
-    p.add_argument("robot", metavar="ROBOT", help="robot file, scene or URDF (numeric link geometry)")
+    p.add_argument("robot", metavar="ROBOT", help="robot file, scene, URDF or MuJoCo MJCF (numeric link geometry)")
     p.add_argument("data", metavar="DATA.csv", help="the samples")
     p.add_argument("--weighted", action="store_true",
                    help="weight each joint's equations by the inverse standard deviation of its residual "

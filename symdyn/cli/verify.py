@@ -28,7 +28,7 @@ def add_parser(sub) -> None:
                        "A platform robot (kind: parallel) is compared with Pinocchio's closed-loop model "
                        "at random states about its home pose, and its statuses at states out of reach, "
                        "singular or overflowing. Needs Pinocchio (pip install 'symdyn[verify]').")
-    p.add_argument("robot", metavar="ROBOT", help="robot file (.yaml: an arm or a platform), URDF (.urdf) or scene")
+    p.add_argument("robot", metavar="ROBOT", help="robot file (.yaml: an arm or a platform), URDF (.urdf), MuJoCo MJCF (.xml, .mjcf) or scene")
     p.add_argument("--states", type=int, default=50, help="number of random states (default 50)")
     p.add_argument("--precision", default=None, choices=PRECISION_CHOICES,
                    help="default: the scene's precision, else double")
@@ -113,7 +113,8 @@ def _run_serial(args, robot, scene) -> int:
     # solutions of an ill-conditioned system differ by about cond(M) times the unit roundoff)
     solved = solve_tolerance(tolerance, conditioning, precision, robot.nv) if args.tolerance is None else tolerance
     form = "; inverse dynamics in the base parameters" if args.parameters == "base" else ""
-    print(f"symdyn verify {args.robot}: {robot.dof} joints{' on a floating base' if robot.floating else ''}, "
+    print(f"symdyn verify {args.robot}: {robot.dof} joint{'' if robot.dof == 1 else 's'}"
+          f"{' on a floating base' if robot.floating else ''}, "
           f"{args.method}{form}, {precision}, "
           f"{args.states} random states, tolerance {tolerance:g}, against {reading}")
     if skipped:

@@ -121,8 +121,8 @@ def robot_to_urdf(robot: Robot) -> str:
     joint_names = {link.name for link in robot.links}
     parent = "world"
     if robot.floating:  # the root link is the floating base: URDF cannot say it floats
-        lines.append("  " + _comment("The base floats (base: floating): read this file with --floating-base "
-                                     "(Pinocchio: buildModelFromUrdf(path, JointModelFreeFlyer()))."))
+        lines.append("  " + _comment("The base floats (base: floating): read this file on a free-flyer joint (symdyn's "
+                                     "floating-base option; Pinocchio: buildModelFromUrdf(path, JointModelFreeFlyer()))."))
         lines.append('  <link name="base">')
         lines += _inertial(robot.base_inertia, sp.eye(4), "base_body")
         lines.append("  </link>")

@@ -185,6 +185,7 @@ class _Reader:
         self.folder = os.path.realpath(os.path.dirname(os.path.abspath(path)))
         self.included: list[str] = []
         self.included_bytes = 0
+        self.large_angles: list[float] = []
         self.unmodelled: dict[str, int] = {}
         root = parse_xml(text, path, "an MJCF")
         if root.tag != "mujoco":
@@ -242,7 +243,10 @@ class _Reader:
             self.fail("the included file is outside the model's folder: not opened", where, "file")
         if target in open_files:
             self.fail("the file includes itself (an include cycle)", where, "file")
-        raw = read_input(target)
+        try:
+            raw = read_input(target)
+        except RobotFileError as exc:
+            self.fail(f"the included file: {exc.reason}", where, "file")
         self.included_bytes += len(raw)
         if self.included_bytes > MAX_INCLUDED_BYTES:
             self.fail(f"the included files hold more than {MAX_INCLUDED_BYTES} bytes", where, "file")
@@ -278,6 +282,10 @@ class _Reader:
         return out
 
     def angle(self, value):
+        """An angle of the file in radians (``<compiler angle>``); one beyond 2 pi in radians is
+        noted (degrees by mistake?)."""
+        if not self.degrees and abs(value) > 2 * _MP.pi + 1e-9 and float(value) not in self.large_angles:
+            self.large_angles.append(float(value))
         return value * _MP.pi / 180 if self.degrees else value
 
     # -- compiler, options, defaults
@@ -430,6 +438,48 @@ def _z_rotation(v) -> tuple:
 
 
 # ---------------------------------------------------------------------------------------------
+# MuJoCo's schema, for what the bodies hold (an unknown name there is most likely a typo)
+
+_ORIENTED = ("pos",) + _ORIENTATIONS
+_SCHEMA = {
+    "body": {"name", "childclass", "mocap", "gravcomp", "user", *_ORIENTED},
+    "frame": {"name", "childclass", *_ORIENTED},
+    "joint": {"name", "class", "type", "group", "pos", "axis", "springdamper", "limited", "actuatorfrclimited",
+              "range", "actuatorfrcrange", "actuatorgravcomp", "margin", "ref", "springref", "armature", "damping",
+              "frictionloss", "stiffness", "solreflimit", "solimplimit", "solreffriction", "solimpfriction", "user"},
+    "freejoint": {"name", "group", "align"},
+    "geom": {"name", "class", "type", "contype", "conaffinity", "condim", "group", "priority", "size", "material",
+             "friction", "mass", "density", "shellinertia", "solmix", "solref", "solimp", "margin", "gap", "fromto",
+             "hfield", "mesh", "fitscale", "rgba", "fluidshape", "fluidcoef", "user", *_ORIENTED},
+    "site": {"name", "class", "type", "group", "size", "material", "rgba", "fromto", "user", *_ORIENTED},
+    "inertial": {"mass", "diaginertia", "fullinertia", *_ORIENTED},
+}
+_IN_BODY = {"inertial", "joint", "freejoint", "geom", "site", "camera", "light", "body", "frame", "plugin",
+            "composite", "flexcomp", "replicate", "attach"}
+
+
+def _warn_unknown(reader: "_Reader") -> None:
+    """One warning line naming the elements and attributes in the bodies that MuJoCo's schema does
+    not have (MuJoCo refuses the file; symdyn reads on without them)."""
+    unknown: list[str] = []
+    for world in reader.root.iter("worldbody"):
+        stack = [(world, "<worldbody>")]
+        while stack:
+            element, where = stack.pop()
+            for child in element:
+                if element.tag in ("worldbody", "body", "frame") and child.tag not in _IN_BODY:
+                    unknown.append(f"element <{one_line(child.tag, 30)}> in {where}")
+                    continue
+                extra = sorted(set(child.attrib) - _SCHEMA.get(child.tag, set(child.attrib)))
+                unknown.extend(f"attribute {describe(key, 30)} of <{child.tag}> in {where}" for key in extra)
+                inner = f"body {describe(child.get('name'), 40)}" if child.tag == "body" and child.get("name") else where
+                stack.append((child, inner))
+    if unknown:
+        more = f" and {len(unknown) - 6} more" if len(unknown) > 6 else ""
+        warn(f"{one_line(reader.path, 200)}: not in MuJoCo's schema (a typo?), ignored: {', '.join(unknown[:6])}{more}")
+
+
+# ---------------------------------------------------------------------------------------------
 # Bodies, joints, geoms and sites
 
 
@@ -546,6 +596,9 @@ class _Bodies:
         if kind not in ("hinge", "slide", "free"):
             reader.fail(f"unknown joint type {describe(kind)} (MJCF has hinge, slide, ball and free)", where, "type")
         if kind == "free":
+            if self.free is not None:
+                reader.fail(f"a second free joint (body {describe(self.bodies[self.free].name)} has one): symdyn reads "
+                            "one floating base", where, "type")
             if body.parent >= 0 or body.joints:
                 reader.fail("a free joint must be the only joint of a body of the world", where, "type")
             if attributes.get("align") == "true" or (attributes.get("align", "auto") == "auto" and reader.align_free):
@@ -697,8 +750,11 @@ class _Bodies:
     def geom_shape(self, kind: str, attributes: dict, where: str) -> tuple:
         """The geom's sizes (radius, half-length / half-sizes) and pose in its body."""
         reader = self.reader
-        sizes = reader.values(attributes.get("size", "0 0 0"), None, where, "size")
         needed = {"sphere": 1, "capsule": 2, "cylinder": 2, "ellipsoid": 3, "box": 3}[kind]
+        if "size" not in attributes:
+            reader.fail(f"missing attribute: a {kind} needs its size ({needed} number{'s' if needed > 1 else ''}"
+                        + (", or a radius with fromto" if needed > 1 else "") + ")", where, "size")
+        sizes = reader.values(attributes["size"], None, where, "size")
         if "fromto" in attributes:
             if kind == "sphere":
                 reader.fail("fromto applies to capsules, cylinders, boxes and ellipsoids", where, "fromto")
@@ -834,6 +890,8 @@ class _Urdf:
         self.dropped: list[str] = []
         self.renamed_sites: list[tuple[str, str]] = []
         self.joint_names = set(tree.joint_names)
+        #: the robot's links, named after the joints (a site's frame must not take one's name)
+        self.joint_links = {valid_link_name(name, set()) for name in tree.joint_names}
 
     def link_name(self, wanted: str) -> str:
         name, k = wanted, 1
@@ -951,7 +1009,7 @@ class _Urdf:
         for k, (name, frame) in enumerate(sites):
             shown = name or f"{link}_site{k + 1}"
             wanted = shown if shown not in self.tree.names else f"{shown}_site"
-            child = valid_link_name(wanted, self.links | self.tree.names)
+            child = valid_link_name(wanted, self.links | self.tree.names | self.joint_links)
             self.links.add(child)
             if name:
                 self.site_links[name] = child
@@ -976,6 +1034,7 @@ def read_mjcf(text: str, path: str, frames: list[str] | None = None,
     :class:`~symdyn.model.errors.RobotFileError` s; what the equations do not model is one
     warning line."""
     reader = _Reader(text, path)
+    _warn_unknown(reader)
     tree = _Bodies(reader)
     if not any(body.joints for body in tree.bodies):
         reader.fail("no body has a joint: nothing moves (give the moving bodies <joint>s, or the robot's root body "
@@ -985,12 +1044,12 @@ def read_mjcf(text: str, path: str, frames: list[str] | None = None,
     urdf_text = urdf.text()
     wanted = list(urdf.site_links.values())
     body_links = {tree.bodies[k].name: link for k, link in urdf.body_links.items()}
-    for name in frames or []:
-        link = urdf.site_links.get(name) or body_links.get(name)
+    for name in frames or []:  # a frame's name (a site's, renamed or not), else a site's or a body's in the file
+        link = name if name in wanted else urdf.site_links.get(name) or body_links.get(name)
         if link is None:
-            known = list(urdf.site_links) + list(body_links)
+            known = wanted + list(urdf.site_links) + list(body_links)
             close = difflib.get_close_matches(name, known, n=1)
-            reader.fail(f"frame {describe(name)}: no site or body of that name in the file"
+            reader.fail(f"frame {describe(name)}: no frame (a site) or body of that name in the file"
                         + (f" (did you mean {describe(close[0])}?)" if close else ""))
         if link not in wanted:
             wanted.append(link)
@@ -1008,8 +1067,10 @@ def _notes(reader: _Reader, tree: _Bodies, urdf: _Urdf, notes: list[str]) -> lis
     out = [f"read from MJCF {display_path(os.path.basename(reader.path))}"
            + (f" (with {len(reader.included)} included file{'s' if len(reader.included) > 1 else ''})"
               if reader.included else "")
-           + f": {len(tree.bodies)} bod{'y' if len(tree.bodies) == 1 else 'ies'}, joints numbered as MuJoCo numbers them (bodies depth first as written, "
-             "each body's joints in order); a body's joints after its first are joined by massless links"]
+           + f": {len(tree.bodies)} bod{'y' if len(tree.bodies) == 1 else 'ies'}, joints numbered as MuJoCo numbers "
+             "them (bodies depth first as written, each body's joints in order)"
+           + ("; a body's joints after its first are joined by massless links"
+              if any(len(b.joints) > 1 for b in tree.bodies) else "")]
     if tree.free is not None:
         out.append("the free joint is the floating base with Pinocchio's free-flyer conventions, not MuJoCo's: q = "
                    "(position, quaternion x y z w), v = (linear, angular velocity) in the body frame")
@@ -1053,6 +1114,10 @@ def _warn_unmodelled(reader: _Reader) -> None:
                  and e.get("armature") not in (None, "0")]
     if armatures:
         reader.note_unmodelled("tendon or actuator armature| (MuJoCo adds it to the mass matrix)", len(armatures))
+    if reader.large_angles:
+        shown = ", ".join(f"{a:g}" for a in reader.large_angles[:4])
+        warn(f"{one_line(reader.path, 200)}: angles beyond 2 pi rad ({shown}) where <compiler angle=\"radian\"> says "
+             "radians: degrees by mistake? (MuJoCo's default unit is the degree)")
     if reader.unmodelled:
         items = ", ".join(f"{count} {_plural(what, count)}" for what, count in reader.unmodelled.items())
         warn(f"{one_line(reader.path, 200)}: not in the equations of motion: {items}")

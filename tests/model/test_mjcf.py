@@ -201,6 +201,22 @@ def test_sites_are_frames_and_counted():
     assert robot.floating and [f.name for f in robot.frames] == ["imu", "l_sole", "r_sole"]
 
 
+def test_typos_and_degrees_are_warned_about():
+    """An attribute or element MuJoCo's schema does not have (a typo: MuJoCo refuses the file) and
+    angles beyond 2 pi under <compiler angle="radian"> (degrees by mistake) each draw one line."""
+    from symdyn.model.mjcf import read_mjcf
+    text = _ARM.format(extra='<jiont name="j2"/><body name="b" euler="0 90 0"><joint name="j3" dampng="1"/>'
+                             '<geom size="0.1"/></body>')
+    text = text.replace('<mujoco model="arm">', '<mujoco model="arm"><compiler angle="radian"/>')
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        read_mjcf(text, "typos.xml")
+    lines = [str(w.message) for w in caught]
+    schema = [line for line in lines if "not in MuJoCo's schema" in line]
+    assert len(schema) == 1 and "element <jiont>" in schema[0] and "attribute 'dampng' of <joint>" in schema[0], lines
+    assert any("angles beyond 2 pi rad (90)" in line for line in lines), lines
+
+
 def test_what_the_reading_says():
     """The quirks file: sites renamed as frames are noted (a name that is not a C identifier, one
     repeated, one a body's), the spring-damper is in the one warning line, the fixed base with
@@ -397,6 +413,10 @@ HOSTILE = {
     "free_deep": (_ARM.format(extra='<body name="b"><freejoint/></body>'), "a free joint must be"),
     "static": ('<mujoco><worldbody><body name="a"><geom size="0.1"/></body></worldbody></mujoco>',
                "no body has a joint"),
+    "two_free": ('<mujoco><worldbody><body name="a"><freejoint/><geom size="0.1"/></body>'
+                 '<body name="b"><freejoint/><geom size="0.1"/></body></worldbody></mujoco>', "a second free joint"),
+    "missing_include": (_ARM.format(extra='<include file="nothere.xml"/>'), "<include file='nothere.xml'>"),
+    "no_size": (_ARM.format(extra='<geom type="box"/>'), "a box needs its size"),
     "not_mjcf": ("<mujocomodel/>", "top element is '<mujocomodel>'"),
 }
 
