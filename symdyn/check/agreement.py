@@ -162,15 +162,25 @@ def robot_floors(reference, states, functions, relative: float = VERIFY_FLOOR) -
     """The floor of each function's normalized error (:func:`normalized_error`), from the
     robot's own scale at ``states``: ``relative`` times the RMS of the reference's inverse
     dynamics for an output in torques (its spec's ``floor_scale``), that divided by the RMS
-    joint rate for one in torques per unit rate; 0 (the output's own values) for the others."""
+    joint rate for one in torques per unit rate, the RMS over the states of its Jacobian's norm
+    times the joint rates' squared norm for an acceleration bias (J-dot qd: exactly zero where the Jacobian does not change,
+    and Pinocchio's rounding then is not the measure); 0 (the output's own values) for the others."""
     scaled = {f: REGISTRY[f].floor_scale for f in functions if f in REGISTRY and REGISTRY[f].floor_scale != "own"}
     if not scaled:
         return {}
-    torques = np.array([reference.inverse_dynamics(q, qd, qdd) for q, qd, qdd, _ in states])
     rates = np.array([qd for _, qd, _, _ in states])
-    torque = float(np.sqrt(np.mean(torques ** 2))) if np.all(np.isfinite(torques)) else 0.0
     rate = float(np.sqrt(np.mean(rates ** 2))) or 1.0
-    return {f: relative * (torque if scale == "torque" else torque / rate) for f, scale in scaled.items()}
+    floors = {}
+    if any(scale != "drift" for scale in scaled.values()):
+        torques = np.array([reference.inverse_dynamics(q, qd, qdd) for q, qd, qdd, _ in states])
+        torque = float(np.sqrt(np.mean(torques ** 2))) if np.all(np.isfinite(torques)) else 0.0
+        floors = {f: relative * (torque if scale == "torque" else torque / rate) for f, scale in scaled.items()
+                  if scale != "drift"}
+    for f in (f for f, scale in scaled.items() if scale == "drift"):  # |J-dot qd| of the order |J| |qd|^2
+        sizes = np.array([np.linalg.norm(getattr(reference, REGISTRY[f].floor_jacobian)(q)) * float(qd @ qd)
+                          for q, qd, _, _ in states])
+        floors[f] = relative * float(np.sqrt(np.mean(sizes ** 2))) if np.all(np.isfinite(sizes)) else 0.0
+    return floors
 
 
 def target_errors(target, reference, robot, eqs, functions, states, p, values, floor: float | dict = 0.0,

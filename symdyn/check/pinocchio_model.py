@@ -423,8 +423,12 @@ def compare(mine, reference, states, functions, p=None, floor: float | dict = 0.
         values, refs = [], []
         for state in states:
             args = state_arguments(name, state, contact_rows)
-            values.append(np.asarray(getattr(mine, name)(*args, *extra), dtype=float))
-            refs.append(np.asarray(getattr(reference, name)(*args), dtype=float))
+            value = np.asarray(getattr(mine, name)(*args, *extra), dtype=float)
+            ref = np.asarray(getattr(reference, name)(*args), dtype=float)
+            if value.shape != ref.shape and value.squeeze().shape == ref.squeeze().shape:
+                value = value.reshape(ref.shape)  # (one column: a vector on one side, a matrix on the other)
+            values.append(value)
+            refs.append(ref)
         errors[name] = normalized_error(values, refs, floor.get(name, 0.0) if isinstance(floor, dict) else floor,
                                         row_floor)
     return errors
@@ -827,8 +831,8 @@ class PinocchioReference(ContactReference, ConfigurationSpaceReference):
     def frame_jacobians(self, q):
         self.pin.computeJointJacobians(self.model, self.data, q)
         self.pin.updateFramePlacements(self.model, self.data)
-        return np.vstack([self.pin.getFrameJacobian(self.model, self.data, i, self.pin.LOCAL_WORLD_ALIGNED)
-                          for i in self._frame_ids()])
+        return np.vstack([np.asarray(self.pin.getFrameJacobian(self.model, self.data, i, self.pin.LOCAL_WORLD_ALIGNED))
+                          .reshape(6, self.model.nv) for i in self._frame_ids()])  # (one joint: a 6-vector)
 
     def frame_jacobian_dot_v(self, q, qd):
         self.pin.forwardKinematics(self.model, self.data, q, qd, np.zeros(self.model.nv))

@@ -153,14 +153,19 @@ class OutputSpec:
     fd_variants: tuple[tuple[str, str, str], ...] = ()
     #: what the comparison with a reference measures small values of this output against
     #: (symdyn.check.agreement.robot_floors): "torque" (the robot's torques: outputs in N m or N,
-    #: or per rad), "torque_per_rate" (outputs in N m s), "own" (the output's own values)
+    #: or per rad), "torque_per_rate" (outputs in N m s), "drift" (an acceleration bias J-dot qd:
+    #: the output ``floor_jacobian``, its Jacobian, times the joint rates squared), "own" (the
+    #: output's own values)
     floor_scale: str = "own"
+    floor_jacobian: str = ""
 
     def __post_init__(self):
         if self.family not in FAMILIES:
             raise ValueError(f"{self.name}: unknown family {self.family!r}")
-        if self.floor_scale not in ("own", "torque", "torque_per_rate"):
+        if self.floor_scale not in ("own", "torque", "torque_per_rate", "drift"):
             raise ValueError(f"{self.name}: unknown floor scale {self.floor_scale!r}")
+        if (self.floor_scale == "drift") != bool(self.floor_jacobian):
+            raise ValueError(f"{self.name}: a drift floor names its Jacobian (floor_jacobian), and only it")
         if not self.derivation:
             object.__setattr__(self, "derivation", self.name)
 
@@ -353,7 +358,7 @@ SPECS: tuple[OutputSpec, ...] = (
         arguments=(OutputArgument("a", "J-dot times qd, 6: the tool origin's classical linear acceleration (m/s^2, rows 0-2) and angular acceleration (rad/s^2, rows 3-5) at qdd = 0, world axes"),),
         meaning="J̇ q̇: the tool's classical acceleration at q̈ = 0",
         pinocchio="`getFrameClassicalAcceleration`",
-        derivation="tool"),
+        derivation="tool", floor_scale="drift", floor_jacobian="jacobian"),
     OutputSpec(
         name="reaction_map", symbol="k0_D", family="reaction", inputs=("q", "qd"),
         shape=lambda d: (6, 1 + d.na), units="N m and N",
@@ -515,7 +520,7 @@ SPECS: tuple[OutputSpec, ...] = (
         arguments=(OutputArgument("a", "J-dot times qd, K*6: frame k's origin's classical linear acceleration (m/s^2) then its angular acceleration (rad/s^2) at qdd = 0, at a + 6 k, world axes"),),
         meaning="their J̇ q̇ (classical accelerations at q̈ = 0)",
         pinocchio="`getFrameClassicalAcceleration`",
-        derivation="frames",
+        derivation="frames", floor_scale="drift", floor_jacobian="frame_jacobians",
         default=False),
     OutputSpec(
         name="contact_accelerations", symbol="qdd", family="contact", inputs=("q", "qd", "tau"),
@@ -673,7 +678,7 @@ SPECS: tuple[OutputSpec, ...] = (
         arguments=(OutputArgument("acom", "Jcom-dot times qd, 3: the centre of mass's acceleration at qdd = 0 (m/s^2), world axes"),),
         meaning="J̇_c q̇: ċ's rate at q̈ = 0",
         pinocchio="`centerOfMass(q, v, 0)`, `acom`",
-        derivation="centroidal",
+        derivation="centroidal", floor_scale="drift", floor_jacobian="center_of_mass_jacobian",
         default=False),
     OutputSpec(
         name="centroidal_momentum_matrix", symbol="Ag", family="centroidal", inputs=("q",),

@@ -493,3 +493,18 @@ def test_fuzz_renditions_read_as_their_urdf(tmp_path):
             for frame in from_urdf.frames:
                 ours = mine_data.oMf[mine.getFrameId(f"frame_{frame.name}")].homogeneous
                 assert np.abs(ours - their_data.oMf[theirs.getFrameId(f"frame_{frame.name}")].homogeneous).max() < 1e-12
+
+
+def test_verify_of_a_one_joint_robot_whose_tool_does_not_accelerate(tmp_path, capsys):
+    """A one-joint MJCF whose body turns about its own origin (J-dot qd of its frame is exactly
+    zero: Pinocchio's is rounding, which is not the measure) with two sites: verify passes every
+    kinematic function (the frames' Jacobians of one joint stacked as 6-vectors read as a column)."""
+    from symdyn.cli import main
+    path = tmp_path / "turn.xml"
+    path.write_text('<mujoco model="turn"><worldbody><body name="a"><joint name="j" axis="0 0 1"/>'
+                    '<geom type="capsule" fromto="0 0 0 0.3 0 0" size="0.02" mass="1"/>'
+                    '<site name="tip" pos="0.3 0 0"/><site name="mid" pos="0.2 0 0.1"/></body></worldbody></mujoco>')
+    assert main(["verify", str(path), "--states", "5", "--functions",
+                 "jacobian_dot_qd,frame_jacobians,frame_jacobian_dot_v,forward_kinematics"]) == 0
+    out = capsys.readouterr().out
+    assert out.count(" ok") == 4 and "FAIL" not in out, out
