@@ -1318,7 +1318,29 @@ def _contact_rows(d: _Derivation) -> sp.Matrix:
         raise SymdynError(f"{d.robot.source or d.robot.name}: the contact functions need contacts: list them under "
                           "'contacts:' in the robot file or scene (FRAME:3d for a point held, FRAME:6d for a sole), "
                           "or give --contacts")
-    return contact_rows(d.robot.contacts, d.get("frame_jacobians"))
+    J = contact_rows(d.robot.contacts, d.get("frame_jacobians"))
+    _check_rows_move(d.robot, J)
+    return J
+
+
+def _check_rows_move(robot, J: sp.Matrix) -> None:
+    """Warn about a contact row that is zero at every configuration (no joint moves the frame
+    along that axis: a planar robot's point held in 3D): the contacts are dependent everywhere
+    (status 3 at every state, and the C of some robots divides by zero); say which row, and the
+    kind that leaves it out."""
+    names = ("x", "y", "z", "rotation about x", "rotation about y", "rotation about z")
+    row = 0
+    for contact in robot.contacts:
+        zero = [a for k, a in enumerate(contact.axes) if all(e == 0 for e in J[row + k, :])]
+        if zero:
+            frame = robot.frames[contact.frame].name
+            kept = "".join("xyz"[a] for a in contact.axes if a not in zero and a < 3)
+            hint = (f": hold it with {frame}:{kept}" if contact.kind == "3d" and len(kept) == 2 else "")
+            warn(f"{robot.source or robot.name}: contact {frame}:{contact.kind}: its "
+                 f"{' and '.join(names[a] for a in zero)} row{'s are' if len(zero) > 1 else ' is'} zero at every "
+                 f"configuration (no joint moves the frame that way: the contacts are dependent everywhere, status 3)"
+                 f"{hint}")
+        row += len(contact.axes)
 
 
 def _impulse(d: _Derivation) -> sp.Matrix:
