@@ -112,6 +112,11 @@ def _quat_matrix(w, x, y, z):
             (2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)))
 
 
+def _rotated(R, inertia):
+    """``R inertia R^T``: an inertia tensor (3x3 rows) turned by the rotation ``R``."""
+    return _mul(R, _mul(inertia, _transpose(R)))
+
+
 def _axis_angle(axis, angle):
     """The rotation by ``angle`` (rad) about the unit vector ``axis``."""
     c, s = _MP.cos(angle / 2), _MP.sin(angle / 2)
@@ -160,7 +165,6 @@ class _BodySpec:
     joints: list = field(default_factory=list)
     inertia: _Inertia = field(default_factory=_Inertia)
     sites: list = field(default_factory=list)  # (name, Frame in the body frame)
-    explicit: bool = False  # an <inertial> is used
     #: no inertia source (no <inertial>, no geom with mass): MuJoCo then puts a bounded mass at the
     #: numbers of the body's own pos, turned by its own orientation (its compiler's reading)
     sourceless: bool = False
@@ -534,8 +538,6 @@ class _Bodies:
             (self.bodies[parent].sites if parent >= 0 else self.world_sites).append(site)
         elif parent < 0 and tag in ("joint", "freejoint", "inertial"):
             self.reader.fail(f"<{tag}> on the world body: the world does not move", where)
-        elif tag == "geom" and parent >= 0 and element.get("mesh") is None:
-            self.reader.attributes(element, cls)  # (class checked here; inertia read with the body)
         return []
 
     def read_body(self, element, parent: int, frame: Frame, cls: str) -> list:
@@ -549,12 +551,13 @@ class _Bodies:
         self.names.add(name)
         if element.get("gravcomp") not in (None, "0"):
             reader.note_unmodelled("bod|ies with gravity compensation (gravcomp)")
-        pose = frame * reader.pose(dict(element.attrib), where)
+        own_pose = reader.pose(dict(element.attrib), where)
+        pose = frame * own_pose
         childclass = element.get("childclass", cls)
         if childclass not in reader.classes:
             reader.fail(f"unknown default class {describe(childclass)}", where, "childclass")
         index = len(self.bodies)
-        body = _BodySpec(name, parent, pose, own_pose=reader.pose(dict(element.attrib), where))
+        body = _BodySpec(name, parent, pose, own_pose=own_pose)
         self.bodies.append(body)
         geoms, inertial, children = [], None, []
         for item, inner, item_class in _body_items(reader, element, childclass):
@@ -668,7 +671,6 @@ class _Bodies:
         reader = self.reader
         mode = reader.inertia_from_geom
         if inertial is not None and mode != "true":
-            body.explicit = True
             return self.explicit_inertia(body, *inertial)
         total, counted = _Inertia(), False
         for index, (element, frame, cls) in enumerate(geoms if mode != "false" else ()):
@@ -701,8 +703,7 @@ class _Bodies:
             local = ((xx, xy, xz), (xy, yy, yz), (xz, yz, zz))
         if any(local[i][i] < 0 for i in range(3)):
             reader.fail("the moments of inertia must not be negative", where, "diaginertia")
-        R = pose.R
-        return _Inertia(mass, pose.t, _mul(R, _mul(local, _transpose(R))))
+        return _Inertia(mass, pose.t, _rotated(pose.R, local))
 
     def geom_inertia_of(self, body: _BodySpec, index: int, element, frame: Frame, cls: str) -> _Inertia | None:
         """A geom's mass and inertia in the body frame (None: it does not count)."""
@@ -745,7 +746,7 @@ class _Bodies:
         moments = unit(mass)
         local = tuple(tuple(moments[i] if i == j else _ZERO for j in range(3)) for i in range(3))
         pose = frame * pose
-        return _Inertia(mass, pose.t, _mul(pose.R, _mul(local, _transpose(pose.R))))
+        return _Inertia(mass, pose.t, _rotated(pose.R, local))
 
     def geom_shape(self, kind: str, attributes: dict, where: str) -> tuple:
         """The geom's sizes (radius, half-length / half-sizes) and pose in its body."""
@@ -830,24 +831,21 @@ def _compiler_bounds(reader: _Reader, bodies: list) -> None:
     if reader.bound_mass > 0 or reader.bound_inertia > 0 or reader.balance:
         for body in bodies:
             inertia = body.inertia
-            if body.sourceless:  # MuJoCo's compiler: the body's own pos and orientation as the inertial frame
-                inertia = _Inertia(inertia.mass, body.own_pose.t,
-                                   _mul(body.own_pose.R, _mul(inertia.inertia, _transpose(body.own_pose.R))))
-            matrix = np.array([[float(e) for e in row] for row in inertia.inertia])
-            moments, axes = np.linalg.eigh(matrix)
-            changed = np.maximum(moments, float(reader.bound_inertia))
-            a, b, c = changed
-            if reader.balance and (a + b < c or a + c < b or b + c < a):
-                changed = np.full(3, changed.mean())
-            mass = max(inertia.mass, reader.bound_mass)
-            if body.sourceless:
-                R = np.array([[float(e) for e in row] for row in body.own_pose.R])
-                moments, axes = np.zeros(3), R
+            if body.sourceless:  # MuJoCo's compiler: no inertia, its frame the body's own pos and orientation
+                com = body.own_pose.t
+                moments, axes = np.zeros(3), np.array([[float(e) for e in row] for row in body.own_pose.R])
                 changed = np.full(3, float(reader.bound_inertia))
+            else:
+                com = inertia.com
+                moments, axes = np.linalg.eigh(np.array([[float(e) for e in row] for row in inertia.inertia]))
+                changed = np.maximum(moments, float(reader.bound_inertia))
+                a, b, c = changed
+                if reader.balance and (a + b < c or a + c < b or b + c < a):
+                    changed = np.full(3, changed.mean())
+            mass = max(inertia.mass, reader.bound_mass)
             if mass != inertia.mass or not np.array_equal(changed, moments):
                 rebuilt = axes @ np.diag(changed) @ axes.T
-                body.inertia = _Inertia(mass, inertia.com,
-                                        tuple(tuple(_MP.mpf(float(v)) for v in row) for row in rebuilt))
+                body.inertia = _Inertia(mass, com, tuple(tuple(_MP.mpf(float(v)) for v in row) for row in rebuilt))
     if reader.total_mass > 0:
         unknown = [body.name for body in bodies if body.unknown_mass]
         if unknown:
@@ -932,35 +930,21 @@ class _Urdf:
         elif tree.world_sites:
             self.dropped.append(f"{len(tree.world_sites)} site{'s' if len(tree.world_sites) > 1 else ''} "
                                 "on the world body (not on the robot)")
+        root_of: list[int] = []  # each body's body of the world (the bodies come parents first)
         for index, body in enumerate(tree.bodies):
-            if floating and body.parent < 0 and index != tree.free:
-                if any(b.joints for b in self.subtree(index)):
-                    self.reader.fail(f"body {describe(body.name)} has joints but is not on the floating base: symdyn "
-                                     "reads one moving tree (a free body, or bodies on the world)")
-                self.dropped.append(f"body {one_line(body.name, 60)} (fixed to the world)")
-                continue
-            if floating and self.dropped_parent(index):
+            root_of.append(index if body.parent < 0 else root_of[body.parent])
+        for index, body in enumerate(tree.bodies):
+            if floating and root_of[index] != tree.free:
+                if index == root_of[index]:
+                    if any(b.joints for k, b in enumerate(tree.bodies) if root_of[k] == index):
+                        self.reader.fail(f"body {describe(body.name)} has joints but is not on the floating base: "
+                                         "symdyn reads one moving tree (a free body, or bodies on the world)")
+                    self.dropped.append(f"body {one_line(body.name, 60)} (fixed to the world)")
                 continue
             parent = root if body.parent < 0 else self.body_links[body.parent]
             self.add_body(index, body, parent, root if index == tree.free else None)
         header = f"<robot name={quoteattr(self.reader.model_name)}>"
         return "\n".join([header] + self.lines + ["</robot>", ""])
-
-    def subtree(self, index: int) -> list:
-        bodies, out = self.tree.bodies, [self.tree.bodies[index]]
-        for k in range(index + 1, len(bodies)):
-            parent = bodies[k].parent
-            if parent >= index and any(b is bodies[parent] for b in out):
-                out.append(bodies[k])
-        return out
-
-    def dropped_parent(self, index: int) -> bool:
-        parent = self.tree.bodies[index].parent
-        while parent >= 0:
-            if self.tree.bodies[parent].parent < 0:
-                return parent != self.tree.free
-            parent = self.tree.bodies[parent].parent
-        return False
 
     def add_body(self, index: int, body: _BodySpec, parent: str, root: str | None) -> None:
         """The links and joints of one body; ``root``: the body is the floating base, that link."""

@@ -58,7 +58,6 @@ def is_urdf(path) -> bool:
 def _top_element(path) -> str | None:
     """The top element of an ``.xml`` or ``.mjcf`` file (best effort: None when it cannot be
     read; reading it reports the problem)."""
-    from .mjcf import xml_top_element
     try:
         return xml_top_element(decode_text(read_input(os.fspath(path)), os.fspath(path)))
     except (SymdynError, OSError):
